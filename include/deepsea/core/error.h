@@ -1,0 +1,47 @@
+#pragma once
+/// \file The library's typed exceptions. The library throws and never exits; the CLI's main
+/// maps each type to an exit code and prints what() as one line.
+
+#include <stdexcept>
+#include <string>
+
+namespace deepsea {
+
+/// Base of every deepsea exception.
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+    /// Process exit code the CLI uses for this kind of failure.
+    virtual int exit_code() const { return 1; }
+};
+
+/// A configuration value is unknown, missing, of the wrong type or out of range.
+/// The message names the file, the line and the key.
+class ConfigError : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 2; }
+};
+
+/// Input data is unusable: sizes differ, a depth file has several channels and none was chosen.
+class InputError : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 3; }
+};
+
+/// A file cannot be read or written (missing, corrupt, unwritable, disk full).
+class IoError : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 4; }
+};
+
+/// A baked asset is foreign, truncated, of an unknown format, or made for another camera.
+class AssetError : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 5; }
+};
+
+}  // namespace deepsea

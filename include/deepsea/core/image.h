@@ -1,0 +1,35 @@
+#pragma once
+/// \file Interleaved float images, the one pixel container of the library.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace deepsea {
+
+/// A width x height image of `channels` interleaved floats per pixel, rows top to bottom.
+/// Colour is linear RGB; depth is one channel in metres.
+struct Image {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    std::vector<float> data;
+
+    Image() = default;
+    Image(int w, int h, int c, float fill = 0.0f)
+        : width(w), height(h), channels(c), data(std::size_t(w) * h * c, fill) {}
+
+    bool empty() const { return data.empty(); }
+    std::size_t index(int x, int y, int c = 0) const {
+        return (std::size_t(y) * width + x) * channels + c;
+    }
+    float& at(int x, int y, int c = 0) { return data[index(x, y, c)]; }
+    float at(int x, int y, int c = 0) const { return data[index(x, y, c)]; }
+    float* row(int y) { return data.data() + std::size_t(y) * width * channels; }
+    const float* row(int y) const { return data.data() + std::size_t(y) * width * channels; }
+};
+
+/// Throws InputError naming `what` unless a and b have the same width and height.
+void require_same_size(const Image& a, const Image& b, const std::string& what);
+
+}  // namespace deepsea

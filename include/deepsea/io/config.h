@@ -1,0 +1,36 @@
+#pragma once
+/// \file Strict YAML configuration (DESIGN.md section 5): `camera`, `rig` and `water`
+/// sections, from one file or several. Unknown keys, missing keys, wrong types and out-of-range
+/// values throw ConfigError with "file:line: key: problem".
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea {
+
+/// Sections found so far; a later file may add sections but not repeat one.
+struct Setup {
+    std::optional<Camera> camera;
+    std::optional<Rig> rig;
+    std::optional<Water> water;
+};
+
+/// Parses every file in order and merges the sections. Files may hold any subset of
+/// `camera`, `rig`, `water`; any other top-level key is an error.
+Setup load_setup(const std::vector<std::string>& files);
+
+/// Parses YAML text (file name used only in messages).
+Setup parse_setup(const std::string& yaml_text, const std::string& file_name);
+
+/// A water from a spec: "jerlov:<TYPE>" or a YAML file with a `water` section.
+Water load_water(const std::string& spec);
+
+/// Throws ConfigError naming what is missing unless the setup has camera, rig and water.
+void require_complete(const Setup& setup, const std::string& where);
+
+}  // namespace deepsea

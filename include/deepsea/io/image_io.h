@@ -1,0 +1,56 @@
+#pragma once
+/// \file Reading and writing images through OpenImageIO. Every writer writes to a temporary
+/// file beside the target and renames it, so no half-written image is ever left behind.
+
+#include <string>
+#include <vector>
+
+#include "deepsea/core/image.h"
+
+namespace deepsea {
+
+/// Colour image as linear RGB float, 3 channels. 8- and 16-bit files are sRGB-decoded;
+/// float files (EXR, ...) are taken as linear. Grey is expanded to RGB, alpha dropped.
+/// Throws IoError for a missing or unreadable file.
+Image read_color(const std::string& path);
+
+/// How to read a depth file.
+struct DepthReadOptions {
+    std::string channel;   ///< channel name to use; empty: the only channel, or Z/Y/R/depth
+    double scale = 0.001;  ///< metres per unit for integer images (ROS 16UC1)
+};
+
+/// One-channel depth in metres from EXR/TIFF float (any single channel: Z, Y, R, depth, or
+/// `channel`), 16-bit PNG (times scale), PFM or .npy (float32/float64, 2-D).
+/// Values are copied as they are; non-finite or <= 0 means open water.
+/// Throws InputError for a file with several candidate channels and none chosen.
+Image read_depth(const std::string& path, const DepthReadOptions& opt = {});
+
+/// Writes linear RGB: PNG/JPEG/TIFF are sRGB-encoded at `bits` (8 or 16; JPEG is always 8);
+/// EXR and other float formats keep linear values (half float). Values are clamped to [0, 1]
+/// before encoding. Atomic (temporary file + rename). Throws IoError.
+void write_color(const std::string& path, const Image& linear_rgb, int bits = 8);
+
+/// Writes a one-channel depth map as a float EXR with channel "Z". Atomic.
+void write_depth_exr(const std::string& path, const Image& depth);
+
+/// One layer of a multi-layer EXR: channels named `name.<channel>`.
+struct ExrLayer {
+    std::string name;                   ///< e.g. "final"
+    const Image* image = nullptr;       ///< must all have the same size
+    std::vector<std::string> channels;  ///< e.g. {"R", "G", "B"}, one per image channel
+};
+
+/// Writes float EXR with all layers (channels "final.R", ..., "depth.Z"), ZIP-compressed.
+/// Atomic. Throws IoError.
+void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& layers);
+
+/// Reads one layer of a multi-layer EXR written by write_exr_layers (for tests and tools).
+Image read_exr_layer(const std::string& path, const std::string& layer,
+                     const std::vector<std::string>& channels);
+
+/// sRGB transfer functions on one value in [0, 1].
+float srgb_to_linear(float v);
+float linear_to_srgb(float v);
+
+}  // namespace deepsea

@@ -1,0 +1,41 @@
+#pragma once
+/// \file Exact single-scattering backscatter along a viewing ray (DESIGN.md section 2).
+/// t is the path length from the camera along the unit viewing direction; the integral
+/// runs in t (dt = dz / cos(phi)), never with the paper's dz * cos(phi) weight.
+
+#include <vector>
+
+#include "deepsea/core/vec.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea {
+
+/// Radiance added per metre of path at X = t * dir that reaches the camera:
+/// sum_l beta(psi) I_l(theta') exp(-c (d1' + t)) / d1'^2, W/(m^3 sr) ... per channel.
+/// dir must be a unit vector.
+Rgb in_scatter(const Rig& rig, const Water& water, const Vec3& dir, double t);
+
+/// Accuracy request for the adaptive quadrature.
+struct Quadrature {
+    double rel_tol = 1e-7;   ///< relative to the running integral's magnitude
+    double abs_tol = 1e-14;  ///< radiance
+    int max_depth = 40;      ///< bisection levels
+};
+
+/// Result of one integral: value and the quadrature's own error estimate (per channel).
+struct Integral {
+    Rgb value;
+    Rgb error;
+};
+
+/// Backscatter radiance from path t0 to t1 (metres) along unit direction dir, by adaptive
+/// Gauss-Kronrod (7-15) quadrature with the stated tolerance.
+Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& dir, double t0,
+                              double t1, const Quadrature& q = {});
+
+/// Cumulative backscatter B(t_k) = integral from 0 to t_k for ascending t_k >= 0 (t_0 may be 0).
+std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, const Vec3& dir,
+                                        const std::vector<double>& t, const Quadrature& q = {});
+
+}  // namespace deepsea

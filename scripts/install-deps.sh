@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs what deepsea needs from Debian 12's packages (as root). Skips apt when all are there.
+set -euo pipefail
+pkgs=(build-essential cmake pkg-config
+      libopenvdb-dev libboost-iostreams-dev libblosc-dev libtbb-dev
+      libopenexr-dev libopenimageio-dev openimageio-tools
+      libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+      libgtest-dev libbenchmark-dev)
+if [[ "${1:-}" == "--tests" ]]; then
+  pkgs+=(blender python3-numpy python3-openimageio python3-openvdb)
+fi
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "installing: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi

@@ -1,0 +1,1 @@
+// Filled by the asset work (issue 3).

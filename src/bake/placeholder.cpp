@@ -1,0 +1,1 @@
+// Filled by the baker work (issue 3).

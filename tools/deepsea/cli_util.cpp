@@ -1,0 +1,67 @@
+#include "cli_util.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "deepsea/core/error.h"
+
+namespace deepsea::cli {
+
+void SetupFlags::add_to(CLI::App& sub, bool camera_required) {
+    sub.add_option("--config", configs, "YAML file(s) with camera, rig and/or water sections");
+    sub.add_option("--camera", camera, "YAML file with a camera section");
+    sub.add_option("--rig", rig, "YAML file with a rig section");
+    sub.add_option("--water", water, "YAML file with a water section, or jerlov:<TYPE>");
+    (void)camera_required;
+}
+
+Setup SetupFlags::load() const {
+    std::vector<std::string> files = configs;
+    if (!camera.empty()) files.push_back(camera);
+    if (!rig.empty()) files.push_back(rig);
+    Setup setup = load_setup(files);
+    if (!water.empty()) {
+        if (setup.water) throw ConfigError("--water given but a config already has a water section");
+        setup.water = load_water(water);
+    }
+    return setup;
+}
+
+void DepthFlags::add_to(CLI::App& sub) {
+    sub.add_option("--depth-channel", channel, "channel of the depth file to use (Z, Y, R, depth, ...)");
+    sub.add_option("--depth-scale", scale, "metres per unit for 16-bit depth images")
+        ->check(CLI::PositiveNumber);
+    sub.add_option("--depth-kind", kind, "depth values are planar z (default) or range along the ray")
+        ->check(CLI::IsMember({"z", "range"}));
+}
+
+DepthKind DepthFlags::depth_kind() const {
+    return kind == "range" ? DepthKind::Range : DepthKind::Z;
+}
+
+static double now_s() {
+    using namespace std::chrono;
+    return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+Progress::Progress(std::string label, long total)
+    : m_label(std::move(label)), m_total(total), m_tty(isatty(STDERR_FILENO)), m_start(now_s()) {}
+
+void Progress::update(long done) {
+    if (!m_tty || m_total <= 0) return;
+    const int width = 30;
+    const int filled = int(width * done / m_total);
+    const double dt = now_s() - m_start;
+    std::fprintf(stderr, "\r%s [%.*s%*s] %ld/%ld  %.1f/s", m_label.c_str(), filled,
+                 "##############################", width - filled, "", done, m_total,
+                 dt > 0 ? done / dt : 0.0);
+    std::fflush(stderr);
+}
+
+void Progress::finish() {
+    if (m_tty) std::fprintf(stderr, "\n");
+}
+
+}  // namespace deepsea::cli

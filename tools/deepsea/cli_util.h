@@ -1,0 +1,47 @@
+#pragma once
+/// \file Small helpers shared by the subcommands: config loading from flags, progress bars.
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "deepsea/io/config.h"
+#include "deepsea/io/image_io.h"
+#include "deepsea/optics/camera.h"
+
+namespace deepsea::cli {
+
+/// --config (repeatable), --camera, --rig, --water (file or jerlov:<TYPE>).
+struct SetupFlags {
+    std::vector<std::string> configs;
+    std::string camera, rig, water;
+    void add_to(CLI::App& sub, bool camera_required = true);
+    /// Loads all files; throws ConfigError if a section is missing.
+    Setup load() const;
+};
+
+/// --depth-channel, --depth-scale, --depth-kind.
+struct DepthFlags {
+    std::string channel;
+    double scale = 0.001;
+    std::string kind = "z";
+    void add_to(CLI::App& sub);
+    DepthReadOptions read_options() const { return {channel, scale}; }
+    DepthKind depth_kind() const;
+};
+
+/// A one-line progress bar on stderr when it is a terminal; silent otherwise.
+class Progress {
+public:
+    Progress(std::string label, long total);
+    void update(long done);
+    void finish();
+
+private:
+    std::string m_label;
+    long m_total;
+    bool m_tty;
+    double m_start;
+};
+
+}  // namespace deepsea::cli

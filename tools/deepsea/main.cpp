@@ -1,0 +1,31 @@
+// deepsea: one CLI, a table of subcommands (commands.h). main parses, dispatches, and maps
+// deepsea::Error to one line on stderr and a non-zero exit code.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "commands.h"
+#include "deepsea/core/error.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"deepsea: deep-sea camera simulator (RGB-D in, deep-sea frames out)"};
+    app.set_version_flag("--version", std::string("deepsea ") + DEEPSEA_VERSION);
+    app.require_subcommand(1);
+    for (const auto& cmd : deepsea::cli::kCommands) {
+        CLI::App* sub = app.add_subcommand(cmd.name, cmd.help);
+        cmd.setup(*sub);
+    }
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const deepsea::Error& e) {
+        std::fprintf(stderr, "deepsea: error: %s\n", e.what());
+        return e.exit_code();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "deepsea: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
