@@ -52,7 +52,7 @@ void put(Image& img, int u, int v, const Rgb& x) {
 }
 
 Rgb get(const Image& img, int u, int v) {
-    const float* p = &img.at(u, v);
+    const float* p = img.data.data() + img.index(u, v);
     return {p[0], p[1], p[2]};
 }
 

@@ -35,6 +35,7 @@ class Progress {
 public:
     Progress(std::string label, long total);
     void update(long done);
+    void set_total(long total) { m_total = total; }
     void finish();
 
 private:

@@ -45,3 +45,14 @@ public:
 };
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+/// Some frames of a sequence failed (each already reported); the others were written.
+class FramesFailed : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 6; }
+};
+
+}  // namespace deepsea

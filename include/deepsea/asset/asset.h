@@ -1,0 +1,69 @@
+#pragma once
+/// \file A baked backscatter asset in memory (DESIGN.md section 3, docs/asset-format.md):
+/// what was baked (BakeInfo) and the cumulative RGB radiance B(i, j, k) in flat arrays.
+/// No OpenVDB here: the runtime reads this header only; asset_file.h does the file.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "deepsea/asset/lattice.h"
+#include "deepsea/optics/backscatter.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea {
+
+/// The asset format this library writes and the newest it reads (`deepsea:format`).
+inline constexpr int kAssetFormat = 1;
+
+/// Everything a bake depended on, stored as the `deepsea:bake` JSON (asset_json.h).
+struct BakeInfo {
+    Camera camera;
+    Rig rig;
+    Water water;
+    Lattice lattice;
+    bool z_max_auto = false;   ///< z_max was chosen by the tail tolerance, not given
+    double tolerance = 0.0;    ///< auto z_max: tail beyond z_max / total, every column, channel
+    Quadrature quadrature;     ///< accuracy of the exact integrals at bake time
+    std::string baker_version; ///< the bake module that made it (kBakerVersion)
+    std::string input_hash;    ///< input_hash(*this) at bake time: "fnv1a64:<16 hex>"
+};
+
+/// Cumulative single-scattering backscatter on the lattice: values[index(i, j, k) + c] is
+/// channel c (R, G, B) of the radiance collected along column (i, j)'s ray from the camera to
+/// planar depth z[k], in the units of the rig's intensities (W/(m^2 sr) for W/sr lamps).
+struct Asset {
+    BakeInfo info;
+    std::vector<float> values;  ///< 3 * ni * nj * nk floats, interleaved RGB
+
+    const Lattice& lattice() const { return info.lattice; }
+    /// Offset of (i, j, k)'s red value: depth fastest, then row j, then column i (OpenVDB's
+    /// dense z-y-x layout, so a column's samples are contiguous).
+    std::size_t index(int i, int j, int k) const {
+        const Lattice& l = info.lattice;
+        return ((std::size_t(i) * l.nj + j) * l.nk() + k) * 3;
+    }
+    Rgb at(int i, int j, int k) const {
+        const float* p = values.data() + index(i, j, k);
+        return {p[0], p[1], p[2]};
+    }
+    /// Allocates values for the lattice, zero-filled.
+    void allocate();
+
+    /// Backscatter of the ray through image point (u, v) (pixel coordinates of the asset's
+    /// camera) up to planar depth z: bilinear in (u, v) between columns (clamped to the
+    /// lattice), linear in z between samples, B(z_max) for z >= z_max, +inf or NaN (open
+    /// water), 0 for z <= 0. This is the runtime's lookup; the accuracy tables measure it.
+    Rgb sample(double u, double v, double z) const;
+};
+
+/// Throws AssetError naming both cameras unless `camera` equals the asset's camera or has the
+/// same view at another resolution (Camera::same_view; the runtime then resamples).
+void check_camera(const Asset& asset, const Camera& camera);
+
+/// "800x800 fx=600 fy=600 cx=400 cy=400": a camera in one line, for messages.
+std::string describe(const Camera& camera);
+
+}  // namespace deepsea

@@ -1,0 +1,82 @@
+#pragma once
+/// \file The asset's `.vdb` file (docs/asset-format.md): grid `backscatter` (Vec3f, index
+/// (i, j, k), frustum transform for uniform depth samples), preview grids `density` and
+/// `color` on a world-space linear grid, metadata `deepsea:format` and `deepsea:bake`.
+/// OpenVDB stays behind this header; errors are AssetError (what is in the file) or IoError
+/// (the file system).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "deepsea/asset/asset.h"
+#include "deepsea/core/vec.h"
+
+namespace deepsea {
+
+/// Grid names in the file.
+inline constexpr const char* kBackscatterGrid = "backscatter";
+inline constexpr const char* kDensityGrid = "density";
+inline constexpr const char* kColorGrid = "color";
+
+struct WriteOptions {
+    /// Store the backscatter grid as 16-bit half floats (OpenVDB's saveFloatAsHalf). Values
+    /// are scaled by a power of two first so that they sit in half's normal range; the loader
+    /// undoes it exactly (`deepsea:value_scale`).
+    bool half = true;
+    /// Write the `density` and `color` preview grids for Blender and Houdini.
+    bool preview = true;
+    /// Preview voxels along the preview depth (the voxel size is that depth / this).
+    int preview_resolution = 128;
+};
+
+/// Writes the asset atomically: to a temporary file in the same directory, then a rename, so
+/// readers never see a partial file and a failure leaves none. Throws IoError when the
+/// directory is missing or unwritable or the disk is full, AssetError when the asset is
+/// inconsistent (values do not match the lattice).
+void write_asset(const std::string& path, const Asset& asset, const WriteOptions& opt = {});
+
+/// Reads a whole asset into flat arrays. Throws IoError when the file cannot be opened, and
+/// AssetError for a file that is not a VDB, is truncated, has no or a newer `deepsea:format`,
+/// or whose grid does not match its `deepsea:bake` lattice.
+Asset load_asset(const std::string& path);
+
+/// One grid of an asset file, from its metadata (no voxel data read).
+struct GridSummary {
+    std::string name;
+    std::string value_type;     ///< "vec3s", "float", ...
+    std::string transform;      ///< "frustum" or "linear"
+    bool half = false;          ///< stored as 16-bit floats
+    std::int64_t active_voxels = 0;
+    Vec3 world_min, world_max;  ///< world-space bounding box of the active voxels
+};
+
+/// What `deepsea info` shows besides the values.
+struct AssetFileSummary {
+    std::uintmax_t file_bytes = 0;
+    int format = 0;
+    BakeInfo info;
+    double value_scale = 1.0;          ///< stored backscatter = radiance * value_scale
+    double preview_voxel_size = 0.0;   ///< metres; 0 without preview grids
+    double preview_density_scale = 0;  ///< in-scatter luminance (radiance/m) per unit density
+    std::vector<GridSummary> grids;
+};
+
+/// Reads the metadata only (fast). Same errors as load_asset, except that it does not read
+/// (or check) the voxel data.
+AssetFileSummary read_asset_summary(const std::string& path);
+
+/// Maps index-space points of a grid in the file to world space with the grid's own OpenVDB
+/// transform, as vdb_print or Houdini would. For tests and inspection.
+std::vector<Vec3> index_to_world(const std::string& path, const std::string& grid,
+                                 const std::vector<Vec3>& index_points);
+
+/// The world frame of the file's transforms: OpenGL-style camera frame, x right, y up,
+/// looking down -z. A camera-frame (OpenCV) point maps to (x, -y, -z).
+inline Vec3 camera_to_world(const Vec3& p) { return {p.x, -p.y, -p.z}; }
+
+/// Throws IoError unless `path` can be created or replaced: its directory exists and is
+/// writable. write_asset checks this itself; call it before a long bake to fail early.
+void require_writable(const std::string& path);
+
+}  // namespace deepsea

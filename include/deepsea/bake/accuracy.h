@@ -1,0 +1,42 @@
+#pragma once
+/// \file How well an asset's lookup (Asset::sample, the runtime's interpolation) reproduces
+/// exact per-pixel integration (backscatter_cumulative along each pixel's own ray). This is
+/// what `deepsea bake --check` prints and what docs/asset-format.md tabulates.
+
+#include <string>
+#include <vector>
+
+#include "deepsea/asset/asset.h"
+#include "deepsea/optics/backscatter.h"
+
+namespace deepsea {
+
+struct AccuracyOptions {
+    std::vector<double> plane_depths{2.0, 4.0, 8.0};  ///< planar depths of test planes, metres
+    /// Also rows for open water: the lookup at z_max vs the exact integral to z_max
+    /// (interpolation only), and vs the integral to the far path length (what truncating
+    /// at z_max costs on top).
+    bool open_water = true;
+    /// Test pixels: every stride-th pixel in u and v from stride / 2, plus the last row and
+    /// column. An odd stride puts most test pixels between lattice columns.
+    int stride = 7;
+    Quadrature quadrature{1e-9, 1e-16, 40};  ///< for the exact reference
+    int threads = 0;                          ///< 0: all cores
+};
+
+/// Errors of one scene over the test pixels. A pixel's error is the largest relative error
+/// of its three channels, |lookup - exact| / exact.
+struct AccuracyRow {
+    std::string scene;       ///< "plane 2 m", "open water (z_max)", "open water (inf)"
+    double z = 0.0;          ///< planar depth looked up, metres
+    double mean_rel = 0.0;   ///< mean over test pixels
+    double max_rel = 0.0;    ///< worst test pixel
+    int max_u = 0, max_v = 0;  ///< where the worst pixel is
+    long pixels = 0;
+};
+
+/// Compares the asset's lookup with exact integration for its own camera, rig and water.
+/// Deterministic at any thread count.
+std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const AccuracyOptions& opt = {});
+
+}  // namespace deepsea

@@ -1,0 +1,54 @@
+#pragma once
+/// \file The baker (DESIGN.md section 3): the exact cumulative single-scattering backscatter
+/// of every lattice column, from optics' backscatter_cumulative, into an Asset.
+
+#include <functional>
+#include <string>
+
+#include "deepsea/asset/asset.h"
+#include "deepsea/asset/lattice.h"
+#include "deepsea/optics/backscatter.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea {
+
+/// Version of the baker's numbers, recorded in every asset: bump it when the same inputs
+/// would bake different values.
+inline constexpr const char* kBakerVersion = "deepsea-bake/1";
+
+/// Defaults chosen by measurement (docs/asset-format.md, "Choosing the defaults").
+struct BakeSettings {
+    int step = 8;                      ///< pixels between lattice columns, >= 1
+    int depth_samples = 64;            ///< K slabs (K + 1 samples per column), >= 2
+    DepthScheme scheme = DepthScheme::Log;
+    double z0 = kDefaultLogZ0;         ///< Log scheme's depth scale, metres
+    double z_max = 0.0;                ///< planar depth of the last sample, metres; 0: auto
+    double tolerance = 5e-4;           ///< auto z_max: the tail beyond it / the total, (0, 0.5)
+    Quadrature quadrature{1e-6, 1e-14, 40};  ///< the exact integrals' accuracy
+    int threads = 0;                   ///< 0: all cores
+    /// Called as columns finish (done, total), serialised, from any worker thread.
+    std::function<void(long done, long total)> progress;
+};
+
+/// Throws ConfigError naming the setting unless the settings can be baked (step >= 1,
+/// K >= 2, z_max > 0 or auto, 0 < tolerance < 0.5, threads >= 0, z0 > 0).
+void validate(const BakeSettings& settings);
+
+/// Bakes the asset of one camera x rig x water. Parallel over columns; the values are written
+/// to fixed slots, so the result is bit-identical at any thread count. Throws ConfigError for
+/// bad settings or a rig without lights.
+Asset bake(const Camera& camera, const Rig& rig, const Water& water, const BakeSettings& settings);
+
+/// The smallest planar depth beyond which, for every column of the lattice with this step and
+/// every channel, the backscatter still to come (to where exp(-2 c_min t) is negligible) is at
+/// most `tolerance` of the column's total (the paper's Fig. 6 argument). Rounded up to 1 mm.
+double auto_z_max(const Camera& camera, const Rig& rig, const Water& water, int step,
+                  double tolerance, const Quadrature& q = {1e-6, 1e-14, 40}, int threads = 0);
+
+/// Path length (metres) beyond which every ray's backscatter is negligible for the auto
+/// z_max search with this tolerance: exp(-2 c_min t) < 1e-4 tolerance.
+double far_path_length(const Water& water, double tolerance);
+
+}  // namespace deepsea

@@ -1,0 +1,32 @@
+#pragma once
+/// \file Backscatter from a baked asset: the runtime's lookup, with per-column and per-row
+/// interpolation weights precomputed once per frame size.
+
+#include <vector>
+
+#include "deepsea/asset/asset.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/runtime/sources.h"
+
+namespace deepsea {
+
+/// Looks B(u, v, z) up in an asset for frames of `camera`: bilinear in (u, v), linear in z,
+/// constant beyond z_max (also for open water). The camera must be the asset's or the same
+/// view at another resolution (AssetError otherwise); pixel positions are then mapped through
+/// the intrinsics. Same interpolation as Asset::sample.
+class AssetBackscatter final : public BackscatterSource {
+public:
+    AssetBackscatter(const Asset& asset, const Camera& camera);
+    void backscatter_row(int v, int n, const float* z, float* out_rgb_planar) const override;
+
+private:
+    struct Tap {
+        int i0 = 0, i1 = 0;
+        float w = 0.0f;
+    };
+    const Asset& m_asset;
+    std::vector<Tap> m_cols;  ///< per image column
+    std::vector<Tap> m_rows;  ///< per image row
+};
+
+}  // namespace deepsea

@@ -1,0 +1,42 @@
+#pragma once
+/// \file The runtime compositor: RGB-D frame in, deep-sea layers out (DESIGN.md section 4).
+
+#include <memory>
+
+#include "deepsea/core/image.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/water.h"
+#include "deepsea/runtime/forward_blur.h"
+#include "deepsea/runtime/layers.h"
+#include "deepsea/runtime/sources.h"
+
+namespace deepsea {
+
+/// One input frame: linear RGB albedo (3 channels) and planar z-depth in metres (1 channel).
+struct Frame {
+    Image rgb;
+    Image depth;
+};
+
+/// Composites frames of one camera. Keeps its scratch buffers, so after the first frame of a
+/// size nothing is allocated. Output is identical at any thread count (rows are independent).
+class Compositor {
+public:
+    /// The sources must outlive the compositor.
+    Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
+               const BackscatterSource& backscatter);
+
+    /// Fills every layer of dst. Throws InputError when the frame does not match the camera.
+    void composite(Layers& dst, const Frame& frame);
+
+private:
+    Camera m_camera;
+    Water m_water;
+    const IrradianceSource& m_lamps;
+    const BackscatterSource& m_backscatter;
+    ForwardBlur m_blur;
+    Image m_sigma;
+    Image m_blurred;
+};
+
+}  // namespace deepsea

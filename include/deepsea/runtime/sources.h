@@ -1,0 +1,37 @@
+#pragma once
+/// \file The compositor's two light sources, behind small interfaces (DESIGN.md section 2):
+/// "how much lamp light reaches this surface point" and "how much water light is added along
+/// this ray". Analytic lamps and the baked backscatter asset implement them today; baked
+/// multiple-scattering fields can replace either without touching the compositor.
+
+namespace deepsea {
+
+/// One image row's surface geometry in structure-of-arrays form (camera frame, metres).
+struct RowGeometry {
+    int v = 0;                       ///< image row
+    int n = 0;                       ///< pixels in the row
+    const float* x = nullptr;        ///< surface point P
+    const float* y = nullptr;
+    const float* z = nullptr;        ///< planar depth; open water where !(z > 0) or inf
+    const float* nx = nullptr;       ///< unit normal facing the camera
+    const float* ny = nullptr;
+    const float* nz = nullptr;
+};
+
+/// Lamp light arriving at surface points: E = sum_l I_l(theta_l) exp(-c d1) / d1^2 max(0, n.w_l),
+/// W/m^2 per channel, written planar as out[c * n + u]. Zero for open water.
+class IrradianceSource {
+public:
+    virtual ~IrradianceSource() = default;
+    virtual void irradiance_row(const RowGeometry& row, float* out_rgb_planar) const = 0;
+};
+
+/// Water light added along pixel rays up to planar depth z (z_max for open water), radiance
+/// per channel, written planar as out[c * n + u].
+class BackscatterSource {
+public:
+    virtual ~BackscatterSource() = default;
+    virtual void backscatter_row(int v, int n, const float* z, float* out_rgb_planar) const = 0;
+};
+
+}  // namespace deepsea

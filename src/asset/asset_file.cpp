@@ -1,0 +1,409 @@
+// The only translation unit that includes OpenVDB (it is slow to compile): the asset's file.
+
+#include "deepsea/asset/asset_file.h"
+
+#include <openvdb/io/File.h>
+#include <openvdb/math/Maps.h>
+#include <openvdb/math/Transform.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+
+#include "deepsea/asset/asset_json.h"
+#include "deepsea/core/error.h"
+#include "preview.h"
+
+namespace deepsea {
+
+namespace fs = std::filesystem;
+namespace vdb = openvdb;
+
+namespace {
+
+constexpr const char* kMetaFormat = "deepsea:format";
+constexpr const char* kMetaBake = "deepsea:bake";
+constexpr const char* kMetaScale = "deepsea:value_scale";
+constexpr const char* kMetaChecksum = "deepsea:checksum";
+constexpr const char* kMetaZ = "deepsea:z_samples";
+constexpr const char* kMetaPreviewVoxel = "deepsea:preview_voxel_size";
+constexpr const char* kMetaPreviewScale = "deepsea:preview_density_scale";
+
+void init_openvdb() {
+    static std::once_flag once;
+    std::call_once(once, [] { vdb::initialize(); });
+}
+
+/// FNV-1a over the bit patterns of the stored floats: OpenVDB does not notice every truncated
+/// or damaged file (a short read can leave zeros), so the loader compares this.
+std::uint64_t checksum(const float* v, std::size_t n) {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &v[i], 4);
+        for (int b = 0; b < 4; ++b) {
+            h ^= (bits >> (8 * b)) & 0xffu;
+            h *= 1099511628211ull;
+        }
+    }
+    return h;
+}
+
+std::string hex(std::uint64_t h) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+    return buf;
+}
+
+/// Power of two that puts the largest value near 2^12, so that half floats keep 11 bits for
+/// everything down to 2^-26 of the maximum (half's normal range is 2^-14 .. 65504).
+double half_scale(const std::vector<float>& v) {
+    float m = 0.0f;
+    for (float x : v) m = std::max(m, std::abs(x));
+    if (!(m > 0.0f) || !std::isfinite(m)) return 1.0;
+    return std::ldexp(1.0, 12 - std::ilogb(m) - 1);
+}
+
+bool is_uniform(const Lattice& l) {
+    if (l.scheme != DepthScheme::Uniform || l.slabs() < 2) return false;
+    const double dz = l.z_max() / l.slabs();
+    for (int k = 0; k <= l.slabs(); ++k) {
+        if (std::abs(l.z[k] - k * dz) > 1e-9 * l.z_max()) return false;
+    }
+    return true;
+}
+
+/// Frustum transform: index (i, j, k) -> camera point of pixel (i s, j s) at planar depth
+/// k dz, in the world frame (x, -y, -z). docs/asset-format.md derives the parameters.
+vdb::math::Transform::Ptr frustum_transform(const Camera& cam, const Lattice& l) {
+    const int K = l.slabs();
+    const double s = l.step, dz = l.z_max() / K;
+    const double ci = cam.cx / s, cj = cam.cy / s;
+    const double half_i = std::max(ci, (l.ni - 1) - ci);
+    const double half_j = std::max(cj, (l.nj - 1) - cj);
+    // Symmetric about the principal point. OpenVDB scales both x and y by 1 / Lx, so the
+    // second map's y scale carries fx / fy (a uniform scale when fx = fy).
+    const double Lx = std::max(2.0 * half_i, 1.0);
+    const double Ly = std::max(2.0 * half_j, 1.0);
+    const vdb::BBoxd bbox(vdb::Vec3d(ci - Lx / 2, cj - Ly / 2, 1.0),
+                          vdb::Vec3d(ci + Lx / 2, cj + Ly / 2, double(K)));
+    // Index z from 1 (near plane z_1) to K (far plane): taper z_1 / z_K = 1 / K, and the
+    // frustum's linear extrapolation puts k = 0 at the apex.
+    const double Sx = s * dz * Lx / cam.fx;
+    const double Sy = s * dz * Lx / cam.fy;
+    const double taper = 1.0 / K;
+    const double depth = dz * (K - 1) / Sx;
+    const vdb::math::Mat4d m(Sx, 0.0, 0.0, 0.0,   //
+                             0.0, -Sy, 0.0, 0.0,  //
+                             0.0, 0.0, -Sx, 0.0,  //
+                             0.0, 0.0, -dz, 1.0);
+    auto second = vdb::math::MapBase::Ptr(new vdb::math::AffineMap(m));
+    auto frustum = vdb::math::MapBase::Ptr(
+        new vdb::math::NonlinearFrustumMap(bbox, taper, depth, second));
+    return vdb::math::Transform::Ptr(new vdb::math::Transform(frustum));
+}
+
+template <typename T>
+bool get_meta(const vdb::MetaMap& meta, const char* name, T& out) {
+    using MetaT = vdb::TypedMetadata<T>;
+    const auto m = meta.getMetadata<MetaT>(name);
+    if (!m) return false;
+    out = m->value();
+    return true;
+}
+
+/// An open file and its deepsea metadata (file-level first, else the backscatter grid's,
+/// which survives when Houdini re-saves the grid).
+struct OpenAsset {
+    vdb::io::File file;
+    vdb::MetaMap meta;
+    int format = 0;
+    BakeInfo info;
+    double value_scale = 1.0;
+
+    explicit OpenAsset(const std::string& path) : file(path) {
+        init_openvdb();
+        {
+            std::ifstream probe(path, std::ios::binary);
+            if (!probe) throw IoError("cannot open asset " + path + ": " + std::strerror(errno));
+        }
+        try {
+            file.open(/*delayLoad=*/false);  // no memory map: a truncated file cannot SIGBUS
+        } catch (const std::exception& e) {
+            throw AssetError(path + ": not an OpenVDB file (" + e.what() + ")");
+        }
+        try {
+            meta = *file.getMetadata();
+            std::int32_t f = 0;
+            if (!get_meta(meta, kMetaFormat, f) && file.hasGrid(kBackscatterGrid)) {
+                meta = *file.readGridMetadata(kBackscatterGrid);
+                get_meta(meta, kMetaFormat, f);
+            }
+            format = f;
+        } catch (const std::exception& e) {
+            throw AssetError(path + ": damaged OpenVDB file (" + e.what() + ")");
+        }
+        if (format == 0) throw AssetError(path + ": not a deepsea asset (no deepsea:format metadata)");
+        if (format < 0 || format > kAssetFormat) {
+            throw AssetError(path + ": asset format " + std::to_string(format) +
+                             " is not one this deepsea reads (1.." + std::to_string(kAssetFormat) +
+                             "); update deepsea or re-bake");
+        }
+        std::string json;
+        if (!get_meta(meta, kMetaBake, json)) throw AssetError(path + ": no deepsea:bake metadata");
+        try {
+            info = bake_info_from_json(json);
+        } catch (const AssetError& e) {
+            throw AssetError(path + ": " + e.what());
+        }
+        get_meta(meta, kMetaScale, value_scale);
+        if (!(value_scale > 0.0)) throw AssetError(path + ": bad deepsea:value_scale");
+    }
+};
+
+GridSummary summarize(const vdb::GridBase& g) {
+    GridSummary s;
+    s.name = g.getName();
+    s.value_type = g.valueType();
+    s.transform = g.transform().mapType() == vdb::math::NonlinearFrustumMap::mapType()
+                      ? "frustum" : "linear";
+    s.half = g.saveFloatAsHalf();
+    if (auto c = g.getMetadata<vdb::Int64Metadata>(vdb::GridBase::META_FILE_VOXEL_COUNT)) {
+        s.active_voxels = c->value();
+    }
+    const auto lo = g.getMetadata<vdb::Vec3IMetadata>(vdb::GridBase::META_FILE_BBOX_MIN);
+    const auto hi = g.getMetadata<vdb::Vec3IMetadata>(vdb::GridBase::META_FILE_BBOX_MAX);
+    if (lo && hi && s.active_voxels > 0) {
+        double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
+        for (int corner = 0; corner < 8; ++corner) {
+            const vdb::Vec3d p((corner & 1 ? hi : lo)->value().x(), (corner & 2 ? hi : lo)->value().y(),
+                               (corner & 4 ? hi : lo)->value().z());
+            const vdb::Vec3d w = g.transform().indexToWorld(p);
+            for (int a = 0; a < 3; ++a) {
+                mn[a] = std::min(mn[a], w[a]);
+                mx[a] = std::max(mx[a], w[a]);
+            }
+        }
+        s.world_min = {mn[0], mn[1], mn[2]};
+        s.world_max = {mx[0], mx[1], mx[2]};
+    }
+    return s;
+}
+
+std::atomic<unsigned> g_temp_counter{0};
+
+/// The directory part of require_writable; write_asset lets a bad target fail at the rename,
+/// after the temporary file exists, which is the path that must clean up.
+void require_directory_writable(const std::string& path) {
+    const fs::path p(path);
+    if (p.filename().empty()) throw IoError("cannot write " + path + ": not a file name");
+    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+        throw IoError("cannot write " + path + ": directory " + dir.string() + " does not exist");
+    }
+    if (::access(dir.c_str(), W_OK) != 0) {
+        throw IoError("cannot write " + path + ": directory " + dir.string() + " is not writable");
+    }
+}
+
+}  // namespace
+
+void require_writable(const std::string& path) {
+    require_directory_writable(path);
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw IoError("cannot write " + path + ": it is a directory");
+}
+
+void write_asset(const std::string& path, const Asset& asset, const WriteOptions& opt) {
+    const Lattice& l = asset.lattice();
+    if (l.ni < 1 || l.nj < 1 || l.nk() < 2) throw AssetError("write_asset: empty lattice");
+    if (asset.values.size() != std::size_t(l.ni) * l.nj * l.nk() * 3) {
+        throw AssetError("write_asset: " + std::to_string(asset.values.size()) +
+                         " values do not fill the lattice");
+    }
+    require_directory_writable(path);
+    init_openvdb();
+
+    // The stored values: optionally scaled by a power of two (exact) and rounded to half, so
+    // that the checksum is of exactly what the loader will see.
+    const double scale = opt.half ? half_scale(asset.values) : 1.0;
+    std::vector<vdb::Vec3s> stored(asset.values.size() / 3);
+    for (std::size_t n = 0; n < stored.size(); ++n) {
+        for (int c = 0; c < 3; ++c) {
+            float x = float(asset.values[3 * n + c] * scale);
+            if (opt.half) x = float(vdb::math::half(x));
+            stored[n][c] = x;
+        }
+    }
+    const std::uint64_t sum = checksum(&stored[0][0], stored.size() * 3);
+
+    const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(l.ni - 1, l.nj - 1, l.nk() - 1));
+    auto grid = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
+    {
+        vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, stored.data());
+        vdb::tools::copyFromDense(dense, *grid, vdb::Vec3s(0.0f));
+    }
+    grid->setName(kBackscatterGrid);
+    grid->setTransform(is_uniform(l) ? frustum_transform(asset.info.camera, l)
+                                     : vdb::math::Transform::createLinearTransform(1.0));
+    grid->setSaveFloatAsHalf(opt.half);
+    grid->setVectorType(vdb::VEC_INVARIANT);
+
+    vdb::MetaMap meta;
+    meta.insertMeta(kMetaFormat, vdb::Int32Metadata(kAssetFormat));
+    meta.insertMeta(kMetaBake, vdb::StringMetadata(bake_info_to_json(asset.info)));
+    meta.insertMeta(kMetaScale, vdb::DoubleMetadata(scale));
+    meta.insertMeta(kMetaChecksum, vdb::StringMetadata(hex(sum)));
+    std::string zs;
+    for (double z : l.z) zs += (zs.empty() ? "" : " ") + std::to_string(z);
+    meta.insertMeta(kMetaZ, vdb::StringMetadata(zs));
+    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) grid->insertMeta(it->first, *it->second);
+
+    // The backscatter grid goes last: a truncated file then always damages it (or the
+    // descriptors before it), and load_asset, which reads only this grid, notices.
+    vdb::GridPtrVec grids;
+    if (opt.preview) {
+        const detail::Preview pv = detail::make_preview(asset, std::max(opt.preview_resolution, 2));
+        if (!pv.voxels.empty()) {
+            auto density = vdb::FloatGrid::create(0.0f);
+            auto color = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
+            auto da = density->getAccessor();
+            auto ca = color->getAccessor();
+            for (const auto& v : pv.voxels) {
+                const vdb::Coord ijk(v.a, v.b, v.c);
+                da.setValue(ijk, v.density);
+                ca.setValue(ijk, vdb::Vec3s(v.color[0], v.color[1], v.color[2]));
+            }
+            const auto xform = vdb::math::Transform::createLinearTransform(pv.voxel_size);
+            density->setTransform(xform);
+            color->setTransform(xform->copy());
+            density->setName(kDensityGrid);
+            color->setName(kColorGrid);
+            density->setGridClass(vdb::GRID_FOG_VOLUME);
+            color->setVectorType(vdb::VEC_INVARIANT);
+            density->setSaveFloatAsHalf(true);
+            color->setSaveFloatAsHalf(true);
+            grids.push_back(density);
+            grids.push_back(color);
+            meta.insertMeta(kMetaPreviewVoxel, vdb::DoubleMetadata(pv.voxel_size));
+            meta.insertMeta(kMetaPreviewScale, vdb::DoubleMetadata(pv.density_scale));
+        }
+    }
+    grids.push_back(grid);
+    meta.insertMeta("creator", vdb::StringMetadata("deepsea bake"));
+
+    // Same directory as the target, so the rename is atomic (one file system).
+    const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." +
+                            std::to_string(g_temp_counter.fetch_add(1));
+    try {
+        vdb::io::File file(tmp);
+        file.setCompression(vdb::io::Archive::hasBloscCompression()
+                                ? vdb::io::COMPRESS_BLOSC | vdb::io::COMPRESS_ACTIVE_MASK
+                                : vdb::io::COMPRESS_ZIP | vdb::io::COMPRESS_ACTIVE_MASK);
+        file.write(grids, meta);
+        file.close();
+        std::error_code ec;
+        if (fs::file_size(tmp, ec) == 0 || ec) throw IoError("nothing was written");
+        fs::rename(tmp, path);
+    } catch (const std::exception& e) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw IoError("cannot write asset " + path + ": " + e.what());
+    }
+}
+
+Asset load_asset(const std::string& path) {
+    OpenAsset f(path);
+    Asset asset;
+    asset.info = f.info;
+    const Lattice& l = asset.info.lattice;
+    vdb::GridBase::Ptr base;
+    try {
+        if (!f.file.hasGrid(kBackscatterGrid)) throw AssetError("no backscatter grid");
+        base = f.file.readGrid(kBackscatterGrid);
+    } catch (const AssetError& e) {
+        throw AssetError(path + ": " + e.what());
+    } catch (const std::exception& e) {
+        throw AssetError(path + ": truncated or damaged asset (" + e.what() + ")");
+    }
+    const auto grid = vdb::gridPtrCast<vdb::Vec3SGrid>(base);
+    if (!grid) throw AssetError(path + ": the backscatter grid is " + base->valueType() + ", not Vec3f");
+    const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(l.ni - 1, l.nj - 1, l.nk() - 1));
+    const vdb::CoordBBox active = grid->evalActiveVoxelBoundingBox();
+    if (!active.empty() && !box.isInside(active)) {
+        throw AssetError(path + ": backscatter grid is larger than its deepsea:bake lattice");
+    }
+    std::vector<vdb::Vec3s> dense_data(box.volume());
+    {
+        vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, dense_data.data());
+        vdb::tools::copyToDense(*grid, dense);
+    }
+    std::string expect;
+    if (get_meta(f.meta, kMetaChecksum, expect) &&
+        hex(checksum(&dense_data[0][0], dense_data.size() * 3)) != expect) {
+        throw AssetError(path + ": truncated or damaged asset (checksum mismatch)");
+    }
+    asset.values.resize(dense_data.size() * 3);
+    const double inv = 1.0 / f.value_scale;
+    for (std::size_t n = 0; n < dense_data.size(); ++n) {
+        for (int c = 0; c < 3; ++c) {
+            const float x = dense_data[n][c];
+            if (!std::isfinite(x)) throw AssetError(path + ": non-finite backscatter value");
+            asset.values[3 * n + c] = float(x * inv);
+        }
+    }
+    return asset;
+}
+
+AssetFileSummary read_asset_summary(const std::string& path) {
+    OpenAsset f(path);
+    AssetFileSummary s;
+    std::error_code ec;
+    s.file_bytes = fs::file_size(path, ec);
+    s.format = f.format;
+    s.info = f.info;
+    s.value_scale = f.value_scale;
+    get_meta(f.meta, kMetaPreviewVoxel, s.preview_voxel_size);
+    get_meta(f.meta, kMetaPreviewScale, s.preview_density_scale);
+    try {
+        const auto grids = f.file.readAllGridMetadata();
+        for (const auto& g : *grids) s.grids.push_back(summarize(*g));
+        // OpenVDB lists grids by name; show the asset's own grid first.
+        std::stable_partition(s.grids.begin(), s.grids.end(),
+                              [](const GridSummary& g) { return g.name == kBackscatterGrid; });
+    } catch (const std::exception& e) {
+        throw AssetError(path + ": damaged OpenVDB file (" + e.what() + ")");
+    }
+    return s;
+}
+
+std::vector<Vec3> index_to_world(const std::string& path, const std::string& grid,
+                                 const std::vector<Vec3>& index_points) {
+    OpenAsset f(path);
+    vdb::GridBase::Ptr g;
+    try {
+        if (!f.file.hasGrid(grid)) throw AssetError(path + ": no grid named " + grid);
+        g = f.file.readGridMetadata(grid);
+    } catch (const AssetError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw AssetError(path + ": damaged OpenVDB file (" + e.what() + ")");
+    }
+    std::vector<Vec3> out;
+    for (const Vec3& p : index_points) {
+        const vdb::Vec3d w = g->transform().indexToWorld(vdb::Vec3d(p.x, p.y, p.z));
+        out.push_back({w.x(), w.y(), w.z()});
+    }
+    return out;
+}
+
+}  // namespace deepsea

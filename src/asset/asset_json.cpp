@@ -1,0 +1,301 @@
+#include "deepsea/asset/asset_json.h"
+
+#include <cinttypes>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "deepsea/core/error.h"
+
+namespace deepsea {
+
+using nlohmann::json;
+
+namespace {
+
+json rgb_json(const Rgb& x) { return json::array({x.r, x.g, x.b}); }
+json vec_json(const Vec3& x) { return json::array({x.x, x.y, x.z}); }
+
+json camera_json(const Camera& c) {
+    return {{"width", c.width}, {"height", c.height}, {"fx", c.fx},
+            {"fy", c.fy},       {"cx", c.cx},         {"cy", c.cy}};
+}
+
+json rid_json(const Rid& r) {
+    if (r.kind == Rid::Kind::Gaussian) return {{"gaussian", {{"sigma_deg", r.sigma_deg}}}};
+    return {{"table", {{"angle_deg", r.angle_deg}, {"value", r.value}}}};
+}
+
+json rig_json(const Rig& rig) {
+    json lights = json::array();
+    for (const Light& l : rig.lights) {
+        lights.push_back({{"name", l.name},
+                          {"position", vec_json(l.position)},
+                          {"direction", vec_json(l.direction)},
+                          {"intensity", rgb_json(l.intensity)},
+                          {"rid", rid_json(l.rid)},
+                          {"cutoff_deg", l.rid.cutoff_deg}});
+    }
+    return {{"name", rig.name}, {"lights", lights}};
+}
+
+json water_json(const Water& w) {
+    json fs = "off";
+    if (w.forward.enabled) fs = {{"G", rgb_json(w.forward.G)}, {"k", w.forward.k}};
+    json phase = to_string(w.phase.kind);
+    if (w.phase.kind == PhaseKind::HenyeyGreenstein) {
+        phase = {{"henyey_greenstein", {{"g", w.phase.g}}}};
+    }
+    return {{"name", w.name},
+            {"attenuation", rgb_json(w.c)},
+            {"scattering", rgb_json(w.b)},
+            {"phase", phase},
+            {"forward_scatter", fs}};
+}
+
+json quadrature_json(const Quadrature& q) {
+    return {{"rel_tol", q.rel_tol}, {"abs_tol", q.abs_tol}, {"max_depth", q.max_depth}};
+}
+
+/// What the user asked for: the hash covers exactly these plus camera, rig and water.
+json settings_json(const BakeInfo& info) {
+    const Lattice& l = info.lattice;
+    json s = {{"step", l.step},
+              {"depth_scheme", to_string(l.scheme)},
+              {"depth_samples", l.slabs()},
+              {"quadrature", quadrature_json(info.quadrature)}};
+    if (l.scheme == DepthScheme::Log) s["z0"] = l.z0;
+    if (info.z_max_auto) {
+        s["z_max"] = "auto";
+        s["tolerance"] = info.tolerance;
+    } else {
+        s["z_max"] = l.z_max();
+    }
+    return s;
+}
+
+// --- parsing -------------------------------------------------------------------------------
+
+[[noreturn]] void fail(const std::string& key, const std::string& problem) {
+    throw AssetError("deepsea:bake: " + key + ": " + problem);
+}
+
+const json& get(const json& j, const char* key, const std::string& where) {
+    if (!j.is_object()) fail(where, "not an object");
+    const auto it = j.find(key);
+    if (it == j.end()) fail(where + "." + key, "missing");
+    return *it;
+}
+
+double num(const json& j, const char* key, const std::string& where) {
+    const json& x = get(j, key, where);
+    if (!x.is_number()) fail(where + "." + key, "not a number");
+    return x.get<double>();
+}
+
+int integer(const json& j, const char* key, const std::string& where) {
+    const json& x = get(j, key, where);
+    if (!x.is_number_integer()) fail(where + "." + key, "not an integer");
+    return x.get<int>();
+}
+
+std::string str(const json& j, const char* key, const std::string& where) {
+    const json& x = get(j, key, where);
+    if (!x.is_string()) fail(where + "." + key, "not a string");
+    return x.get<std::string>();
+}
+
+std::vector<double> numbers(const json& x, const std::string& where) {
+    if (!x.is_array()) fail(where, "not an array");
+    std::vector<double> out;
+    for (const json& e : x) {
+        if (!e.is_number()) fail(where, "not an array of numbers");
+        out.push_back(e.get<double>());
+    }
+    return out;
+}
+
+Rgb rgb(const json& j, const char* key, const std::string& where) {
+    const auto v = numbers(get(j, key, where), where + "." + key);
+    if (v.size() != 3) fail(where + "." + key, "needs 3 numbers");
+    return {v[0], v[1], v[2]};
+}
+
+Vec3 vec(const json& j, const char* key, const std::string& where) {
+    const Rgb v = rgb(j, key, where);
+    return {v.r, v.g, v.b};
+}
+
+Camera parse_camera(const json& j) {
+    Camera c;
+    c.width = integer(j, "width", "camera");
+    c.height = integer(j, "height", "camera");
+    c.fx = num(j, "fx", "camera");
+    c.fy = num(j, "fy", "camera");
+    c.cx = num(j, "cx", "camera");
+    c.cy = num(j, "cy", "camera");
+    return c;
+}
+
+Rid parse_rid(const json& j, const std::string& where) {
+    Rid r;
+    if (j.is_object() && j.contains("gaussian")) {
+        r.kind = Rid::Kind::Gaussian;
+        r.sigma_deg = num(j["gaussian"], "sigma_deg", where + ".gaussian");
+    } else if (j.is_object() && j.contains("table")) {
+        r.kind = Rid::Kind::Table;
+        r.angle_deg = numbers(get(j["table"], "angle_deg", where), where + ".table.angle_deg");
+        r.value = numbers(get(j["table"], "value", where), where + ".table.value");
+    } else {
+        fail(where, "neither gaussian nor table");
+    }
+    return r;
+}
+
+Rig parse_rig(const json& j) {
+    Rig rig;
+    rig.name = str(j, "name", "rig");
+    const json& lights = get(j, "lights", "rig");
+    if (!lights.is_array()) fail("rig.lights", "not an array");
+    for (std::size_t n = 0; n < lights.size(); ++n) {
+        const std::string where = "rig.lights[" + std::to_string(n) + "]";
+        const json& lj = lights[n];
+        Light l;
+        l.name = str(lj, "name", where);
+        l.position = vec(lj, "position", where);
+        l.direction = vec(lj, "direction", where);
+        l.intensity = rgb(lj, "intensity", where);
+        l.rid = parse_rid(get(lj, "rid", where), where + ".rid");
+        l.rid.cutoff_deg = num(lj, "cutoff_deg", where);
+        rig.lights.push_back(std::move(l));
+    }
+    return rig;
+}
+
+Phase parse_phase(const json& j) {
+    Phase p;
+    if (j.is_object() && j.contains("henyey_greenstein")) {
+        p.kind = PhaseKind::HenyeyGreenstein;
+        p.g = num(j["henyey_greenstein"], "g", "water.phase.henyey_greenstein");
+        return p;
+    }
+    if (!j.is_string()) fail("water.phase", "not a phase function");
+    const std::string name = j.get<std::string>();
+    for (PhaseKind k : {PhaseKind::Isotropic, PhaseKind::HenyeyGreenstein, PhaseKind::PetzoldClear,
+                        PhaseKind::PetzoldCoastal, PhaseKind::PetzoldTurbid}) {
+        if (name == to_string(k)) {
+            p.kind = k;
+            return p;
+        }
+    }
+    fail("water.phase", "unknown phase function '" + name + "'");
+}
+
+Water parse_water(const json& j) {
+    Water w;
+    w.name = str(j, "name", "water");
+    w.c = rgb(j, "attenuation", "water");
+    w.b = rgb(j, "scattering", "water");
+    w.phase = parse_phase(get(j, "phase", "water"));
+    const json& fs = get(j, "forward_scatter", "water");
+    if (fs.is_object()) {
+        w.forward.enabled = true;
+        w.forward.G = rgb(fs, "G", "water.forward_scatter");
+        w.forward.k = num(fs, "k", "water.forward_scatter");
+    } else if (!(fs.is_string() && fs.get<std::string>() == "off")) {
+        fail("water.forward_scatter", "neither 'off' nor {G, k}");
+    }
+    return w;
+}
+
+std::string hex64(std::uint64_t h) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%016" PRIx64, h);
+    return buf;
+}
+
+}  // namespace
+
+std::string bake_info_to_json(const BakeInfo& info, int indent) {
+    const Lattice& l = info.lattice;
+    json lattice = {{"step", l.step},
+                    {"columns", l.ni},
+                    {"rows", l.nj},
+                    {"depth_scheme", to_string(l.scheme)},
+                    {"depth_samples", l.slabs()},
+                    {"z_max", l.z_max()},
+                    {"z_max_auto", info.z_max_auto},
+                    {"tolerance", info.tolerance},
+                    {"z", l.z}};
+    if (l.scheme == DepthScheme::Log) lattice["z0"] = l.z0;
+    const json j = {{"format", kAssetFormat},
+                    {"baker_version", info.baker_version},
+                    {"input_hash", info.input_hash},
+                    {"camera", camera_json(info.camera)},
+                    {"rig", rig_json(info.rig)},
+                    {"water", water_json(info.water)},
+                    {"lattice", lattice},
+                    {"quadrature", quadrature_json(info.quadrature)}};
+    return j.dump(indent);
+}
+
+BakeInfo bake_info_from_json(const std::string& text) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception& e) {
+        throw AssetError(std::string("deepsea:bake: not valid JSON (") + e.what() + ")");
+    }
+    if (!j.is_object()) fail("(top)", "not an object");
+    BakeInfo info;
+    info.baker_version = str(j, "baker_version", "(top)");
+    info.input_hash = str(j, "input_hash", "(top)");
+    info.camera = parse_camera(get(j, "camera", "(top)"));
+    info.rig = parse_rig(get(j, "rig", "(top)"));
+    info.water = parse_water(get(j, "water", "(top)"));
+
+    const json& lj = get(j, "lattice", "(top)");
+    info.z_max_auto = get(lj, "z_max_auto", "lattice").is_boolean() && lj["z_max_auto"].get<bool>();
+    info.tolerance = num(lj, "tolerance", "lattice");
+    const DepthScheme scheme = [&] {
+        try {
+            return parse_depth_scheme(str(lj, "depth_scheme", "lattice"));
+        } catch (const ConfigError& e) {
+            fail("lattice.depth_scheme", e.what());
+        }
+    }();
+    const double z0 = lj.contains("z0") ? num(lj, "z0", "lattice") : kDefaultLogZ0;
+    std::vector<double> z = numbers(get(lj, "z", "lattice"), "lattice.z");
+    Camera cam = info.camera;
+    const int step = integer(lj, "step", "lattice");
+    try {
+        info.lattice = make_lattice(cam, step, scheme, std::move(z), z0);
+    } catch (const ConfigError& e) {
+        fail("lattice", e.what());
+    }
+    if (info.lattice.ni != integer(lj, "columns", "lattice") ||
+        info.lattice.nj != integer(lj, "rows", "lattice")) {
+        fail("lattice", "columns/rows do not match the camera and step");
+    }
+    const json& q = get(j, "quadrature", "(top)");
+    info.quadrature.rel_tol = num(q, "rel_tol", "quadrature");
+    info.quadrature.abs_tol = num(q, "abs_tol", "quadrature");
+    info.quadrature.max_depth = integer(q, "max_depth", "quadrature");
+    return info;
+}
+
+std::string input_hash(const BakeInfo& info) {
+    const json j = {{"camera", camera_json(info.camera)},
+                    {"rig", rig_json(info.rig)},
+                    {"water", water_json(info.water)},
+                    {"settings", settings_json(info)}};
+    // nlohmann's objects keep keys sorted, so dump() is canonical for equal inputs.
+    const std::string text = j.dump();
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bit
+    for (unsigned char ch : text) {
+        h ^= ch;
+        h *= 1099511628211ull;
+    }
+    return "fnv1a64:" + hex64(h);
+}
+
+}  // namespace deepsea

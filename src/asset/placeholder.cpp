@@ -1,1 +1,0 @@
-// Filled by the asset work (issue 3).

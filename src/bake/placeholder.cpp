@@ -1,1 +1,0 @@
-// Filled by the baker work (issue 3).

@@ -1,0 +1,99 @@
+#include "deepsea/optics/backscatter.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "quadrature.h"
+
+namespace deepsea {
+
+Rgb in_scatter(const Rig& rig, const Water& water, const Vec3& dir, double t) {
+    const Vec3 X = dir * t;
+    Rgb sum;
+    for (const Light& L : rig.lights) {
+        const Vec3 lx = X - L.position;
+        const double d1 = length(lx);
+        if (!(d1 > 0.0)) continue;  // the ray passes through the lamp itself
+        const Vec3 w = lx / d1;     // light -> X
+        // scattering angle between the light's travel (w) and the way to the camera (-dir)
+        const double cos_psi = -dot(w, dir);
+        const Rgb I = L.intensity_toward(w);
+        sum += I * water.beta(cos_psi) * exp(water.c * -(d1 + t)) * (1.0 / (d1 * d1));
+    }
+    return sum;
+}
+
+namespace {
+
+Rgb abs_diff(const Rgb& a, const Rgb& b) {
+    return {std::fabs(a.r - b.r), std::fabs(a.g - b.g), std::fabs(a.b - b.b)};
+}
+
+/// Recursive bisection until every channel's error estimate is within its share of tol.
+void adapt(const Rig& rig, const Water& water, const Vec3& dir, double a, double b,
+           const Rgb& tol, int depth, Integral& out) {
+    const auto f = [&](double t) { return in_scatter(rig, water, dir, t); };
+    Rgb k, e;
+    detail::gk15<Rgb>(f, a, b, k, e, abs_diff);
+    const bool ok = e.r <= tol.r && e.g <= tol.g && e.b <= tol.b;
+    if (ok || depth <= 0) {
+        out.value += k;
+        out.error += e;
+        return;
+    }
+    const double m = 0.5 * (a + b);
+    adapt(rig, water, dir, a, m, tol * 0.5, depth - 1, out);
+    adapt(rig, water, dir, m, b, tol * 0.5, depth - 1, out);
+}
+
+/// Absolute tolerance per channel from a rough estimate of the integral over [t0, t1].
+Rgb tolerance_for(const Rig& rig, const Water& water, const Vec3& dir, double t0, double t1,
+                  const Quadrature& q) {
+    Rgb est, e;
+    const int panels = 4;
+    for (int i = 0; i < panels; ++i) {
+        const double a = t0 + (t1 - t0) * i / panels, b = t0 + (t1 - t0) * (i + 1) / panels;
+        Rgb k;
+        detail::gk15<Rgb>([&](double t) { return in_scatter(rig, water, dir, t); }, a, b, k, e,
+                          abs_diff);
+        est += k;
+    }
+    Rgb tol;
+    for (int c = 0; c < 3; ++c) tol[c] = std::max(q.rel_tol * std::fabs(est[c]), q.abs_tol);
+    return tol;
+}
+
+}  // namespace
+
+Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& dir, double t0,
+                              double t1, const Quadrature& q) {
+    Integral out;
+    if (!(t1 > t0)) return out;
+    adapt(rig, water, dir, t0, t1, tolerance_for(rig, water, dir, t0, t1, q), q.max_depth, out);
+    return out;
+}
+
+std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, const Vec3& dir,
+                                        const std::vector<double>& t, const Quadrature& q) {
+    std::vector<Rgb> out(t.size());
+    if (t.empty()) return out;
+    // One tolerance for the whole ray, shared among segments by length: the error of the
+    // cumulative value at any sample stays within rel_tol of the ray's total.
+    const double t_end = t.back();
+    const Rgb total_tol = t_end > 0.0 ? tolerance_for(rig, water, dir, 0.0, t_end, q) : Rgb(q.abs_tol);
+    Rgb acc;
+    double prev = 0.0;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+        if (t[k] > prev) {
+            Integral seg;
+            const Rgb tol = total_tol * ((t[k] - prev) / t_end);
+            adapt(rig, water, dir, prev, t[k], tol, q.max_depth, seg);
+            acc += seg.value;
+            prev = t[k];
+        }
+        out[k] = acc;
+    }
+    return out;
+}
+
+}  // namespace deepsea

@@ -1,0 +1,52 @@
+#include "deepsea/runtime/asset_backscatter.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace deepsea {
+
+AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m_asset(asset) {
+    check_camera(asset, camera);
+    const Camera& ac = asset.info.camera;
+    const Lattice& l = asset.lattice();
+    auto taps = [&](int pixels, double f, double c, double fa, double ca, int count) {
+        std::vector<Tap> out(pixels);
+        for (int p = 0; p < pixels; ++p) {
+            const double pa = ca + (p - c) * fa / f;  // same ray, asset pixel coordinates
+            const double x = std::clamp(pa / l.step, 0.0, double(count - 1));
+            Tap t;
+            t.i0 = std::min(int(x), std::max(count - 2, 0));
+            t.i1 = std::min(t.i0 + 1, count - 1);
+            t.w = float(x - t.i0);
+            out[p] = t;
+        }
+        return out;
+    };
+    m_cols = taps(camera.width, camera.fx, camera.cx, ac.fx, ac.cx, l.ni);
+    m_rows = taps(camera.height, camera.fy, camera.cy, ac.fy, ac.cy, l.nj);
+}
+
+void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out) const {
+    const Lattice& l = m_asset.lattice();
+    const Tap r = m_rows[v];
+    const float* base = m_asset.values.data();
+    const std::size_t nk = std::size_t(l.nk());
+    for (int u = 0; u < n; ++u) {
+        const Tap c = m_cols[u];
+        // z == 0 is open water after the compositor's sanitising: look up z_max.
+        const DepthPosition dp = l.depth_position(z[u] > 0.0f ? double(z[u]) : HUGE_VAL);
+        const float wz = float(dp.w);
+        const float* p00 = base + ((std::size_t(c.i0) * l.nj + r.i0) * nk + dp.k) * 3;
+        const float* p10 = base + ((std::size_t(c.i1) * l.nj + r.i0) * nk + dp.k) * 3;
+        const float* p01 = base + ((std::size_t(c.i0) * l.nj + r.i1) * nk + dp.k) * 3;
+        const float* p11 = base + ((std::size_t(c.i1) * l.nj + r.i1) * nk + dp.k) * 3;
+        for (int ch = 0; ch < 3; ++ch) {
+            auto lerpz = [&](const float* p) { return p[ch] + wz * (p[ch + 3] - p[ch]); };
+            const float top = lerpz(p00) + c.w * (lerpz(p10) - lerpz(p00));
+            const float bot = lerpz(p01) + c.w * (lerpz(p11) - lerpz(p01));
+            out[ch * n + u] = top + r.w * (bot - top);
+        }
+    }
+}
+
+}  // namespace deepsea

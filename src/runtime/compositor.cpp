@@ -1,0 +1,151 @@
+#include "deepsea/runtime/compositor.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <vector>
+
+#include "deepsea/core/error.h"
+#include "deepsea/optics/forward.h"
+#include "deepsea/optics/normals.h"
+#include "kernels.h"
+
+namespace deepsea {
+
+namespace {
+
+/// Per-thread row buffers (structure of arrays), sized once per image width.
+struct RowScratch {
+    std::vector<float> x, y, z, nx, ny, nz, d2, e, b;
+    void fit(int n) {
+        for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2}) v->resize(n);
+        e.resize(3 * std::size_t(n));
+        b.resize(3 * std::size_t(n));
+    }
+};
+
+inline bool regular(float zc, float zn) {
+    return has_surface(zn) && std::fabs(zn - zc) <= kDepthDiscontinuity * zc;
+}
+
+}  // namespace
+
+Compositor::Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
+                       const BackscatterSource& backscatter)
+    : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter) {}
+
+void Compositor::composite(Layers& dst, const Frame& f) {
+    const Camera& cam = m_camera;
+    const int W = cam.width, H = cam.height;
+    if (f.rgb.channels != 3 || f.depth.channels != 1) {
+        throw InputError("frame needs a 3-channel colour image and a 1-channel depth image");
+    }
+    require_same_size(f.rgb, f.depth, "colour and depth images");
+    if (f.rgb.width != W || f.rgb.height != H) {
+        throw InputError("frame is " + std::to_string(f.rgb.width) + "x" +
+                         std::to_string(f.rgb.height) + " but the camera is " +
+                         std::to_string(W) + "x" + std::to_string(H));
+    }
+    dst.resize(W, H);
+    const bool forward = m_water.forward.enabled;
+    if (forward && (m_sigma.width != W || m_sigma.height != H)) m_sigma = Image(W, H, 1);
+
+    static tbb::enumerable_thread_specific<RowScratch> scratch;
+    const float cr = float(m_water.c.r), cg = float(m_water.c.g), cb = float(m_water.c.b);
+    const double sigma_per_m = forward_sigma_px(m_water.forward, cam.fx, 1.0);
+    const Image& depth = f.depth;
+
+    tbb::parallel_for(0, H, [&](int v) {
+        RowScratch& s = scratch.local();
+        s.fit(W);
+        const float ry = float((v - cam.cy) / cam.fy);
+        const float* zr = depth.row(v);
+        for (int u = 0; u < W; ++u) {
+            const float z = zr[u];
+            const float rx = float((u - cam.cx) / cam.fx);
+            // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
+            const float zs = has_surface(z) ? z : 0.0f;
+            s.x[u] = rx * zs;
+            s.y[u] = ry * zs;
+            s.z[u] = zs;
+        }
+        // Normals: central differences where all four neighbours are the same surface
+        // (the common case, done here in float); otherwise the optics rule, one-sided.
+        for (int u = 0; u < W; ++u) {
+            const float z = zr[u];
+            if (!has_surface(z)) {
+                s.nx[u] = 0.0f;
+                s.ny[u] = 0.0f;
+                s.nz[u] = 0.0f;
+                continue;
+            }
+            if (u > 0 && u + 1 < W && v > 0 && v + 1 < H && regular(z, zr[u - 1]) &&
+                regular(z, zr[u + 1]) && regular(z, depth.at(u, v - 1)) &&
+                regular(z, depth.at(u, v + 1))) {
+                const Vec3 pl = cam.point(u - 1, v, zr[u - 1]), pr = cam.point(u + 1, v, zr[u + 1]);
+                const Vec3 pu = cam.point(u, v - 1, depth.at(u, v - 1));
+                const Vec3 pd = cam.point(u, v + 1, depth.at(u, v + 1));
+                Vec3 n = normalize(cross(pr - pl, pd - pu));
+                if (dot(n, Vec3(s.x[u], s.y[u], s.z[u])) > 0.0) n = -n;
+                s.nx[u] = float(n.x);
+                s.ny[u] = float(n.y);
+                s.nz[u] = float(n.z);
+            } else {
+                const Vec3 n = surface_normal(cam, depth, u, v);
+                s.nx[u] = float(n.x);
+                s.ny[u] = float(n.y);
+                s.nz[u] = float(n.z);
+            }
+        }
+        const RowGeometry g{v, W, s.x.data(), s.y.data(), s.z.data(),
+                            s.nx.data(), s.ny.data(), s.nz.data()};
+        m_lamps.irradiance_row(g, s.e.data());
+        m_backscatter.backscatter_row(v, W, s.z.data(), s.b.data());
+
+        const float* J = f.rgb.row(v);
+        const float c[3] = {cr, cg, cb};
+        kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, c,
+                           dst.direct.row(v), dst.transmission.row(v), s.d2.data());
+        float* B = dst.backscatter.row(v);
+        float* N = dst.normal.row(v);
+        float* Z = dst.depth.row(v);
+        float* S = forward ? m_sigma.row(v) : nullptr;
+        for (int u = 0; u < W; ++u) {
+            B[3 * u] = s.b[u];
+            B[3 * u + 1] = s.b[W + u];
+            B[3 * u + 2] = s.b[2 * W + u];
+            N[3 * u] = s.nx[u];
+            N[3 * u + 1] = s.ny[u];
+            N[3 * u + 2] = s.nz[u];
+            Z[u] = s.z[u];
+            if (S) S[u] = s.z[u] > 0.0f ? float(sigma_per_m * s.d2[u]) : 0.0f;
+        }
+    });
+
+    if (forward) {
+        m_blur.apply(dst.direct, m_sigma, m_blurred);
+        tbb::parallel_for(0, H, [&](int v) {
+            float* F = dst.forward.row(v);
+            const float* Bl = m_blurred.row(v);
+            const float* Z = dst.depth.row(v);
+            for (int u = 0; u < W; ++u) {
+                if (!(Z[u] > 0.0f)) {
+                    F[3 * u] = F[3 * u + 1] = F[3 * u + 2] = 0.0f;
+                    continue;
+                }
+                const double d2 = length(cam.point(u, v, Z[u]));
+                const Rgb w = forward_weight(m_water.forward, m_water.c, d2);
+                for (int c = 0; c < 3; ++c) F[3 * u + c] = float(w[c]) * Bl[3 * u + c];
+            }
+        });
+    } else {
+        std::fill(dst.forward.data.begin(), dst.forward.data.end(), 0.0f);
+    }
+    const std::size_t n = dst.final.data.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        dst.final.data[i] = dst.direct.data[i] + dst.forward.data[i] + dst.backscatter.data[i];
+    }
+}
+
+}  // namespace deepsea

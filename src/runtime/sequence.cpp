@@ -1,0 +1,196 @@
+#include "deepsea/runtime/sequence.h"
+
+#include <glob.h>
+#include <tbb/parallel_pipeline.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+#include "deepsea/core/error.h"
+#include "deepsea/runtime/asset_backscatter.h"
+#include "deepsea/runtime/compositor.h"
+#include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/reference.h"
+
+namespace deepsea {
+
+Camera frame_camera(const Asset& asset, const Camera& requested, int width, int height) {
+    const Camera& ac = asset.info.camera;
+    Camera cam = requested;
+    if (cam.width == 0) {
+        cam = ac;
+        if (width != ac.width || height != ac.height) {
+            const double sx = double(width) / ac.width, sy = double(height) / ac.height;
+            cam.width = width;
+            cam.height = height;
+            cam.fx = ac.fx * sx;
+            cam.fy = ac.fy * sy;
+            // pixel centres at integers: scale the pixel edges, not the centres
+            cam.cx = (ac.cx + 0.5) * sx - 0.5;
+            cam.cy = (ac.cy + 0.5) * sy - 0.5;
+        }
+    }
+    check_camera(asset, cam);
+    if (cam.width != width || cam.height != height) {
+        throw InputError("frames are " + std::to_string(width) + "x" + std::to_string(height) +
+                         " but the camera is " + describe(cam));
+    }
+    return cam;
+}
+
+std::vector<std::string> glob_files(const std::string& pattern) {
+    glob_t g{};
+    std::vector<std::string> out;
+    if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
+        for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
+    }
+    globfree(&g);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+std::vector<FrameJob> pair_frames(std::vector<std::string> rgb, std::vector<std::string> depth,
+                                  const std::string& rgb_pattern,
+                                  const std::string& depth_pattern) {
+    if (rgb.empty()) throw InputError("no colour files match '" + rgb_pattern + "'");
+    if (depth.empty()) throw InputError("no depth files match '" + depth_pattern + "'");
+    // A pattern like 'dir/*.png' may also match nothing else; depth files are often named
+    // <frame>_depth.exr: drop them from the colour list if both patterns caught them.
+    std::sort(rgb.begin(), rgb.end());
+    std::sort(depth.begin(), depth.end());
+    std::vector<std::string> rgb_only;
+    for (const auto& f : rgb) {
+        if (!std::binary_search(depth.begin(), depth.end(), f)) rgb_only.push_back(f);
+    }
+    if (rgb_only.size() != depth.size()) {
+        throw InputError(std::to_string(rgb_only.size()) + " colour files ('" + rgb_pattern +
+                         "') but " + std::to_string(depth.size()) + " depth files ('" +
+                         depth_pattern + "')");
+    }
+    std::vector<FrameJob> jobs(rgb_only.size());
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        jobs[i].rgb = rgb_only[i];
+        jobs[i].depth = depth[i];
+    }
+    return jobs;
+}
+
+namespace {
+
+struct Slot {
+    int index = -1;
+    bool skip = false;
+    std::string error;
+    Frame frame;
+    Layers layers;
+};
+
+bool done_already(const FrameJob& j) {
+    namespace fs = std::filesystem;
+    return (j.output.empty() || fs::exists(j.output)) && (j.layers.empty() || fs::exists(j.layers));
+}
+
+}  // namespace
+
+SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
+                               const SequenceOptions& opt) {
+    SequenceResult result;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (jobs.empty()) return result;
+
+    Water water = asset.info.water;
+    if (!opt.forward) water.forward.enabled = false;
+    const AnalyticLamps lamps(asset.info.rig, water);
+    std::unique_ptr<AssetBackscatter> backscatter;
+    std::unique_ptr<Compositor> compositor;
+    Camera camera;
+    double exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
+
+    // A few slots in flight: one being read, one composited, one or two being written.
+    constexpr int kTokens = 4;
+    std::vector<Slot> slots(kTokens);
+    int next = 0, done = 0;
+    std::mutex errors_mutex;
+
+    tbb::parallel_pipeline(
+        kTokens,
+        tbb::make_filter<void, Slot*>(
+            tbb::filter_mode::serial_in_order,
+            [&](tbb::flow_control& fc) -> Slot* {
+                if (next >= int(jobs.size())) {
+                    fc.stop();
+                    return nullptr;
+                }
+                Slot* s = &slots[next % kTokens];
+                s->index = next;
+                s->error.clear();
+                const FrameJob& job = jobs[next++];
+                s->skip = opt.resume && done_already(job);
+                if (s->skip) return s;
+                try {
+                    s->frame.rgb = read_color(job.rgb);
+                    s->frame.depth = read_depth(job.depth, opt.depth_read);
+                    require_same_size(s->frame.rgb, s->frame.depth, job.rgb + " and " + job.depth);
+                } catch (const Error& e) {
+                    s->error = e.what();
+                }
+                return s;
+            }) &
+            tbb::make_filter<Slot*, Slot*>(
+                tbb::filter_mode::serial_in_order,
+                [&](Slot* s) -> Slot* {
+                    if (s->skip || !s->error.empty()) return s;
+                    try {
+                        const Image& d = s->frame.depth;
+                        if (!compositor || camera.width != d.width || camera.height != d.height) {
+                            camera = frame_camera(asset, opt.camera, d.width, d.height);
+                            backscatter = std::make_unique<AssetBackscatter>(asset, camera);
+                            compositor =
+                                std::make_unique<Compositor>(camera, water, lamps, *backscatter);
+                        }
+                        to_planar_depth(camera, s->frame.depth, opt.depth_kind);
+                        compositor->composite(s->layers, s->frame);
+                        if (exposure == 0.0) exposure = exposure_factor(opt.exposure, s->layers.final);
+                    } catch (const AssetError&) {
+                        throw;  // the asset does not fit these frames: stop everything
+                    } catch (const Error& e) {
+                        s->error = jobs[s->index].rgb + ": " + e.what();
+                    }
+                    return s;
+                }) &
+            tbb::make_filter<Slot*, void>(
+                tbb::filter_mode::parallel, [&](Slot* s) {
+                    const FrameJob& job = jobs[s->index];
+                    if (!s->skip && s->error.empty()) {
+                        try {
+                            if (!job.layers.empty()) write_layers(job.layers, s->layers);
+                            if (!job.output.empty()) {
+                                write_color(job.output, apply_exposure(s->layers.final, exposure),
+                                            opt.bits);
+                            }
+                        } catch (const Error& e) {
+                            s->error = e.what();
+                        }
+                    }
+                    std::lock_guard<std::mutex> lock(errors_mutex);
+                    if (s->skip) {
+                        ++result.skipped;
+                    } else if (s->error.empty()) {
+                        ++result.written;
+                    } else {
+                        result.errors.push_back(s->error);
+                    }
+                    ++done;
+                    if (opt.progress) opt.progress(done, int(jobs.size()));
+                }));
+
+    result.exposure = exposure;
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return result;
+}
+
+}  // namespace deepsea

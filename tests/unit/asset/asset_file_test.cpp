@@ -1,0 +1,252 @@
+#include "deepsea/asset/asset_file.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "deepsea/core/error.h"
+#include "test_assets.h"
+
+namespace deepsea {
+namespace {
+
+namespace fs = std::filesystem;
+
+const Camera kCam{64, 48, 50.0, 52.0, 31.5, 23.0};  // off-centre principal point, fx != fy
+
+class AssetFile : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_dir = fs::temp_directory_path() /
+                ("deepsea-asset-test-" + std::to_string(::getpid()) + "-" + info->name());
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+
+    std::vector<char> read_bytes(const std::string& p) const {
+        std::ifstream f(p, std::ios::binary);
+        return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+    }
+    void write_bytes(const std::string& p, const std::vector<char>& b, std::size_t n) const {
+        std::ofstream f(p, std::ios::binary);
+        f.write(b.data(), std::streamsize(n));
+    }
+    bool has_temp_files() const {
+        for (const auto& e : fs::directory_iterator(m_dir)) {
+            if (e.path().filename().string().find(".tmp") != std::string::npos) return true;
+        }
+        return false;
+    }
+
+    fs::path m_dir;
+};
+
+Asset smooth_asset(DepthScheme scheme = DepthScheme::Uniform) {
+    return test::function_asset(kCam, 8, scheme, 10, 5.0, test::smooth_field);
+}
+
+TEST_F(AssetFile, RoundTripFloatIsExact) {
+    const Asset a = smooth_asset();
+    WriteOptions opt;
+    opt.half = false;
+    write_asset(path("a.vdb"), a, opt);
+    EXPECT_FALSE(has_temp_files());
+    const Asset b = load_asset(path("a.vdb"));
+    ASSERT_EQ(b.values.size(), a.values.size());
+    EXPECT_EQ(std::memcmp(b.values.data(), a.values.data(), a.values.size() * sizeof(float)), 0);
+    EXPECT_TRUE(b.info.camera == a.info.camera);
+    EXPECT_TRUE(b.info.lattice == a.info.lattice);
+    EXPECT_EQ(b.info.rig.lights.size(), 2u);
+    EXPECT_EQ(b.info.water.c.g, a.info.water.c.g);
+    EXPECT_EQ(b.info.input_hash, a.info.input_hash);
+}
+
+TEST_F(AssetFile, RoundTripHalfKeepsElevenBits) {
+    const Asset a = smooth_asset();
+    write_asset(path("a.vdb"), a);  // half is the default
+    const Asset b = load_asset(path("a.vdb"));
+    ASSERT_EQ(b.values.size(), a.values.size());
+    for (std::size_t n = 0; n < a.values.size(); ++n) {
+        ASSERT_NEAR(b.values[n], a.values[n], std::ldexp(std::abs(a.values[n]), -11)) << n;
+    }
+    const AssetFileSummary s = read_asset_summary(path("a.vdb"));
+    ASSERT_FALSE(s.grids.empty());
+    EXPECT_EQ(s.grids[0].name, kBackscatterGrid);
+    EXPECT_TRUE(s.grids[0].half);
+    EXPECT_EQ(s.format, kAssetFormat);
+    EXPECT_GT(s.file_bytes, 0u);
+}
+
+TEST_F(AssetFile, FrustumTransformMapsIndexToCameraPoints) {
+    for (const Camera& cam : {kCam, Camera{800, 800, 600, 600, 400, 400}}) {
+        const int step = 8, K = 10;
+        const Asset a = test::function_asset(cam, step, DepthScheme::Uniform, K, 5.0, test::smooth_field);
+        write_asset(path("f.vdb"), a);
+        const AssetFileSummary s = read_asset_summary(path("f.vdb"));
+        EXPECT_EQ(s.grids.at(0).transform, "frustum");
+        const Lattice& l = a.lattice();
+        std::vector<Vec3> idx;
+        for (int i : {0, 1, l.ni / 2, l.ni - 1}) {
+            for (int j : {0, l.nj / 3, l.nj - 1}) {
+                for (int k : {0, 1, 5, K}) idx.push_back({double(i), double(j), double(k)});
+            }
+        }
+        const std::vector<Vec3> world = index_to_world(path("f.vdb"), kBackscatterGrid, idx);
+        ASSERT_EQ(world.size(), idx.size());
+        for (std::size_t n = 0; n < idx.size(); ++n) {
+            const Vec3 expect =
+                camera_to_world(cam.point(idx[n].x * step, idx[n].y * step, l.z[int(idx[n].z)]));
+            const double tol = 1e-9 * (1.0 + length(expect));
+            EXPECT_NEAR(world[n].x, expect.x, tol) << idx[n].x << " " << idx[n].y << " " << idx[n].z;
+            EXPECT_NEAR(world[n].y, expect.y, tol) << idx[n].x << " " << idx[n].y << " " << idx[n].z;
+            EXPECT_NEAR(world[n].z, expect.z, tol) << idx[n].x << " " << idx[n].y << " " << idx[n].z;
+        }
+    }
+}
+
+TEST_F(AssetFile, NonUniformSamplesUseALinearTransformAndKeepTheirDepths) {
+    const Asset a = smooth_asset(DepthScheme::Log);
+    write_asset(path("l.vdb"), a);
+    EXPECT_EQ(read_asset_summary(path("l.vdb")).grids.at(0).transform, "linear");
+    const Asset b = load_asset(path("l.vdb"));
+    EXPECT_EQ(b.lattice().scheme, DepthScheme::Log);
+    EXPECT_EQ(b.lattice().z, a.lattice().z);
+}
+
+TEST_F(AssetFile, PreviewGridsLieInTheFrustum) {
+    const Asset a = smooth_asset();
+    write_asset(path("p.vdb"), a);
+    const AssetFileSummary s = read_asset_summary(path("p.vdb"));
+    ASSERT_EQ(s.grids.size(), 3u);
+    EXPECT_EQ(s.grids[0].name, kBackscatterGrid);
+    const auto find = [&](const char* name) {
+        for (const GridSummary& g : s.grids) {
+            if (g.name == name) return g;
+        }
+        ADD_FAILURE() << "no grid " << name;
+        return GridSummary{};
+    };
+    EXPECT_EQ(find(kDensityGrid).value_type, "float");
+    EXPECT_EQ(find(kColorGrid).value_type, "vec3s");
+    EXPECT_GT(s.preview_voxel_size, 0.0);
+    EXPECT_GT(s.preview_density_scale, 0.0);
+    for (const char* name : {kDensityGrid, kColorGrid}) {
+        const GridSummary p = find(name);
+        EXPECT_EQ(p.transform, "linear");
+        EXPECT_GT(p.active_voxels, 0);
+        // World frame: looking down -z, the frustum between z = 0 and z = -z_max.
+        EXPECT_LE(p.world_max.z, 0.0);
+        EXPECT_GE(p.world_min.z, -5.0 - 1e-9);
+        const double half_w = 5.0 * 64 / 50.0;  // generous bound on |x| at z_max
+        EXPECT_GE(p.world_min.x, -half_w);
+        EXPECT_LE(p.world_max.x, half_w);
+    }
+}
+
+TEST_F(AssetFile, MissingFileIsIoError) {
+    EXPECT_THROW(load_asset(path("none.vdb")), IoError);
+}
+
+TEST_F(AssetFile, ForeignFileIsAssetError) {
+    std::ofstream(path("text.vdb")) << "this is not a vdb file\n";
+    EXPECT_THROW(load_asset(path("text.vdb")), AssetError);
+    EXPECT_THROW(read_asset_summary(path("text.vdb")), AssetError);
+    write_bytes(path("empty.vdb"), {}, 0);
+    EXPECT_THROW(load_asset(path("empty.vdb")), AssetError);
+}
+
+TEST_F(AssetFile, TruncatedFileIsAssetError) {
+    for (bool half : {true, false}) {
+        WriteOptions opt;
+        opt.half = half;
+        write_asset(path("a.vdb"), smooth_asset(), opt);
+        const std::vector<char> bytes = read_bytes(path("a.vdb"));
+        ASSERT_GT(bytes.size(), 100u);
+        for (double f : {0.02, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99}) {
+            write_bytes(path("t.vdb"), bytes, std::size_t(f * bytes.size()));
+            EXPECT_THROW(load_asset(path("t.vdb")), AssetError) << f << " half " << half;
+        }
+        write_bytes(path("t.vdb"), bytes, bytes.size() - 1);
+        EXPECT_THROW(load_asset(path("t.vdb")), AssetError) << "one byte short, half " << half;
+    }
+}
+
+/// Rewrites the int32 value of every `deepsea:format` metadata entry (file and grid) in place:
+/// name, then type name "int32" (length-prefixed), then the value size 4 and the value.
+int patch_format(std::vector<char>& bytes, std::int32_t value) {
+    const std::string key = "deepsea:format";
+    int patched = 0;
+    for (std::size_t pos = 0; pos + key.size() + 17 < bytes.size(); ++pos) {
+        if (std::memcmp(&bytes[pos], key.data(), key.size()) != 0) continue;
+        const std::size_t type = pos + key.size();
+        if (std::memcmp(&bytes[type + 4], "int32", 5) != 0) continue;
+        std::memcpy(&bytes[type + 4 + 5 + 4], &value, 4);
+        ++patched;
+    }
+    return patched;
+}
+
+TEST_F(AssetFile, NewerFormatIsAssetError) {
+    write_asset(path("a.vdb"), smooth_asset());
+    std::vector<char> bytes = read_bytes(path("a.vdb"));
+    std::vector<char> same = bytes;
+    ASSERT_EQ(patch_format(same, kAssetFormat), 2);  // file and grid metadata
+    write_bytes(path("same.vdb"), same, same.size());
+    EXPECT_NO_THROW(load_asset(path("same.vdb")));  // the patch itself is harmless
+    patch_format(bytes, 999);
+    write_bytes(path("new.vdb"), bytes, bytes.size());
+    try {
+        load_asset(path("new.vdb"));
+        FAIL() << "no AssetError";
+    } catch (const AssetError& e) {
+        EXPECT_NE(std::string(e.what()).find("999"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(AssetFile, VdbWithoutDeepseaMetadataIsAssetError) {
+    write_asset(path("a.vdb"), smooth_asset());
+    std::vector<char> bytes = read_bytes(path("a.vdb"));
+    const std::string key = "deepsea:format";
+    for (std::size_t pos = 0; pos + key.size() < bytes.size(); ++pos) {
+        if (std::memcmp(&bytes[pos], key.data(), key.size()) == 0) bytes[pos + key.size() - 1] = 'X';
+    }
+    write_bytes(path("plain.vdb"), bytes, bytes.size());
+    EXPECT_THROW(load_asset(path("plain.vdb")), AssetError);
+}
+
+TEST_F(AssetFile, UnwritableTargetsAreIoErrorsAndLeaveNoFiles) {
+    const Asset a = smooth_asset();
+    EXPECT_THROW(write_asset(path("no/such/dir/a.vdb"), a), IoError);
+    EXPECT_THROW(require_writable(path("no/such/dir/a.vdb")), IoError);
+    // The target is a non-empty directory: the temporary file is written, the rename fails.
+    fs::create_directories(m_dir / "busy.vdb" / "x");
+    EXPECT_THROW(require_writable(path("busy.vdb")), IoError);
+    EXPECT_THROW(write_asset(path("busy.vdb"), a), IoError);
+    EXPECT_FALSE(has_temp_files());
+}
+
+TEST_F(AssetFile, InconsistentAssetIsRefused) {
+    Asset a = smooth_asset();
+    a.values.pop_back();
+    EXPECT_THROW(write_asset(path("a.vdb"), a), AssetError);
+    EXPECT_FALSE(fs::exists(path("a.vdb")));
+    EXPECT_FALSE(has_temp_files());
+}
+
+TEST_F(AssetFile, OverwritesAnExistingAsset) {
+    write_asset(path("a.vdb"), smooth_asset());
+    const Asset b = smooth_asset(DepthScheme::Sqrt);
+    write_asset(path("a.vdb"), b);
+    EXPECT_EQ(load_asset(path("a.vdb")).lattice().scheme, DepthScheme::Sqrt);
+    EXPECT_FALSE(has_temp_files());
+}
+
+}  // namespace
+}  // namespace deepsea

@@ -1,0 +1,75 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/light.h"
+
+namespace deepsea {
+
+TEST(Camera, RayAndCosPhi) {
+    const Camera cam{800, 800, 600, 600, 400, 400};
+    const Vec3 r = cam.ray(1000, 400);
+    EXPECT_DOUBLE_EQ(r.x, 1.0);
+    EXPECT_DOUBLE_EQ(r.z, 1.0);
+    EXPECT_NEAR(cam.cos_phi(1000, 400), 1.0 / std::sqrt(2.0), 1e-15);
+    EXPECT_DOUBLE_EQ(cam.cos_phi(400, 400), 1.0);
+}
+
+TEST(Camera, RangeAndZRoundTrip) {
+    const Camera cam{640, 480, 500, 510, 319.5, 239.5};
+    for (double u : {0.0, 100.0, 639.0}) {
+        for (double v : {0.0, 239.5, 479.0}) {
+            const Vec3 Pz = cam.point(u, v, 3.0, DepthKind::Z);
+            EXPECT_NEAR(Pz.z, 3.0, 1e-12);
+            const double range = length(Pz);
+            const Vec3 Pr = cam.point(u, v, range, DepthKind::Range);
+            EXPECT_NEAR(length(Pr - Pz), 0.0, 1e-12);
+            EXPECT_NEAR(cam.z_depth(u, v, range, DepthKind::Range), 3.0, 1e-12);
+        }
+    }
+}
+
+TEST(Camera, SameViewAtAnotherResolution) {
+    const Camera a{800, 800, 600, 600, 399.5, 399.5};
+    const Camera half{400, 400, 300, 300, 199.5, 199.5};
+    EXPECT_TRUE(a.same_view(half));
+    EXPECT_FALSE(a == half);
+    Camera other = half;
+    other.fx = 310;
+    EXPECT_FALSE(a.same_view(other));
+}
+
+TEST(Rid, GaussianInDegrees) {
+    Rid rid;  // sigma 35 deg
+    EXPECT_DOUBLE_EQ(rid(0.0), 1.0);
+    EXPECT_NEAR(rid(35.0 * M_PI / 180.0), std::exp(-0.5), 1e-12);
+    rid.cutoff_deg = 30.0;
+    EXPECT_EQ(rid(31.0 * M_PI / 180.0), 0.0);
+    EXPECT_GT(rid(29.0 * M_PI / 180.0), 0.0);
+}
+
+TEST(Rid, TableInterpolatesLinearlyAndEndsAtZero) {
+    Rid rid;
+    rid.kind = Rid::Kind::Table;
+    rid.angle_deg = {0, 10, 40};
+    rid.value = {1.0, 0.8, 0.2};
+    const double d = M_PI / 180.0;
+    EXPECT_DOUBLE_EQ(rid(0.0), 1.0);
+    EXPECT_NEAR(rid(5 * d), 0.9, 1e-12);
+    EXPECT_NEAR(rid(25 * d), 0.5, 1e-12);
+    EXPECT_NEAR(rid(40 * d), 0.2, 1e-12);
+    EXPECT_EQ(rid(41 * d), 0.0);
+}
+
+TEST(Light, IntensityTowardUsesTheAngleToTheAxis) {
+    Light l;
+    l.direction = normalize(Vec3(1, 0, 1));
+    l.intensity = {2.0, 1.0, 0.5};
+    const Rgb on_axis = l.intensity_toward(l.direction);
+    EXPECT_NEAR(on_axis.r, 2.0, 1e-12);
+    const Rgb off = l.intensity_toward(Vec3(0, 0, 1));  // 45 degrees off
+    EXPECT_NEAR(off.g, std::exp(-0.5 * (45.0 / 35.0) * (45.0 / 35.0)), 1e-12);
+}
+
+}  // namespace deepsea

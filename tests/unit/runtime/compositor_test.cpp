@@ -1,0 +1,167 @@
+#include "deepsea/runtime/compositor.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "deepsea/bake/bake.h"
+#include "deepsea/core/error.h"
+#include "deepsea/runtime/asset_backscatter.h"
+#include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/reference.h"
+#include "runtime_fixtures.h"
+
+namespace deepsea {
+
+namespace {
+
+struct Fixture {
+    Camera cam = testing::small_camera();
+    Rig rig = testing::two_lamps();
+    Water water = testing::ib_with_forward();
+    testing::PlaneScene scene = testing::plane_scene(cam);
+    Asset asset;
+    Layers ref;
+
+    Fixture() {
+        BakeSettings s;
+        s.step = 4;  // the default step in pixels of an 800 px image, scaled to 160 px
+        asset = bake(cam, rig, water, s);
+        ReferenceOptions opt;
+        opt.open_water_z = asset.lattice().z_max();  // open water ends where the asset does
+        ref = render_reference(cam, rig, water, scene.rgb, scene.depth, opt);
+    }
+    Layers composite(int threads = 0) const {
+        std::unique_ptr<tbb::global_control> limit;
+        if (threads > 0) {
+            limit = std::make_unique<tbb::global_control>(
+                tbb::global_control::max_allowed_parallelism, threads);
+        }
+        const AnalyticLamps lamps(rig, water);
+        const AssetBackscatter bs(asset, cam);
+        Compositor comp(cam, water, lamps, bs);
+        Layers out;
+        comp.composite(out, Frame{scene.rgb, scene.depth});
+        return out;
+    }
+};
+
+const Fixture& fixture() {
+    static const Fixture f;
+    return f;
+}
+
+/// Relative error statistics of layer a vs b over pixels away from depth edges.
+struct Stats {
+    double mean = 0.0, max = 0.0;
+};
+Stats compare(const Image& a, const Image& b, const Image& depth, double floor = 1e-12) {
+    Stats s;
+    long n = 0;
+    for (int v = 0; v < a.height; ++v) {
+        for (int u = 0; u < a.width; ++u) {
+            if (testing::near_edge(depth, u, v)) continue;
+            for (int c = 0; c < a.channels; ++c) {
+                const double r = b.at(u, v, c);
+                const double e = std::fabs(a.at(u, v, c) - r) / std::max(std::fabs(r), floor);
+                s.mean += e;
+                s.max = std::max(s.max, e);
+                ++n;
+            }
+        }
+    }
+    s.mean /= std::max(n, 1L);
+    return s;
+}
+
+}  // namespace
+
+TEST(Compositor, DirectMatchesReference) {
+    const Fixture& f = fixture();
+    const Layers out = f.composite();
+    const Stats s = compare(out.direct, f.ref.direct, f.scene.depth, 1e-9);
+    EXPECT_LE(s.max, 1e-3);
+    const Stats t = compare(out.transmission, f.ref.transmission, f.scene.depth, 1e-9);
+    EXPECT_LE(t.max, 1e-5);
+}
+
+TEST(Compositor, BackscatterLookupMatchesReference) {
+    const Fixture& f = fixture();
+    const Layers out = f.composite();
+    const Stats s = compare(out.backscatter, f.ref.backscatter, f.scene.depth);
+    EXPECT_LE(s.mean, 0.005);
+    EXPECT_LE(s.max, 0.02);
+}
+
+TEST(Compositor, OpenWaterHasBackscatterOnly) {
+    const Fixture& f = fixture();
+    const Layers out = f.composite();
+    const Rgb far = f.asset.sample(f.cam.width - 1, f.cam.height - 1, HUGE_VAL);
+    const int u = f.cam.width - 1, v = f.cam.height - 1;  // depth NaN/inf/<=0 there
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(out.direct.at(u, v, c), 0.0f);
+        EXPECT_EQ(out.forward.at(u, v, c), 0.0f);
+        EXPECT_NEAR(out.backscatter.at(u, v, c), far[c], 1e-6 * far[c]);
+        EXPECT_TRUE(std::isfinite(out.final.at(u, v, c)));
+    }
+    EXPECT_EQ(out.depth.at(u, v), 0.0f);
+}
+
+TEST(Compositor, ForwardScatterCloseToExactGather) {
+    const Fixture& f = fixture();
+    const Layers out = f.composite();
+    // The fast blur blends fixed-sigma levels; the reference gathers with each pixel's own
+    // Gaussian. Compare away from edges, where the blur reaches across them.
+    Image mask = f.scene.depth;
+    const Stats s = compare(out.forward, f.ref.forward, mask, 1e-9);
+    EXPECT_LE(s.mean, 0.03);
+    const Stats fin = compare(out.final, f.ref.final, mask, 1e-9);
+    EXPECT_LE(fin.mean, 0.01);
+}
+
+TEST(Compositor, IdenticalAtAnyThreadCount) {
+    const Fixture& f = fixture();
+    const Layers one = f.composite(1);
+    const Layers two = f.composite(2);
+    EXPECT_EQ(one.final.data, two.final.data);
+    EXPECT_EQ(one.forward.data, two.forward.data);
+}
+
+TEST(Compositor, RefusesMismatchedFrames) {
+    const Fixture& f = fixture();
+    const AnalyticLamps lamps(f.rig, f.water);
+    const AssetBackscatter bs(f.asset, f.cam);
+    Compositor comp(f.cam, f.water, lamps, bs);
+    Layers out;
+    EXPECT_THROW(comp.composite(out, Frame{f.scene.rgb, Image(10, 10, 1)}), InputError);
+    EXPECT_THROW(comp.composite(out, Frame{Image(10, 10, 3), Image(10, 10, 1)}), InputError);
+}
+
+TEST(AssetBackscatter, RefusesAnotherCamera) {
+    const Fixture& f = fixture();
+    Camera other = f.cam;
+    other.fx *= 1.2;
+    EXPECT_THROW(AssetBackscatter(f.asset, other), AssetError);
+}
+
+TEST(AssetBackscatter, ResamplesTheSameViewAtAnotherResolution) {
+    const Fixture& f = fixture();
+    Camera half = f.cam;  // 80x60, the same rays at pixel centres
+    half.width /= 2;
+    half.height /= 2;
+    half.fx /= 2;
+    half.fy /= 2;
+    half.cx = (f.cam.cx + 0.5) / 2 - 0.5;
+    half.cy = (f.cam.cy + 0.5) / 2 - 0.5;
+    const AssetBackscatter bs(f.asset, half);
+    std::vector<float> z(half.width, 4.0f), out(3 * half.width);
+    bs.backscatter_row(17, half.width, z.data(), out.data());
+    for (int u : {0, 13, 40, half.width - 1}) {
+        // pixel (u, 17) of the half camera is image point (2u + 0.5, 34.5) of the asset camera
+        const Rgb ref = f.asset.sample(2 * u + 0.5, 2 * 17 + 0.5, 4.0);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c * half.width + u], ref[c], 1e-5 * ref[c]);
+    }
+}
+
+}  // namespace deepsea

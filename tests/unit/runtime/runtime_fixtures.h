@@ -1,0 +1,81 @@
+#pragma once
+// Shared fixtures of the runtime tests: a small camera, a two-lamp rig, waters, planar scenes.
+
+#include <cmath>
+#include <limits>
+
+#include "deepsea/core/image.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/jerlov.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea::testing {
+
+inline Camera small_camera() { return Camera{160, 120, 120.0, 120.0, 79.5, 59.5}; }
+
+/// The authors' test-set rig: lamps at x = -/+0.5 m yawed 0.536 rad inward.
+inline Rig two_lamps() {
+    Rig rig;
+    rig.name = "two";
+    for (int s : {-1, 1}) {
+        Light l;
+        l.position = {0.5 * s, 0.0, 0.0};
+        l.direction = normalize(Vec3(-s * std::sin(0.536), 0.0, std::cos(0.536)));
+        l.intensity = {1.0, 0.9, 0.8};
+        rig.lights.push_back(l);
+    }
+    return rig;
+}
+
+inline Water ib_with_forward() {
+    Water w = jerlov_water("IB");
+    w.forward = default_forward_scatter(w);
+    w.forward.enabled = true;
+    return w;
+}
+
+/// A tilted plane z = z0 + a x with a step onto a nearer box in one corner, a patch of open
+/// water (NaN, inf, negative, zero), and an albedo pattern.
+struct PlaneScene {
+    Image rgb, depth;
+};
+
+inline PlaneScene plane_scene(const Camera& cam, double z0 = 3.0, double a = 0.3) {
+    PlaneScene s{Image(cam.width, cam.height, 3), Image(cam.width, cam.height, 1)};
+    for (int v = 0; v < cam.height; ++v) {
+        for (int u = 0; u < cam.width; ++u) {
+            const Vec3 r = cam.ray(u, v);
+            float z = float(z0 / (1.0 - a * r.x));
+            if (u < cam.width / 4 && v < cam.height / 4) z = float(z0 * 0.6);  // a box: a step
+            s.depth.at(u, v) = z;
+            s.rgb.at(u, v, 0) = 0.2f + 0.3f * float((u / 8 + v / 8) % 2);
+            s.rgb.at(u, v, 1) = 0.35f;
+            s.rgb.at(u, v, 2) = 0.25f + 0.002f * float(u);
+        }
+    }
+    // open water in the bottom-right corner, every flavour of "no surface"
+    const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
+                         std::numeric_limits<float>::infinity(), -1.0f, 0.0f};
+    for (int v = cam.height - 12; v < cam.height; ++v) {
+        for (int u = cam.width - 16; u < cam.width; ++u) s.depth.at(u, v) = bad[(u + v) % 4];
+    }
+    return s;
+}
+
+/// True if pixel (u, v) is within 1 px of a depth discontinuity or of open water.
+inline bool near_edge(const Image& depth, int u, int v) {
+    const float z = depth.at(u, v);
+    for (int dv = -1; dv <= 1; ++dv) {
+        for (int du = -1; du <= 1; ++du) {
+            const int x = u + du, y = v + dv;
+            if (x < 0 || y < 0 || x >= depth.width || y >= depth.height) continue;
+            const float n = depth.at(x, y);
+            if (!(n > 0.0f && n < 1e30f) || !(z > 0.0f && z < 1e30f)) return true;
+            if (std::fabs(n - z) > 0.05f * z) return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace deepsea::testing

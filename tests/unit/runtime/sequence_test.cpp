@@ -1,0 +1,113 @@
+#include "deepsea/runtime/sequence.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "deepsea/bake/bake.h"
+#include "deepsea/core/error.h"
+#include "runtime_fixtures.h"
+
+namespace deepsea {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct SequenceDir {
+    fs::path dir;
+    Asset asset;
+    std::vector<FrameJob> jobs;
+
+    explicit SequenceDir(const std::string& name, int frames = 3) {
+        dir = fs::temp_directory_path() / ("deepsea-seq-" + name + "-" + std::to_string(getpid()));
+        fs::remove_all(dir);
+        fs::create_directories(dir / "out");
+        const Camera cam = testing::small_camera();
+        BakeSettings s;
+        s.step = 8;
+        s.depth_samples = 8;
+        asset = bake(cam, testing::two_lamps(), jerlov_water("IB"), s);
+        const testing::PlaneScene scene = testing::plane_scene(cam);
+        for (int i = 0; i < frames; ++i) {
+            FrameJob j;
+            j.rgb = (dir / ("f" + std::to_string(i) + ".png")).string();
+            j.depth = (dir / ("f" + std::to_string(i) + "_depth.exr")).string();
+            j.output = (dir / "out" / ("f" + std::to_string(i) + ".png")).string();
+            write_color(j.rgb, scene.rgb);
+            write_depth_exr(j.depth, scene.depth);
+            jobs.push_back(j);
+        }
+    }
+    ~SequenceDir() { fs::remove_all(dir); }
+};
+
+}  // namespace
+
+TEST(Sequence, WritesEveryFrame) {
+    SequenceDir d("all");
+    const SequenceResult r = render_sequence(d.asset, d.jobs, SequenceOptions{});
+    EXPECT_EQ(r.written, 3);
+    EXPECT_TRUE(r.errors.empty());
+    for (const auto& j : d.jobs) EXPECT_TRUE(fs::exists(j.output)) << j.output;
+    EXPECT_GT(r.exposure, 0.0);
+}
+
+TEST(Sequence, CorruptFrameIsReportedAndTheRestWritten) {
+    SequenceDir d("corrupt");
+    std::ofstream(d.jobs[1].depth, std::ios::trunc) << "not an exr";
+    const SequenceResult r = render_sequence(d.asset, d.jobs, SequenceOptions{});
+    EXPECT_EQ(r.written, 2);
+    ASSERT_EQ(r.errors.size(), 1u);
+    EXPECT_NE(r.errors[0].find("f1_depth.exr"), std::string::npos) << r.errors[0];
+    EXPECT_FALSE(fs::exists(d.jobs[1].output));
+    EXPECT_TRUE(fs::exists(d.jobs[2].output));
+}
+
+TEST(Sequence, ResumeSkipsFramesAlreadyWritten) {
+    SequenceDir d("resume");
+    render_sequence(d.asset, {d.jobs[0]}, SequenceOptions{});
+    SequenceOptions opt;
+    opt.resume = true;
+    const SequenceResult r = render_sequence(d.asset, d.jobs, opt);
+    EXPECT_EQ(r.skipped, 1);
+    EXPECT_EQ(r.written, 2);
+}
+
+TEST(Sequence, UnwritableOutputIsAnErrorPerFrame) {
+    SequenceDir d("unwritable", 1);
+    d.jobs[0].output = (d.dir / "missing-folder" / "x.png").string();
+    const SequenceResult r = render_sequence(d.asset, d.jobs, SequenceOptions{});
+    EXPECT_EQ(r.written, 0);
+    EXPECT_EQ(r.errors.size(), 1u);
+    EXPECT_FALSE(fs::exists(d.jobs[0].output));
+}
+
+TEST(Sequence, AssetForAnotherCameraStopsEverything) {
+    SequenceDir d("camera", 1);
+    SequenceOptions opt;
+    opt.camera = testing::small_camera();
+    opt.camera.fx *= 1.5;
+    EXPECT_THROW(render_sequence(d.asset, d.jobs, opt), AssetError);
+}
+
+TEST(PairFrames, CountsMustMatch) {
+    EXPECT_THROW(pair_frames({"a.png", "b.png"}, {"a_depth.exr"}, "*.png", "*_depth.exr"),
+                 InputError);
+    EXPECT_THROW(pair_frames({}, {"a_depth.exr"}, "*.png", "*_depth.exr"), InputError);
+    const auto jobs = pair_frames({"b.png", "a.png"}, {"b_depth.exr", "a_depth.exr"}, "", "");
+    ASSERT_EQ(jobs.size(), 2u);
+    EXPECT_EQ(jobs[0].rgb, "a.png");
+    EXPECT_EQ(jobs[0].depth, "a_depth.exr");
+}
+
+TEST(FrameCamera, ScalesTheAssetCameraToTheFrameSize) {
+    SequenceDir d("scale", 0);
+    const Camera c = frame_camera(d.asset, Camera{}, 80, 60);
+    EXPECT_DOUBLE_EQ(c.fx, d.asset.info.camera.fx / 2);
+    EXPECT_THROW(frame_camera(d.asset, Camera{}, 80, 80), AssetError);
+}
+
+}  // namespace deepsea

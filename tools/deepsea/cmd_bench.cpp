@@ -1,0 +1,173 @@
+// deepsea bench: times the compositor alone (no file I/O) on generated frames, and a sequence
+// render with I/O. Medians over repeated runs; peak memory from getrusage.
+
+#include <sys/resource.h>
+#include <unistd.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "deepsea/bake/bake.h"
+#include "deepsea/core/error.h"
+#include "deepsea/io/image_io.h"
+#include "deepsea/optics/jerlov.h"
+#include "deepsea/runtime/asset_backscatter.h"
+#include "deepsea/runtime/compositor.h"
+#include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/sequence.h"
+#include "deepsea/scene/seafloor.h"
+
+namespace deepsea::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BenchArgs {
+    int repeats = 21;
+    int threads = 0;
+    bool json = false;
+    bool no_forward = false;
+    std::string config = std::string(DEEPSEA_SOURCE_DIR) + "/volumes/demo.yaml";
+};
+
+struct Case {
+    std::string name;
+    int width = 0, height = 0, threads = 0, runs = 0;
+    double median_ms = 0, min_ms = 0, max_ms = 0, peak_rss_mb = 0;
+};
+
+double peak_rss_mb() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return ru.ru_maxrss / 1024.0;
+}
+
+double now_ms() {
+    using namespace std::chrono;
+    return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
+}
+
+Case summarize(std::string name, int w, int h, int threads, std::vector<double> t) {
+    std::sort(t.begin(), t.end());
+    Case c{std::move(name), w, h, threads, int(t.size())};
+    c.median_ms = t[t.size() / 2];
+    c.min_ms = t.front();
+    c.max_ms = t.back();
+    c.peak_rss_mb = peak_rss_mb();
+    return c;
+}
+
+/// The demo camera's view at another resolution (same horizontal field of view).
+Camera scaled(const Camera& base, int w, int h) {
+    Camera c = base;
+    c.width = w;
+    c.height = h;
+    c.fx = c.fy = base.fx * double(w) / base.width;
+    c.cx = (w - 1) / 2.0;
+    c.cy = (h - 1) / 2.0;
+    return c;
+}
+
+Case time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a, int threads) {
+    Water water = *setup.water;
+    if (a.no_forward) water.forward.enabled = false;
+    const Asset asset = bake(cam, *setup.rig, water, BakeSettings{});
+    FlightParams flight;
+    flight.camera = cam;
+    const RgbdFrame rgbd = render_flight_frame(flight, 0);
+    const Frame frame{rgbd.rgb, rgbd.depth};
+    const AnalyticLamps lamps(*setup.rig, water);
+    const AssetBackscatter backscatter(asset, cam);
+    Compositor comp(cam, water, lamps, backscatter);
+    Layers layers;
+    comp.composite(layers, frame);  // first frame allocates
+    std::vector<double> t;
+    for (int r = 0; r < a.repeats; ++r) {
+        const double t0 = now_ms();
+        comp.composite(layers, frame);
+        t.push_back(now_ms() - t0);
+    }
+    return summarize("composite", cam.width, cam.height, threads, t);
+}
+
+Case time_sequence(const Setup& setup, const BenchArgs& a, int threads) {
+    const Camera& cam = *setup.camera;
+    const Asset asset = bake(cam, *setup.rig, *setup.water, BakeSettings{});
+    const fs::path dir = fs::temp_directory_path() / ("deepsea-bench-" + std::to_string(getpid()));
+    fs::create_directories(dir / "out");
+    FlightParams flight;
+    flight.camera = cam;
+    std::vector<FrameJob> jobs;
+    const int n = 8;
+    for (int i = 0; i < n; ++i) {
+        const RgbdFrame f = render_flight_frame(flight, i);
+        FrameJob j;
+        j.rgb = (dir / ("f" + std::to_string(i) + ".png")).string();
+        j.depth = (dir / ("f" + std::to_string(i) + "_depth.exr")).string();
+        j.output = (dir / "out" / ("f" + std::to_string(i) + ".png")).string();
+        write_color(j.rgb, f.rgb);
+        write_depth_exr(j.depth, f.depth);
+        jobs.push_back(j);
+    }
+    std::vector<double> t;
+    for (int r = 0; r < std::max(3, a.repeats / 7); ++r) {
+        const SequenceResult res = render_sequence(asset, jobs, SequenceOptions{});
+        if (!res.errors.empty()) throw IoError("bench sequence failed: " + res.errors.front());
+        t.push_back(res.seconds * 1000.0 / n);
+    }
+    fs::remove_all(dir);
+    return summarize("sequence_with_io_per_frame", cam.width, cam.height, threads, t);
+}
+
+void run(const BenchArgs& a) {
+    if (a.repeats < 1) throw ConfigError("--repeats must be >= 1");
+    const int threads = a.threads > 0 ? a.threads : tbb::info::default_concurrency();
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    Setup setup = load_setup({a.config});
+    require_complete(setup, a.config);
+    std::vector<Case> cases;
+    cases.push_back(time_compositor(setup, scaled(*setup.camera, 800, 800), a, threads));
+    cases.push_back(time_compositor(setup, scaled(*setup.camera, 1920, 1080), a, threads));
+    cases.push_back(time_sequence(setup, a, threads));
+    if (a.json) {
+        std::printf("{\"cases\": [");
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            const Case& c = cases[i];
+            std::printf("%s{\"name\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
+                        "\"runs\": %d, \"median_ms\": %.3f, \"min_ms\": %.3f, \"max_ms\": %.3f, "
+                        "\"peak_rss_mb\": %.1f}",
+                        i ? ", " : "", c.name.c_str(), c.width, c.height, c.threads, c.runs,
+                        c.median_ms, c.min_ms, c.max_ms, c.peak_rss_mb);
+        }
+        std::printf("]}\n");
+        return;
+    }
+    std::printf("%-28s %11s %7s %5s %10s %10s %10s %9s\n", "case", "size", "threads", "runs",
+                "median ms", "min ms", "max ms", "peak MB");
+    for (const Case& c : cases) {
+        std::printf("%-28s %5dx%-5d %7d %5d %10.2f %10.2f %10.2f %9.1f\n", c.name.c_str(),
+                    c.width, c.height, c.threads, c.runs, c.median_ms, c.min_ms, c.max_ms,
+                    c.peak_rss_mb);
+    }
+}
+
+}  // namespace
+
+void setup_bench(CLI::App& sub) {
+    auto a = std::make_shared<BenchArgs>();
+    sub.add_option("--repeats", a->repeats, "timed runs per case (median reported)");
+    sub.add_option("--threads", a->threads, "worker threads (0: all cores)");
+    sub.add_option("--config", a->config, "setup YAML (camera, rig, water)");
+    sub.add_flag("--no-forward", a->no_forward, "time without forward scatter");
+    sub.add_flag("--json", a->json, "print JSON for scripts");
+    sub.callback([a] { run(*a); });
+}
+
+}  // namespace deepsea::cli

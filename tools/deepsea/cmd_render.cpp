@@ -1,0 +1,105 @@
+// deepsea render: composite one frame or a whole sequence with a baked asset.
+
+#include <cstdio>
+#include <filesystem>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "deepsea/asset/asset_file.h"
+#include "deepsea/core/error.h"
+#include "deepsea/runtime/sequence.h"
+
+namespace deepsea::cli {
+
+namespace {
+
+struct RenderArgs {
+    DepthFlags depth;
+    std::string asset, rgb, depth_path, output, layers, exposure = "auto", camera;
+    bool resume = false, no_forward = false;
+    int bits = 8;
+};
+
+bool is_pattern(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
+
+std::string stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+
+/// Jobs for one frame, or for every file pair of two glob patterns (outputs go to folders).
+std::vector<FrameJob> make_jobs(const RenderArgs& a) {
+    namespace fs = std::filesystem;
+    if (!is_pattern(a.rgb)) {
+        if (is_pattern(a.depth_path)) throw ConfigError("--rgb is one file but --depth is a pattern");
+        return {{a.rgb, a.depth_path, a.output, a.layers}};
+    }
+    std::vector<FrameJob> jobs =
+        pair_frames(glob_files(a.rgb), glob_files(a.depth_path), a.rgb, a.depth_path);
+    for (const std::string& dir : {a.output, a.layers}) {
+        if (dir.empty()) continue;
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        if (ec || !fs::is_directory(dir)) throw IoError("cannot create output folder " + dir);
+    }
+    for (FrameJob& j : jobs) {
+        if (!a.output.empty()) j.output = (fs::path(a.output) / (stem(j.rgb) + ".png")).string();
+        if (!a.layers.empty()) j.layers = (fs::path(a.layers) / (stem(j.rgb) + ".exr")).string();
+    }
+    return jobs;
+}
+
+int run(const RenderArgs& a) {
+    if (a.output.empty() && a.layers.empty()) {
+        throw ConfigError("nothing to write: give -o and/or --layers");
+    }
+    SequenceOptions opt;
+    opt.exposure = parse_exposure(a.exposure);
+    opt.depth_read = a.depth.read_options();
+    opt.depth_kind = a.depth.depth_kind();
+    opt.resume = a.resume;
+    opt.forward = !a.no_forward;
+    opt.bits = a.bits;
+    if (!a.camera.empty()) {
+        Setup s = load_setup({a.camera});
+        if (!s.camera) throw ConfigError(a.camera + ": no camera section");
+        opt.camera = *s.camera;
+    }
+    const std::vector<FrameJob> jobs = make_jobs(a);
+    const Asset asset = load_asset(a.asset);
+    Progress bar("render", long(jobs.size()));
+    opt.progress = [&](int done, int) { bar.update(done); };
+    const SequenceResult r = render_sequence(asset, jobs, opt);
+    bar.finish();
+    for (const std::string& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
+    std::printf("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n",
+                r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
+    if (jobs.size() == 1 && r.errors.empty() && r.written == 1) {
+        if (!a.output.empty()) std::printf("wrote %s\n", a.output.c_str());
+        if (!a.layers.empty()) std::printf("wrote %s\n", a.layers.c_str());
+    } else if (!a.output.empty()) {
+        std::printf("wrote frames to %s\n", a.output.c_str());
+    }
+    return r.errors.empty() ? 0 : 6;
+}
+
+}  // namespace
+
+void setup_render(CLI::App& sub) {
+    auto a = std::make_shared<RenderArgs>();
+    a->depth.add_to(sub);
+    sub.add_option("--asset", a->asset, "baked asset (.vdb) for the rig, water and camera")->required();
+    sub.add_option("--rgb", a->rgb, "colour image, or a quoted glob such as 'dir/*.png'")->required();
+    sub.add_option("--depth", a->depth_path, "depth image, or a quoted glob such as 'dir/*_depth.exr'")
+        ->required();
+    sub.add_option("-o,--output", a->output, "exposed image; a folder for a sequence");
+    sub.add_option("--layers", a->layers, "multi-layer EXR; a folder for a sequence");
+    sub.add_option("--exposure", a->exposure, "'auto' (first frame's, then kept) or a factor");
+    sub.add_option("--camera", a->camera, "YAML with the frames' camera (default: the asset's)");
+    sub.add_option("--bits", a->bits, "PNG bit depth")->check(CLI::IsMember({8, 16}));
+    sub.add_flag("--resume", a->resume, "skip frames whose outputs exist");
+    sub.add_flag("--no-forward", a->no_forward, "leave forward scatter out");
+    sub.callback([a] {
+        const int rc = run(*a);
+        if (rc != 0) throw FramesFailed("some frames failed (listed above)");
+    });
+}
+
+}  // namespace deepsea::cli
