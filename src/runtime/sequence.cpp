@@ -4,6 +4,7 @@
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -24,6 +25,13 @@ Camera frame_camera(const Asset& asset, const Camera& requested, int width, int 
         cam = ac;
         if (width != ac.width || height != ac.height) {
             const double sx = double(width) / ac.width, sy = double(height) / ac.height;
+            if (std::fabs(sx - sy) > 1e-9 * sx) {
+                // The same rays would need non-square pixels: almost surely another camera.
+                throw AssetError("frames are " + std::to_string(width) + "x" +
+                                 std::to_string(height) + " but the asset was baked for " +
+                                 describe(ac) + " (another aspect ratio; give --camera if the " +
+                                 "frames really have that view)");
+            }
             cam.width = width;
             cam.height = height;
             cam.fx = ac.fx * sx;

@@ -46,8 +46,10 @@ def write_yaml(path, water):
 
 
 def write_exr(path, arr):
+    if arr.ndim == 2:
+        arr = arr[:, :, None]
     arr = np.ascontiguousarray(arr, dtype=np.float32)
-    ch = 1 if arr.ndim == 2 else arr.shape[2]
+    ch = arr.shape[2]
     spec = oiio.ImageSpec(arr.shape[1], arr.shape[0], ch, oiio.FLOAT)
     if ch == 1:
         spec.channelnames = ("Z",)

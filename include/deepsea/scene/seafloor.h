@@ -59,7 +59,7 @@ FlightPose flight_pose(const FlightParams& flight, int index);
 enum class SeafloorMaterial {
     Sand,    ///< sediment, ~0.2-0.45 albedo
     Nodule,  ///< manganese nodule, dark brown-black, ~0.05-0.1
-    Rock,    ///< small rock or rock fragment, grey
+    Rock,    ///< small rock or rock fragment, brownish grey
     Shell,   ///< shell fragment or bright speck, ~0.5-0.75
 };
 
@@ -85,7 +85,7 @@ public:
     /// Albedo alone at (x, y): what sample() gives, without the cost of the height.
     Rgb albedo(double x, double y) const;
     /// Mean albedo over the n points (x[i], y[i]) of one small footprint, e.g. a pixel's
-    /// sub-samples. Colour that varies over decimetres or more is evaluated once, at the
+    /// sub-samples. Colour that varies over centimetres or more is evaluated once, at the
     /// footprint's centroid, which makes this much cheaper than n calls to albedo().
     Rgb mean_albedo(const double* x, const double* y, int n) const;
 
@@ -103,8 +103,8 @@ public:
 private:
     struct Probe;
     struct Bump;
-    int gather(double x, double y, double radius, bool halo, Bump* out) const;
     struct Caches;
+    int gather(double x, double y, double radius, bool halo, Bump* out) const;
     void probe(double x, double y, const Bump* bumps, int n, Probe& p, Caches& c) const;
     double large_scale(double x, double y, Caches& c) const;
     double ripple(double x, double y, Caches& c) const;

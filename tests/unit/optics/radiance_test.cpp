@@ -200,3 +200,19 @@ TEST(ForwardScatter, DefaultsAreWithinTheirRanges) {
 }
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+// The figures quoted in docs/model.md.
+TEST(ForwardScatter, JerlovIBDefaultsAsDocumented) {
+    const ForwardScatter fs = default_forward_scatter(jerlov_water("IB"));
+    EXPECT_NEAR(fs.G.r, 0.42, 0.005);
+    EXPECT_NEAR(fs.G.g, 0.13, 0.005);
+    EXPECT_NEAR(fs.G.b, 0.10, 0.005);
+    EXPECT_NEAR(fs.k, 1.4e-3, 0.05e-3);
+    EXPECT_NEAR(Phase{PhaseKind::PetzoldClear}.mean_cosine(), 0.87, 0.005);
+    EXPECT_NEAR(Phase{PhaseKind::PetzoldCoastal}.mean_cosine(), 0.94, 0.005);
+    EXPECT_NEAR(Phase{PhaseKind::PetzoldTurbid}.mean_cosine(), 0.92, 0.005);
+}
+
+}  // namespace deepsea

@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
@@ -81,6 +82,7 @@ TEST(Compositor, DirectMatchesReference) {
     const Fixture& f = fixture();
     const Layers out = f.composite();
     const Stats s = compare(out.direct, f.ref.direct, f.scene.depth, 1e-9);
+    std::printf("direct vs reference: mean %.2e max %.2e\n", s.mean, s.max);
     EXPECT_LE(s.max, 1e-3);
     const Stats t = compare(out.transmission, f.ref.transmission, f.scene.depth, 1e-9);
     EXPECT_LE(t.max, 1e-5);
@@ -90,6 +92,7 @@ TEST(Compositor, BackscatterLookupMatchesReference) {
     const Fixture& f = fixture();
     const Layers out = f.composite();
     const Stats s = compare(out.backscatter, f.ref.backscatter, f.scene.depth);
+    std::printf("backscatter vs reference: mean %.2e max %.2e\n", s.mean, s.max);
     EXPECT_LE(s.mean, 0.005);
     EXPECT_LE(s.max, 0.02);
 }
@@ -115,6 +118,7 @@ TEST(Compositor, ForwardScatterCloseToExactGather) {
     // Gaussian. Compare away from edges, where the blur reaches across them.
     Image mask = f.scene.depth;
     const Stats s = compare(out.forward, f.ref.forward, mask, 1e-9);
+    std::printf("forward vs exact gather: mean %.2e max %.2e\n", s.mean, s.max);
     EXPECT_LE(s.mean, 0.03);
     const Stats fin = compare(out.final, f.ref.final, mask, 1e-9);
     EXPECT_LE(fin.mean, 0.01);
