@@ -33,4 +33,9 @@ Water load_water(const std::string& spec);
 /// Throws ConfigError naming what is missing unless the setup has camera, rig and water.
 void require_complete(const Setup& setup, const std::string& where);
 
+/// The setup as YAML that parse_setup accepts and reads back to the same values (numbers with
+/// 17 significant digits, water as explicit values without a preset). Absent sections are
+/// left out.
+std::string setup_to_yaml(const Setup& setup);
+
 }  // namespace deepsea

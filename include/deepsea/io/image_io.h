@@ -16,14 +16,18 @@ Image read_color(const std::string& path);
 
 /// How to read a depth file.
 struct DepthReadOptions {
-    std::string channel;   ///< channel name to use; empty: the only channel, or Z/Y/R/depth
+    std::string channel;   ///< channel name to use; empty: the only channel, or else the one
+                           ///< channel named Z, depth or depth.Z (case-insensitive)
     double scale = 0.001;  ///< metres per unit for integer images (ROS 16UC1)
 };
 
 /// One-channel depth in metres from EXR/TIFF float (any single channel: Z, Y, R, depth, or
 /// `channel`), 16-bit PNG (times scale), PFM or .npy (float32/float64, 2-D).
 /// Values are copied as they are; non-finite or <= 0 means open water.
-/// Throws InputError for a file with several candidate channels and none chosen.
+/// Throws InputError for a file with several candidate channels and none chosen (the message
+/// lists them), for a chosen channel that is absent, and for 8-bit images; IoError for a
+/// missing or corrupt file. PFM rows are flipped to top-to-bottom (PFM stores the bottom row
+/// first). .npy: dtype <f4, <f8 or <u2 (times scale), shape (H, W) or (H, W, 1).
 Image read_depth(const std::string& path, const DepthReadOptions& opt = {});
 
 /// Writes linear RGB: PNG/JPEG/TIFF are sRGB-encoded at `bits` (8 or 16; JPEG is always 8);
@@ -36,7 +40,7 @@ void write_depth_exr(const std::string& path, const Image& depth);
 
 /// One layer of a multi-layer EXR: channels named `name.<channel>`.
 struct ExrLayer {
-    std::string name;                   ///< e.g. "final"
+    std::string name;                   ///< e.g. "final"; empty: channels named `<channel>`
     const Image* image = nullptr;       ///< must all have the same size
     std::vector<std::string> channels;  ///< e.g. {"R", "G", "B"}, one per image channel
 };
@@ -45,7 +49,9 @@ struct ExrLayer {
 /// Atomic. Throws IoError.
 void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& layers);
 
-/// Reads one layer of a multi-layer EXR written by write_exr_layers (for tests and tools).
+/// Reads one layer of a multi-layer EXR written by write_exr_layers (for tests and tools);
+/// an empty `layer` reads channels by their plain names. Throws InputError for a missing
+/// channel, IoError for an unreadable file.
 Image read_exr_layer(const std::string& path, const std::string& layer,
                      const std::vector<std::string>& channels);
 

@@ -1,0 +1,385 @@
+#include "deepsea/io/image_io.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "deepsea/core/error.h"
+
+namespace deepsea {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A fresh folder per test, removed afterwards.
+class ImageIo : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() /
+               ("deepsea-io-" + std::to_string(::getpid()) + "-" + info->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add, ec);
+        fs::remove_all(dir_, ec);
+    }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    /// Names in the folder, to prove no temporary file is left behind.
+    std::vector<std::string> listing() const {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename());
+        return names;
+    }
+    fs::path dir_;
+};
+
+Image ramp(int w, int h, int c) {
+    Image img(w, h, c);
+    for (std::size_t i = 0; i < img.data.size(); ++i)
+        img.data[i] = float(i % 97) / 96.0f;
+    return img;
+}
+
+void write_bytes(const std::string& p, const std::string& bytes) {
+    std::ofstream os(p, std::ios::binary);
+    os.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+template <typename T>
+std::string raw(const std::vector<T>& v) {
+    // The test machine is little-endian (x86-64/aarch64), as are .npy '<' and PFM scale < 0.
+    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+// --- PNG writer for a 16-bit grey image: uncompressed deflate blocks, so no zlib needed -------
+
+std::uint32_t crc32(const std::string& s) {
+    std::uint32_t c = 0xffffffffu;
+    for (unsigned char b : s) {
+        c ^= b;
+        for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xffffffffu;
+}
+
+std::string be32(std::uint32_t v) {
+    return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+}
+
+std::string chunk(const std::string& type, const std::string& data) {
+    return be32(std::uint32_t(data.size())) + type + data + be32(crc32(type + data));
+}
+
+std::string png16_grey(int w, int h, const std::vector<std::uint16_t>& px) {
+    std::string rows;
+    for (int y = 0; y < h; ++y) {
+        rows += '\0';  // filter: none
+        for (int x = 0; x < w; ++x) {
+            const std::uint16_t v = px[std::size_t(y) * w + x];
+            rows += char(v >> 8);
+            rows += char(v & 0xff);
+        }
+    }
+    std::uint32_t a = 1, b = 0;
+    for (unsigned char ch : rows) a = (a + ch) % 65521, b = (b + a) % 65521;
+    std::string z = "\x78\x01";
+    const auto len = std::uint16_t(rows.size());
+    z += '\x01';  // final stored block
+    z += char(len & 0xff);
+    z += char(len >> 8);
+    z += char(~len & 0xff);
+    z += char((~len >> 8) & 0xff);
+    z += rows + be32((b << 16) | a);
+    std::string ihdr = be32(std::uint32_t(w)) + be32(std::uint32_t(h));
+    // 16 bits, grey, deflate, no filter, no interlace
+    ihdr += std::string("\x10\x00\x00\x00\x00", 5);
+    return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", z) +
+           chunk("IEND", "");
+}
+
+std::string npy(const std::string& descr, const std::string& shape, const std::string& data) {
+    std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape +
+                         ", }";
+    while ((10 + header.size() + 1) % 64 != 0) header += ' ';
+    header += '\n';
+    const auto n = std::uint16_t(header.size());
+    return std::string("\x93NUMPY\x01\x00", 8) + char(n & 0xff) + char(n >> 8) + header + data;
+}
+
+// --- sRGB ------------------------------------------------------------------------------------
+
+TEST(Srgb, MatchesIec61966) {
+    EXPECT_FLOAT_EQ(srgb_to_linear(0.0f), 0.0f);
+    EXPECT_FLOAT_EQ(srgb_to_linear(1.0f), 1.0f);
+    EXPECT_NEAR(srgb_to_linear(0.5f), 0.2140411, 1e-6);
+    EXPECT_NEAR(srgb_to_linear(0.04045f), 0.04045 / 12.92, 1e-9);
+    EXPECT_NEAR(linear_to_srgb(0.0031308f), 0.0031308 * 12.92, 1e-7);
+    EXPECT_NEAR(linear_to_srgb(0.18f), 0.4613561, 1e-6);
+    for (int i = 0; i <= 1000; ++i) {
+        const float v = float(i) / 1000.0f;
+        EXPECT_NEAR(linear_to_srgb(srgb_to_linear(v)), v, 2e-6) << v;
+    }
+}
+
+// --- colour ----------------------------------------------------------------------------------
+
+TEST_F(ImageIo, Png8RoundTripWithinQuantisation) {
+    const Image img = ramp(17, 9, 3);
+    write_color(path("a.png"), img, 8);
+    const Image back = read_color(path("a.png"));
+    ASSERT_EQ(back.width, 17);
+    ASSERT_EQ(back.height, 9);
+    ASSERT_EQ(back.channels, 3);
+    for (std::size_t i = 0; i < img.data.size(); ++i)
+        EXPECT_NEAR(linear_to_srgb(back.data[i]), linear_to_srgb(img.data[i]), 0.5 / 255 + 1e-5);
+    EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});
+}
+
+TEST_F(ImageIo, Png16RoundTripWithinQuantisation) {
+    const Image img = ramp(11, 7, 3);
+    write_color(path("a.png"), img, 16);
+    const Image back = read_color(path("a.png"));
+    for (std::size_t i = 0; i < img.data.size(); ++i)
+        EXPECT_NEAR(linear_to_srgb(back.data[i]), linear_to_srgb(img.data[i]),
+                    0.5 / 65535 + 2e-6);
+}
+
+TEST_F(ImageIo, ColourIsClampedAndGreyExpanded) {
+    Image grey(3, 2, 1, 0.25f);
+    grey.at(0, 0) = 7.0f;
+    grey.at(1, 0) = -1.0f;
+    write_color(path("g.png"), grey, 8);
+    const Image back = read_color(path("g.png"));
+    ASSERT_EQ(back.channels, 3);
+    EXPECT_FLOAT_EQ(back.at(0, 0, 2), 1.0f);
+    EXPECT_FLOAT_EQ(back.at(1, 0, 0), 0.0f);
+    EXPECT_NEAR(back.at(2, 1, 1), 0.25, 0.004);
+}
+
+TEST_F(ImageIo, JpegAndTiffWrite) {
+    const Image img = ramp(16, 16, 3);
+    write_color(path("a.jpg"), img, 16);  // JPEG is always 8-bit
+    write_color(path("a.tif"), img, 16);
+    EXPECT_EQ(read_color(path("a.jpg")).width, 16);
+    const Image t = read_color(path("a.tif"));
+    for (std::size_t i = 0; i < img.data.size(); ++i)
+        EXPECT_NEAR(linear_to_srgb(t.data[i]), linear_to_srgb(img.data[i]), 0.5 / 65535 + 2e-6);
+}
+
+TEST_F(ImageIo, ExrColourKeepsLinearValuesAboveOne) {
+    Image img = ramp(5, 4, 3);
+    img.at(0, 0, 0) = 12.5f;
+    write_color(path("a.exr"), img);
+    const Image back = read_color(path("a.exr"));
+    for (std::size_t i = 0; i < img.data.size(); ++i)
+        EXPECT_NEAR(back.data[i], img.data[i], 1e-3 * std::max(1.0f, img.data[i]));
+}
+
+TEST_F(ImageIo, ExrLayersRoundTripExactly) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-5.0f, 50.0f);
+    Image rgb(6, 5, 3), depth(6, 5, 1);
+    for (auto& v : rgb.data) v = u(rng);
+    for (auto& v : depth.data) v = u(rng);
+    depth.data[3] = std::numeric_limits<float>::infinity();
+    write_exr_layers(path("l.exr"),
+                     {{"final", &rgb, {"R", "G", "B"}}, {"depth", &depth, {"Z"}}});
+    EXPECT_EQ(read_exr_layer(path("l.exr"), "final", {"R", "G", "B"}).data, rgb.data);
+    EXPECT_EQ(read_exr_layer(path("l.exr"), "depth", {"Z"}).data, depth.data);
+    EXPECT_THROW(read_exr_layer(path("l.exr"), "normal", {"X"}), InputError);
+    // The multi-layer file has exactly one depth-like channel: read_depth picks depth.Z.
+    EXPECT_EQ(read_depth(path("l.exr")).data, depth.data);
+}
+
+TEST_F(ImageIo, ExrLayersOfDifferentSizesAreAnInputError) {
+    Image a(4, 4, 3), b(4, 5, 1);
+    EXPECT_THROW(write_exr_layers(path("l.exr"), {{"final", &a, {"R", "G", "B"}},
+                                                  {"depth", &b, {"Z"}}}),
+                 InputError);
+    EXPECT_TRUE(listing().empty());
+}
+
+// --- depth -----------------------------------------------------------------------------------
+
+TEST_F(ImageIo, DepthExrWithAnySingleChannelName) {
+    Image d(4, 3, 1);
+    for (std::size_t i = 0; i < d.data.size(); ++i) d.data[i] = 0.5f + float(i);
+    for (const std::string name : {"Y", "Z", "R", "depth"}) {
+        const std::string p = path("d_" + name + ".exr");
+        write_exr_layers(p, {{"", &d, {name}}});
+        EXPECT_EQ(read_depth(p).data, d.data) << name;
+    }
+    write_depth_exr(path("z.exr"), d);
+    EXPECT_EQ(read_depth(path("z.exr")).data, d.data);
+    EXPECT_EQ(read_exr_layer(path("z.exr"), "", {"Z"}).data, d.data);
+}
+
+TEST_F(ImageIo, SeveralDepthChannelsNeedAChoice) {
+    Image rgb(3, 2, 3);
+    for (std::size_t i = 0; i < rgb.data.size(); ++i) rgb.data[i] = float(i);
+    write_exr_layers(path("rgb.exr"), {{"", &rgb, {"R", "G", "B"}}});
+    try {
+        read_depth(path("rgb.exr"));
+        FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("rgb.exr has channels R, G, B: choose one with --depth-channel"),
+                  std::string::npos)
+            << msg;
+    }
+    DepthReadOptions opt;
+    opt.channel = "G";
+    const Image g = read_depth(path("rgb.exr"), opt);
+    ASSERT_EQ(g.channels, 1);
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(g.data[i], rgb.data[i * 3 + 1]);
+    opt.channel = "Q";
+    try {
+        read_depth(path("rgb.exr"), opt);
+        FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("R, G, B"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(ImageIo, OneZChannelAmongSeveralIsPicked) {
+    Image img(2, 2, 3);
+    for (std::size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i);
+    write_exr_layers(path("rgz.exr"), {{"", &img, {"R", "G", "Z"}}});
+    const Image d = read_depth(path("rgz.exr"));
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(d.data[i], img.data[i * 3 + 2]);
+}
+
+TEST_F(ImageIo, Png16DepthIsScaled) {
+    const std::vector<std::uint16_t> px = {0, 1, 1000, 2500, 65535, 40000};
+    write_bytes(path("d.png"), png16_grey(3, 2, px));
+    const Image d = read_depth(path("d.png"));  // default 0.001 m per unit
+    ASSERT_EQ(d.width, 3);
+    ASSERT_EQ(d.height, 2);
+    for (std::size_t i = 0; i < px.size(); ++i)
+        EXPECT_NEAR(d.data[i], px[i] * 0.001, 1e-6 + 1e-7 * px[i]);  // float precision
+    DepthReadOptions opt;
+    opt.scale = 0.0001;
+    EXPECT_NEAR(read_depth(path("d.png"), opt).at(0, 1), 0.25, 1e-6);
+}
+
+TEST_F(ImageIo, EightBitDepthIsAnInputError) {
+    write_color(path("d8.png"), Image(4, 4, 1, 0.5f), 8);
+    EXPECT_THROW(read_depth(path("d8.png")), InputError);
+}
+
+TEST_F(ImageIo, PfmRowsEndUpTopToBottom) {
+    // 2 x 2, bottom row (3, 4) stored first, little-endian (negative scale).
+    write_bytes(path("d.pfm"), "Pf\n2 2\n-1.0\n" + raw(std::vector<float>{3, 4, 1, 2}));
+    Image d = read_depth(path("d.pfm"));
+    EXPECT_EQ(d.data, (std::vector<float>{1, 2, 3, 4}));
+    // Big-endian (positive scale) gives the same image.
+    std::string be;
+    for (float v : {3.0f, 4.0f, 1.0f, 2.0f}) {
+        std::uint32_t u;
+        std::memcpy(&u, &v, 4);
+        be += be32(u);
+    }
+    write_bytes(path("be.pfm"), "Pf\n2 2\n1.0\n" + be);
+    EXPECT_EQ(read_depth(path("be.pfm")).data, (std::vector<float>{1, 2, 3, 4}));
+}
+
+TEST_F(ImageIo, NpyDepth) {
+    write_bytes(path("f4.npy"), npy("<f4", "(2, 3)", raw(std::vector<float>{1, 2, 3, 4, 5, 6})));
+    Image d = read_depth(path("f4.npy"));
+    ASSERT_EQ(d.width, 3);
+    ASSERT_EQ(d.height, 2);
+    EXPECT_EQ(d.at(2, 0), 3.0f);
+    EXPECT_EQ(d.at(0, 1), 4.0f);
+
+    write_bytes(path("f8.npy"), npy("<f8", "(2, 2, 1)", raw(std::vector<double>{1.5, 2, 3, 4})));
+    EXPECT_EQ(read_depth(path("f8.npy")).data, (std::vector<float>{1.5, 2, 3, 4}));
+
+    write_bytes(path("u2.npy"), npy("<u2", "(1, 2)", raw(std::vector<std::uint16_t>{1500, 0})));
+    EXPECT_NEAR(read_depth(path("u2.npy")).at(0, 0), 1.5, 1e-6);
+
+    write_bytes(path("bad.npy"), npy("<f4", "(1, 1, 3)", raw(std::vector<float>{1, 2, 3})));
+    EXPECT_THROW(read_depth(path("bad.npy")), InputError);
+    write_bytes(path("short.npy"), npy("<f4", "(4, 4)", raw(std::vector<float>{1, 2})));
+    EXPECT_THROW(read_depth(path("short.npy")), IoError);
+}
+
+// --- errors ----------------------------------------------------------------------------------
+
+TEST_F(ImageIo, MissingOrCorruptFileIsAnIoErrorOnOneLine) {
+    for (const std::string name : {"none.png", "none.exr", "none.npy", "none.pfm"}) {
+        try {
+            read_depth(path(name));
+            FAIL() << name;
+        } catch (const IoError& e) {
+            EXPECT_EQ(std::string(e.what()).rfind(path(name) + ": ", 0), 0u) << e.what();
+        }
+    }
+    EXPECT_THROW(read_color(path("none.png")), IoError);
+    write_bytes(path("junk.png"), "this is not a png\nat all\n");
+    write_bytes(path("junk.exr"), std::string("\x76\x2f\x31\x01garbage", 11));
+    for (const std::string name : {"junk.png", "junk.exr"}) {
+        try {
+            read_color(path(name));
+            FAIL() << name;
+        } catch (const IoError& e) {
+            const std::string msg = e.what();
+            EXPECT_EQ(msg.rfind(path(name) + ": ", 0), 0u) << msg;
+            EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+        }
+    }
+}
+
+TEST_F(ImageIo, WritingIntoAMissingFolderIsAnIoError) {
+    const std::string p = path("no/such/folder/out.png");
+    try {
+        write_color(p, ramp(2, 2, 3));
+        FAIL();
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(listing().empty());
+}
+
+TEST_F(ImageIo, WritingIntoAReadOnlyFolderIsAnIoErrorAndLeavesNothing) {
+    fs::create_directories(dir_ / "ro");
+    fs::permissions(dir_ / "ro", fs::perms::owner_read | fs::perms::owner_exec);
+    if (::access((dir_ / "ro").c_str(), W_OK) == 0) GTEST_SKIP() << "running as root";
+    const Image img = ramp(3, 3, 3);
+    EXPECT_THROW(write_color(path("ro/out.png"), img), IoError);
+    EXPECT_THROW(write_depth_exr(path("ro/d.exr"), Image(3, 3, 1)), IoError);
+    fs::permissions(dir_ / "ro", fs::perms::owner_all);
+    EXPECT_TRUE(fs::is_empty(dir_ / "ro"));
+}
+
+TEST_F(ImageIo, FailedRenameRemovesTheTemporary) {
+    // The target is a non-empty folder: the image is written, the rename fails.
+    fs::create_directories(dir_ / "out.png" / "x");
+    EXPECT_THROW(write_color(path("out.png"), ramp(3, 3, 3)), IoError);
+    EXPECT_EQ(listing(), std::vector<std::string>{"out.png"});
+}
+
+TEST_F(ImageIo, OverwriteReplacesAtomically) {
+    write_color(path("a.png"), Image(2, 2, 3, 0.0f));
+    write_color(path("a.png"), Image(2, 2, 3, 1.0f));
+    EXPECT_FLOAT_EQ(read_color(path("a.png")).at(1, 1, 2), 1.0f);
+    EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});
+}
+
+}  // namespace
+}  // namespace deepsea
