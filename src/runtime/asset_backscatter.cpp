@@ -24,6 +24,19 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
     };
     m_cols = taps(camera.width, camera.fx, camera.cx, ac.fx, ac.cx, l.ni);
     m_rows = taps(camera.height, camera.fy, camera.cy, ac.fy, ac.cy, l.nj);
+
+    const int K = l.slabs();
+    m_z.assign(l.z.begin(), l.z.end());
+    m_inv_h.resize(K);
+    for (int k = 0; k < K; ++k) m_inv_h[k] = float(1.0 / (l.z[k + 1] - l.z[k]));
+    const int buckets = 4 * 1024;
+    m_bucket_scale = float(buckets / l.z_max());
+    m_bucket.resize(buckets + 1);
+    for (int b = 0, k = 0; b <= buckets; ++b) {
+        const double zb = b / double(m_bucket_scale);
+        while (k < K - 1 && l.z[k + 1] <= zb) ++k;
+        m_bucket[b] = k;
+    }
 }
 
 void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out) const {
@@ -31,11 +44,15 @@ void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out)
     const Tap r = m_rows[v];
     const float* base = m_asset.values.data();
     const std::size_t nk = std::size_t(l.nk());
+    const int K = l.slabs();
     for (int u = 0; u < n; ++u) {
         const Tap c = m_cols[u];
-        // z == 0 is open water after the compositor's sanitising: look up z_max.
-        const DepthPosition dp = l.depth_position(z[u] > 0.0f ? double(z[u]) : HUGE_VAL);
-        const float wz = float(dp.w);
+        // z == 0 is open water after the compositor's sanitising: look up z_max, as beyond it.
+        const float zz = z[u] > 0.0f ? std::min(z[u], m_z.back()) : m_z.back();
+        int k = m_bucket[std::min(int(zz * m_bucket_scale), int(m_bucket.size()) - 1)];
+        while (k < K - 1 && m_z[k + 1] <= zz) ++k;
+        const float wz = std::min((zz - m_z[k]) * m_inv_h[k], 1.0f);
+        const DepthPosition dp{k, wz};
         const float* p00 = base + ((std::size_t(c.i0) * l.nj + r.i0) * nk + dp.k) * 3;
         const float* p10 = base + ((std::size_t(c.i1) * l.nj + r.i0) * nk + dp.k) * 3;
         const float* p01 = base + ((std::size_t(c.i0) * l.nj + r.i1) * nk + dp.k) * 3;

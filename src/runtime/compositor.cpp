@@ -17,9 +17,9 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, nx, ny, nz, d2, e, b;
+    std::vector<float> x, y, z, nx, ny, nz, e, b;
     void fit(int n) {
-        for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2}) v->resize(n);
+        for (auto* v : {&x, &y, &z, &nx, &ny, &nz}) v->resize(n);
         e.resize(3 * std::size_t(n));
         b.resize(3 * std::size_t(n));
     }
@@ -49,6 +49,7 @@ void Compositor::composite(Layers& dst, const Frame& f) {
     }
     dst.resize(W, H);
     const bool forward = m_water.forward.enabled;
+    if (m_d2.width != W || m_d2.height != H) m_d2 = Image(W, H, 1);
     if (forward && (m_sigma.width != W || m_sigma.height != H)) m_sigma = Image(W, H, 1);
 
     static tbb::enumerable_thread_specific<RowScratch> scratch;
@@ -106,7 +107,7 @@ void Compositor::composite(Layers& dst, const Frame& f) {
         const float* J = f.rgb.row(v);
         const float c[3] = {cr, cg, cb};
         kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, c,
-                           dst.direct.row(v), dst.transmission.row(v), s.d2.data());
+                           dst.direct.row(v), dst.transmission.row(v), m_d2.row(v));
         float* B = dst.backscatter.row(v);
         float* N = dst.normal.row(v);
         float* Z = dst.depth.row(v);
@@ -119,33 +120,18 @@ void Compositor::composite(Layers& dst, const Frame& f) {
             N[3 * u + 1] = s.ny[u];
             N[3 * u + 2] = s.nz[u];
             Z[u] = s.z[u];
-            if (S) S[u] = s.z[u] > 0.0f ? float(sigma_per_m * s.d2[u]) : 0.0f;
+            if (S) S[u] = s.z[u] > 0.0f ? float(sigma_per_m * m_d2.at(u, v)) : 0.0f;
         }
     });
 
-    if (forward) {
-        m_blur.apply(dst.direct, m_sigma, m_blurred);
-        tbb::parallel_for(0, H, [&](int v) {
-            float* F = dst.forward.row(v);
-            const float* Bl = m_blurred.row(v);
-            const float* Z = dst.depth.row(v);
-            for (int u = 0; u < W; ++u) {
-                if (!(Z[u] > 0.0f)) {
-                    F[3 * u] = F[3 * u + 1] = F[3 * u + 2] = 0.0f;
-                    continue;
-                }
-                const double d2 = length(cam.point(u, v, Z[u]));
-                const Rgb w = forward_weight(m_water.forward, m_water.c, d2);
-                for (int c = 0; c < 3; ++c) F[3 * u + c] = float(w[c]) * Bl[3 * u + c];
-            }
-        });
-    } else {
-        std::fill(dst.forward.data.begin(), dst.forward.data.end(), 0.0f);
-    }
-    const std::size_t n = dst.final.data.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        dst.final.data[i] = dst.direct.data[i] + dst.forward.data[i] + dst.backscatter.data[i];
-    }
+    if (forward) m_blur.apply(dst.direct, m_sigma, m_blurred);
+    const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
+                        float(m_water.forward.G.b)};
+    tbb::parallel_for(0, H, [&](int v) {
+        kernels::finish_row(W, dst.depth.row(v), m_d2.row(v), G, dst.transmission.row(v),
+                            forward ? m_blurred.row(v) : nullptr, dst.direct.row(v),
+                            dst.backscatter.row(v), dst.forward.row(v), dst.final.row(v));
+    });
 }
 
 }  // namespace deepsea

@@ -5,74 +5,86 @@
 #include <algorithm>
 #include <cmath>
 
+#include "clones.h"
+
 namespace deepsea {
 
 namespace {
 
 constexpr double kLevelRatio = 1.4142135623730951;  // sqrt(2)
 
-/// Separable Gaussian of `sigma` (pixels of this level) over 4 planes of w x h, zero outside.
-void blur_planes(std::vector<float>& planes, int w, int h, double sigma) {
+/// Normalisation of a zero-padded 1-D convolution: the sum of the taps that fall inside.
+std::vector<float> inside_weights(int n, const std::vector<float>& g, int r) {
+    std::vector<float> w(n);
+    for (int x = 0; x < n; ++x) {
+        double s = 0.0;
+        for (int k = std::max(-r, -x); k <= std::min(r, n - 1 - x); ++k) s += g[k + r];
+        w[x] = float(1.0 / s);
+    }
+    return w;
+}
+
+/// dst[x] = sum_k g[k] src[x + k] over a row padded with r zeros on each side.
+DEEPSEA_CLONES
+void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
+                  const float* __restrict g, int r) {
+    for (int x = 0; x < n; ++x) dst[x] = 0.0f;
+    for (int k = 0; k <= 2 * r; ++k) {
+        const float gk = g[k];
+        const float* s = padded + k;
+#pragma omp simd
+        for (int x = 0; x < n; ++x) dst[x] += gk * s[x];
+    }
+}
+
+/// Separable normalised Gaussian of `sigma` (pixels of this resolution), in place on 3 planes.
+void blur_planes(float* data, int w, int h, double sigma, std::vector<float>& tmp) {
     const int r = std::max(1, int(std::ceil(3.0 * sigma)));
     std::vector<float> g(2 * r + 1);
     for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
+    const std::vector<float> nx = inside_weights(w, g, r), ny = inside_weights(h, g, r);
     const std::size_t plane = std::size_t(w) * h;
-    std::vector<float> tmp(planes.size());
-    // horizontal: rows are independent
-    tbb::parallel_for(0, 4 * h, [&](int row) {
-        const float* src = planes.data() + std::size_t(row) * w;
+    tmp.resize(3 * plane);
+    tbb::parallel_for(0, 3 * h, [&](int row) {
+        thread_local std::vector<float> padded;
+        padded.assign(w + 2 * r, 0.0f);
+        const float* src = data + std::size_t(row) * w;
+        std::copy(src, src + w, padded.begin() + r);
         float* dst = tmp.data() + std::size_t(row) * w;
-        for (int x = 0; x < w; ++x) {
-            const int k0 = std::max(-r, -x), k1 = std::min(r, w - 1 - x);
-            float s = 0.0f;
-            for (int k = k0; k <= k1; ++k) s += g[k + r] * src[x + k];
-            dst[x] = s;
-        }
+        convolve_row(padded.data(), dst, w, g.data(), r);
+        for (int x = 0; x < w; ++x) dst[x] *= nx[x];
     });
-    // vertical: accumulate whole rows so the inner loop runs along x (vectorises)
-    tbb::parallel_for(0, 4 * h, [&](int prow) {
+    tbb::parallel_for(0, 3 * h, [&](int prow) {
         const int p = prow / h, y = prow % h;
-        float* dst = planes.data() + p * plane + std::size_t(y) * w;
+        float* dst = data + p * plane + std::size_t(y) * w;
         std::fill(dst, dst + w, 0.0f);
         const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
         for (int k = k0; k <= k1; ++k) {
-            const float gk = g[k + r];
+            const float gk = g[k + r] * ny[y];
             const float* src = tmp.data() + p * plane + std::size_t(y + k) * w;
+#pragma omp simd
             for (int x = 0; x < w; ++x) dst[x] += gk * src[x];
         }
     });
 }
 
-/// Bilinear sample of plane `p` of a level at full-resolution pixel (u, v).
-inline float sample(const std::vector<float>& planes, int w, int h, int f, int p, int u, int v) {
-    const float fx = (u + 0.5f) / f - 0.5f, fy = (v + 0.5f) / f - 0.5f;
-    const int x0 = std::clamp(int(std::floor(fx)), 0, w - 1), y0 = std::clamp(int(std::floor(fy)), 0, h - 1);
-    const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
-    const float ax = std::clamp(fx - x0, 0.0f, 1.0f), ay = std::clamp(fy - y0, 0.0f, 1.0f);
-    const float* q = planes.data() + std::size_t(p) * w * h;
-    const float top = q[y0 * w + x0] + ax * (q[y0 * w + x1] - q[y0 * w + x0]);
-    const float bot = q[y1 * w + x0] + ax * (q[y1 * w + x1] - q[y1 * w + x0]);
-    return top + ay * (bot - top);
-}
-
 }  // namespace
 
-void ForwardBlur::build_level(Level& L, const Image& in) {
-    // Downsample while the reduced sigma stays >= 1.5 px, so the kernel keeps its shape.
-    int f = 1, lvl = 0;
-    while (L.sigma / (2 * f) >= 1.5 && lvl + 1 < int(m_pyramid.size())) {
-        f *= 2;
-        ++lvl;
-    }
+void ForwardBlur::build_level(Level& L) {
+    // Downsample while the reduced sigma stays >= 1 px, so the kernel keeps its shape.
+    int lvl = 0;
+    while (L.sigma / (1 << (lvl + 1)) >= 1.0 && lvl + 1 < int(m_pyramid.size())) ++lvl;
+    const int f = 1 << lvl;
     L.factor = f;
-    L.w = m_pyramid_w[lvl];
-    L.h = m_pyramid_h[lvl];
-    L.rgbw = m_pyramid[lvl];
+    const Planes& src = m_pyramid[lvl];
+    L.blurred.w = src.w;
+    L.blurred.h = src.h;
+    L.blurred.data.assign(src.data.begin(), src.data.end());
     // Box downsampling by f and bilinear upsampling already spread the signal by about
     // (f^2 - 1)/12 + f^2/12 px^2; the level's Gaussian supplies the rest of the variance.
-    const double spent = (2.0 * f * f - 1.0) / 12.0;
+    const double spent = f > 1 ? (2.0 * f * f - 1.0) / 12.0 : 0.0;
     const double rest = std::sqrt(std::max(L.sigma * L.sigma - spent, 0.09)) / f;
-    blur_planes(L.rgbw, L.w, L.h, rest);
+    blur_planes(L.blurred.data.data(), src.w, src.h, rest, m_tmp);
 }
 
 void ForwardBlur::apply(const Image& in, const Image& sigma, Image& out) {
@@ -88,79 +100,91 @@ void ForwardBlur::apply(const Image& in, const Image& sigma, Image& out) {
     std::fill(out.data.begin(), out.data.end(), 0.0f);
     if (smax <= 0.0) return;
 
-    // Pyramid level 0: the image itself as planes plus an all-ones weight plane.
-    const int max_levels = 8;
-    m_pyramid.resize(max_levels);
-    m_pyramid_w.assign(max_levels, 0);
-    m_pyramid_h.assign(max_levels, 0);
-    m_pyramid[0].resize(4 * std::size_t(W) * H);
-    m_pyramid_w[0] = W;
-    m_pyramid_h[0] = H;
-    const std::size_t plane0 = std::size_t(W) * H;
-    for (std::size_t i = 0; i < plane0; ++i) {
-        for (int c = 0; c < 3; ++c) m_pyramid[0][c * plane0 + i] = in.data[3 * i + c];
-        m_pyramid[0][3 * plane0 + i] = 1.0f;
-    }
-    int used = 1;
-    for (int l = 1; l < max_levels; ++l) {
-        const int pw = m_pyramid_w[l - 1], ph = m_pyramid_h[l - 1];
-        if (pw < 8 || ph < 8) break;
-        const int w = (pw + 1) / 2, h = (ph + 1) / 2;
-        m_pyramid_w[l] = w;
-        m_pyramid_h[l] = h;
-        m_pyramid[l].assign(4 * std::size_t(w) * h, 0.0f);
-        const std::vector<float>& s = m_pyramid[l - 1];
-        for (int p = 0; p < 4; ++p) {
-            for (int y = 0; y < h; ++y) {
-                for (int x = 0; x < w; ++x) {
-                    float acc = 0.0f;
-                    for (int dy = 0; dy < 2; ++dy) {
-                        for (int dx = 0; dx < 2; ++dx) {
-                            const int sx = 2 * x + dx, sy = 2 * y + dy;
-                            if (sx < pw && sy < ph) acc += s[(std::size_t(p) * ph + sy) * pw + sx];
-                        }
-                    }
-                    m_pyramid[l][(std::size_t(p) * h + y) * w + x] = 0.25f * acc;
-                }
-            }
-        }
-        used = l + 1;
-    }
-    m_pyramid.resize(used);
-
     // Levels bracketing [smin, smax], spaced by sqrt(2) from 0.5 px.
     std::vector<double> sigmas;
     double s = 0.5;
     while (s * kLevelRatio < smin) s *= kLevelRatio;
     for (; s < smax * kLevelRatio; s *= kLevelRatio) sigmas.push_back(s);
     if (sigmas.size() < 2) sigmas.push_back(s);
+
+    // Pyramid: planar input, then 2x2 box averages (edge blocks average what they have),
+    // only as deep as the widest level needs.
+    int depth = 1;
+    while ((2 << (depth - 1)) <= sigmas.back() && depth < 8 &&
+           std::min(W, H) >> depth >= 8) {
+        ++depth;
+    }
+    m_pyramid.resize(depth);
+    Planes& p0 = m_pyramid[0];
+    p0.w = W;
+    p0.h = H;
+    p0.data.resize(3 * std::size_t(W) * H);
+    tbb::parallel_for(0, H, [&](int y) {
+        for (int x = 0; x < W; ++x) {
+            for (int c = 0; c < 3; ++c) p0.plane(c)[std::size_t(y) * W + x] = in.at(x, y, c);
+        }
+    });
+    for (int l = 1; l < depth; ++l) {
+        const Planes& a = m_pyramid[l - 1];
+        Planes& b = m_pyramid[l];
+        b.w = (a.w + 1) / 2;
+        b.h = (a.h + 1) / 2;
+        b.data.resize(3 * std::size_t(b.w) * b.h);
+        tbb::parallel_for(0, 3 * b.h, [&](int prow) {
+            const int c = prow / b.h, y = prow % b.h;
+            const float* src = a.plane(c);
+            float* dst = b.plane(c) + std::size_t(y) * b.w;
+            const int y0 = 2 * y, y1 = std::min(2 * y + 1, a.h - 1);
+            for (int x = 0; x < b.w; ++x) {
+                const int x0 = 2 * x, x1 = std::min(2 * x + 1, a.w - 1);
+                // at an odd edge x1 == x0 (or y1 == y0): the block averages what it has
+                dst[x] = 0.25f * (src[y0 * a.w + x0] + src[y0 * a.w + x1] + src[y1 * a.w + x0] +
+                                  src[y1 * a.w + x1]);
+            }
+        });
+    }
     m_levels.resize(sigmas.size());
     for (std::size_t i = 0; i < sigmas.size(); ++i) {
         m_levels[i].sigma = sigmas[i];
-        build_level(m_levels[i], in);
+        build_level(m_levels[i]);
     }
 
     tbb::parallel_for(0, H, [&](int v) {
+        const float* sr = sigma.row(v);
+        float* o = out.row(v);
         for (int u = 0; u < W; ++u) {
-            const double sp = sigma.at(u, v);
+            const double sp = sr[u];
             if (!(sp > 0.0)) continue;
             std::size_t i = 0;
             while (i + 2 < m_levels.size() && m_levels[i + 1].sigma < sp) ++i;
-            const Level& a = m_levels[i];
-            const Level& b = m_levels[i + 1];
-            const double t = std::clamp((sp - a.sigma) / (b.sigma - a.sigma), 0.0, 1.0);
-            float val[3];
-            for (int c = 0; c < 3; ++c) {
-                const float va = sample(a.rgbw, a.w, a.h, a.factor, c, u, v) /
-                                 sample(a.rgbw, a.w, a.h, a.factor, 3, u, v);
-                const float vb = sample(b.rgbw, b.w, b.h, b.factor, c, u, v) /
-                                 sample(b.rgbw, b.w, b.h, b.factor, 3, u, v);
-                val[c] = float((1.0 - t) * va + t * vb);
+            const Level* lv[2] = {&m_levels[i], &m_levels[i + 1]};
+            const float t = float(std::clamp((sp - lv[0]->sigma) / (lv[1]->sigma - lv[0]->sigma), 0.0, 1.0));
+            float acc[3] = {0, 0, 0};
+            for (int j = 0; j < 2; ++j) {
+                const Level& L = *lv[j];
+                const float wj = j == 0 ? 1.0f - t : t;
+                const Planes& P = L.blurred;
+                if (L.factor == 1) {
+                    const std::size_t idx = std::size_t(v) * P.w + u;
+                    for (int c = 0; c < 3; ++c) acc[c] += wj * P.plane(c)[idx];
+                    continue;
+                }
+                const int f = L.factor;
+                const float fx = (u + 0.5f) / f - 0.5f, fy = (v + 0.5f) / f - 0.5f;
+                const int x0 = std::clamp(int(std::floor(fx)), 0, P.w - 1);
+                const int y0 = std::clamp(int(std::floor(fy)), 0, P.h - 1);
+                const int x1 = std::min(x0 + 1, P.w - 1), y1 = std::min(y0 + 1, P.h - 1);
+                const float ax = std::clamp(fx - x0, 0.0f, 1.0f), ay = std::clamp(fy - y0, 0.0f, 1.0f);
+                for (int c = 0; c < 3; ++c) {
+                    const float* q = P.plane(c);
+                    const float top = q[y0 * P.w + x0] + ax * (q[y0 * P.w + x1] - q[y0 * P.w + x0]);
+                    const float bot = q[y1 * P.w + x0] + ax * (q[y1 * P.w + x1] - q[y1 * P.w + x0]);
+                    acc[c] += wj * (top + ay * (bot - top));
+                }
             }
-            float* o = &out.at(u, v);
-            o[0] = val[0];
-            o[1] = val[1];
-            o[2] = val[2];
+            o[3 * u] = acc[0];
+            o[3 * u + 1] = acc[1];
+            o[3 * u + 2] = acc[2];
         }
     });
 }

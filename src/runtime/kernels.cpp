@@ -31,3 +31,36 @@ void shade_row(int n, const float* __restrict x, const float* __restrict y,
 }
 
 }  // namespace deepsea::kernels
+
+namespace deepsea::kernels {
+
+DEEPSEA_CLONES
+void finish_row(int n, const float* __restrict z, const float* __restrict d2, const float G[3],
+                const float* __restrict T, const float* __restrict blurred,
+                const float* __restrict D, const float* __restrict B, float* __restrict F,
+                float* __restrict final) {
+    if (!blurred) {
+#pragma omp simd
+        for (int i = 0; i < 3 * n; ++i) {
+            F[i] = 0.0f;
+            final[i] = D[i] + B[i];
+        }
+        return;
+    }
+    const float g0 = G[0], g1 = G[1], g2 = G[2];
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
+        const float w0 = surf * (std::exp(-g0 * d2[u]) - T[3 * u]);
+        const float w1 = surf * (std::exp(-g1 * d2[u]) - T[3 * u + 1]);
+        const float w2 = surf * (std::exp(-g2 * d2[u]) - T[3 * u + 2]);
+        F[3 * u] = w0 * blurred[3 * u];
+        F[3 * u + 1] = w1 * blurred[3 * u + 1];
+        F[3 * u + 2] = w2 * blurred[3 * u + 2];
+        final[3 * u] = D[3 * u] + F[3 * u] + B[3 * u];
+        final[3 * u + 1] = D[3 * u + 1] + F[3 * u + 1] + B[3 * u + 1];
+        final[3 * u + 2] = D[3 * u + 2] + F[3 * u + 2] + B[3 * u + 2];
+    }
+}
+
+}  // namespace deepsea::kernels

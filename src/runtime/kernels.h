@@ -11,3 +11,12 @@ void shade_row(int n, const float* x, const float* y, const float* z, const floa
                const float* J, const float c[3], float* D, float* T, float* d2);
 
 }  // namespace deepsea::kernels
+
+namespace deepsea::kernels {
+
+/// Per pixel of a row (interleaved RGB): w = exp(-G d2) - T for surfaces (0 for open water,
+/// z == 0), F = w * blurred, final = D + F + B. blurred may be null (no forward scatter: F = 0).
+void finish_row(int n, const float* z, const float* d2, const float G[3], const float* T,
+                const float* blurred, const float* D, const float* B, float* F, float* final);
+
+}  // namespace deepsea::kernels

@@ -112,7 +112,7 @@ double lumpy_profile_slope() {
 /// What probe() finds at a point besides the height: what the albedo needs, and how far the
 /// nearest bump is (for the ray marcher).
 struct Seafloor::Probe {
-    bool with_height = true;  // false: albedo only (skips large-scale and micro terms)
+    bool with_height = true;  // false: albedo only (no height terms, bumps out to the halo)
     double height = 0.0;
     double ripple = 0.0;          // ripple(x, y); albedo mode: the caller sets it
     int kind = 0;                 // 0 sand, 1 nodule, 2 rock: the bump that covers the point

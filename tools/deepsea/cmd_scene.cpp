@@ -69,28 +69,34 @@ void run(SceneArgs a) {
     fs::create_directories(dir, ec);
     if (ec) throw IoError("cannot create " + dir.string() + ": " + ec.message());
 
-    const auto start = std::chrono::steady_clock::now();
+    using Clock = std::chrono::steady_clock;
+    auto since = [](Clock::time_point t) {
+        return std::chrono::duration<double>(Clock::now() - t).count();
+    };
+    double render_s = 0.0, write_s = 0.0;
     Progress bar("scene", a.frames);
     for (int i = 0; i < a.frames; ++i) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d", i + 1);
+        const auto t0 = Clock::now();
         const RgbdFrame frame = render_flight_frame(a.flight, i);
+        render_s += since(t0);
+        const auto t1 = Clock::now();
         write_color((dir / (std::string(name) + ".png")).string(), frame.rgb);
         write_depth_exr((dir / (std::string(name) + "_depth.exr")).string(), frame.depth);
+        write_s += since(t1);
         bar.update(i + 1);
     }
     bar.finish();
     write_camera_yaml(dir / "camera.yaml", a.flight.camera);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const Camera& cam = a.flight.camera;
     std::printf(
         "wrote %d frame%s (%dx%d, altitude %g m, pitch %g deg, seed %llu) to %s: "
-        "frame_0001.png + frame_0001_depth.exr ... frame_%04d, camera.yaml "
-        "(%.2f s per frame)\n",
+        "frame_0001.png + frame_0001_depth.exr ... frame_%04d, camera.yaml\n"
+        "per frame: render %.3f s, write %.3f s\n",
         a.frames, a.frames == 1 ? "" : "s", cam.width, cam.height, a.flight.altitude,
         a.flight.pitch_deg, static_cast<unsigned long long>(a.flight.seed), dir.string().c_str(),
-        a.frames, seconds / a.frames);
+        a.frames, render_s / a.frames, write_s / a.frames);
 }
 
 }  // namespace

@@ -27,6 +27,11 @@ private:
     const Asset& m_asset;
     std::vector<Tap> m_cols;  ///< per image column
     std::vector<Tap> m_rows;  ///< per image row
+    // Depth lookup without a log or a search per pixel: uniform buckets over [0, z_max], each
+    // holding the slab its start falls in; a short forward scan finds the exact slab.
+    std::vector<float> m_z, m_inv_h;  ///< samples and 1 / slab thickness
+    std::vector<int> m_bucket;
+    float m_bucket_scale = 0.0f;      ///< buckets per metre
 };
 
 }  // namespace deepsea

@@ -35,7 +35,8 @@ private:
     const IrradianceSource& m_lamps;
     const BackscatterSource& m_backscatter;
     ForwardBlur m_blur;
-    Image m_sigma;
+    Image m_d2;     ///< camera-to-surface distance per pixel, metres
+    Image m_sigma;  ///< forward-scatter blur per pixel, pixels
     Image m_blurred;
 };
 
