@@ -17,17 +17,15 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, nx, ny, nz, e, b;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, b;
+    std::vector<unsigned char> irregular;
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz}) v->resize(n);
         e.resize(3 * std::size_t(n));
         b.resize(3 * std::size_t(n));
+        irregular.resize(n);
     }
 };
-
-inline bool regular(float zc, float zn) {
-    return has_surface(zn) && std::fabs(zn - zc) <= kDepthDiscontinuity * zc;
-}
 
 }  // namespace
 
@@ -50,6 +48,10 @@ void Compositor::composite(Layers& dst, const Frame& f) {
     dst.resize(W, H);
     const bool forward = m_water.forward.enabled;
     if (m_d2.width != W || m_d2.height != H) m_d2 = Image(W, H, 1);
+    if (int(m_rx.size()) != W) {
+        m_rx.resize(W);
+        for (int u = 0; u < W; ++u) m_rx[u] = float((u - cam.cx) / cam.fx);
+    }
     if (forward && (m_sigma.width != W || m_sigma.height != H)) m_sigma = Image(W, H, 1);
 
     static tbb::enumerable_thread_specific<RowScratch> scratch;
@@ -64,40 +66,41 @@ void Compositor::composite(Layers& dst, const Frame& f) {
         const float* zr = depth.row(v);
         for (int u = 0; u < W; ++u) {
             const float z = zr[u];
-            const float rx = float((u - cam.cx) / cam.fx);
+            const float rx = m_rx[u];
             // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
             const float zs = has_surface(z) ? z : 0.0f;
             s.x[u] = rx * zs;
             s.y[u] = ry * zs;
             s.z[u] = zs;
         }
-        // Normals: central differences where all four neighbours are the same surface
-        // (the common case, done here in float); otherwise the optics rule, one-sided.
+        // Normals: central differences where all four neighbours are the same surface (the
+        // common case, vectorised in float); elsewhere the optics rule, one-sided.
+        if (v > 0 && v + 1 < H) {
+            s.zu.resize(W);
+            s.zd.resize(W);
+            const float* zu_raw = depth.row(v - 1);
+            const float* zd_raw = depth.row(v + 1);
+            for (int u = 0; u < W; ++u) {
+                s.zu[u] = has_surface(zu_raw[u]) ? zu_raw[u] : 0.0f;
+                s.zd[u] = has_surface(zd_raw[u]) ? zd_raw[u] : 0.0f;
+            }
+            kernels::normals_row(W, m_rx.data(), float((v - 1 - cam.cy) / cam.fy), ry,
+                                 float((v + 1 - cam.cy) / cam.fy), s.zu.data(), s.z.data(),
+                                 s.zd.data(), float(kDepthDiscontinuity), s.nx.data(),
+                                 s.ny.data(), s.nz.data(), s.irregular.data());
+        } else {
+            std::fill(s.irregular.begin(), s.irregular.end(), 1);
+        }
         for (int u = 0; u < W; ++u) {
-            const float z = zr[u];
-            if (!has_surface(z)) {
-                s.nx[u] = 0.0f;
-                s.ny[u] = 0.0f;
-                s.nz[u] = 0.0f;
+            if (!s.irregular[u]) continue;
+            if (!has_surface(zr[u])) {
+                s.nx[u] = s.ny[u] = s.nz[u] = 0.0f;
                 continue;
             }
-            if (u > 0 && u + 1 < W && v > 0 && v + 1 < H && regular(z, zr[u - 1]) &&
-                regular(z, zr[u + 1]) && regular(z, depth.at(u, v - 1)) &&
-                regular(z, depth.at(u, v + 1))) {
-                const Vec3 pl = cam.point(u - 1, v, zr[u - 1]), pr = cam.point(u + 1, v, zr[u + 1]);
-                const Vec3 pu = cam.point(u, v - 1, depth.at(u, v - 1));
-                const Vec3 pd = cam.point(u, v + 1, depth.at(u, v + 1));
-                Vec3 n = normalize(cross(pr - pl, pd - pu));
-                if (dot(n, Vec3(s.x[u], s.y[u], s.z[u])) > 0.0) n = -n;
-                s.nx[u] = float(n.x);
-                s.ny[u] = float(n.y);
-                s.nz[u] = float(n.z);
-            } else {
-                const Vec3 n = surface_normal(cam, depth, u, v);
-                s.nx[u] = float(n.x);
-                s.ny[u] = float(n.y);
-                s.nz[u] = float(n.z);
-            }
+            const Vec3 n = surface_normal(cam, depth, u, v);
+            s.nx[u] = float(n.x);
+            s.ny[u] = float(n.y);
+            s.nz[u] = float(n.z);
         }
         const RowGeometry g{v, W, s.x.data(), s.y.data(), s.z.data(),
                             s.nx.data(), s.ny.data(), s.nz.data()};

@@ -64,3 +64,34 @@ void finish_row(int n, const float* __restrict z, const float* __restrict d2, co
 }
 
 }  // namespace deepsea::kernels
+
+namespace deepsea::kernels {
+
+DEEPSEA_CLONES
+void normals_row(int n, const float* __restrict rx, float ry_up, float ry, float ry_down,
+                 const float* __restrict z_up, const float* __restrict z,
+                 const float* __restrict z_down, float disc, float* __restrict nx,
+                 float* __restrict ny, float* __restrict nz, unsigned char* __restrict irregular) {
+    irregular[0] = irregular[n - 1] = 1;
+#pragma omp simd
+    for (int u = 1; u < n - 1; ++u) {
+        const float zc = z[u], zl = z[u - 1], zr = z[u + 1], zu = z_up[u], zd = z_down[u];
+        const float lim = disc * zc;
+        const bool ok = zc > 0.0f && zl > 0.0f && zr > 0.0f && zu > 0.0f && zd > 0.0f &&
+                        std::fabs(zl - zc) <= lim && std::fabs(zr - zc) <= lim &&
+                        std::fabs(zu - zc) <= lim && std::fabs(zd - zc) <= lim;
+        // tangents: right - left and down - up, back-projected
+        const float ax = rx[u + 1] * zr - rx[u - 1] * zl, ay = ry * (zr - zl), az = zr - zl;
+        const float bx = rx[u] * (zd - zu), by = ry_down * zd - ry_up * zu, bz = zd - zu;
+        float cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
+        const float inv = 1.0f / std::sqrt(cx * cx + cy * cy + cz * cz + 1e-30f);
+        // face the camera: n . P < 0 with P = (rx z, ry z, z)
+        const float s = (cx * rx[u] + cy * ry + cz) > 0.0f ? -inv : inv;
+        nx[u] = cx * s;
+        ny[u] = cy * s;
+        nz[u] = cz * s;
+        irregular[u] = ok ? 0 : 1;
+    }
+}
+
+}  // namespace deepsea::kernels

@@ -2,6 +2,7 @@
 /// \file The runtime compositor: RGB-D frame in, deep-sea layers out (DESIGN.md section 4).
 
 #include <memory>
+#include <vector>
 
 #include "deepsea/core/image.h"
 #include "deepsea/optics/camera.h"
@@ -35,6 +36,7 @@ private:
     const IrradianceSource& m_lamps;
     const BackscatterSource& m_backscatter;
     ForwardBlur m_blur;
+    std::vector<float> m_rx;  ///< (u - cx) / fx per column
     Image m_d2;     ///< camera-to-surface distance per pixel, metres
     Image m_sigma;  ///< forward-scatter blur per pixel, pixels
     Image m_blurred;
