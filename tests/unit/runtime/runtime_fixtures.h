@@ -12,7 +12,7 @@
 
 namespace deepsea::testing {
 
-inline Camera small_camera() { return Camera{160, 120, 120.0, 120.0, 79.5, 59.5}; }
+inline Camera small_camera() { return Camera{120, 90, 90.0, 90.0, 59.5, 44.5}; }
 
 /// The authors' test-set rig: lamps at x = -/+0.5 m yawed 0.536 rad inward.
 inline Rig two_lamps() {

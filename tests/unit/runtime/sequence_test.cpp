@@ -105,9 +105,9 @@ TEST(PairFrames, CountsMustMatch) {
 
 TEST(FrameCamera, ScalesTheAssetCameraToTheFrameSize) {
     SequenceDir d("scale", 0);
-    const Camera c = frame_camera(d.asset, Camera{}, 80, 60);
+    const Camera c = frame_camera(d.asset, Camera{}, 60, 45);
     EXPECT_DOUBLE_EQ(c.fx, d.asset.info.camera.fx / 2);
-    EXPECT_THROW(frame_camera(d.asset, Camera{}, 80, 80), AssetError);
+    EXPECT_THROW(frame_camera(d.asset, Camera{}, 60, 60), AssetError);
 }
 
 }  // namespace deepsea
