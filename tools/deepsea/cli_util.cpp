@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 
 #include "deepsea/core/error.h"
 
@@ -39,6 +40,34 @@ void DepthFlags::add_to(CLI::App& sub) {
 
 DepthKind DepthFlags::depth_kind() const {
     return kind == "range" ? DepthKind::Range : DepthKind::Z;
+}
+
+void BakeFlags::add_to(CLI::App& sub) {
+    sub.add_option("--xy-step", settings.step, "pixels between lattice columns");
+    sub.add_option("--depth-samples", settings.depth_samples, "K: depth slabs per column");
+    sub.add_option("--depth-scheme", scheme, "uniform | taylor | sqrt | log");
+    sub.add_option("--z-max", z_max, "planar depth of the last sample in metres, or 'auto'");
+    sub.add_option("--tolerance", settings.tolerance,
+                   "auto z-max: remaining backscatter / total beyond it");
+    sub.add_option("--threads", settings.threads, "worker threads (0: all cores)");
+}
+
+BakeSettings BakeFlags::resolve() const {
+    BakeSettings s = settings;
+    if (!scheme.empty()) s.scheme = parse_depth_scheme(scheme);
+    if (z_max == "auto" || z_max.empty()) {
+        s.z_max = 0.0;
+    } else {
+        char* end = nullptr;
+        const double v = std::strtod(z_max.c_str(), &end);
+        if (*end != '\0' || !(v > 0.0)) {
+            throw ConfigError("--z-max: expected a depth > 0 in metres or 'auto', got '" + z_max +
+                              "'");
+        }
+        s.z_max = v;
+    }
+    validate(s);
+    return s;
 }
 
 static double now_s() {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/bake/bake.h"
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
@@ -28,6 +29,16 @@ struct DepthFlags {
     void add_to(CLI::App& sub);
     DepthReadOptions read_options() const { return {channel, scale}; }
     DepthKind depth_kind() const;
+};
+
+/// --xy-step, --depth-samples, --depth-scheme, --z-max, --tolerance, --threads.
+struct BakeFlags {
+    BakeSettings settings;
+    std::string scheme;  ///< empty: the default
+    std::string z_max;   ///< empty or "auto": auto
+    void add_to(CLI::App& sub);
+    /// Settings with the flags applied; ConfigError for a bad value.
+    BakeSettings resolve() const;
 };
 
 /// A one-line progress bar on stderr when it is a terminal; silent otherwise.

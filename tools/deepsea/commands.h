@@ -16,12 +16,16 @@ struct Command {
 void setup_scene(CLI::App& sub);
 void setup_reference(CLI::App& sub);
 void setup_render(CLI::App& sub);
+void setup_bake(CLI::App& sub);
+void setup_info(CLI::App& sub);
 void setup_bench(CLI::App& sub);
 void setup_demo(CLI::App& sub);
 
 inline const Command kCommands[] = {
     {"scene", "generate a procedural RGB-D seafloor flight (PNG + depth EXR pairs)", setup_scene},
     {"reference", "exact per-pixel rendering without an asset (ground truth)", setup_reference},
+    {"bake", "bake the backscatter asset of a camera x rig x water", setup_bake},
+    {"info", "show an asset's camera, rig, water, lattice and values", setup_info},
     {"render", "composite frames or sequences with a baked asset", setup_render},
     {"bench", "time the compositor and a sequence render", setup_bench},
     {"demo", "the embedded default: scene, asset, rendered flight, contact sheet", setup_demo},

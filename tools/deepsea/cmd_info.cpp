@@ -1,0 +1,86 @@
+// deepsea info: what an asset holds, for a person (or --json for scripts).
+
+#include <algorithm>
+#include <cstdio>
+
+#include "commands.h"
+#include "deepsea/asset/asset_file.h"
+#include "deepsea/asset/asset_json.h"
+#include "deepsea/core/error.h"
+
+namespace deepsea::cli {
+
+namespace {
+
+struct InfoArgs {
+    std::string path;
+    bool json = false;
+};
+
+void run(const InfoArgs& a) {
+    const AssetFileSummary s = read_asset_summary(a.path);
+    const Asset asset = load_asset(a.path);  // also checks the voxel data
+    const BakeInfo& b = s.info;
+    const Lattice& l = b.lattice;
+    // Backscatter at z_max over all columns: the range the runtime can return.
+    Rgb lo(1e30), hi(0.0);
+    for (int i = 0; i < l.ni; ++i) {
+        for (int j = 0; j < l.nj; ++j) {
+            const Rgb v = asset.at(i, j, l.slabs());
+            for (int c = 0; c < 3; ++c) {
+                lo[c] = std::min(lo[c], v[c]);
+                hi[c] = std::max(hi[c], v[c]);
+            }
+        }
+    }
+    if (a.json) {
+        std::printf("{\"file\": \"%s\", \"bytes\": %ju, \"format\": %d, \"backscatter_at_z_max\": "
+                    "{\"min\": [%.9g, %.9g, %.9g], \"max\": [%.9g, %.9g, %.9g]}, \"bake\": %s}\n",
+                    a.path.c_str(), s.file_bytes, s.format, lo.r, lo.g, lo.b, hi.r, hi.g, hi.b,
+                    bake_info_to_json(b, -1).c_str());
+        return;
+    }
+    const Camera& c = b.camera;
+    std::printf("asset      %s (%.2f MB, format %d)\n", a.path.c_str(), s.file_bytes / 1e6, s.format);
+    std::printf("camera     %dx%d fx=%g fy=%g cx=%g cy=%g\n", c.width, c.height, c.fx, c.fy, c.cx, c.cy);
+    std::printf("rig        %s, %zu lamp(s)\n", b.rig.name.c_str(), b.rig.lights.size());
+    for (const Light& L : b.rig.lights) {
+        std::printf("  %-8s at (%g, %g, %g) m, axis (%.4f, %.4f, %.4f), I (%g, %g, %g) W/sr, %s\n",
+                    L.name.c_str(), L.position.x, L.position.y, L.position.z, L.direction.x,
+                    L.direction.y, L.direction.z, L.intensity.r, L.intensity.g, L.intensity.b,
+                    L.rid.kind == Rid::Kind::Gaussian
+                        ? ("gaussian " + std::to_string(L.rid.sigma_deg) + " deg").c_str()
+                        : "table RID");
+    }
+    const Water& w = b.water;
+    std::printf("water      %s: c (%g, %g, %g) 1/m, b (%g, %g, %g) 1/m, phase %s",
+                w.name.c_str(), w.c.r, w.c.g, w.c.b, w.b.r, w.b.g, w.b.b, to_string(w.phase.kind));
+    if (w.phase.kind == PhaseKind::HenyeyGreenstein) std::printf(" g=%g", w.phase.g);
+    if (w.forward.enabled) {
+        std::printf(", forward scatter G (%g, %g, %g) k %g rad/m", w.forward.G.r, w.forward.G.g,
+                    w.forward.G.b, w.forward.k);
+    }
+    std::printf("\nlattice    %d x %d columns, step %d px; %d depth samples (%s), z 0 .. %.3f m%s\n",
+                l.ni, l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(),
+                b.z_max_auto ? " (auto)" : "");
+    std::printf("values     backscatter at z_max: R %.4g..%.4g, G %.4g..%.4g, B %.4g..%.4g\n",
+                lo.r, hi.r, lo.g, hi.g, lo.b, hi.b);
+    std::printf("bake       tolerance %g, quadrature rel %g, %s, inputs %s\n", b.tolerance,
+                b.quadrature.rel_tol, b.baker_version.c_str(), b.input_hash.c_str());
+    for (const GridSummary& g : s.grids) {
+        std::printf("grid       %-12s %-6s %-8s %s%lld active voxels\n", g.name.c_str(),
+                    g.value_type.c_str(), g.transform.c_str(), g.half ? "half, " : "",
+                    static_cast<long long>(g.active_voxels));
+    }
+}
+
+}  // namespace
+
+void setup_info(CLI::App& sub) {
+    auto a = std::make_shared<InfoArgs>();
+    sub.add_option("asset", a->path, "asset file (.vdb)")->required();
+    sub.add_flag("--json", a->json, "print JSON for scripts");
+    sub.callback([a] { run(*a); });
+}
+
+}  // namespace deepsea::cli
