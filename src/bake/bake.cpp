@@ -131,6 +131,33 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
     return std::max(std::ceil(z_max * 1000.0) / 1000.0, 1e-3);
 }
 
+namespace {
+
+/// Everything but the values: shared by bake() and bake_request() so their hashes agree.
+BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
+                   double z_max) {
+    BakeInfo info;
+    info.camera = cam;
+    info.rig = rig;
+    info.water = water;
+    info.lattice = make_lattice(cam, s.step, s.scheme,
+                                depth_samples(s.scheme, s.depth_samples, z_max, s.z0), s.z0);
+    info.z_max_auto = s.z_max == 0.0;
+    info.tolerance = info.z_max_auto ? s.tolerance : 0.0;
+    info.quadrature = s.quadrature;
+    info.baker_version = kBakerVersion;
+    info.input_hash = input_hash(info);
+    return info;
+}
+
+}  // namespace
+
+BakeInfo bake_request(const Camera& cam, const Rig& rig, const Water& water,
+                      const BakeSettings& s) {
+    validate(s);
+    return make_info(cam, rig, water, s, s.z_max == 0.0 ? 1.0 : s.z_max);
+}
+
 Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s) {
     validate(s);
     if (rig.lights.empty()) throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
@@ -140,17 +167,8 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
                              : s.z_max;
 
     Asset asset;
-    BakeInfo& info = asset.info;
-    info.camera = cam;
-    info.rig = rig;
-    info.water = water;
-    info.lattice = make_lattice(cam, s.step, s.scheme,
-                                depth_samples(s.scheme, s.depth_samples, z_max, s.z0), s.z0);
-    info.z_max_auto = automatic;
-    info.tolerance = automatic ? s.tolerance : 0.0;
-    info.quadrature = s.quadrature;
-    info.baker_version = kBakerVersion;
-    info.input_hash = input_hash(info);
+    asset.info = make_info(cam, rig, water, s, z_max);
+    const BakeInfo& info = asset.info;
     asset.allocate();
 
     const Lattice& l = info.lattice;

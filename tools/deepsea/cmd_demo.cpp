@@ -7,7 +7,6 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
-#include "deepsea/asset/asset_json.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
@@ -29,22 +28,16 @@ struct DemoArgs {
     std::uint64_t seed = 1;
 };
 
-/// The asset for the demo setup: reuse `path` if it was baked from the same camera, rig,
-/// water and default settings, else bake it.
+/// The asset for the demo setup: reuse `path` if its inputs are unchanged, else bake it.
 Asset demo_asset(const Setup& setup, const std::string& path) {
     BakeSettings settings;
     if (fs::exists(path)) {
         try {
-            Asset a = load_asset(path);
-            BakeInfo same = a.info;
-            same.camera = *setup.camera;
-            same.rig = *setup.rig;
-            same.water = *setup.water;
-            const Lattice& l = a.info.lattice;
-            if (input_hash(same) == a.info.input_hash && l.step == settings.step &&
-                l.slabs() == settings.depth_samples && l.scheme == settings.scheme) {
+            const std::string want =
+                bake_request(*setup.camera, *setup.rig, *setup.water, settings).input_hash;
+            if (read_asset_summary(path).info.input_hash == want) {
                 std::printf("asset: %s (up to date)\n", path.c_str());
-                return a;
+                return load_asset(path);
             }
         } catch (const Error&) {
             // unreadable or stale: bake a new one below

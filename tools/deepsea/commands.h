@@ -18,6 +18,7 @@ void setup_reference(CLI::App& sub);
 void setup_render(CLI::App& sub);
 void setup_bake(CLI::App& sub);
 void setup_info(CLI::App& sub);
+void setup_bake_library(CLI::App& sub);
 void setup_bench(CLI::App& sub);
 void setup_demo(CLI::App& sub);
 
@@ -25,6 +26,7 @@ inline const Command kCommands[] = {
     {"scene", "generate a procedural RGB-D seafloor flight (PNG + depth EXR pairs)", setup_scene},
     {"reference", "exact per-pixel rendering without an asset (ground truth)", setup_reference},
     {"bake", "bake the backscatter asset of a camera x rig x water", setup_bake},
+    {"bake-library", "bake a manifest of cameras x rigs x waters (shardable)", setup_bake_library},
     {"info", "show an asset's camera, rig, water, lattice and values", setup_info},
     {"render", "composite frames or sequences with a baked asset", setup_render},
     {"bench", "time the compositor and a sequence render", setup_bench},

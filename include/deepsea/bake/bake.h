@@ -36,6 +36,12 @@ struct BakeSettings {
 /// K >= 2, z_max > 0 or auto, 0 < tolerance < 0.5, threads >= 0, z0 > 0).
 void validate(const BakeSettings& settings);
 
+/// The BakeInfo a bake with these inputs would record, without baking (for an auto z_max the
+/// depth samples are placeholders): its input_hash equals the baked asset's, so a library can
+/// skip assets that are up to date.
+BakeInfo bake_request(const Camera& camera, const Rig& rig, const Water& water,
+                      const BakeSettings& settings);
+
 /// Bakes the asset of one camera x rig x water. Parallel over columns; the values are written
 /// to fixed slots, so the result is bit-identical at any thread count. Throws ConfigError for
 /// bad settings or a rig without lights.
