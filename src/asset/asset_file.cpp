@@ -13,6 +13,8 @@
 #include <atomic>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -120,6 +122,51 @@ bool get_meta(const vdb::MetaMap& meta, const char* name, T& out) {
     return true;
 }
 
+// The file's own size, recorded in its metadata after writing (a fixed-width placeholder is
+// patched in place), so that a truncated asset is recognised before OpenVDB reads it: OpenVDB
+// itself can take a garbage string length from a cut-off file and allocate gigabytes.
+constexpr const char* kMetaBytes = "deepsea:bytes";
+constexpr const char* kBytesPlaceholder = "bytes=0000000000000000";  // 16 decimal digits
+
+/// Offset of the placeholder's digits in the first 1 MB of a file, or -1.
+long find_bytes_field(const std::string& path, std::string* digits = nullptr) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(1 << 20, '\0');
+    in.read(head.data(), std::streamsize(head.size()));
+    head.resize(std::size_t(in.gcount()));
+    const std::string key = std::string(kMetaBytes);
+    const std::size_t k = head.find(key);
+    if (k == std::string::npos) return -1;
+    const std::size_t b = head.find("bytes=", k + key.size());
+    if (b == std::string::npos || b > k + key.size() + 64 || b + 6 + 16 > head.size()) return -1;
+    if (digits) *digits = head.substr(b + 6, 16);
+    return long(b + 6);
+}
+
+void record_file_size(const std::string& path) {
+    const long at = find_bytes_field(path);
+    if (at < 0) throw IoError("cannot find the deepsea:bytes field just written");
+    char digits[17];
+    std::snprintf(digits, sizeof digits, "%016llu",
+                  static_cast<unsigned long long>(fs::file_size(path)));
+    std::fstream f(path, std::ios::binary | std::ios::in | std::ios::out);
+    f.seekp(at);
+    f.write(digits, 16);
+    if (!f) throw IoError("cannot record the file size");
+}
+
+/// AssetError if the file records a size and is not that long.
+void check_complete(const std::string& path) {
+    std::string digits;
+    if (find_bytes_field(path, &digits) < 0) return;  // not ours, or older: OpenVDB decides
+    const unsigned long long want = std::strtoull(digits.c_str(), nullptr, 10);
+    const unsigned long long have = fs::file_size(path);
+    if (want != have) {
+        throw AssetError(path + ": truncated or damaged asset (" + std::to_string(have) +
+                         " bytes, written as " + std::to_string(want) + ")");
+    }
+}
+
 /// An open file and its deepsea metadata (file-level first, else the backscatter grid's,
 /// which survives when Houdini re-saves the grid).
 struct OpenAsset {
@@ -135,10 +182,11 @@ struct OpenAsset {
             std::ifstream probe(path, std::ios::binary);
             if (!probe) throw IoError("cannot open asset " + path + ": " + std::strerror(errno));
         }
+        check_complete(path);
         try {
             file.open(/*delayLoad=*/false);  // no memory map: a truncated file cannot SIGBUS
         } catch (const std::exception& e) {
-            throw AssetError(path + ": not an OpenVDB file (" + e.what() + ")");
+            throw AssetError(path + ": not an OpenVDB file (" + one_line(e.what()) + ")");
         }
         try {
             meta = *file.getMetadata();
@@ -149,7 +197,7 @@ struct OpenAsset {
             }
             format = f;
         } catch (const std::exception& e) {
-            throw AssetError(path + ": damaged OpenVDB file (" + e.what() + ")");
+            throw AssetError(path + ": damaged OpenVDB file (" + one_line(e.what()) + ")");
         }
         if (format == 0) throw AssetError(path + ": not a deepsea asset (no deepsea:format metadata)");
         if (format < 0 || format > kAssetFormat) {
@@ -162,7 +210,7 @@ struct OpenAsset {
         try {
             info = bake_info_from_json(json);
         } catch (const AssetError& e) {
-            throw AssetError(path + ": " + e.what());
+            throw AssetError(path + ": " + one_line(e.what()));
         }
         get_meta(meta, kMetaScale, value_scale);
         if (!(value_scale > 0.0)) throw AssetError(path + ": bad deepsea:value_scale");
@@ -300,6 +348,7 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     }
     grids.push_back(grid);
     meta.insertMeta("creator", vdb::StringMetadata("deepsea bake"));
+    meta.insertMeta(kMetaBytes, vdb::StringMetadata(kBytesPlaceholder));
 
     // Same directory as the target, so the rename is atomic (one file system).
     const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." +
@@ -313,11 +362,12 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
         file.close();
         std::error_code ec;
         if (fs::file_size(tmp, ec) == 0 || ec) throw IoError("nothing was written");
+        record_file_size(tmp);
         fs::rename(tmp, path);
     } catch (const std::exception& e) {
         std::error_code ec;
         fs::remove(tmp, ec);
-        throw IoError("cannot write asset " + path + ": " + e.what());
+        throw IoError("cannot write asset " + path + ": " + one_line(e.what()));
     }
 }
 
@@ -331,9 +381,9 @@ Asset load_asset(const std::string& path) {
         if (!f.file.hasGrid(kBackscatterGrid)) throw AssetError("no backscatter grid");
         base = f.file.readGrid(kBackscatterGrid);
     } catch (const AssetError& e) {
-        throw AssetError(path + ": " + e.what());
+        throw AssetError(path + ": " + one_line(e.what()));
     } catch (const std::exception& e) {
-        throw AssetError(path + ": truncated or damaged asset (" + e.what() + ")");
+        throw AssetError(path + ": truncated or damaged asset (" + one_line(e.what()) + ")");
     }
     const auto grid = vdb::gridPtrCast<vdb::Vec3SGrid>(base);
     if (!grid) throw AssetError(path + ": the backscatter grid is " + base->valueType() + ", not Vec3f");
@@ -381,7 +431,7 @@ AssetFileSummary read_asset_summary(const std::string& path) {
         std::stable_partition(s.grids.begin(), s.grids.end(),
                               [](const GridSummary& g) { return g.name == kBackscatterGrid; });
     } catch (const std::exception& e) {
-        throw AssetError(path + ": damaged OpenVDB file (" + e.what() + ")");
+        throw AssetError(path + ": damaged OpenVDB file (" + one_line(e.what()) + ")");
     }
     return s;
 }
@@ -396,7 +446,7 @@ std::vector<Vec3> index_to_world(const std::string& path, const std::string& gri
     } catch (const AssetError&) {
         throw;
     } catch (const std::exception& e) {
-        throw AssetError(path + ": damaged OpenVDB file (" + e.what() + ")");
+        throw AssetError(path + ": damaged OpenVDB file (" + one_line(e.what()) + ")");
     }
     std::vector<Vec3> out;
     for (const Vec3& p : index_points) {

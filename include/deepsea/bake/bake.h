@@ -20,7 +20,7 @@ inline constexpr const char* kBakerVersion = "deepsea-bake/1";
 
 /// Defaults chosen by measurement (docs/asset-format.md, "Choosing the defaults").
 struct BakeSettings {
-    int step = 8;                      ///< pixels between lattice columns, >= 1
+    int step = 16;                     ///< pixels between lattice columns, >= 1
     int depth_samples = 64;            ///< K slabs (K + 1 samples per column), >= 2
     DepthScheme scheme = DepthScheme::Log;
     double z0 = kDefaultLogZ0;         ///< Log scheme's depth scale, metres

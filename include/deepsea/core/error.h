@@ -2,10 +2,16 @@
 /// \file The library's typed exceptions. The library throws and never exits; the CLI's main
 /// maps each type to an exit code and prints what() as one line.
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
 namespace deepsea {
+
+/// A third-party message made fit for a one-line error: control characters and runs of
+/// blanks become one space, and it is cut to max_chars (a damaged file can make a library
+/// report a name gigabytes long).
+std::string one_line(const std::string& text, std::size_t max_chars = 240);
 
 /// Base of every deepsea exception.
 class Error : public std::runtime_error {
