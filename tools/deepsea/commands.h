@@ -19,6 +19,7 @@ void setup_render(CLI::App& sub);
 void setup_bake(CLI::App& sub);
 void setup_info(CLI::App& sub);
 void setup_bake_library(CLI::App& sub);
+void setup_import_config(CLI::App& sub);
 void setup_bench(CLI::App& sub);
 void setup_demo(CLI::App& sub);
 
@@ -28,6 +29,7 @@ inline const Command kCommands[] = {
     {"bake", "bake the backscatter asset of a camera x rig x water", setup_bake},
     {"bake-library", "bake a manifest of cameras x rigs x waters (shardable)", setup_bake_library},
     {"info", "show an asset's camera, rig, water, lattice and values", setup_info},
+    {"import-config", "convert a DeepSeaRenderer config into deepsea YAML", setup_import_config},
     {"render", "composite frames or sequences with a baked asset", setup_render},
     {"bench", "time the compositor and a sequence render", setup_bench},
     {"demo", "the embedded default: scene, asset, rendered flight, contact sheet", setup_demo},

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# deepsea import-config: the authors' own config converts into a setup deepsea bakes; bad
+# input is one line and a non-zero exit. Skipped (77) where ../shared is absent.
+set -euo pipefail
+ds=$1 work=$2 src=$3
+cfg="$src/../shared/data/rgbd/seafloor-descent/deepsearenderer_config.yaml"
+if [[ ! -f $cfg ]]; then echo "SKIP: ../shared absent"; exit 77; fi
+rm -rf "$work"; mkdir -p "$work"
+"$ds" import-config "$cfg" -o "$work/authors.yaml"
+grep -q "preset: jerlov:IB" "$work/authors.yaml"
+grep -q "phase: {petzold: clear}" "$work/authors.yaml"
+# the left lamp (x = -0.5) turns toward the optical axis: direction x > 0
+awk '/position: \[-0.5/{getline; print}' "$work/authors.yaml" | grep -q "direction: \[0.51"
+"$ds" bake --config "$work/authors.yaml" --xy-step 64 --depth-samples 4 --z-max 4 -o "$work/x.vdb" >/dev/null
+for bad in missing notours shortmatrix; do
+  case $bad in
+    missing) in="$work/none.yaml" ;;
+    notours) in="$work/notours.yaml"; echo "camera: {width: 3}" > "$in" ;;
+    shortmatrix) in="$work/short.yaml"; sed 's/camera_intrinsic_matrix: .*/camera_intrinsic_matrix: [600.0, 0.0]/' "$cfg" > "$in" ;;
+  esac
+  set +e; "$ds" import-config "$in" -o "$work/out-$bad.yaml" 2>"$work/err.txt"; rc=$?; set -e
+  [[ $rc -ne 0 && $(wc -l <"$work/err.txt") -eq 1 && ! -e "$work/out-$bad.yaml" ]] || {
+    echo "FAIL $bad: rc=$rc"; cat "$work/err.txt"; exit 1; }
+  echo "ok $bad: $(cat "$work/err.txt")"
+done
+echo "import-config: OK"
