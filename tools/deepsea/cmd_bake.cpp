@@ -20,6 +20,7 @@ struct BakeArgs {
     BakeFlags bake;
     std::string output;
     bool check = false, no_preview = false, full_float = false;
+    int check_stride = 7;
 };
 
 void run(const BakeArgs& a) {
@@ -51,7 +52,9 @@ void run(const BakeArgs& a) {
         const Asset loaded = load_asset(a.output);
         std::printf("%-22s %8s %12s %12s %8s\n", "scene", "z (m)", "mean rel", "max rel",
                     "pixels");
-        for (const AccuracyRow& r : evaluate_asset_accuracy(loaded)) {
+        AccuracyOptions opt;
+        opt.stride = a.check_stride;
+        for (const AccuracyRow& r : evaluate_asset_accuracy(loaded, opt)) {
             std::printf("%-22s %8.3f %11.4f%% %11.4f%% %8ld\n", r.scene.c_str(), r.z,
                         100.0 * r.mean_rel, 100.0 * r.max_rel, r.pixels);
         }
@@ -66,6 +69,8 @@ void setup_bake(CLI::App& sub) {
     a->bake.add_to(sub);
     sub.add_option("-o,--output", a->output, "asset to write (.vdb)")->required();
     sub.add_flag("--check", a->check, "compare the asset with exact per-pixel integration");
+    sub.add_option("--check-stride", a->check_stride, "--check: test every n-th pixel")
+        ->check(CLI::PositiveNumber);
     sub.add_flag("--no-preview", a->no_preview, "leave out the density/color preview grids");
     sub.add_flag("--full-float", a->full_float, "store 32-bit floats instead of half");
     sub.callback([a] { run(*a); });

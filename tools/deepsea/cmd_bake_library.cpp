@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -90,6 +91,12 @@ std::vector<Entry> read_manifest(const std::string& file, BakeFlags& flags) {
     for (int i = 0; i < 3; ++i) {
         if (lists[i].empty()) throw ConfigError(file + ": missing key " + names[i]);
     }
+    // Sorted and de-duplicated: the asset index (and so each shard's share) depends only on
+    // the set of inputs, not on how the manifest happens to list them.
+    for (auto& list : lists) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
     std::vector<Entry> out;
     for (const auto& c : lists[0]) {
         for (const auto& r : lists[1]) {
@@ -97,6 +104,16 @@ std::vector<Entry> read_manifest(const std::string& file, BakeFlags& flags) {
                 out.push_back({c, r, w, stem(c) + "__" + stem(r) + "__" + stem(w) + ".vdb"});
             }
         }
+    }
+    // Two inputs with one stem (cameras/a.yaml and other/a.yaml, or jerlov:IB and
+    // jerlov-IB.yaml) would overwrite each other's asset: refuse rather than guess.
+    std::vector<std::string> asset_names;
+    for (const Entry& e : out) asset_names.push_back(e.name);
+    std::sort(asset_names.begin(), asset_names.end());
+    const auto dup = std::adjacent_find(asset_names.begin(), asset_names.end());
+    if (dup != asset_names.end()) {
+        throw ConfigError(file + ": two entries would both write " + *dup +
+                          " (inputs with the same file stem)");
     }
     return out;
 }
@@ -143,7 +160,12 @@ struct LibraryArgs {
 void run(const LibraryArgs& a) {
     BakeFlags flags;
     const std::vector<Entry> entries = read_manifest(a.manifest, flags);
-    const BakeSettings settings = flags.resolve();
+    BakeSettings settings;
+    try {
+        settings = flags.resolve();
+    } catch (const ConfigError& e) {
+        throw ConfigError(a.manifest + ": bake: " + e.what());  // name the file, not a flag
+    }
     const auto [index, count] = shard_of(a.shard, a.shard_count);
     std::error_code ec;
     fs::create_directories(a.out, ec);

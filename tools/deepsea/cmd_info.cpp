@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
 
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
@@ -11,6 +12,24 @@
 namespace deepsea::cli {
 
 namespace {
+
+/// A JSON string literal: paths may hold quotes, backslashes or control characters.
+std::string json_string(const std::string& text) {
+    std::string out = "\"";
+    for (unsigned char ch : text) {
+        if (ch == '"' || ch == '\\') {
+            out += '\\';
+            out += char(ch);
+        } else if (ch < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
+            out += buf;
+        } else {
+            out += char(ch);
+        }
+    }
+    return out + "\"";
+}
 
 struct InfoArgs {
     std::string path;
@@ -34,10 +53,22 @@ void run(const InfoArgs& a) {
         }
     }
     if (a.json) {
-        std::printf("{\"file\": \"%s\", \"bytes\": %ju, \"format\": %d, \"backscatter_at_z_max\": "
-                    "{\"min\": [%.9g, %.9g, %.9g], \"max\": [%.9g, %.9g, %.9g]}, \"bake\": %s}\n",
-                    a.path.c_str(), s.file_bytes, s.format, lo.r, lo.g, lo.b, hi.r, hi.g, hi.b,
-                    bake_info_to_json(b, -1).c_str());
+        std::string grids;
+        for (const GridSummary& g : s.grids) {
+            char buf[512];
+            std::snprintf(buf, sizeof buf,
+                          "%s{\"name\": %s, \"value_type\": %s, \"transform\": %s, \"half\": %s, "
+                          "\"active_voxels\": %lld}",
+                          grids.empty() ? "" : ", ", json_string(g.name).c_str(),
+                          json_string(g.value_type).c_str(), json_string(g.transform).c_str(),
+                          g.half ? "true" : "false", static_cast<long long>(g.active_voxels));
+            grids += buf;
+        }
+        std::printf("{\"file\": %s, \"bytes\": %ju, \"format\": %d, \"value_scale\": %.17g, "
+                    "\"backscatter_at_z_max\": {\"min\": [%.9g, %.9g, %.9g], "
+                    "\"max\": [%.9g, %.9g, %.9g]}, \"grids\": [%s], \"bake\": %s}\n",
+                    json_string(a.path).c_str(), s.file_bytes, s.format, s.value_scale, lo.r,
+                    lo.g, lo.b, hi.r, hi.g, hi.b, grids.c_str(), bake_info_to_json(b, -1).c_str());
         return;
     }
     const Camera& c = b.camera;
@@ -59,6 +90,8 @@ void run(const InfoArgs& a) {
     if (w.forward.enabled) {
         std::printf(", forward scatter G (%g, %g, %g) k %g rad/m", w.forward.G.r, w.forward.G.g,
                     w.forward.G.b, w.forward.k);
+    } else {
+        std::printf(", forward scatter off");
     }
     std::printf("\nlattice    %d x %d columns, step %d px; %d depth samples (%s), z 0 .. %.3f m%s\n",
                 l.ni, l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(),

@@ -1,0 +1,294 @@
+// The baker: its values are optics' exact integrals, bit-identical at any thread count, its
+// auto z_max keeps its promise, bad settings are refused, and a baked asset survives the file.
+// Small cameras (64x48) keep the whole binary well under a few seconds.
+
+#include "deepsea/bake/bake.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+#include "deepsea/asset/asset_file.h"
+#include "deepsea/asset/asset_json.h"
+#include "deepsea/bake/accuracy.h"
+#include "deepsea/core/error.h"
+#include "deepsea/optics/jerlov.h"
+
+namespace deepsea {
+namespace {
+
+namespace fs = std::filesystem;
+
+const Camera kCam{64, 48, 50.0, 52.0, 31.5, 23.0};  // off-centre principal point, fx != fy
+
+Rig two_lamps() {
+    Rig rig;
+    rig.name = "two-lamps";
+    for (int s : {-1, 1}) {
+        Light l;
+        l.name = s < 0 ? "left" : "right";
+        l.position = {0.5 * s, 0.0, 0.0};
+        l.direction = normalize(Vec3{-0.51 * s, 0.0, 0.86});
+        l.intensity = {1.0, 0.9, 0.8};
+        l.rid.sigma_deg = 35.0;
+        rig.lights.push_back(l);
+    }
+    return rig;
+}
+
+BakeSettings small_settings() {
+    BakeSettings s;
+    s.step = 8;
+    s.depth_samples = 12;
+    s.scheme = DepthScheme::Uniform;
+    s.z_max = 6.0;
+    return s;
+}
+
+TEST(Bake, ValuesAreTheExactCumulativeIntegrals) {
+    const Rig rig = two_lamps();
+    const Water water = jerlov_water("IB");
+    for (DepthScheme scheme : {DepthScheme::Uniform, DepthScheme::Log, DepthScheme::Taylor}) {
+        BakeSettings s = small_settings();
+        s.scheme = scheme;
+        const Asset a = bake(kCam, rig, water, s);
+        const Lattice& l = a.lattice();
+        ASSERT_EQ(l.ni, lattice_count(64, 8));
+        ASSERT_EQ(l.nj, lattice_count(48, 8));
+        ASSERT_EQ(l.slabs(), 12);
+        ASSERT_EQ(a.values.size(), std::size_t(3 * l.ni * l.nj * l.nk()));
+        // Corners, the centre and an odd column: t = z |r| along the unit ray.
+        for (auto [i, j] : {std::pair{0, 0}, {l.ni - 1, l.nj - 1}, {4, 3}, {1, 5}}) {
+            const Vec3 ray = kCam.ray(l.u(i), l.v(j));
+            std::vector<double> t;
+            for (double z : l.z) t.push_back(z * length(ray));
+            const auto C = backscatter_cumulative(rig, water, ray / length(ray), t, s.quadrature);
+            for (int k = 0; k < l.nk(); ++k) {
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_FLOAT_EQ(a.at(i, j, k)[c], float(C[k][c]))
+                        << to_string(scheme) << " column " << i << "," << j << " k " << k;
+                }
+            }
+            EXPECT_EQ(a.at(i, j, 0)[0], 0.0f);
+            for (int k = 1; k < l.nk(); ++k) EXPECT_GE(a.at(i, j, k).g, a.at(i, j, k - 1).g);
+        }
+    }
+}
+
+TEST(Bake, BitIdenticalAtOneAndTwoThreads) {
+    BakeSettings s = small_settings();
+    s.z_max = 0.0;  // auto: the z_max search is parallel too
+    s.threads = 1;
+    const Asset a1 = bake(kCam, two_lamps(), jerlov_water("3C"), s);
+    s.threads = 2;
+    const Asset a2 = bake(kCam, two_lamps(), jerlov_water("3C"), s);
+    ASSERT_EQ(a1.values.size(), a2.values.size());
+    EXPECT_EQ(a1.lattice().z, a2.lattice().z);
+    EXPECT_EQ(0, std::memcmp(a1.values.data(), a2.values.data(),
+                             a1.values.size() * sizeof(float)));
+    EXPECT_EQ(a1.info.input_hash, a2.info.input_hash);
+}
+
+TEST(Bake, ProgressReachesTheTotal) {
+    BakeSettings s = small_settings();
+    long last = 0, total = 0, calls = 0;
+    s.progress = [&](long done, long t) {
+        EXPECT_GT(done, last);  // serialised and increasing
+        last = done;
+        total = t;
+        ++calls;
+    };
+    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s);
+    EXPECT_GT(calls, 0);
+    EXPECT_EQ(last, a.lattice().columns());
+    EXPECT_EQ(total, a.lattice().columns());
+}
+
+TEST(Bake, AutoZMaxMeetsItsTolerance) {
+    const Rig rig = two_lamps();
+    const Water water = jerlov_water("IB");
+    const double tol = 1e-3;
+    const double z_max = auto_z_max(kCam, rig, water, 8, tol);
+    ASSERT_GT(z_max, 0.5);
+    ASSERT_LT(z_max, 100.0);
+    const double t_far = far_path_length(water, tol);
+    double worst = 0.0, worst_before = 0.0;
+    for (int i = 0; i < lattice_count(64, 8); ++i) {
+        for (int j = 0; j < lattice_count(48, 8); ++j) {
+            const Vec3 ray = kCam.ray(i * 8.0, j * 8.0);
+            const double st = length(ray);
+            // The tail beyond z_max, and beyond a depth 10 % shorter (which must miss it
+            // somewhere, or the search was needlessly deep).
+            const auto C = backscatter_cumulative(rig, water, ray / st,
+                                                  {0.0, 0.9 * z_max * st, z_max * st, t_far},
+                                                  {1e-7, 1e-15, 40});
+            for (int c = 0; c < 3; ++c) {
+                worst = std::max(worst, (C[3][c] - C[2][c]) / C[3][c]);
+                worst_before = std::max(worst_before, (C[3][c] - C[1][c]) / C[3][c]);
+            }
+        }
+    }
+    EXPECT_LE(worst, tol);
+    EXPECT_GT(worst_before, tol);
+
+    // bake() with z_max = auto uses that depth and records the request, not the result.
+    BakeSettings s = small_settings();
+    s.z_max = 0.0;
+    s.tolerance = tol;
+    const Asset a = bake(kCam, rig, water, s);
+    EXPECT_DOUBLE_EQ(a.lattice().z_max(), z_max);
+    EXPECT_TRUE(a.info.z_max_auto);
+    EXPECT_EQ(a.info.tolerance, tol);
+}
+
+TEST(Bake, RequestHashMatchesTheBakedAsset) {
+    const Rig rig = two_lamps();
+    const Water water = jerlov_water("IB");
+    for (double z_max : {0.0, 6.0}) {  // auto and fixed
+        BakeSettings s = small_settings();
+        s.z_max = z_max;
+        const BakeInfo want = bake_request(kCam, rig, water, s);
+        const Asset a = bake(kCam, rig, water, s);
+        EXPECT_EQ(want.input_hash, a.info.input_hash) << "z_max " << z_max;
+        EXPECT_EQ(input_hash(a.info), a.info.input_hash);
+        // Threads and progress are not inputs; any other setting is.
+        s.threads = 1;
+        EXPECT_EQ(bake_request(kCam, rig, water, s).input_hash, want.input_hash);
+        s.depth_samples += 1;
+        EXPECT_NE(bake_request(kCam, rig, water, s).input_hash, want.input_hash);
+    }
+    BakeSettings s = small_settings();
+    const std::string h = bake_request(kCam, rig, water, s).input_hash;
+    s.step = 4;
+    EXPECT_NE(bake_request(kCam, rig, water, s).input_hash, h);
+    s = small_settings();
+    s.z_max = 0.0;
+    const std::string h_auto = bake_request(kCam, rig, water, s).input_hash;
+    s.tolerance = 1e-3;
+    EXPECT_NE(bake_request(kCam, rig, water, s).input_hash, h_auto);
+    EXPECT_NE(bake_request(kCam, rig, jerlov_water("3C"), small_settings()).input_hash, h);
+}
+
+TEST(Bake, ValidateRejectsBadSettings) {
+    EXPECT_NO_THROW(validate(BakeSettings{}));
+    auto rejects = [](auto change, const char* word) {
+        BakeSettings s;
+        change(s);
+        try {
+            validate(s);
+            ADD_FAILURE() << "accepted a bad setting: " << word;
+        } catch (const ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
+        }
+    };
+    rejects([](BakeSettings& s) { s.depth_samples = 1; }, "depth-samples");
+    rejects([](BakeSettings& s) { s.depth_samples = 0; }, "depth-samples");
+    rejects([](BakeSettings& s) { s.z_max = -1.0; }, "z-max");
+    rejects([](BakeSettings& s) { s.z_max = std::nan(""); }, "z-max");
+    rejects([](BakeSettings& s) { s.step = 0; }, "xy-step");
+    rejects([](BakeSettings& s) { s.tolerance = 0.0; }, "tolerance");
+    rejects([](BakeSettings& s) { s.tolerance = 0.5; }, "tolerance");
+    rejects([](BakeSettings& s) { s.threads = -1; }, "threads");
+    // bake() validates too, and refuses a rig without lamps.
+    BakeSettings s = small_settings();
+    s.depth_samples = 1;
+    EXPECT_THROW(bake(kCam, two_lamps(), jerlov_water("IB"), s), ConfigError);
+    EXPECT_THROW(bake(kCam, Rig{}, jerlov_water("IB"), small_settings()), ConfigError);
+}
+
+class BakeFile : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_dir = fs::temp_directory_path() /
+                ("deepsea-bake-test-" + std::to_string(::getpid()) + "-" + info->name());
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+    fs::path m_dir;
+};
+
+TEST_F(BakeFile, RoundTripSamplesMatch) {
+    BakeSettings s = small_settings();
+    s.scheme = DepthScheme::Log;
+    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s);
+    for (bool half : {false, true}) {
+        WriteOptions opt;
+        opt.half = half;
+        opt.preview = half;  // one of each
+        write_asset(path("a.vdb"), a, opt);
+        const Asset b = load_asset(path("a.vdb"));
+        EXPECT_EQ(b.info.input_hash, a.info.input_hash);
+        EXPECT_EQ(b.lattice(), a.lattice());
+        // Half floats keep 11 significant bits: 2^-11 relative.
+        const double tol = half ? 1.0 / 2048 : 0.0;
+        for (double u : {0.0, 13.3, 31.5, 63.0}) {
+            for (double v : {0.0, 7.7, 47.0}) {
+                for (double z : {0.3, 2.0, 4.5, 6.0, 1e9}) {
+                    const Rgb x = a.sample(u, v, z), y = b.sample(u, v, z);
+                    for (int c = 0; c < 3; ++c) {
+                        EXPECT_NEAR(y[c], x[c], tol * x[c]) << u << "," << v << "," << z;
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST_F(BakeFile, FailedWriteLeavesNoFile) {
+    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), small_settings());
+    const std::string missing = path("no/such/dir/a.vdb");
+    EXPECT_THROW(require_writable(missing), IoError);
+    EXPECT_THROW(write_asset(missing, a), IoError);
+    EXPECT_FALSE(fs::exists(path("no")));
+    // An inconsistent asset is refused before anything is written, and an existing file of
+    // the same name survives untouched.
+    write_asset(path("a.vdb"), a);
+    const auto size = fs::file_size(path("a.vdb"));
+    Asset broken = a;
+    broken.values.pop_back();
+    EXPECT_THROW(write_asset(path("a.vdb"), broken), AssetError);
+    EXPECT_EQ(fs::file_size(path("a.vdb")), size);
+    EXPECT_NO_THROW(load_asset(path("a.vdb")));
+    int files = 0;
+    for (const auto& e : fs::directory_iterator(m_dir)) {
+        (void)e;
+        ++files;
+    }
+    EXPECT_EQ(files, 1);  // no temporary left behind
+}
+
+TEST(BakeAccuracy, SmallAssetIsAccurateAndDeterministic) {
+    BakeSettings s = small_settings();
+    s.step = 4;
+    s.depth_samples = 32;
+    s.scheme = DepthScheme::Log;
+    s.z_max = 0.0;
+    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s);
+    AccuracyOptions opt;
+    opt.quadrature = {1e-7, 1e-15, 40};  // the default 1e-9 is for the docs' tables: slow
+    opt.stride = 9;
+    opt.threads = 1;
+    const auto rows = evaluate_asset_accuracy(a, opt);
+    opt.threads = 2;
+    const auto rows2 = evaluate_asset_accuracy(a, opt);
+    ASSERT_EQ(rows.size(), 5u);  // three planes, open water at z_max and to infinity
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+        EXPECT_EQ(rows[r].mean_rel, rows2[r].mean_rel);
+        EXPECT_EQ(rows[r].max_rel, rows2[r].max_rel);
+        EXPECT_GT(rows[r].pixels, 50);
+        EXPECT_LT(rows[r].mean_rel, 0.01) << rows[r].scene;
+        EXPECT_LT(rows[r].max_rel, 0.05) << rows[r].scene;
+    }
+    EXPECT_EQ(rows[0].scene, "plane 2 m");
+    // Truncating at the auto z_max costs at most its tolerance on top of interpolation.
+    EXPECT_LE(rows[4].max_rel, rows[3].max_rel + 2.0 * s.tolerance);
+}
+
+}  // namespace
+}  // namespace deepsea
