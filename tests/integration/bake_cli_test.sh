@@ -49,8 +49,15 @@ YAML
 "$ds" bake-library "$work/lib.yaml" --out "$work/lib" --shard 1/2 > "$work/s1.txt"
 [[ $(grep -c '^baked' "$work/s0.txt") -eq 2 && $(grep -c '^baked' "$work/s1.txt") -eq 2 ]]
 [[ $(ls "$work"/lib/*.vdb | wc -l) -eq 4 ]]
+# disjoint: no asset baked by both shards
+[[ -z $(comm -12 <(grep '^baked' "$work/s0.txt" | sort) <(grep '^baked' "$work/s1.txt" | sort)) ]]
+"$ds" bake-library "$work/lib.yaml" --out "$work/lib" | grep -q "baked 0, up to date 4"
+"$ds" bake-library "$work/lib.yaml" --out "$work/lib" --force --dry-run | grep -c '^would bake' \
+  | grep -qx 4
 SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=2 "$ds" bake-library "$work/lib.yaml" \
   --out "$work/lib" | grep -q "shard 1/2: 2 of 4 assets; baked 0, up to date 2"
+# the shipped manifest (paths relative to it) expands to 1 x 3 x 6 assets
+"$ds" bake-library "$v/library.yaml" --out "$work/vl" --dry-run | grep -q "0/1: 18 of 18 assets"
 echo "cameras: [$v/cameras/none.yaml]" > "$work/badlib.yaml"
 echo "rigs: [$v/rigs/single-down.yaml]" >> "$work/badlib.yaml"
 echo "waters: [jerlov:IB]" >> "$work/badlib.yaml"

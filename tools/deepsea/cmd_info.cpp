@@ -76,12 +76,14 @@ void run(const InfoArgs& a) {
     std::printf("camera     %dx%d fx=%g fy=%g cx=%g cy=%g\n", c.width, c.height, c.fx, c.fy, c.cx, c.cy);
     std::printf("rig        %s, %zu lamp(s)\n", b.rig.name.c_str(), b.rig.lights.size());
     for (const Light& L : b.rig.lights) {
+        char rid[64] = "table RID";
+        if (L.rid.kind == Rid::Kind::Gaussian) {
+            std::snprintf(rid, sizeof rid, "gaussian sigma %g deg", L.rid.sigma_deg);
+        }
         std::printf("  %-8s at (%g, %g, %g) m, axis (%.4f, %.4f, %.4f), I (%g, %g, %g) W/sr, %s\n",
                     L.name.c_str(), L.position.x, L.position.y, L.position.z, L.direction.x,
                     L.direction.y, L.direction.z, L.intensity.r, L.intensity.g, L.intensity.b,
-                    L.rid.kind == Rid::Kind::Gaussian
-                        ? ("gaussian " + std::to_string(L.rid.sigma_deg) + " deg").c_str()
-                        : "table RID");
+                    rid);
     }
     const Water& w = b.water;
     std::printf("water      %s: c (%g, %g, %g) 1/m, b (%g, %g, %g) 1/m, phase %s",
