@@ -37,8 +37,9 @@ void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
     }
 }
 
-/// Separable normalised Gaussian of `sigma` (pixels of this resolution), in place on 3 planes.
-void blur_planes(float* data, int w, int h, double sigma, std::vector<float>& tmp) {
+/// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to dst.
+void blur_planes(const float* src_planes, float* data, int w, int h, double sigma,
+                 std::vector<float>& tmp) {
     const int r = std::max(1, int(std::ceil(3.0 * sigma)));
     std::vector<float> g(2 * r + 1);
     for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
@@ -48,7 +49,7 @@ void blur_planes(float* data, int w, int h, double sigma, std::vector<float>& tm
     tbb::parallel_for(0, 3 * h, [&](int row) {
         thread_local std::vector<float> padded;
         padded.assign(w + 2 * r, 0.0f);
-        const float* src = data + std::size_t(row) * w;
+        const float* src = src_planes + std::size_t(row) * w;
         std::copy(src, src + w, padded.begin() + r);
         float* dst = tmp.data() + std::size_t(row) * w;
         convolve_row(padded.data(), dst, w, g.data(), r);
@@ -68,6 +69,60 @@ void blur_planes(float* data, int w, int h, double sigma, std::vector<float>& tm
     });
 }
 
+/// Weight of one blur level per pixel: a hat in sigma that is 1 at the level's sigma s and 0 at
+/// its neighbours' (inv_lo, inv_hi: 1 / distance to them; 0 for an end level, which keeps
+/// weight 1 beyond itself). Returns whether any pixel of the row uses the level.
+DEEPSEA_CLONES
+bool level_weights(int n, const float* __restrict sigma, float s, float inv_lo, float inv_hi,
+                   float* __restrict w) {
+    float any = 0.0f;
+#pragma omp simd reduction(max : any)
+    for (int u = 0; u < n; ++u) {
+        const float sp = sigma[u];
+        const float d = sp < s ? (s - sp) * inv_lo : (sp - s) * inv_hi;
+        const float h = std::max(1.0f - d, 0.0f);
+        w[u] = sp > 0.0f ? h : 0.0f;
+        any = std::max(any, w[u]);
+    }
+    return any > 0.0f;
+}
+
+DEEPSEA_CLONES
+void add_weighted(int n, const float* __restrict w, const float* __restrict src,
+                  float* __restrict acc) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u) acc[u] += w[u] * src[u];
+}
+
+DEEPSEA_CLONES
+void lerp_rows(int n, const float* __restrict a, const float* __restrict b, float t,
+               float* __restrict dst) {
+#pragma omp simd
+    for (int x = 0; x < n; ++x) dst[x] = a[x] + t * (b[x] - a[x]);
+}
+
+/// acc[u] += w[u] * (bilinear sample of the low-resolution row at x0[u] .. x1[u]).
+DEEPSEA_CLONES
+void add_upsampled(int n, const float* __restrict w, const float* __restrict row,
+                   const int* __restrict x0, const int* __restrict x1,
+                   const float* __restrict ax, float* __restrict acc) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const float a = row[x0[u]], b = row[x1[u]];
+        acc[u] += w[u] * (a + ax[u] * (b - a));
+    }
+}
+
+DEEPSEA_CLONES
+void interleave(int n, const float* __restrict planes, float* __restrict rgb) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        rgb[3 * u] = planes[u];
+        rgb[3 * u + 1] = planes[n + u];
+        rgb[3 * u + 2] = planes[2 * n + u];
+    }
+}
+
 }  // namespace
 
 void ForwardBlur::build_level(Level& L) {
@@ -79,26 +134,39 @@ void ForwardBlur::build_level(Level& L) {
     const Planes& src = m_pyramid[lvl];
     L.blurred.w = src.w;
     L.blurred.h = src.h;
-    L.blurred.data.assign(src.data.begin(), src.data.end());
+    L.blurred.data.resize(src.data.size());
     // Box downsampling by f and bilinear upsampling already spread the signal by about
     // (f^2 - 1)/12 + f^2/12 px^2; the level's Gaussian supplies the rest of the variance.
     const double spent = f > 1 ? (2.0 * f * f - 1.0) / 12.0 : 0.0;
     const double rest = std::sqrt(std::max(L.sigma * L.sigma - spent, 0.09)) / f;
-    blur_planes(L.blurred.data.data(), src.w, src.h, rest, m_tmp);
+    blur_planes(src.data.data(), L.blurred.data.data(), src.w, src.h, rest, m_tmp);
 }
 
 void ForwardBlur::apply(const Image& in, const Image& sigma, Image& out) {
     const int W = in.width, H = in.height;
     if (out.width != W || out.height != H || out.channels != 3) out = Image(W, H, 3);
-    double smin = 1e30, smax = 0.0;
-    for (float s : sigma.data) {
-        if (s > 0.0f) {
-            smin = std::min(smin, double(s));
-            smax = std::max(smax, double(s));
+    // Range of sigma over surface pixels: per row in parallel, then in row order.
+    m_row_range.resize(H);
+    tbb::parallel_for(0, H, [&](int v) {
+        float lo = 1e30f, hi = 0.0f;
+        const float* sr = sigma.row(v);
+        for (int u = 0; u < W; ++u) {
+            if (sr[u] > 0.0f) {
+                lo = std::min(lo, sr[u]);
+                hi = std::max(hi, sr[u]);
+            }
         }
+        m_row_range[v] = {lo, hi};
+    });
+    double smin = 1e30, smax = 0.0;
+    for (const auto& [lo, hi] : m_row_range) {
+        smin = std::min(smin, double(lo));
+        smax = std::max(smax, double(hi));
     }
-    std::fill(out.data.begin(), out.data.end(), 0.0f);
-    if (smax <= 0.0) return;
+    if (smax <= 0.0) {
+        std::fill(out.data.begin(), out.data.end(), 0.0f);
+        return;
+    }
 
     // Levels bracketing [smin, smax], spaced by sqrt(2) from 0.5 px.
     std::vector<double> sigmas;
@@ -149,43 +217,64 @@ void ForwardBlur::apply(const Image& in, const Image& sigma, Image& out) {
         build_level(m_levels[i]);
     }
 
-    tbb::parallel_for(0, H, [&](int v) {
-        const float* sr = sigma.row(v);
-        float* o = out.row(v);
+    blend(sigma, out);
+}
+
+void ForwardBlur::blend(const Image& sigma, Image& out) {
+    const int W = sigma.width, H = sigma.height;
+    const int n = int(m_levels.size());
+    // Horizontal bilinear taps per downsampling factor, once per frame size.
+    for (Level& L : m_levels) {
+        const int f = L.factor, w = L.blurred.w;
+        if (f == 1 || (L.taps_width == W && L.taps_factor == f)) continue;
+        L.taps_width = W;
+        L.taps_factor = f;
+        L.x0.resize(W);
+        L.x1.resize(W);
+        L.ax.resize(W);
         for (int u = 0; u < W; ++u) {
-            const double sp = sr[u];
-            if (!(sp > 0.0)) continue;
-            std::size_t i = 0;
-            while (i + 2 < m_levels.size() && m_levels[i + 1].sigma < sp) ++i;
-            const Level* lv[2] = {&m_levels[i], &m_levels[i + 1]};
-            const float t = float(std::clamp((sp - lv[0]->sigma) / (lv[1]->sigma - lv[0]->sigma), 0.0, 1.0));
-            float acc[3] = {0, 0, 0};
-            for (int j = 0; j < 2; ++j) {
-                const Level& L = *lv[j];
-                const float wj = j == 0 ? 1.0f - t : t;
-                const Planes& P = L.blurred;
+            const float fx = (u + 0.5f) / f - 0.5f;
+            const int x0 = std::clamp(int(std::floor(fx)), 0, w - 1);
+            L.x0[u] = x0;
+            L.x1[u] = std::min(x0 + 1, w - 1);
+            L.ax[u] = std::clamp(fx - x0, 0.0f, 1.0f);
+        }
+    }
+    tbb::parallel_for(0, H, [&](int v) {
+        thread_local std::vector<float> buf;
+        buf.resize(5 * std::size_t(W));
+        float* wgt = buf.data();
+        float* acc = wgt + W;  // 3 planes
+        float* tmp = acc + 3 * W;
+        std::fill(acc, acc + 3 * W, 0.0f);
+        const float* sr = sigma.row(v);
+        for (int j = 0; j < n; ++j) {
+            // Hat weight in sigma between the neighbouring levels; the end levels take all
+            // pixels beyond them. Pixels without a surface (sigma <= 0) get nothing.
+            const float s = float(m_levels[j].sigma);
+            const float lo = j > 0 ? float(m_levels[j - 1].sigma) : -1e30f;
+            const float hi = j + 1 < n ? float(m_levels[j + 1].sigma) : 1e30f;
+            const float inv_lo = j > 0 ? 1.0f / (s - lo) : 0.0f;
+            const float inv_hi = j + 1 < n ? 1.0f / (hi - s) : 0.0f;
+            if (!level_weights(W, sr, s, inv_lo, inv_hi, wgt)) continue;
+            const Level& L = m_levels[j];
+            const Planes& P = L.blurred;
+            for (int c = 0; c < 3; ++c) {
+                const float* q = P.plane(c);
                 if (L.factor == 1) {
-                    const std::size_t idx = std::size_t(v) * P.w + u;
-                    for (int c = 0; c < 3; ++c) acc[c] += wj * P.plane(c)[idx];
+                    add_weighted(W, wgt, q + std::size_t(v) * P.w, acc + c * W);
                     continue;
                 }
-                const int f = L.factor;
-                const float fx = (u + 0.5f) / f - 0.5f, fy = (v + 0.5f) / f - 0.5f;
-                const int x0 = std::clamp(int(std::floor(fx)), 0, P.w - 1);
+                const float fy = (v + 0.5f) / L.factor - 0.5f;
                 const int y0 = std::clamp(int(std::floor(fy)), 0, P.h - 1);
-                const int x1 = std::min(x0 + 1, P.w - 1), y1 = std::min(y0 + 1, P.h - 1);
-                const float ax = std::clamp(fx - x0, 0.0f, 1.0f), ay = std::clamp(fy - y0, 0.0f, 1.0f);
-                for (int c = 0; c < 3; ++c) {
-                    const float* q = P.plane(c);
-                    const float top = q[y0 * P.w + x0] + ax * (q[y0 * P.w + x1] - q[y0 * P.w + x0]);
-                    const float bot = q[y1 * P.w + x0] + ax * (q[y1 * P.w + x1] - q[y1 * P.w + x0]);
-                    acc[c] += wj * (top + ay * (bot - top));
-                }
+                const int y1 = std::min(y0 + 1, P.h - 1);
+                const float ay = std::clamp(fy - y0, 0.0f, 1.0f);
+                lerp_rows(P.w, q + std::size_t(y0) * P.w, q + std::size_t(y1) * P.w, ay, tmp);
+                add_upsampled(W, wgt, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
             }
-            o[3 * u] = acc[0];
-            o[3 * u + 1] = acc[1];
-            o[3 * u + 2] = acc[2];
         }
+        float* o = out.row(v);
+        interleave(W, acc, o);
     });
 }
 

@@ -3,6 +3,7 @@
 /// each computed on a box-downsampled copy where the blur is wide, blended per pixel by the
 /// pixel's own sigma.
 
+#include <utility>
 #include <vector>
 
 #include "deepsea/core/image.h"
@@ -29,11 +30,16 @@ private:
         double sigma = 0.0;  ///< full-resolution sigma, pixels
         int factor = 1;      ///< downsampling factor of `blurred`
         Planes blurred;
+        std::vector<int> x0, x1;  ///< horizontal upsampling taps per output column
+        std::vector<float> ax;
+        int taps_width = 0, taps_factor = 0;  ///< what x0, x1, ax were made for
     };
     void build_level(Level& level);
+    void blend(const Image& sigma, Image& out);
     std::vector<Planes> m_pyramid;  ///< m_pyramid[i]: the input box-downsampled by 2^i
     std::vector<Level> m_levels;
     std::vector<float> m_tmp;
+    std::vector<std::pair<float, float>> m_row_range;  ///< sigma range of each row
 };
 
 }  // namespace deepsea
