@@ -2,6 +2,7 @@
 /// \file Backscatter from a baked asset: the runtime's lookup, with per-column and per-row
 /// interpolation weights precomputed once per frame size.
 
+#include <cstddef>
 #include <vector>
 
 #include "deepsea/asset/asset.h"
@@ -25,11 +26,16 @@ private:
         float w = 0.0f;
     };
     const Asset& m_asset;
-    std::vector<Tap> m_cols;  ///< per image column
     std::vector<Tap> m_rows;  ///< per image row
-    // Depth lookup without a log or a search per pixel: uniform buckets over [0, z_max], each
-    // holding the slab its start falls in; a short forward scan finds the exact slab.
+    /// Per image column: offsets of its two lattice columns in Asset::values, and the weight
+    /// of the second.
+    std::vector<int> m_col0, m_col1;
+    std::vector<float> m_colw;
+    // Depth lookup without a log or a search per pixel: uniform buckets over [0, z_max], no
+    // wider than the thinnest slab, each holding the slab its start falls in; the right slab
+    // is that one or the next.
     std::vector<float> m_z, m_inv_h;  ///< samples and 1 / slab thickness
+    std::vector<float> m_znext;       ///< z[k + 1], and for the last slab the largest float
     std::vector<int> m_bucket;
     float m_bucket_scale = 0.0f;      ///< buckets per metre
 };
