@@ -52,7 +52,6 @@ void Compositor::composite(Layers& dst, const Frame& f) {
         m_rx.resize(W);
         for (int u = 0; u < W; ++u) m_rx[u] = float((u - cam.cx) / cam.fx);
     }
-    if (forward && (m_sigma.width != W || m_sigma.height != H)) m_sigma = Image(W, H, 1);
 
     static tbb::enumerable_thread_specific<RowScratch> scratch;
     const float cr = float(m_water.c.r), cg = float(m_water.c.g), cb = float(m_water.c.b);
@@ -114,7 +113,6 @@ void Compositor::composite(Layers& dst, const Frame& f) {
         float* B = dst.backscatter.row(v);
         float* N = dst.normal.row(v);
         float* Z = dst.depth.row(v);
-        float* S = forward ? m_sigma.row(v) : nullptr;
         for (int u = 0; u < W; ++u) {
             B[3 * u] = s.b[u];
             B[3 * u + 1] = s.b[W + u];
@@ -123,16 +121,21 @@ void Compositor::composite(Layers& dst, const Frame& f) {
             N[3 * u + 1] = s.ny[u];
             N[3 * u + 2] = s.nz[u];
             Z[u] = s.z[u];
-            if (S) S[u] = s.z[u] > 0.0f ? float(sigma_per_m * m_d2.at(u, v)) : 0.0f;
         }
     });
 
-    if (forward) m_blur.apply(dst.direct, m_sigma, m_blurred);
+    // Forward scatter blurs D by sigma = sigma_per_m * d2 pixels; d2 is 0 for open water.
+    if (forward) m_blur.prepare(dst.direct, m_d2, float(sigma_per_m));
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
                         float(m_water.forward.G.b)};
     tbb::parallel_for(0, H, [&](int v) {
+        thread_local std::vector<float> blurred;
+        if (forward) {
+            blurred.resize(3 * std::size_t(W));
+            m_blur.blend_row(v, m_d2.row(v), blurred.data());
+        }
         kernels::finish_row(W, dst.depth.row(v), m_d2.row(v), G, dst.transmission.row(v),
-                            forward ? m_blurred.row(v) : nullptr, dst.direct.row(v),
+                            forward ? blurred.data() : nullptr, dst.direct.row(v),
                             dst.backscatter.row(v), dst.forward.row(v), dst.final.row(v));
     });
 }

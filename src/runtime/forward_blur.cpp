@@ -37,48 +37,68 @@ void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
     }
 }
 
-/// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to dst.
-void blur_planes(const float* src_planes, float* data, int w, int h, double sigma,
-                 std::vector<float>& tmp) {
+/// Three colour planes of one resolution, read with strides: the interleaved input image
+/// (level 0, no planar copy) or a planar pyramid level.
+struct Source {
+    const float* data = nullptr;
+    int w = 0, h = 0;
+    std::size_t channel = 0, pixel = 1, row = 0;  ///< strides in floats
+    const float* at(int c, int y) const { return data + c * channel + std::size_t(y) * row; }
+    float operator()(int c, int x, int y) const { return at(c, y)[x * pixel]; }
+};
+
+Source interleaved(const Image& in) {
+    return {in.data.data(), in.width, in.height, 1, 3, std::size_t(3) * in.width};
+}
+
+Source planar(const float* data, int w, int h) {
+    return {data, w, h, std::size_t(w) * h, 1, std::size_t(w)};
+}
+
+/// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to
+/// planar dst.
+void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& tmp) {
+    const int w = src.w, h = src.h;
     const int r = std::max(1, int(std::ceil(3.0 * sigma)));
     std::vector<float> g(2 * r + 1);
     for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
     const std::vector<float> nx = inside_weights(w, g, r), ny = inside_weights(h, g, r);
     const std::size_t plane = std::size_t(w) * h;
     tmp.resize(3 * plane);
-    tbb::parallel_for(0, 3 * h, [&](int row) {
+    tbb::parallel_for(0, 3 * h, [&](int prow) {
+        const int c = prow / h, y = prow % h;
         thread_local std::vector<float> padded;
         padded.assign(w + 2 * r, 0.0f);
-        const float* src = src_planes + std::size_t(row) * w;
-        std::copy(src, src + w, padded.begin() + r);
-        float* dst = tmp.data() + std::size_t(row) * w;
+        const float* in = src.at(c, y);
+        for (int x = 0; x < w; ++x) padded[r + x] = in[x * src.pixel];
+        float* dst = tmp.data() + std::size_t(prow) * w;
         convolve_row(padded.data(), dst, w, g.data(), r);
         for (int x = 0; x < w; ++x) dst[x] *= nx[x];
     });
     tbb::parallel_for(0, 3 * h, [&](int prow) {
         const int p = prow / h, y = prow % h;
-        float* dst = data + p * plane + std::size_t(y) * w;
+        float* dst = dst_planes + p * plane + std::size_t(y) * w;
         std::fill(dst, dst + w, 0.0f);
         const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
         for (int k = k0; k <= k1; ++k) {
             const float gk = g[k + r] * ny[y];
-            const float* src = tmp.data() + p * plane + std::size_t(y + k) * w;
+            const float* in = tmp.data() + p * plane + std::size_t(y + k) * w;
 #pragma omp simd
-            for (int x = 0; x < w; ++x) dst[x] += gk * src[x];
+            for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
         }
     });
 }
 
-/// Weight of one blur level per pixel: a hat in sigma that is 1 at the level's sigma s and 0 at
+/// Weight of one blur level per pixel (sigma = scale * s): a hat in sigma that is 1 at the level's sigma s and 0 at
 /// its neighbours' (inv_lo, inv_hi: 1 / distance to them; 0 for an end level, which keeps
 /// weight 1 beyond itself). Returns whether any pixel of the row uses the level.
 DEEPSEA_CLONES
-bool level_weights(int n, const float* __restrict sigma, float s, float inv_lo, float inv_hi,
-                   float* __restrict w) {
+bool level_weights(int n, const float* __restrict sigma, float scale, float s, float inv_lo,
+                   float inv_hi, float* __restrict w) {
     float any = 0.0f;
 #pragma omp simd reduction(max : any)
     for (int u = 0; u < n; ++u) {
-        const float sp = sigma[u];
+        const float sp = scale * sigma[u];
         const float d = sp < s ? (s - sp) * inv_lo : (sp - s) * inv_hi;
         const float h = std::max(1.0f - d, 0.0f);
         w[u] = sp > 0.0f ? h : 0.0f;
@@ -125,35 +145,56 @@ void interleave(int n, const float* __restrict planes, float* __restrict rgb) {
 
 }  // namespace
 
-void ForwardBlur::build_level(Level& L) {
+void ForwardBlur::build_level(const Image& in, Level& L) {
     // Downsample while the reduced sigma stays >= 1 px, so the kernel keeps its shape.
     int lvl = 0;
     while (L.sigma / (1 << (lvl + 1)) >= 1.0 && lvl + 1 < int(m_pyramid.size())) ++lvl;
     const int f = 1 << lvl;
     L.factor = f;
-    const Planes& src = m_pyramid[lvl];
+    const Source src =
+        lvl == 0 ? interleaved(in)
+                 : planar(m_pyramid[lvl].data.data(), m_pyramid[lvl].w, m_pyramid[lvl].h);
     L.blurred.w = src.w;
     L.blurred.h = src.h;
-    L.blurred.data.resize(src.data.size());
+    L.blurred.data.resize(3 * std::size_t(src.w) * src.h);
     // Box downsampling by f and bilinear upsampling already spread the signal by about
     // (f^2 - 1)/12 + f^2/12 px^2; the level's Gaussian supplies the rest of the variance.
     const double spent = f > 1 ? (2.0 * f * f - 1.0) / 12.0 : 0.0;
     const double rest = std::sqrt(std::max(L.sigma * L.sigma - spent, 0.09)) / f;
-    blur_planes(src.data.data(), L.blurred.data.data(), src.w, src.h, rest, m_tmp);
+    blur_planes(src, L.blurred.data.data(), rest, m_tmp);
+    // Horizontal bilinear taps, kept while the frame width and the factor stay the same.
+    const int W = in.width;
+    if (f > 1 && (L.taps_width != W || L.taps_factor != f)) {
+        L.taps_width = W;
+        L.taps_factor = f;
+        L.x0.resize(W);
+        L.x1.resize(W);
+        L.ax.resize(W);
+        for (int u = 0; u < W; ++u) {
+            const float fx = (u + 0.5f) / f - 0.5f;
+            const int x0 = std::clamp(int(std::floor(fx)), 0, src.w - 1);
+            L.x0[u] = x0;
+            L.x1[u] = std::min(x0 + 1, src.w - 1);
+            L.ax[u] = std::clamp(fx - x0, 0.0f, 1.0f);
+        }
+    }
 }
 
-void ForwardBlur::apply(const Image& in, const Image& sigma, Image& out) {
+void ForwardBlur::prepare(const Image& in, const Image& s_img, float scale) {
     const int W = in.width, H = in.height;
-    if (out.width != W || out.height != H || out.channels != 3) out = Image(W, H, 3);
-    // Range of sigma over surface pixels: per row in parallel, then in row order.
+    m_width = W;
+    m_scale = scale;
+    m_count = 0;
+    // Range of sigma over blurred pixels: per row in parallel, then in row order.
     m_row_range.resize(H);
     tbb::parallel_for(0, H, [&](int v) {
         float lo = 1e30f, hi = 0.0f;
-        const float* sr = sigma.row(v);
+        const float* sr = s_img.row(v);
         for (int u = 0; u < W; ++u) {
-            if (sr[u] > 0.0f) {
-                lo = std::min(lo, sr[u]);
-                hi = std::max(hi, sr[u]);
+            const float sp = scale * sr[u];
+            if (sp > 0.0f) {
+                lo = std::min(lo, sp);
+                hi = std::max(hi, sp);
             }
         }
         m_row_range[v] = {lo, hi};
@@ -163,10 +204,7 @@ void ForwardBlur::apply(const Image& in, const Image& sigma, Image& out) {
         smin = std::min(smin, double(lo));
         smax = std::max(smax, double(hi));
     }
-    if (smax <= 0.0) {
-        std::fill(out.data.begin(), out.data.end(), 0.0f);
-        return;
-    }
+    if (smax <= 0.0) return;
 
     // Levels bracketing [smin, smax], spaced by sqrt(2) from 0.5 px.
     std::vector<double> sigmas;
@@ -175,107 +213,74 @@ void ForwardBlur::apply(const Image& in, const Image& sigma, Image& out) {
     for (; s < smax * kLevelRatio; s *= kLevelRatio) sigmas.push_back(s);
     if (sigmas.size() < 2) sigmas.push_back(s);
 
-    // Pyramid: planar input, then 2x2 box averages (edge blocks average what they have),
-    // only as deep as the widest level needs.
+    // Pyramid of 2x2 box averages (edge blocks average what they have), only as deep as the
+    // widest level needs; level 0 is the input itself.
     int depth = 1;
     while ((2 << (depth - 1)) <= sigmas.back() && depth < 8 &&
            std::min(W, H) >> depth >= 8) {
         ++depth;
     }
     m_pyramid.resize(depth);
-    Planes& p0 = m_pyramid[0];
-    p0.w = W;
-    p0.h = H;
-    p0.data.resize(3 * std::size_t(W) * H);
-    tbb::parallel_for(0, H, [&](int y) {
-        for (int x = 0; x < W; ++x) {
-            for (int c = 0; c < 3; ++c) p0.plane(c)[std::size_t(y) * W + x] = in.at(x, y, c);
-        }
-    });
     for (int l = 1; l < depth; ++l) {
-        const Planes& a = m_pyramid[l - 1];
+        const Planes& prev = m_pyramid[l - 1];
+        const Source a = l == 1 ? interleaved(in) : planar(prev.data.data(), prev.w, prev.h);
         Planes& b = m_pyramid[l];
         b.w = (a.w + 1) / 2;
         b.h = (a.h + 1) / 2;
         b.data.resize(3 * std::size_t(b.w) * b.h);
         tbb::parallel_for(0, 3 * b.h, [&](int prow) {
             const int c = prow / b.h, y = prow % b.h;
-            const float* src = a.plane(c);
             float* dst = b.plane(c) + std::size_t(y) * b.w;
             const int y0 = 2 * y, y1 = std::min(2 * y + 1, a.h - 1);
             for (int x = 0; x < b.w; ++x) {
                 const int x0 = 2 * x, x1 = std::min(2 * x + 1, a.w - 1);
                 // at an odd edge x1 == x0 (or y1 == y0): the block averages what it has
-                dst[x] = 0.25f * (src[y0 * a.w + x0] + src[y0 * a.w + x1] + src[y1 * a.w + x0] +
-                                  src[y1 * a.w + x1]);
+                dst[x] = 0.25f * (a(c, x0, y0) + a(c, x1, y0) + a(c, x0, y1) + a(c, x1, y1));
             }
         });
     }
-    m_levels.resize(sigmas.size());
-    for (std::size_t i = 0; i < sigmas.size(); ++i) {
+    // Level objects (and their buffers) are kept across frames; only m_count are in use.
+    m_count = int(sigmas.size());
+    if (int(m_levels.size()) < m_count) m_levels.resize(m_count);
+    for (int i = 0; i < m_count; ++i) {
         m_levels[i].sigma = sigmas[i];
-        build_level(m_levels[i]);
+        build_level(in, m_levels[i]);
     }
-
-    blend(sigma, out);
 }
 
-void ForwardBlur::blend(const Image& sigma, Image& out) {
-    const int W = sigma.width, H = sigma.height;
-    const int n = int(m_levels.size());
-    // Horizontal bilinear taps per downsampling factor, once per frame size.
-    for (Level& L : m_levels) {
-        const int f = L.factor, w = L.blurred.w;
-        if (f == 1 || (L.taps_width == W && L.taps_factor == f)) continue;
-        L.taps_width = W;
-        L.taps_factor = f;
-        L.x0.resize(W);
-        L.x1.resize(W);
-        L.ax.resize(W);
-        for (int u = 0; u < W; ++u) {
-            const float fx = (u + 0.5f) / f - 0.5f;
-            const int x0 = std::clamp(int(std::floor(fx)), 0, w - 1);
-            L.x0[u] = x0;
-            L.x1[u] = std::min(x0 + 1, w - 1);
-            L.ax[u] = std::clamp(fx - x0, 0.0f, 1.0f);
+void ForwardBlur::blend_row(int v, const float* s_row, float* out_rgb) const {
+    const int W = m_width;
+    const int n = m_count;
+    thread_local std::vector<float> buf;
+    buf.resize(5 * std::size_t(W));
+    float* wgt = buf.data();
+    float* acc = wgt + W;  // 3 planes
+    float* tmp = acc + 3 * W;
+    std::fill(acc, acc + 3 * W, 0.0f);
+    for (int j = 0; j < n; ++j) {
+        // Hat weight in sigma between the neighbouring levels; the end levels take all pixels
+        // beyond them.
+        const Level& L = m_levels[j];
+        const float s = float(L.sigma);
+        const float inv_lo = j > 0 ? float(1.0 / (L.sigma - m_levels[j - 1].sigma)) : 0.0f;
+        const float inv_hi = j + 1 < n ? float(1.0 / (m_levels[j + 1].sigma - L.sigma)) : 0.0f;
+        if (!level_weights(W, s_row, m_scale, s, inv_lo, inv_hi, wgt)) continue;
+        const Planes& P = L.blurred;
+        for (int c = 0; c < 3; ++c) {
+            const float* q = P.plane(c);
+            if (L.factor == 1) {
+                add_weighted(W, wgt, q + std::size_t(v) * P.w, acc + c * W);
+                continue;
+            }
+            const float fy = (v + 0.5f) / L.factor - 0.5f;
+            const int y0 = std::clamp(int(std::floor(fy)), 0, P.h - 1);
+            const int y1 = std::min(y0 + 1, P.h - 1);
+            const float ay = std::clamp(fy - y0, 0.0f, 1.0f);
+            lerp_rows(P.w, q + std::size_t(y0) * P.w, q + std::size_t(y1) * P.w, ay, tmp);
+            add_upsampled(W, wgt, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
         }
     }
-    tbb::parallel_for(0, H, [&](int v) {
-        thread_local std::vector<float> buf;
-        buf.resize(5 * std::size_t(W));
-        float* wgt = buf.data();
-        float* acc = wgt + W;  // 3 planes
-        float* tmp = acc + 3 * W;
-        std::fill(acc, acc + 3 * W, 0.0f);
-        const float* sr = sigma.row(v);
-        for (int j = 0; j < n; ++j) {
-            // Hat weight in sigma between the neighbouring levels; the end levels take all
-            // pixels beyond them. Pixels without a surface (sigma <= 0) get nothing.
-            const float s = float(m_levels[j].sigma);
-            const float lo = j > 0 ? float(m_levels[j - 1].sigma) : -1e30f;
-            const float hi = j + 1 < n ? float(m_levels[j + 1].sigma) : 1e30f;
-            const float inv_lo = j > 0 ? 1.0f / (s - lo) : 0.0f;
-            const float inv_hi = j + 1 < n ? 1.0f / (hi - s) : 0.0f;
-            if (!level_weights(W, sr, s, inv_lo, inv_hi, wgt)) continue;
-            const Level& L = m_levels[j];
-            const Planes& P = L.blurred;
-            for (int c = 0; c < 3; ++c) {
-                const float* q = P.plane(c);
-                if (L.factor == 1) {
-                    add_weighted(W, wgt, q + std::size_t(v) * P.w, acc + c * W);
-                    continue;
-                }
-                const float fy = (v + 0.5f) / L.factor - 0.5f;
-                const int y0 = std::clamp(int(std::floor(fy)), 0, P.h - 1);
-                const int y1 = std::min(y0 + 1, P.h - 1);
-                const float ay = std::clamp(fy - y0, 0.0f, 1.0f);
-                lerp_rows(P.w, q + std::size_t(y0) * P.w, q + std::size_t(y1) * P.w, ay, tmp);
-                add_upsampled(W, wgt, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
-            }
-        }
-        float* o = out.row(v);
-        interleave(W, acc, o);
-    });
+    interleave(W, acc, out_rgb);
 }
 
 }  // namespace deepsea

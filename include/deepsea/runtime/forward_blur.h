@@ -3,6 +3,7 @@
 /// each computed on a box-downsampled copy where the blur is wide, blended per pixel by the
 /// pixel's own sigma.
 
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -10,13 +11,19 @@
 
 namespace deepsea {
 
-/// Reusable state: buffers are kept between frames, so a sequence allocates once.
+/// Reusable state: buffers are kept between frames, so a sequence allocates once. Used in
+/// two steps so that callers consume the blur row by row without a full-size output image:
+/// prepare() builds the levels for one frame, blend_row() gives any row (thread-safe).
 class ForwardBlur {
 public:
-    /// out(p) = (G_{sigma(p)} * in)(p) for a 3-channel image, sigma in pixels per pixel
-    /// (1 channel; <= 0 leaves the pixel at 0). Normalised over in-image pixels, like the
-    /// reference renderer's exact gather. Levels are spaced by a factor sqrt(2) in sigma.
-    void apply(const Image& in, const Image& sigma, Image& out);
+    /// Builds the levels for a 3-channel image `in` and per-pixel blur widths
+    /// sigma(p) = scale * s(p) pixels (`s` 1 channel; sigma <= 0 means no blur there, output 0).
+    /// Levels are spaced by a factor sqrt(2) in sigma and bracket the frame's range.
+    void prepare(const Image& in, const Image& s, float scale);
+
+    /// Row v of (G_{sigma(p)} * in)(p), interleaved RGB, normalised over in-image pixels like
+    /// the reference renderer's exact gather. s_row is row v of the image given to prepare().
+    void blend_row(int v, const float* s_row, float* out_rgb) const;
 
 private:
     /// 3 planes (R, G, B) of one resolution.
@@ -34,12 +41,14 @@ private:
         std::vector<float> ax;
         int taps_width = 0, taps_factor = 0;  ///< what x0, x1, ax were made for
     };
-    void build_level(Level& level);
-    void blend(const Image& sigma, Image& out);
-    std::vector<Planes> m_pyramid;  ///< m_pyramid[i]: the input box-downsampled by 2^i
-    std::vector<Level> m_levels;
+    void build_level(const Image& in, Level& level);
+    int m_width = 0;
+    float m_scale = 1.0f;
+    std::vector<Planes> m_pyramid;  ///< m_pyramid[i], i >= 1: the input box-downsampled by 2^i
+    std::vector<Level> m_levels;    ///< the first m_count are this frame's
+    int m_count = 0;                ///< levels in use; 0 when no pixel is blurred
     std::vector<float> m_tmp;
-    std::vector<std::pair<float, float>> m_row_range;  ///< sigma range of each row
+    std::vector<std::pair<float, float>> m_row_range;  ///< range of s over each row
 };
 
 }  // namespace deepsea
