@@ -93,7 +93,8 @@ struct Slot {
     bool skip = false;
     std::string error;
     Frame frame;
-    Layers layers;
+    Layers layers;  ///< filled only for jobs that write all layers
+    Image final;    ///< the final layer, for the exposed image
 };
 
 bool done_already(const FrameJob& j) {
@@ -114,6 +115,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     const AnalyticLamps lamps(asset.info.rig, water);
     std::unique_ptr<AssetBackscatter> backscatter;
     std::unique_ptr<Compositor> compositor;
+    Layers shared;  // jobs that want only the final image composite here and keep a copy
     Camera camera;
     double exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
 
@@ -160,8 +162,11 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                                 std::make_unique<Compositor>(camera, water, lamps, *backscatter);
                         }
                         to_planar_depth(camera, s->frame.depth, opt.depth_kind);
-                        compositor->composite(s->layers, s->frame);
-                        if (exposure == 0.0) exposure = exposure_factor(opt.exposure, s->layers.final);
+                        const bool all = !jobs[s->index].layers.empty();
+                        Layers& out = all ? s->layers : shared;
+                        compositor->composite(out, s->frame);
+                        s->final = out.final;
+                        if (exposure == 0.0) exposure = exposure_factor(opt.exposure, s->final);
                     } catch (const AssetError&) {
                         throw;  // the asset does not fit these frames: stop everything
                     } catch (const Error& e) {
@@ -176,7 +181,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         try {
                             if (!job.layers.empty()) write_layers(job.layers, s->layers);
                             if (!job.output.empty()) {
-                                write_color(job.output, apply_exposure(s->layers.final, exposure),
+                                write_color(job.output, apply_exposure(s->final, exposure),
                                             opt.bits);
                             }
                         } catch (const Error& e) {
