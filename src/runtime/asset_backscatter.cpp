@@ -8,7 +8,6 @@
 #include <limits>
 
 #include "clones.h"
-#include "deepsea/core/error.h"
 
 namespace deepsea {
 
@@ -22,41 +21,45 @@ int bucket_count(const std::vector<double>& z) {
     return int(std::clamp(n, 1024.0, double(1 << 20)));
 }
 
-struct RowTaps {
-    int off0, off1;  ///< value offsets of the row's two lattice rows
-    float w;                 ///< weight of the second
-};
-
-/// B for one image row, planar RGB out. Column offsets/weights per pixel, the row's two
-/// lattice rows fixed; depth slab from the bucket table plus at most one step.
+/// One image row's slice of the asset: for every lattice column i and sample k, the values of
+/// the row's two lattice rows blended by the row weight w (vertical interpolation done once
+/// per row instead of once per pixel). a, b: the two rows' values, `columns` blocks of `block`
+/// floats each, `stride` floats apart.
 DEEPSEA_CLONES
-void lookup_row(int n, const float* __restrict z, const float* __restrict values,
+void blend_rows(int columns, int block, std::size_t stride, const float* __restrict a,
+                const float* __restrict b, float w, float* __restrict out) {
+    for (int i = 0; i < columns; ++i) {
+        const float* pa = a + i * stride;
+        const float* pb = b + i * stride;
+        float* o = out + std::size_t(i) * block;
+#pragma omp simd
+        for (int m = 0; m < block; ++m) o[m] = pa[m] + w * (pb[m] - pa[m]);
+    }
+}
+
+/// B for one image row from its slice (blend_rows), planar RGB out: linear between the two
+/// lattice columns of each pixel and between two depth samples, the slab from the bucket
+/// table plus at most one step.
+DEEPSEA_CLONES
+void lookup_row(int n, const float* __restrict z, const float* __restrict slice,
                 const int* __restrict col0, const int* __restrict col1,
-                const float* __restrict colw, RowTaps r, const float* __restrict zs,
+                const float* __restrict colw, const float* __restrict zs,
                 const float* __restrict znext, const float* __restrict inv_h,
                 const int* __restrict bucket, int last_bucket, float bucket_scale, float z_max,
                 float* __restrict out) {
-#pragma omp simd
     for (int u = 0; u < n; ++u) {
         // z == 0 (open water) looks up z_max, as does any depth beyond it.
         const float zz = z[u] > 0.0f ? std::min(z[u], z_max) : z_max;
         int k = bucket[std::min(int(zz * bucket_scale), last_bucket)];
         k += znext[k] <= zz ? 1 : 0;
         const float wz = std::clamp((zz - zs[k]) * inv_h[k], 0.0f, 1.0f);
-        const int kk = 3 * k;
-        const float* p00 = values + col0[u] + r.off0 + kk;
-        const float* p10 = values + col1[u] + r.off0 + kk;
-        const float* p01 = values + col0[u] + r.off1 + kk;
-        const float* p11 = values + col1[u] + r.off1 + kk;
+        const float* p0 = slice + col0[u] + 3 * k;
+        const float* p1 = slice + col1[u] + 3 * k;
         const float cw = colw[u];
         for (int ch = 0; ch < 3; ++ch) {
-            const float a = p00[ch] + wz * (p00[ch + 3] - p00[ch]);
-            const float b = p10[ch] + wz * (p10[ch + 3] - p10[ch]);
-            const float c = p01[ch] + wz * (p01[ch + 3] - p01[ch]);
-            const float d = p11[ch] + wz * (p11[ch + 3] - p11[ch]);
-            const float top = a + cw * (b - a);
-            const float bot = c + cw * (d - c);
-            out[ch * n + u] = top + r.w * (bot - top);
+            const float a = p0[ch] + wz * (p0[ch + 3] - p0[ch]);
+            const float b = p1[ch] + wz * (p1[ch + 3] - p1[ch]);
+            out[ch * n + u] = a + cw * (b - a);
         }
     }
 }
@@ -82,15 +85,11 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
     };
     m_rows = taps(camera.height, camera.fy, camera.cy, ac.fy, ac.cy, l.nj);
     const std::vector<Tap> cols = taps(camera.width, camera.fx, camera.cx, ac.fx, ac.cx, l.ni);
-    // 32-bit offsets let the lookup loop vectorise (gathers); 2^31 floats would be 8 GB.
-    if (asset.values.size() >= std::size_t(std::numeric_limits<int>::max())) {
-        throw AssetError("asset too large for the runtime's lookup (" +
-                         std::to_string(asset.values.size()) + " values)");
-    }
-    const int column_floats = 3 * l.nj * l.nk();
+    // Offsets into a row's slice (blend_rows): column i's samples start at 3 nk i.
+    const int block = 3 * l.nk();
     for (const Tap& t : cols) {
-        m_col0.push_back(t.i0 * column_floats);
-        m_col1.push_back(t.i1 * column_floats);
+        m_col0.push_back(t.i0 * block);
+        m_col1.push_back(t.i1 * block);
         m_colw.push_back(t.w);
     }
 
@@ -115,11 +114,16 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
 void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out) const {
     const Lattice& l = m_asset.lattice();
     const Tap t = m_rows[v];
-    const int nk3 = 3 * l.nk();
-    const RowTaps r{t.i0 * nk3, t.i1 * nk3, t.w};
-    lookup_row(n, z, m_asset.values.data(), m_col0.data(), m_col1.data(), m_colw.data(), r,
-               m_z.data(), m_znext.data(), m_inv_h.data(), m_bucket.data(),
-               int(m_bucket.size()) - 1, m_bucket_scale, m_z.back(), out);
+    const int block = 3 * l.nk();
+    const std::size_t stride = std::size_t(l.nj) * block;  // from column i to i + 1
+    thread_local std::vector<float> slice;
+    slice.resize(std::size_t(l.ni) * block);
+    const float* values = m_asset.values.data();
+    blend_rows(l.ni, block, stride, values + std::size_t(t.i0) * block,
+               values + std::size_t(t.i1) * block, t.w, slice.data());
+    lookup_row(n, z, slice.data(), m_col0.data(), m_col1.data(), m_colw.data(), m_z.data(),
+               m_znext.data(), m_inv_h.data(), m_bucket.data(), int(m_bucket.size()) - 1,
+               m_bucket_scale, m_z.back(), out);
 }
 
 }  // namespace deepsea

@@ -27,8 +27,8 @@ private:
     };
     const Asset& m_asset;
     std::vector<Tap> m_rows;  ///< per image row
-    /// Per image column: offsets of its two lattice columns in Asset::values, and the weight
-    /// of the second.
+    /// Per image column: offsets of its two lattice columns in a row's slice (3 nk floats
+    /// per column), and the weight of the second.
     std::vector<int> m_col0, m_col1;
     std::vector<float> m_colw;
     // Depth lookup without a log or a search per pixel: uniform buckets over [0, z_max], no
