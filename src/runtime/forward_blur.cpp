@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "clones.h"
+#include "deepsea/optics/forward.h"
 
 namespace deepsea {
 
@@ -89,16 +90,17 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
     });
 }
 
-/// Weight of one blur level per pixel (sigma = scale * s): a hat in sigma that is 1 at the level's sigma s and 0 at
+/// Weight of one blur level per pixel (sigma = scale * s, at most cap): a hat in sigma that is 1 at the level's sigma s and 0 at
 /// its neighbours' (inv_lo, inv_hi: 1 / distance to them; 0 for an end level, which keeps
 /// weight 1 beyond itself). Returns whether any pixel of the row uses the level.
 DEEPSEA_CLONES
-bool level_weights(int n, const float* __restrict sigma, float scale, float s, float inv_lo,
-                   float inv_hi, float* __restrict w) {
+bool level_weights(int n, const float* __restrict sigma, float scale, float cap, float s,
+                   float inv_lo, float inv_hi, float* __restrict w) {
     float any = 0.0f;
 #pragma omp simd reduction(max : any)
     for (int u = 0; u < n; ++u) {
-        const float sp = scale * sigma[u];
+        const float raw = scale * sigma[u];
+        const float sp = raw < cap ? raw : cap;
         const float d = sp < s ? (s - sp) * inv_lo : (sp - s) * inv_hi;
         const float h = std::max(1.0f - d, 0.0f);
         w[u] = sp > 0.0f ? h : 0.0f;
@@ -205,6 +207,10 @@ void ForwardBlur::prepare(const Image& in, const Image& s_img, float scale) {
         smax = std::max(smax, double(hi));
     }
     if (smax <= 0.0) return;
+    // Wider blurs are capped (as in the reference): the last level takes every pixel beyond.
+    m_cap = float(max_forward_sigma_px(W, H));
+    smax = std::min(smax, double(m_cap));
+    smin = std::min(smin, smax);
 
     // Levels bracketing [smin, smax], spaced by sqrt(2) from 0.5 px.
     std::vector<double> sigmas;
@@ -264,7 +270,7 @@ void ForwardBlur::blend_row(int v, const float* s_row, float* out_rgb) const {
         const float s = float(L.sigma);
         const float inv_lo = j > 0 ? float(1.0 / (L.sigma - m_levels[j - 1].sigma)) : 0.0f;
         const float inv_hi = j + 1 < n ? float(1.0 / (m_levels[j + 1].sigma - L.sigma)) : 0.0f;
-        if (!level_weights(W, s_row, m_scale, s, inv_lo, inv_hi, wgt)) continue;
+        if (!level_weights(W, s_row, m_scale, m_cap, s, inv_lo, inv_hi, wgt)) continue;
         const Planes& P = L.blurred;
         for (int c = 0; c < 3; ++c) {
             const float* q = P.plane(c);

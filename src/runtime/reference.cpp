@@ -68,7 +68,9 @@ void forward_scatter_exact(const Camera& cam, const Water& water, const Image& z
             if (!has_surface(z)) continue;
             const double d2 = length(cam.point(u, v, z));
             const Rgb w = forward_weight(fs, water.c, d2);
-            const double sigma = forward_sigma_px(fs, cam.fx, d2);
+            if (w.r == 0.0 && w.g == 0.0 && w.b == 0.0) continue;  // F = 0, skip the gather
+            const double sigma = std::min(forward_sigma_px(fs, cam.fx, d2),
+                                          max_forward_sigma_px(cam.width, cam.height));
             Rgb blurred;
             if (sigma < 0.25) {
                 blurred = get(out.direct, u, v);

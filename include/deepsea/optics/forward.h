@@ -19,4 +19,11 @@ inline double forward_sigma_px(const ForwardScatter& fs, double fx, double d) {
     return fx * fs.k * d;
 }
 
+/// The widest blur the renderers apply to a width x height image: its larger side. A wider
+/// Gaussian is flat over the image, and surfaces that far away get a weight w(d) of ~0, so
+/// capping there changes nothing visible while keeping very distant surfaces cheap.
+inline double max_forward_sigma_px(int width, int height) {
+    return double(width > height ? width : height);
+}
+
 }  // namespace deepsea

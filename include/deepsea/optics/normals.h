@@ -10,8 +10,14 @@ namespace deepsea {
 /// Relative depth jump |dz| / z above which two neighbours are on different surfaces.
 inline constexpr double kDepthDiscontinuity = 0.05;
 
-/// True where a depth value is a surface: finite and > 0. Anything else is open water.
-inline bool has_surface(double z) { return z > 0.0 && z < 1e30; }
+/// Depth (metres) from which on a value is a "nothing here" sentinel (Blender writes 1e10 for
+/// background, some sensors 65504 or 1e6): no lamp light comes back from that far (exp(-c d)
+/// underflows for any real water), and float geometry would overflow.
+inline constexpr double kFarDepth = 1e6;
+
+/// True where a depth value is a surface: > 0 and < kFarDepth. Anything else (NaN, inf, <= 0,
+/// sentinels) is open water.
+inline bool has_surface(double z) { return z > 0.0 && z < kFarDepth; }
 
 /// Unit normal at pixel (u, v) of a one-channel planar z-depth map, facing the camera
 /// (n . P < 0). Back-projects the pixel and its neighbours; central differences, one-sided

@@ -18,7 +18,8 @@ class ForwardBlur {
 public:
     /// Builds the levels for a 3-channel image `in` and per-pixel blur widths
     /// sigma(p) = scale * s(p) pixels (`s` 1 channel; sigma <= 0 means no blur there, output 0).
-    /// Levels are spaced by a factor sqrt(2) in sigma and bracket the frame's range.
+    /// Levels are spaced by a factor sqrt(2) in sigma and bracket the frame's range; sigma is
+    /// capped at max_forward_sigma_px of the image.
     void prepare(const Image& in, const Image& s, float scale);
 
     /// Row v of (G_{sigma(p)} * in)(p), interleaved RGB, normalised over in-image pixels like
@@ -44,6 +45,7 @@ private:
     void build_level(const Image& in, Level& level);
     int m_width = 0;
     float m_scale = 1.0f;
+    float m_cap = 0.0f;  ///< widest sigma blurred (max_forward_sigma_px)
     std::vector<Planes> m_pyramid;  ///< m_pyramid[i], i >= 1: the input box-downsampled by 2^i
     std::vector<Level> m_levels;    ///< the first m_count are this frame's
     int m_count = 0;                ///< levels in use; 0 when no pixel is blurred

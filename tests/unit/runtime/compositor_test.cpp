@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
@@ -123,6 +124,31 @@ TEST(Compositor, ForwardScatterCloseToExactGather) {
     EXPECT_LE(s.mean, 0.03);
     const Stats fin = compare(out.final, f.ref.final, mask, 1e-9);
     EXPECT_LE(fin.mean, 0.01);
+}
+
+TEST(Compositor, FarAndSentinelDepthsAreFiniteAndBounded) {
+    // 5e5 m is a (very distant) surface whose blur would be huge; 1e10 and FLT_MAX are "no hit"
+    // sentinels. All must composite quickly to finite values, sentinels as open water.
+    const Fixture& f = fixture();
+    Image depth = f.scene.depth;
+    for (int v = 0; v < depth.height; ++v) {
+        for (int u = 0; u < depth.width; ++u) {
+            if (u % 3 == 0) depth.at(u, v) = 5e5f;
+            if (u % 3 == 1 && v % 2 == 0) depth.at(u, v) = 1e10f;
+            if (u % 7 == 0 && v % 5 == 0) depth.at(u, v) = std::numeric_limits<float>::max();
+        }
+    }
+    const AnalyticLamps lamps(f.rig, f.water);
+    const AssetBackscatter bs(f.asset, f.cam);
+    Compositor comp(f.cam, f.water, lamps, bs);
+    Layers out;
+    comp.composite(out, Frame{f.scene.rgb, depth});
+    for (const Image* img : {&out.final, &out.direct, &out.forward, &out.backscatter}) {
+        for (float x : img->data) ASSERT_TRUE(std::isfinite(x));
+    }
+    EXPECT_EQ(out.depth.at(1, 0), 0.0f);         // 1e10: open water
+    EXPECT_EQ(out.depth.at(3, 0), 5e5f);         // a surface, however far
+    EXPECT_EQ(out.direct.at(3, 1, 1), 0.0f);     // exp(-c 5e5 m) underflows
 }
 
 TEST(Compositor, IdenticalAtAnyThreadCount) {

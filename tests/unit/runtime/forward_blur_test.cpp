@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "deepsea/runtime/forward_blur.h"
@@ -86,6 +87,16 @@ TEST(ForwardBlur, PixelsWithoutSigmaStayBlack) {
     }
     const Image none = blur(in, Image(40, 30, 1), 1.0f);  // no pixel blurred at all
     for (float x : none.data) ASSERT_EQ(x, 0.0f);
+}
+
+TEST(ForwardBlur, SigmaIsCappedAtTheImageSize) {
+    // A surface 1e5 m away asks for a blur of millions of pixels: it gets the cap (here 40 px,
+    // a flat image-wide mean) in bounded time, and a constant image stays constant.
+    Image in(40, 30, 3, 0.5f);
+    Image s(40, 30, 1, 3e6f);
+    s.at(3, 4) = std::numeric_limits<float>::infinity();
+    const Image out = blur(in, s, 1.0f);
+    for (float x : out.data) ASSERT_NEAR(x, 0.5f, 1e-4f);
 }
 
 }  // namespace
