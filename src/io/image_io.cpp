@@ -1,5 +1,6 @@
 #include "deepsea/io/image_io.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <mutex>
 #include <system_error>
 
 #include <tbb/blocked_range.h>
@@ -56,6 +58,50 @@ std::string join(const std::vector<std::string>& v) {
     return out;
 }
 
+/// Codec libraries (libpng above all) print their own errors and warnings on stderr before
+/// OIIO hands the same error back; deepsea reports it once, as its one line. So stderr points
+/// to /dev/null while any codec call runs (counted, so concurrent calls in a pipeline share
+/// one redirection and the last to finish restores it).
+class QuietCodecs {
+public:
+    QuietCodecs() {
+        std::lock_guard<std::mutex> lock(mutex());
+        if (count()++ > 0) return;
+        std::fflush(stderr);
+        saved() = ::dup(2);
+        const int null = ::open("/dev/null", O_WRONLY);
+        if (null >= 0) {
+            ::dup2(null, 2);
+            ::close(null);
+        }
+    }
+    ~QuietCodecs() {
+        std::lock_guard<std::mutex> lock(mutex());
+        if (--count() > 0) return;
+        if (saved() >= 0) {
+            ::dup2(saved(), 2);
+            ::close(saved());
+            saved() = -1;
+        }
+    }
+    QuietCodecs(const QuietCodecs&) = delete;
+    QuietCodecs& operator=(const QuietCodecs&) = delete;
+
+private:
+    static std::mutex& mutex() {
+        static std::mutex m;
+        return m;
+    }
+    static int& count() {
+        static int n = 0;
+        return n;
+    }
+    static int& saved() {
+        static int fd = -1;
+        return fd;
+    }
+};
+
 /// Missing files get a plain reason instead of OIIO's "could not find a format reader".
 void require_readable(const std::string& path) {
     std::error_code ec;
@@ -72,6 +118,7 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
     // alpha is dropped here, not composited.
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
+    const QuietCodecs quiet;
     auto in = OIIO::ImageInput::open(path, &config);
     if (!in) io_fail(path, OIIO::geterror());
     return in;
@@ -83,6 +130,7 @@ std::vector<float> read_float(OIIO::ImageInput& in, const std::string& path, int
                               int chend) {
     const auto& spec = in.spec();
     std::vector<float> buf(std::size_t(spec.width) * spec.height * (chend - chbegin));
+    const QuietCodecs quiet;
     if (!in.read_image(0, 0, chbegin, chend, OIIO::TypeDesc::FLOAT, buf.data()))
         io_fail(path, in.geterror());
     return buf;
@@ -271,6 +319,7 @@ void write_atomic(const std::string& path, const OIIO::ImageSpec& spec,
         std::error_code rm;
         fs::remove(tmp, rm);
     };
+    const QuietCodecs quiet;
     auto out = OIIO::ImageOutput::create(tmp.string());
     if (!out) {
         (void)OIIO::geterror();  // clear it: it names the temporary, not the user's path
@@ -418,6 +467,7 @@ Image read_depth(const std::string& path, const DepthReadOptions& opt) {
             img.data = read_float(*in, path, ch, ch + 1);
         } else if (spec.format.basetype == OIIO::TypeDesc::UINT16) {
             std::vector<std::uint16_t> raw(img.data.size());
+            const QuietCodecs quiet;
             if (!in->read_image(0, 0, ch, ch + 1, OIIO::TypeDesc::UINT16, raw.data()))
                 io_fail(path, in->geterror());
             for (std::size_t i = 0; i < raw.size(); ++i)

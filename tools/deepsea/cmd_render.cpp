@@ -68,13 +68,15 @@ int run(const RenderArgs& a) {
     opt.progress = [&](int done, int) { bar.update(done); };
     const SequenceResult r = render_sequence(asset, jobs, opt);
     bar.finish();
+    // One frame that failed: its error is the one line (main prints it), no summary.
+    if (jobs.size() == 1 && !r.errors.empty()) throw FramesFailed(r.errors.front());
     for (const std::string& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
     std::printf("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n",
                 r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
     if (jobs.size() == 1 && r.errors.empty() && r.written == 1) {
         if (!a.output.empty()) std::printf("wrote %s\n", a.output.c_str());
         if (!a.layers.empty()) std::printf("wrote %s\n", a.layers.c_str());
-    } else if (!a.output.empty()) {
+    } else if (!a.output.empty() && r.written > 0) {
         std::printf("wrote frames to %s\n", a.output.c_str());
     }
     return r.errors.empty() ? 0 : 6;

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# deepsea render from the command line: one frame, a sequence with --resume, depth sentinels,
+# and bad input: one line on stderr, a non-zero exit, no output file left behind.
+set -euo pipefail
+ds=$1 work=$2 src=$3
+rm -rf "$work"; mkdir -p "$work"
+v=$src/volumes
+cam=$v/cameras/small-320.yaml
+
+"$ds" scene --out "$work/in" --frames 3 --camera "$cam" >/dev/null
+"$ds" bake --camera "$cam" --rig "$v/rigs/authors-testset.yaml" --water jerlov:IB \
+  -o "$work/a.vdb" >/dev/null
+f1=$work/in/frame_0001.png d1=$work/in/frame_0001_depth.exr
+
+"$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$d1" -o "$work/one.png" \
+  --layers "$work/one.exr" | grep -q "wrote $work/one.png"
+[[ -s $work/one.png && -s $work/one.exr ]]
+
+"$ds" render --asset "$work/a.vdb" --rgb "$work/in/*.png" --depth "$work/in/*_depth.exr" \
+  -o "$work/seq" | grep -q "rendered 3 frame(s), skipped 0, failed 0"
+"$ds" render --asset "$work/a.vdb" --rgb "$work/in/*.png" --depth "$work/in/*_depth.exr" \
+  -o "$work/seq" --resume | grep -q "rendered 0 frame(s), skipped 3, failed 0"
+
+# A depth map full of sentinels and absurd values (1e10, 1e29, NaN, inf, -1) renders, quickly.
+/usr/bin/python3 - "$d1" "$work/odd_depth.exr" <<'PY'
+import sys
+import numpy as np
+import OpenImageIO as oiio
+src = oiio.ImageInput.open(sys.argv[1])
+d = src.read_image("float")
+src.close()
+d[:, 0::5] = 1e10
+d[:, 1::5] = 1e29
+d[0::4, 2::5] = np.nan
+d[1::4, 2::5] = np.inf
+d[2::4, 2::5] = -1.0
+out = oiio.ImageOutput.create(sys.argv[2])
+out.open(sys.argv[2], oiio.ImageSpec(d.shape[1], d.shape[0], 1, "float"))
+out.write_image(d)
+out.close()
+PY
+timeout 60 "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$work/odd_depth.exr" \
+  -o "$work/odd.png" | grep -q "wrote $work/odd.png"
+
+expect_fail() {
+  local name=$1 left=$2; shift 2
+  set +e
+  "$@" >"$work/out.txt" 2>"$work/err.txt"
+  local rc=$?
+  set -e
+  if [[ $rc -eq 0 ]]; then echo "FAIL $name: exit 0"; exit 1; fi
+  if [[ $(wc -l <"$work/err.txt") -ne 1 ]]; then echo "FAIL $name: stderr:"; cat "$work/err.txt"; exit 1; fi
+  if [[ -e $left ]]; then echo "FAIL $name: $left was written"; exit 1; fi
+  echo "ok $name (exit $rc): $(cat "$work/err.txt")"
+}
+/usr/bin/python3 -c "
+import OpenImageIO as oiio, numpy as np
+o = oiio.ImageOutput.create('$work/small_depth.exr')
+o.open('$work/small_depth.exr', oiio.ImageSpec(160, 120, 1, 'float'))
+o.write_image(np.full((120, 160, 1), 3.0, np.float32))
+o.close()"
+expect_fail "sizes differ" "$work/bad1.png" \
+  "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$work/small_depth.exr" -o "$work/bad1.png"
+expect_fail "missing depth" "$work/bad2.png" \
+  "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$work/none.exr" -o "$work/bad2.png"
+head -c 3000 "$f1" > "$work/cut.png"
+expect_fail "truncated colour" "$work/bad3.png" \
+  "$ds" render --asset "$work/a.vdb" --rgb "$work/cut.png" --depth "$d1" -o "$work/bad3.png"
+expect_fail "empty glob" "$work/bad4" \
+  "$ds" render --asset "$work/a.vdb" --rgb "$work/nothing/*.png" --depth "$work/in/*_depth.exr" \
+  -o "$work/bad4"
+"$ds" bake --camera "$v/cameras/authors-800.yaml" --rig "$v/rigs/single-down.yaml" \
+  --water jerlov:IB --xy-step 64 --depth-samples 4 -o "$work/other.vdb" >/dev/null
+expect_fail "asset of another camera" "$work/bad5.png" \
+  "$ds" render --asset "$work/other.vdb" --rgb "$f1" --depth "$d1" -o "$work/bad5.png"
+expect_fail "unwritable output" "/nonexistent/x.png" \
+  "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$d1" -o /nonexistent/x.png
+echo "render CLI: OK"
