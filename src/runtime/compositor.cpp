@@ -33,7 +33,7 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
                        const BackscatterSource& backscatter)
     : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter) {}
 
-void Compositor::composite(Layers& dst, const Frame& f) {
+void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     const Camera& cam = m_camera;
     const int W = cam.width, H = cam.height;
     if (f.rgb.channels != 3 || f.depth.channels != 1) {
@@ -45,7 +45,8 @@ void Compositor::composite(Layers& dst, const Frame& f) {
                          std::to_string(f.rgb.height) + " but the camera is " +
                          std::to_string(W) + "x" + std::to_string(H));
     }
-    dst.resize(W, H);
+    dst.resize(W, H, set);
+    const bool all = set == LayerSet::All;
     const bool forward = m_water.forward.enabled;
     if (m_d2.width != W || m_d2.height != H) m_d2 = Image(W, H, 1);
     if (int(m_rx.size()) != W) {
@@ -54,7 +55,7 @@ void Compositor::composite(Layers& dst, const Frame& f) {
     }
 
     static tbb::enumerable_thread_specific<RowScratch> scratch;
-    const float cr = float(m_water.c.r), cg = float(m_water.c.g), cb = float(m_water.c.b);
+    const float c[3] = {float(m_water.c.r), float(m_water.c.g), float(m_water.c.b)};
     const double sigma_per_m = forward_sigma_px(m_water.forward, cam.fx, 1.0);
     const Image& depth = f.depth;
 
@@ -107,21 +108,24 @@ void Compositor::composite(Layers& dst, const Frame& f) {
         m_backscatter.backscatter_row(v, W, s.z.data(), s.b.data());
 
         const float* J = f.rgb.row(v);
-        const float c[3] = {cr, cg, cb};
         kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, c,
-                           dst.direct.row(v), dst.transmission.row(v), m_d2.row(v));
-        float* B = dst.backscatter.row(v);
-        float* N = dst.normal.row(v);
-        float* Z = dst.depth.row(v);
+                           dst.direct.row(v), m_d2.row(v));
+        // final starts as B; the second pass adds D + F.
+        float* B = dst.final.row(v);
         for (int u = 0; u < W; ++u) {
             B[3 * u] = s.b[u];
             B[3 * u + 1] = s.b[W + u];
             B[3 * u + 2] = s.b[2 * W + u];
+        }
+        if (!all) return;
+        std::copy(B, B + 3 * std::size_t(W), dst.backscatter.row(v));
+        float* N = dst.normal.row(v);
+        for (int u = 0; u < W; ++u) {
             N[3 * u] = s.nx[u];
             N[3 * u + 1] = s.ny[u];
             N[3 * u + 2] = s.nz[u];
-            Z[u] = s.z[u];
         }
+        std::copy(s.z.begin(), s.z.begin() + W, dst.depth.row(v));
     });
 
     // Forward scatter blurs D by sigma = sigma_per_m * d2 pixels; d2 is 0 for open water.
@@ -129,14 +133,15 @@ void Compositor::composite(Layers& dst, const Frame& f) {
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
                         float(m_water.forward.G.b)};
     tbb::parallel_for(0, H, [&](int v) {
-        thread_local std::vector<float> blurred;
-        if (forward) {
-            blurred.resize(3 * std::size_t(W));
-            m_blur.blend_row(v, m_d2.row(v), blurred.data());
-        }
-        kernels::finish_row(W, dst.depth.row(v), m_d2.row(v), G, dst.transmission.row(v),
-                            forward ? blurred.data() : nullptr, dst.direct.row(v),
-                            dst.backscatter.row(v), dst.forward.row(v), dst.final.row(v));
+        // blurred, and T and F when their layers are not kept
+        thread_local std::vector<float> row;
+        row.resize(9 * std::size_t(W));
+        float* blurred = row.data();
+        if (forward) m_blur.blend_row(v, m_d2.row(v), blurred);
+        float* T = all ? dst.transmission.row(v) : blurred + 3 * W;
+        float* F = all ? dst.forward.row(v) : blurred + 6 * W;
+        kernels::finish_row(W, m_d2.row(v), c, G, forward ? blurred : nullptr, dst.direct.row(v),
+                            T, F, dst.final.row(v));
     });
 }
 

@@ -9,24 +9,17 @@ namespace deepsea::kernels {
 DEEPSEA_CLONES
 void shade_row(int n, const float* __restrict x, const float* __restrict y,
                const float* __restrict z, const float* __restrict e, const float* __restrict J,
-               const float c[3], float* __restrict D, float* __restrict T,
-               float* __restrict d2out) {
+               const float c[3], float* __restrict D, float* __restrict d2out) {
     const float inv_pi = float(1.0 / M_PI);
     const float cr = c[0], cg = c[1], cb = c[2];
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
         const float d2 = std::sqrt(x[u] * x[u] + y[u] * y[u] + z[u] * z[u]);
-        const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
-        const float tr = surf * std::exp(-cr * d2);
-        const float tg = surf * std::exp(-cg * d2);
-        const float tb = surf * std::exp(-cb * d2);
+        const float surf = z[u] > 0.0f ? inv_pi : 0.0f;
         d2out[u] = d2;
-        T[3 * u] = tr;
-        T[3 * u + 1] = tg;
-        T[3 * u + 2] = tb;
-        D[3 * u] = J[3 * u] * inv_pi * e[u] * tr;
-        D[3 * u + 1] = J[3 * u + 1] * inv_pi * e[n + u] * tg;
-        D[3 * u + 2] = J[3 * u + 2] * inv_pi * e[2 * n + u] * tb;
+        D[3 * u] = J[3 * u] * surf * e[u] * std::exp(-cr * d2);
+        D[3 * u + 1] = J[3 * u + 1] * surf * e[n + u] * std::exp(-cg * d2);
+        D[3 * u + 2] = J[3 * u + 2] * surf * e[2 * n + u] * std::exp(-cb * d2);
     }
 }
 
@@ -35,31 +28,42 @@ void shade_row(int n, const float* __restrict x, const float* __restrict y,
 namespace deepsea::kernels {
 
 DEEPSEA_CLONES
-void finish_row(int n, const float* __restrict z, const float* __restrict d2, const float G[3],
-                const float* __restrict T, const float* __restrict blurred,
-                const float* __restrict D, const float* __restrict B, float* __restrict F,
-                float* __restrict final) {
+void finish_row(int n, const float* __restrict d2, const float c[3], const float G[3],
+                const float* __restrict blurred, const float* __restrict D,
+                float* __restrict T, float* __restrict F, float* __restrict final) {
+    const float c0 = c[0], c1 = c[1], c2 = c[2];
     if (!blurred) {
+#pragma omp simd
+        for (int u = 0; u < n; ++u) {
+            const float surf = d2[u] > 0.0f ? 1.0f : 0.0f;
+            T[3 * u] = surf * std::exp(-c0 * d2[u]);
+            T[3 * u + 1] = surf * std::exp(-c1 * d2[u]);
+            T[3 * u + 2] = surf * std::exp(-c2 * d2[u]);
+        }
 #pragma omp simd
         for (int i = 0; i < 3 * n; ++i) {
             F[i] = 0.0f;
-            final[i] = D[i] + B[i];
+            final[i] += D[i];
         }
         return;
     }
     const float g0 = G[0], g1 = G[1], g2 = G[2];
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
-        const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
-        const float w0 = surf * (std::exp(-g0 * d2[u]) - T[3 * u]);
-        const float w1 = surf * (std::exp(-g1 * d2[u]) - T[3 * u + 1]);
-        const float w2 = surf * (std::exp(-g2 * d2[u]) - T[3 * u + 2]);
-        F[3 * u] = w0 * blurred[3 * u];
-        F[3 * u + 1] = w1 * blurred[3 * u + 1];
-        F[3 * u + 2] = w2 * blurred[3 * u + 2];
-        final[3 * u] = D[3 * u] + F[3 * u] + B[3 * u];
-        final[3 * u + 1] = D[3 * u + 1] + F[3 * u + 1] + B[3 * u + 1];
-        final[3 * u + 2] = D[3 * u + 2] + F[3 * u + 2] + B[3 * u + 2];
+        const float d = d2[u];
+        const float surf = d > 0.0f ? 1.0f : 0.0f;
+        const float t0 = surf * std::exp(-c0 * d);
+        const float t1 = surf * std::exp(-c1 * d);
+        const float t2 = surf * std::exp(-c2 * d);
+        T[3 * u] = t0;
+        T[3 * u + 1] = t1;
+        T[3 * u + 2] = t2;
+        F[3 * u] = surf * (std::exp(-g0 * d) - t0) * blurred[3 * u];
+        F[3 * u + 1] = surf * (std::exp(-g1 * d) - t1) * blurred[3 * u + 1];
+        F[3 * u + 2] = surf * (std::exp(-g2 * d) - t2) * blurred[3 * u + 2];
+        final[3 * u] += D[3 * u] + F[3 * u];
+        final[3 * u + 1] += D[3 * u + 1] + F[3 * u + 1];
+        final[3 * u + 2] += D[3 * u + 2] + F[3 * u + 2];
     }
 }
 

@@ -4,12 +4,18 @@
 
 namespace deepsea {
 
-void Layers::resize(int width, int height) {
+void Layers::resize(int width, int height, LayerSet set) {
     auto fit = [&](Image& img, int channels) {
         if (img.width != width || img.height != height || img.channels != channels) {
             img = Image(width, height, channels);
         }
     };
+    if (set == LayerSet::Final) {
+        fit(final, 3);
+        fit(direct, 3);
+        for (Image* img : {&forward, &backscatter, &transmission, &depth, &normal}) *img = Image();
+        return;
+    }
     fit(final, 3);
     fit(direct, 3);
     fit(forward, 3);

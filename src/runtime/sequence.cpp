@@ -115,7 +115,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     const AnalyticLamps lamps(asset.info.rig, water);
     std::unique_ptr<AssetBackscatter> backscatter;
     std::unique_ptr<Compositor> compositor;
-    Layers shared;  // jobs that want only the final image composite here and keep a copy
+    Layers shared;  // jobs that want only the image composite its layers here, keep a copy
     Camera camera;
     double exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
 
@@ -164,7 +164,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         to_planar_depth(camera, s->frame.depth, opt.depth_kind);
                         const bool all = !jobs[s->index].layers.empty();
                         Layers& out = all ? s->layers : shared;
-                        compositor->composite(out, s->frame);
+                        compositor->composite(out, s->frame,
+                                              all ? LayerSet::All : LayerSet::Final);
                         s->final = out.final;
                         if (exposure == 0.0) exposure = exposure_factor(opt.exposure, s->final);
                     } catch (const AssetError&) {

@@ -105,7 +105,9 @@ Camera scaled(const Camera& base, int w, int h) {
     return c;
 }
 
-Case time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a, int threads) {
+/// Composites one generated frame repeatedly: all layers, or only the image (LayerSet::Final).
+Case time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a, int threads,
+                     LayerSet set = LayerSet::All) {
     Water water = *setup.water;
     if (a.no_forward) water.forward.enabled = false;
     const Asset asset = bake(cam, *setup.rig, water, BakeSettings{});
@@ -122,14 +124,15 @@ Case time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a, 
     const AssetBackscatter backscatter(asset, cam);
     Compositor comp(cam, water, lamps, backscatter);
     Layers layers;
-    comp.composite(layers, frame);  // first frame allocates
+    comp.composite(layers, frame, set);  // first frame allocates
     std::vector<double> t;
     for (int r = 0; r < a.repeats; ++r) {
         const double t0 = now_ms();
-        comp.composite(layers, frame);
+        comp.composite(layers, frame, set);
         t.push_back(now_ms() - t0);
     }
-    return summarize("composite", cam.width, cam.height, threads, t);
+    return summarize(set == LayerSet::All ? "composite" : "composite_final_only", cam.width,
+                     cam.height, threads, t);
 }
 
 Case time_sequence(const Setup& setup, const BenchArgs& a, int threads) {
@@ -174,6 +177,10 @@ void run(const BenchArgs& a) {
     std::vector<Case> cases;
     cases.push_back(time_compositor(setup, scaled(*setup.camera, 800, 800), a, threads));
     cases.push_back(time_compositor(setup, scaled(*setup.camera, 1920, 1080), a, threads));
+    cases.push_back(
+        time_compositor(setup, scaled(*setup.camera, 800, 800), a, threads, LayerSet::Final));
+    cases.push_back(time_compositor(setup, scaled(*setup.camera, 1920, 1080), a, threads,
+                                    LayerSet::Final));
     cases.push_back(time_sequence(setup, a, threads));
     if (a.json) {
         std::printf("{\"baseline_rss_mb\": %.1f, \"cases\": [", baseline_mb);

@@ -27,8 +27,9 @@ public:
     Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
                const BackscatterSource& backscatter);
 
-    /// Fills every layer of dst. Throws InputError when the frame does not match the camera.
-    void composite(Layers& dst, const Frame& frame);
+    /// Fills the layers of dst that `set` names. Throws InputError when the frame does not
+    /// match the camera.
+    void composite(Layers& dst, const Frame& frame, LayerSet set = LayerSet::All);
 
 private:
     Camera m_camera;

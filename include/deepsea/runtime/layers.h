@@ -7,6 +7,10 @@
 
 namespace deepsea {
 
+/// Which layers a compositor fills: all of them, or only what the exposed image needs (final,
+/// and direct, the forward blur's input); the others are then left empty (no memory).
+enum class LayerSet { All, Final };
+
 /// Per-pixel layers of one rendered frame. final = direct + forward + backscatter.
 struct Layers {
     Image final;         ///< RGB radiance
@@ -17,8 +21,9 @@ struct Layers {
     Image depth;         ///< 1 channel, planar z in metres (0 for open water)
     Image normal;        ///< 3 channels, camera-frame unit normal (0 for open water)
 
-    /// Allocates every layer at width x height (no-op when already that size).
-    void resize(int width, int height);
+    /// Allocates the layers of `set` at width x height (no-op for those already that size)
+    /// and frees the others.
+    void resize(int width, int height, LayerSet set = LayerSet::All);
 };
 
 /// Writes all layers to one multi-layer EXR (channels final.R, ..., depth.Z, normal.X).

@@ -151,6 +151,25 @@ TEST(Compositor, FarAndSentinelDepthsAreFiniteAndBounded) {
     EXPECT_EQ(out.direct.at(3, 1, 1), 0.0f);     // exp(-c 5e5 m) underflows
 }
 
+TEST(Compositor, FinalOnlyGivesTheSameImageWithoutTheOtherLayers) {
+    const Fixture& f = fixture();
+    const Layers all = f.composite();
+    const AnalyticLamps lamps(f.rig, f.water);
+    const AssetBackscatter bs(f.asset, f.cam);
+    Compositor comp(f.cam, f.water, lamps, bs);
+    Layers out = all;  // full layers first: Final must free what it does not fill
+    comp.composite(out, Frame{f.scene.rgb, f.scene.depth}, LayerSet::Final);
+    EXPECT_EQ(out.final.data, all.final.data);
+    EXPECT_EQ(out.direct.data, all.direct.data);
+    for (const Image* img : {&out.forward, &out.backscatter, &out.transmission, &out.depth,
+                             &out.normal}) {
+        EXPECT_TRUE(img->empty());
+    }
+    comp.composite(out, Frame{f.scene.rgb, f.scene.depth});  // and back to all layers
+    EXPECT_EQ(out.forward.data, all.forward.data);
+    EXPECT_EQ(out.final.data, all.final.data);
+}
+
 TEST(Compositor, IdenticalAtAnyThreadCount) {
     const Fixture& f = fixture();
     const Layers one = f.composite(1);
