@@ -15,16 +15,7 @@ small=(--camera "$v/cameras/small-320.yaml" --rig "$v/rigs/authors-testset.yaml"
   'import json,sys; j=json.load(sys.stdin); assert j["bake"]["camera"]["width"]==320, j'
 
 # bad input: exit code, exactly one line on stderr, no output file
-expect_fail() {
-  local name=$1; shift
-  set +e
-  "$@" >"$work/out.txt" 2>"$work/err.txt"
-  local rc=$?
-  set -e
-  if [[ $rc -eq 0 ]]; then echo "FAIL $name: exit 0"; exit 1; fi
-  if [[ $(wc -l <"$work/err.txt") -ne 1 ]]; then echo "FAIL $name: stderr:"; cat "$work/err.txt"; exit 1; fi
-  echo "ok $name (exit $rc): $(cat "$work/err.txt")"
-}
+source "$(dirname "$0")/cli_lib.sh"
 expect_fail "K < 2" "$ds" bake "${small[@]}" --depth-samples 1 -o "$work/bad1.vdb"
 expect_fail "z_max <= 0" "$ds" bake "${small[@]}" --z-max -1 -o "$work/bad2.vdb"
 expect_fail "unknown preset" "$ds" bake --camera "$v/cameras/small-320.yaml" \

@@ -42,37 +42,28 @@ PY
 timeout 60 "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$work/odd_depth.exr" \
   -o "$work/odd.png" | grep -q "wrote $work/odd.png"
 
-expect_fail() {
-  local name=$1 left=$2; shift 2
-  set +e
-  "$@" >"$work/out.txt" 2>"$work/err.txt"
-  local rc=$?
-  set -e
-  if [[ $rc -eq 0 ]]; then echo "FAIL $name: exit 0"; exit 1; fi
-  if [[ $(wc -l <"$work/err.txt") -ne 1 ]]; then echo "FAIL $name: stderr:"; cat "$work/err.txt"; exit 1; fi
-  if [[ -e $left ]]; then echo "FAIL $name: $left was written"; exit 1; fi
-  echo "ok $name (exit $rc): $(cat "$work/err.txt")"
-}
+source "$(dirname "$0")/cli_lib.sh"
 /usr/bin/python3 -c "
 import OpenImageIO as oiio, numpy as np
 o = oiio.ImageOutput.create('$work/small_depth.exr')
 o.open('$work/small_depth.exr', oiio.ImageSpec(160, 120, 1, 'float'))
 o.write_image(np.full((120, 160, 1), 3.0, np.float32))
 o.close()"
-expect_fail "sizes differ" "$work/bad1.png" \
+expect_fail "sizes differ" \
   "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$work/small_depth.exr" -o "$work/bad1.png"
-expect_fail "missing depth" "$work/bad2.png" \
+expect_fail "missing depth" \
   "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$work/none.exr" -o "$work/bad2.png"
 head -c 3000 "$f1" > "$work/cut.png"
-expect_fail "truncated colour" "$work/bad3.png" \
+expect_fail "truncated colour" \
   "$ds" render --asset "$work/a.vdb" --rgb "$work/cut.png" --depth "$d1" -o "$work/bad3.png"
-expect_fail "empty glob" "$work/bad4" \
+expect_fail "empty glob" \
   "$ds" render --asset "$work/a.vdb" --rgb "$work/nothing/*.png" --depth "$work/in/*_depth.exr" \
   -o "$work/bad4"
 "$ds" bake --camera "$v/cameras/authors-800.yaml" --rig "$v/rigs/single-down.yaml" \
   --water jerlov:IB --xy-step 64 --depth-samples 4 -o "$work/other.vdb" >/dev/null
-expect_fail "asset of another camera" "$work/bad5.png" \
+expect_fail "asset of another camera" \
   "$ds" render --asset "$work/other.vdb" --rgb "$f1" --depth "$d1" -o "$work/bad5.png"
-expect_fail "unwritable output" "/nonexistent/x.png" \
+expect_fail "unwritable output" \
   "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$d1" -o /nonexistent/x.png
+expect_absent "$work"/bad[1235].png "$work/bad4" /nonexistent/x.png
 echo "render CLI: OK"
