@@ -39,7 +39,10 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     if (f.rgb.channels != 3 || f.depth.channels != 1) {
         throw InputError("frame needs a 3-channel colour image and a 1-channel depth image");
     }
-    require_same_size(f.rgb, f.depth, "colour and depth images");
+    // (the message is built only on failure: composite allocates nothing per frame)
+    if (f.rgb.width != f.depth.width || f.rgb.height != f.depth.height) {
+        require_same_size(f.rgb, f.depth, "colour and depth images");
+    }
     if (f.rgb.width != W || f.rgb.height != H) {
         throw InputError("frame is " + std::to_string(f.rgb.width) + "x" +
                          std::to_string(f.rgb.height) + " but the camera is " +

@@ -14,15 +14,15 @@ namespace {
 
 constexpr double kLevelRatio = 1.4142135623730951;  // sqrt(2)
 
-/// Normalisation of a zero-padded 1-D convolution: the sum of the taps that fall inside.
-std::vector<float> inside_weights(int n, const std::vector<float>& g, int r) {
-    std::vector<float> w(n);
+/// Normalisation of a zero-padded 1-D convolution: w[x] = 1 / (sum of the taps that fall
+/// inside), for n pixels.
+void inside_weights(int n, const std::vector<float>& g, int r, std::vector<float>& w) {
+    w.resize(n);
     for (int x = 0; x < n; ++x) {
         double s = 0.0;
         for (int k = std::max(-r, -x); k <= std::min(r, n - 1 - x); ++k) s += g[k + r];
         w[x] = float(1.0 / s);
     }
-    return w;
 }
 
 /// dst[x] = sum_k g[k] src[x + k] over a row padded with r zeros on each side.
@@ -57,13 +57,16 @@ Source planar(const float* data, int w, int h) {
 }
 
 /// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to
-/// planar dst.
-void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& tmp) {
+/// planar dst. g, nx, ny (kernel, row and column normalisation) and tmp (horizontal pass) are
+/// the caller's, kept between frames so that nothing is allocated once they have grown.
+void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
+                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp) {
     const int w = src.w, h = src.h;
     const int r = std::max(1, int(std::ceil(3.0 * sigma)));
-    std::vector<float> g(2 * r + 1);
+    g.resize(2 * r + 1);
     for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
-    const std::vector<float> nx = inside_weights(w, g, r), ny = inside_weights(h, g, r);
+    inside_weights(w, g, r, nx);
+    inside_weights(h, g, r, ny);
     const std::size_t plane = std::size_t(w) * h;
     tmp.resize(3 * plane);
     tbb::parallel_for(0, 3 * h, [&](int prow) {
@@ -163,7 +166,7 @@ void ForwardBlur::build_level(const Image& in, Level& L) {
     // (f^2 - 1)/12 + f^2/12 px^2; the level's Gaussian supplies the rest of the variance.
     const double spent = f > 1 ? (2.0 * f * f - 1.0) / 12.0 : 0.0;
     const double rest = std::sqrt(std::max(L.sigma * L.sigma - spent, 0.09)) / f;
-    blur_planes(src, L.blurred.data.data(), rest, m_tmp);
+    blur_planes(src, L.blurred.data.data(), rest, m_kernel, m_norm_x, m_norm_y, m_tmp);
     // Horizontal bilinear taps, kept while the frame width and the factor stay the same.
     const int W = in.width;
     if (f > 1 && (L.taps_width != W || L.taps_factor != f)) {
@@ -213,7 +216,8 @@ void ForwardBlur::prepare(const Image& in, const Image& s_img, float scale) {
     smin = std::min(smin, smax);
 
     // Levels bracketing [smin, smax], spaced by sqrt(2) from 0.5 px.
-    std::vector<double> sigmas;
+    std::vector<double>& sigmas = m_sigmas;
+    sigmas.clear();
     double s = 0.5;
     while (s * kLevelRatio < smin) s *= kLevelRatio;
     for (; s < smax * kLevelRatio; s *= kLevelRatio) sigmas.push_back(s);
