@@ -115,11 +115,7 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
                            dst.direct.row(v), m_d2.row(v));
         // final starts as B; the second pass adds D + F.
         float* B = dst.final.row(v);
-        for (int u = 0; u < W; ++u) {
-            B[3 * u] = s.b[u];
-            B[3 * u + 1] = s.b[W + u];
-            B[3 * u + 2] = s.b[2 * W + u];
-        }
+        kernels::interleave(W, s.b.data(), B);
         if (!all) return;
         std::copy(B, B + 3 * std::size_t(W), dst.backscatter.row(v));
         float* N = dst.normal.row(v);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "clones.h"
+#include "kernels.h"
 #include "deepsea/optics/forward.h"
 
 namespace deepsea {
@@ -135,16 +136,6 @@ void add_upsampled(int n, const float* __restrict w, const float* __restrict row
     for (int u = 0; u < n; ++u) {
         const float a = row[x0[u]], b = row[x1[u]];
         acc[u] += w[u] * (a + ax[u] * (b - a));
-    }
-}
-
-DEEPSEA_CLONES
-void interleave(int n, const float* __restrict planes, float* __restrict rgb) {
-#pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        rgb[3 * u] = planes[u];
-        rgb[3 * u + 1] = planes[n + u];
-        rgb[3 * u + 2] = planes[2 * n + u];
     }
 }
 
@@ -290,7 +281,7 @@ void ForwardBlur::blend_row(int v, const float* s_row, float* out_rgb) const {
             add_upsampled(W, wgt, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
         }
     }
-    interleave(W, acc, out_rgb);
+    kernels::interleave(W, acc, out_rgb);
 }
 
 }  // namespace deepsea

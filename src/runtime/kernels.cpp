@@ -99,3 +99,17 @@ void normals_row(int n, const float* __restrict rx, float ry_up, float ry, float
 }
 
 }  // namespace deepsea::kernels
+
+namespace deepsea::kernels {
+
+DEEPSEA_CLONES
+void interleave(int n, const float* __restrict planes, float* __restrict rgb) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        rgb[3 * u] = planes[u];
+        rgb[3 * u + 1] = planes[n + u];
+        rgb[3 * u + 2] = planes[2 * n + u];
+    }
+}
+
+}  // namespace deepsea::kernels

@@ -33,3 +33,10 @@ void normals_row(int n, const float* rx, float ry_up, float ry, float ry_down, c
                  float* nz, unsigned char* irregular);
 
 }  // namespace deepsea::kernels
+
+namespace deepsea::kernels {
+
+/// Planar RGB (planes[c * n + u]) to interleaved rgb[3 * u + c].
+void interleave(int n, const float* planes, float* rgb);
+
+}  // namespace deepsea::kernels
