@@ -3,7 +3,9 @@
 backscatter) for planar scenes, compared with `deepsea reference`.
 
 It shares no code with the C++ library: its own ray set-up, analytic plane normal, Gaussian RID,
-Henyey-Greenstein / isotropic phase, and a composite Simpson rule on a fine grid along each ray.
+Henyey-Greenstein / isotropic phase, Petzold phase read from ../shared/data/optics (the measured
+table, not deepsea's embedded copy; skipped where ../shared is absent), and a composite Simpson
+rule on a fine grid along each ray.
 
 usage: reference_check.py DEEPSEA_BIN WORKDIR
 """
@@ -23,7 +25,31 @@ LIGHTS = [  # position, direction (unnormalised), intensity RGB, sigma_deg
 WATERS = {
     "hg": dict(c=(0.45, 0.20, 0.17), b=(0.12, 0.12, 0.13), phase="henyey_greenstein", g=0.8),
     "iso": dict(c=(0.6, 0.35, 0.3), b=(0.3, 0.25, 0.2), phase="isotropic", g=0.0),
+    "petzold": dict(c=(0.49, 0.20, 0.18), b=(0.11, 0.12, 0.14), phase="petzold", g=0.0),
 }
+PETZOLD_CSV = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
+                           "shared", "data", "optics", "petzold_1972_vsf.csv")
+
+
+def petzold_phase(column="coastal"):
+    """p(cos psi) from the measured table: linear in log(beta) vs log(psi), constant below the
+    first angle (DESIGN: docs/model.md), normalised numerically to 1 over the sphere."""
+    rows = [l.split(",") for l in open(PETZOLD_CSV) if l[0].isdigit()]
+    header = [l for l in open(PETZOLD_CSV) if l.startswith("psi")][0].strip().split(",")
+    col = header.index(column)
+    psi = np.array([float(r[0]) for r in rows])
+    beta = np.array([float(r[col]) for r in rows])
+    lp, lb = np.log(psi), np.log(beta)
+
+    def beta_at(deg):
+        deg = np.clip(deg, psi[0], 180.0)
+        return np.exp(np.interp(np.log(deg), lp, lb))
+
+    # normalise: 2 pi integral beta(psi) sin(psi) dpsi, fine grid, dense near 0
+    grid = np.concatenate([np.linspace(0.0, psi[0], 2001), np.geomspace(psi[0], 180.0, 400001)[1:]])
+    f = beta_at(grid) * np.sin(np.radians(grid))
+    total = 2 * math.pi * np.trapz(f, np.radians(grid))
+    return lambda cos_psi: beta_at(np.degrees(np.arccos(np.clip(cos_psi, -1, 1)))) / total
 
 
 def write_yaml(path, water):
@@ -34,8 +60,8 @@ def write_yaml(path, water):
             f"      direction: [{d[0]}, {d[1]}, {d[2]}]\n"
             f"      intensity: [{inten[0]}, {inten[1]}, {inten[2]}]\n"
             f"      rid: {{gaussian: {{sigma_deg: {sigma}}}}}\n")
-    phase = ("isotropic" if water["phase"] == "isotropic"
-             else f"{{henyey_greenstein: {{g: {water['g']}}}}}")
+    phase = {"isotropic": "isotropic", "petzold": "{petzold: coastal}"}.get(
+        water["phase"], f"{{henyey_greenstein: {{g: {water['g']}}}}}")
     c, b = water["c"], water["b"]
     text = (f"camera: {{width: {W}, height: {H}, fx: {FX}, fy: {FY}, cx: {CX}, cy: {CY}}}\n"
             "rig:\n  name: check\n  lights:\n" + "".join(lights) +
@@ -67,6 +93,8 @@ def read_layer(path, layer, chans):
 
 
 def phase(cos_psi, water):
+    if water["phase"] == "petzold":
+        return water["p"](cos_psi)
     if water["phase"] == "isotropic":
         return np.full_like(cos_psi, 1.0 / (4 * math.pi))
     g = water["g"]
@@ -142,6 +170,11 @@ def main():
     depth32 = depth.astype(np.float32).astype(np.float64)
     failures = 0
     for name, water in WATERS.items():
+        if water["phase"] == "petzold":
+            if not os.path.exists(PETZOLD_CSV):
+                print(f"{name}: skipped ({PETZOLD_CSV} absent)")
+                continue
+            water["p"] = petzold_phase()
         cfg = os.path.join(work, f"{name}.yaml")
         write_yaml(cfg, water)
         out = os.path.join(work, f"{name}.exr")
