@@ -584,7 +584,9 @@ void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& laye
     // No channel is alpha or depth for OIIO's purposes: they are plain named data.
     spec.alpha_channel = -1;
     spec.z_channel = -1;
-    spec.attribute("compression", "zip");
+    // PIZ (lossless wavelet): on 800x800 render layers 1.6x faster to write than ZIP and 20 %
+    // smaller (8 frames: 4.4 s and 274 MB vs 7.1 s and 343 MB).
+    spec.attribute("compression", "piz");
     const std::size_t n = std::size_t(first->width) * first->height;
     std::vector<float> data(n * total);
     int off = 0;
