@@ -371,15 +371,21 @@ float srgb_to_linear(float v) {
 
 namespace {
 
-/// srgb_to_linear of every code 0 .. codes of an integer image (codes = 255 or 65535).
-const std::vector<float>& srgb_decode_table(int codes) {
-    static const auto make = [](int n) {
-        std::vector<float> t(std::size_t(n) + 1);
-        for (int i = 0; i <= n; ++i) t[i] = srgb_to_linear(float(i) / float(n));
-        return t;
-    };
-    static const std::vector<float> t8 = make(255), t16 = make(65535);
-    return codes == 255 ? t8 : t16;
+std::vector<float> make_srgb_table(int codes) {
+    std::vector<float> t(std::size_t(codes) + 1);
+    for (int i = 0; i <= codes; ++i) t[i] = srgb_to_linear(float(i) / float(codes));
+    return t;
+}
+
+/// srgb_to_linear of every code 0 .. codes of an integer image (codes = 255 or 65535), each
+/// table made on first use.
+const float* srgb_decode_table(int codes) {
+    if (codes == 255) {
+        static const std::vector<float> t8 = make_srgb_table(255);
+        return t8.data();
+    }
+    static const std::vector<float> t16 = make_srgb_table(65535);
+    return t16.data();
 }
 
 }  // namespace
@@ -410,7 +416,7 @@ Image read_color(const std::string& path) {
     const int codes = spec.format.basetype == OIIO::TypeDesc::UINT8    ? 255
                       : spec.format.basetype == OIIO::TypeDesc::UINT16 ? 65535
                                                                         : 0;
-    const std::vector<float>& lut = codes ? srgb_decode_table(codes) : buf;
+    const float* lut = codes ? srgb_decode_table(codes) : nullptr;
     Image img(spec.width, spec.height, 3);
     const std::size_t n = std::size_t(spec.width) * spec.height;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {

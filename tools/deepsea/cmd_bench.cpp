@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -105,9 +106,10 @@ Camera scaled(const Camera& base, int w, int h) {
     return c;
 }
 
-/// Composites one generated frame repeatedly: all layers, or only the image (LayerSet::Final).
-Case time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a, int threads,
-                     LayerSet set = LayerSet::All) {
+/// Composites one generated frame repeatedly, for each layer set (all layers, then only the
+/// image): one bake and one frame per camera, a fresh compositor and peak window per case.
+std::vector<Case> time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a,
+                                  int threads) {
     Water water = *setup.water;
     if (a.no_forward) water.forward.enabled = false;
     const Asset asset = bake(cam, *setup.rig, water, BakeSettings{});
@@ -118,21 +120,25 @@ Case time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a, 
         RgbdFrame rgbd = render_flight_frame(flight, 0);
         frame = Frame{std::move(rgbd.rgb), std::move(rgbd.depth)};
     }
-    // From here on only what the runtime holds: the asset, one frame, the compositor.
-    reset_peak_rss();
     const AnalyticLamps lamps(*setup.rig, water);
     const AssetBackscatter backscatter(asset, cam);
-    Compositor comp(cam, water, lamps, backscatter);
-    Layers layers;
-    comp.composite(layers, frame, set);  // first frame allocates
-    std::vector<double> t;
-    for (int r = 0; r < a.repeats; ++r) {
-        const double t0 = now_ms();
-        comp.composite(layers, frame, set);
-        t.push_back(now_ms() - t0);
+    std::vector<Case> cases;
+    for (LayerSet set : {LayerSet::All, LayerSet::Final}) {
+        // From here on only what the runtime holds: the asset, one frame, the compositor.
+        reset_peak_rss();
+        Compositor comp(cam, water, lamps, backscatter);
+        Layers layers;
+        comp.composite(layers, frame, set);  // first frame allocates
+        std::vector<double> t;
+        for (int r = 0; r < a.repeats; ++r) {
+            const double t0 = now_ms();
+            comp.composite(layers, frame, set);
+            t.push_back(now_ms() - t0);
+        }
+        cases.push_back(summarize(set == LayerSet::All ? "composite" : "composite_final_only",
+                                  cam.width, cam.height, threads, t));
     }
-    return summarize(set == LayerSet::All ? "composite" : "composite_final_only", cam.width,
-                     cam.height, threads, t);
+    return cases;
 }
 
 Case time_sequence(const Setup& setup, const BenchArgs& a, int threads) {
@@ -175,12 +181,11 @@ void run(const BenchArgs& a) {
     Setup setup = load_setup({a.config});
     require_complete(setup, a.config);
     std::vector<Case> cases;
-    cases.push_back(time_compositor(setup, scaled(*setup.camera, 800, 800), a, threads));
-    cases.push_back(time_compositor(setup, scaled(*setup.camera, 1920, 1080), a, threads));
-    cases.push_back(
-        time_compositor(setup, scaled(*setup.camera, 800, 800), a, threads, LayerSet::Final));
-    cases.push_back(time_compositor(setup, scaled(*setup.camera, 1920, 1080), a, threads,
-                                    LayerSet::Final));
+    for (const auto& [w, h] : {std::pair{800, 800}, std::pair{1920, 1080}}) {
+        for (Case& c : time_compositor(setup, scaled(*setup.camera, w, h), a, threads)) {
+            cases.push_back(std::move(c));
+        }
+    }
     cases.push_back(time_sequence(setup, a, threads));
     if (a.json) {
         std::printf("{\"baseline_rss_mb\": %.1f, \"cases\": [", baseline_mb);
