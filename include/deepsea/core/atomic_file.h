@@ -1,0 +1,20 @@
+#pragma once
+/// \file Write-then-rename: no reader ever sees a half-written output.
+
+#include <functional>
+#include <string>
+
+namespace deepsea {
+
+/// Writes `path` atomically: write(tmp) fills a temporary file beside it (same folder, so the
+/// rename is atomic; same extension, so format-by-extension writers pick the same format), then
+/// the temporary is checked to be non-empty and renamed over `path`. On any failure (write
+/// throws, the temporary is empty, the rename fails) the temporary is removed; the exception
+/// from write propagates, other failures throw IoError naming `path`. The folder must exist and
+/// be writable (IoError otherwise, before write is called).
+void write_atomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);
+
+/// Throws IoError naming `path` unless its folder exists and is writable.
+void require_writable_folder(const std::string& path);
+
+}  // namespace deepsea
