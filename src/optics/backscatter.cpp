@@ -7,20 +7,23 @@
 
 namespace deepsea {
 
+Rgb lamp_in_scatter(const Light& L, const Water& water, const Vec3& X, const Vec3& out,
+                    double* d1_out) {
+    const Vec3 lx = X - L.position;
+    const double d1 = length(lx);
+    if (d1_out) *d1_out = d1;
+    if (!(d1 > 0.0)) return {};  // the point is the lamp itself
+    const Vec3 w = lx / d1;      // light -> X
+    return L.intensity_toward(w) * water.beta(dot(w, out)) * exp(water.c * -d1) *
+           (1.0 / (d1 * d1));
+}
+
 Rgb in_scatter(const Rig& rig, const Water& water, const Vec3& dir, double t) {
     const Vec3 X = dir * t;
     Rgb sum;
-    for (const Light& L : rig.lights) {
-        const Vec3 lx = X - L.position;
-        const double d1 = length(lx);
-        if (!(d1 > 0.0)) continue;  // the ray passes through the lamp itself
-        const Vec3 w = lx / d1;     // light -> X
-        // scattering angle between the light's travel (w) and the way to the camera (-dir)
-        const double cos_psi = -dot(w, dir);
-        const Rgb I = L.intensity_toward(w);
-        sum += I * water.beta(cos_psi) * exp(water.c * -(d1 + t)) * (1.0 / (d1 * d1));
-    }
-    return sum;
+    // scattered toward the camera: out = -dir
+    for (const Light& L : rig.lights) sum += lamp_in_scatter(L, water, X, -dir);
+    return sum * exp(water.c * -t);
 }
 
 namespace {

@@ -11,6 +11,13 @@
 
 namespace deepsea {
 
+/// Light of lamp L scattered at point X into the unit direction `out` (where the scattered
+/// light goes): beta(psi) I_L(theta) exp(-c d1) / d1^2 per channel, 1/m times W/(m^2 sr) for
+/// W/sr lamps, with d1 = |X - L|, cos(psi) = w . out, w the unit vector lamp -> X. Zero at the
+/// lamp itself. Writes d1 where asked. The one home of the in-scatter equation.
+Rgb lamp_in_scatter(const Light& L, const Water& water, const Vec3& X, const Vec3& out,
+                    double* d1_out = nullptr);
+
 /// Radiance added per metre of path at X = t * dir that reaches the camera:
 /// sum_l beta(psi) I_l(theta') exp(-c (d1' + t)) / d1'^2, W/(m^3 sr) ... per channel.
 /// dir must be a unit vector.

@@ -1,0 +1,88 @@
+#pragma once
+/// \file All-order light transport in homogeneous water by Monte Carlo (docs/model.md,
+/// "Multiple scattering"). Single scattering stays exact (backscatter.h); these estimators add
+/// the light that scattered two or more times, so their noise touches only that part.
+///
+/// Method: backward paths from the viewer; every path segment connects to every lamp by
+/// equiangular sampling (Kulla & Fajardo 2012), which cancels the 1/d^2 of a point lamp, so
+/// the estimate stays finite next to the lamps; free flights are sampled with the smallest
+/// channel's attenuation and carry per-channel weights; Russian roulette ends paths without
+/// bias. Deterministic: results depend only on the seeds.
+
+#include <cstdint>
+#include <vector>
+
+#include "deepsea/core/random.h"
+#include "deepsea/core/vec.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/phase_sampling.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea {
+
+/// Monte Carlo settings.
+struct MonteCarlo {
+    int paths = 4096;         ///< paths per ray
+    std::uint64_t seed = 1;   ///< base seed; each ray has its own stream
+};
+
+/// The water and lamps, with what every path needs precomputed.
+class Transport {
+public:
+    Transport(const Rig& rig, const Water& water);
+
+    /// One-sample estimate of the radiance arriving at X from the unit direction d (light
+    /// travelling along -d) that has scattered at least once: the unscattered lamp light, which
+    /// the analytic terms give exactly, is left out. W/(m^2 sr) for lamps in W/sr.
+    Rgb scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const;
+
+    /// The next backward direction at a scattering vertex X reached along the backward
+    /// direction `from`, with weight p(from . d) / pdf(d). pdf mixes the phase function about
+    /// `from` with, for each lamp, the phase function about the direction from X toward it and
+    /// a cone uniform in the angle to it: the light that reaches X after scattering forward on
+    /// the next segment comes from there, a forward-peaked phase function (g = 0.9) makes it a
+    /// sharp spike that the first strategy alone samples badly, and the lamp's glow grows as
+    /// 1 / angle (one-sample MIS, balance heuristic).
+    PhaseSample next_direction(const Vec3& X, const Vec3& from, Rng& rng) const;
+    /// Density of next_direction's choice of d, 1/sr; `from` may be null: then the mixture's
+    /// first half is uniform over the sphere instead of the phase function.
+    double direction_pdf(const Vec3& X, const Vec3* from, const Vec3& d) const;
+    /// Samples d from that mixture with a uniform first half (for estimators of the radiance
+    /// arriving at X from all directions); weight 1 / pdf.
+    PhaseSample any_direction(const Vec3& X, Rng& rng) const;
+
+    const Rig& rig() const { return m_rig; }
+    const Water& water() const { return m_water; }
+    const PhaseSampler& sampler() const { return m_sampler; }
+    /// Path length beyond which a path's light is below 1e-6 of what it had (metres).
+    double far() const { return m_far; }
+
+private:
+    /// A direction from the mixture that direction_pdf describes.
+    Vec3 sample_mixture(const Vec3& X, const Vec3* from, Rng& rng) const;
+    /// Light scattered once on the ray X + r d (r > 0) toward -d, from lamp L, one equiangular
+    /// sample: integral of exp(-c r) beta I_L exp(-c d1) / d1^2 dr.
+    Rgb segment_from_lamp(const Light& L, const Vec3& X, const Vec3& d, double u) const;
+
+    Rig m_rig;
+    Water m_water;
+    PhaseSampler m_sampler;
+    double m_c_min = 0.0;  ///< the smallest channel's attenuation: free flights use it
+    double m_far = 0.0;
+    double m_theta_p = M_PI;  ///< median scattering angle of the phase function, radians
+};
+
+/// Per-sample value of a Monte Carlo estimate and its standard error.
+struct Estimate {
+    std::vector<Rgb> value;
+    std::vector<Rgb> std_error;
+};
+
+/// Radiance reaching the viewer at the origin along unit direction dir from light that
+/// scattered two or more times, collected from path length 0 to t[k] (t ascending, t[0] >= 0):
+/// add backscatter_cumulative for all orders. `stream` picks the ray's random stream.
+Estimate higher_orders_cumulative(const Transport& transport, const Vec3& dir,
+                                  const std::vector<double>& t, const MonteCarlo& mc,
+                                  std::uint64_t stream);
+
+}  // namespace deepsea

@@ -1,0 +1,102 @@
+#include "deepsea/optics/multiple_scattering.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <utility>
+
+#include "deepsea/optics/backscatter.h"
+
+namespace deepsea {
+
+namespace {
+
+Rig isotropic_lamp(const Vec3& at) {
+    Light L;
+    L.position = at;
+    L.rid.sigma_deg = 1e9;  // Gaussian this wide is 1 everywhere: isotropic
+    return Rig{"iso", {L}};
+}
+
+Water water(double c, double b, Phase phase) {
+    Water w;
+    w.c = Rgb(c);
+    w.b = Rgb(b);
+    w.phase = phase;
+    return w;
+}
+
+/// Net outward flux of scattered light through the sphere of radius R around an isotropic
+/// lamp, from scattered_radiance at one point (by symmetry): 4 pi R^2 times the integral over
+/// directions of L(X, d) (-d . n). Mean and standard error.
+std::pair<double, double> scattered_flux(const Transport& tr, double R, int n, Rng& rng) {
+    const Vec3 X(0, 0, R), normal(0, 0, 1);
+    double sum = 0.0, sum2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const PhaseSample ps = tr.any_direction(X, rng);
+        const double f = 4.0 * M_PI * R * R * tr.scattered_radiance(X, ps.direction, rng).r *
+                         -dot(ps.direction, normal) * ps.weight;
+        sum += f;
+        sum2 += f * f;
+    }
+    const double mean = sum / n;
+    return {mean, std::sqrt((sum2 / n - mean * mean) / n)};
+}
+
+}  // namespace
+
+TEST(MultipleScattering, ConservesEnergyInWaterThatOnlyScatters) {
+    // Without absorption the power leaving a sphere around the lamp is the lamp's power P:
+    // the unscattered part P exp(-b R) and the scattered part P (1 - exp(-b R)), all orders.
+    // The net flux is a difference of outgoing and incoming light, and Petzold's forward peak
+    // (1e5 times its side value) makes single paths carry much: its standard error is larger.
+    for (const auto& [p, max_se] : {std::pair{Phase{PhaseKind::Isotropic, 0.0}, 0.05},
+                                    std::pair{Phase{PhaseKind::HenyeyGreenstein, 0.9}, 0.05},
+                                    std::pair{Phase{PhaseKind::PetzoldCoastal, 0.0}, 0.12}}) {
+        const double b = 0.5, R = 2.0;
+        const Transport tr(isotropic_lamp({0, 0, 0}), water(b, b, p));
+        Rng rng(3);
+        const double expected = 4.0 * M_PI * (1.0 - std::exp(-b * R));  // 1 W/sr everywhere
+        const auto [flux, se] = scattered_flux(tr, R, 60000, rng);
+        EXPECT_LT(se / expected, max_se) << to_string(p.kind);
+        EXPECT_NEAR(flux / expected, 1.0, 4.0 * se / expected) << to_string(p.kind);
+    }
+}
+
+TEST(MultipleScattering, HigherOrdersVanishAsScatteringGoesToZero) {
+    // Orders >= 2 scale as b^2 while single scattering scales as b: their ratio halves with b.
+    Rig rig = isotropic_lamp({0.5, 0, 0});
+    const Vec3 dir = normalize(Vec3(0.1, 0.05, 1));
+    const std::vector<double> t{0.0, 1.0, 4.0, 12.0};
+    const auto ratio = [&](double b) {
+        const Water w = water(0.3, b, Phase{PhaseKind::HenyeyGreenstein, 0.5});
+        const Transport tr(rig, w);
+        const Estimate ms = higher_orders_cumulative(tr, dir, t, MonteCarlo{20000, 5}, 0);
+        const Rgb ss = backscatter_integral(rig, w, dir, 0.0, t.back()).value;
+        return ms.value.back().r / ss.r;
+    };
+    const double r1 = ratio(0.02), r2 = ratio(0.01);
+    EXPECT_GT(r1, 0.0);
+    EXPECT_NEAR(r1 / r2, 2.0, 0.15);
+}
+
+TEST(MultipleScattering, CumulativeIsMonotoneWithHonestErrors) {
+    const Rig rig = isotropic_lamp({0.5, 0, 0});
+    const Water w = water(0.3, 0.2, Phase{PhaseKind::HenyeyGreenstein, 0.9});
+    const Transport tr(rig, w);
+    const std::vector<double> t{0.0, 0.5, 1.0, 2.0, 4.0, 8.0};
+    const Vec3 dir(0, 0, 1);
+    const Estimate a = higher_orders_cumulative(tr, dir, t, MonteCarlo{20000, 1}, 0);
+    for (std::size_t k = 1; k < t.size(); ++k) {
+        EXPECT_GE(a.value[k].r, a.value[k - 1].r);
+    }
+    // Independent streams agree within their combined standard errors (5 sigma).
+    const Estimate b = higher_orders_cumulative(tr, dir, t, MonteCarlo{20000, 2}, 0);
+    const double diff = std::fabs(a.value.back().r - b.value.back().r);
+    const double se = std::hypot(a.std_error.back().r, b.std_error.back().r);
+    EXPECT_GT(se, 0.0);
+    EXPECT_LT(diff, 5.0 * se);
+    EXPECT_LT(se / a.value.back().r, 0.1);
+}
+
+}  // namespace deepsea
