@@ -8,6 +8,14 @@
 
 namespace deepsea {
 
+const char* to_string(Scattering s) { return s == Scattering::Multiple ? "multiple" : "single"; }
+
+Scattering parse_scattering(const std::string& name) {
+    if (name == "single") return Scattering::Single;
+    if (name == "multiple") return Scattering::Multiple;
+    throw ConfigError("scattering: expected 'single' or 'multiple', got '" + name + "'");
+}
+
 void Asset::allocate() {
     const Lattice& l = info.lattice;
     values.assign(std::size_t(l.ni) * l.nj * l.nk() * 3, 0.0f);

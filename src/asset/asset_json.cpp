@@ -64,6 +64,13 @@ json settings_json(const BakeInfo& info) {
               {"depth_samples", l.slabs()},
               {"quadrature", quadrature_json(info.quadrature)}};
     if (l.scheme == DepthScheme::Log) s["z0"] = l.z0;
+    // Single-scattering assets hash as before this setting existed.
+    if (info.scattering == Scattering::Multiple) {
+        s["scattering"] = to_string(info.scattering);
+        s["paths"] = info.higher_orders.paths;
+        s["stride"] = info.higher_orders.stride;
+        s["seed"] = info.higher_orders.seed;
+    }
     if (info.z_max_auto) {
         s["z_max"] = "auto";
         s["tolerance"] = info.tolerance;
@@ -227,14 +234,24 @@ std::string bake_info_to_json(const BakeInfo& info, int indent) {
                     {"tolerance", info.tolerance},
                     {"z", l.z}};
     if (l.scheme == DepthScheme::Log) lattice["z0"] = l.z0;
-    const json j = {{"format", kAssetFormat},
+    json j = {{"format", kAssetFormat},
                     {"baker_version", info.baker_version},
                     {"input_hash", info.input_hash},
                     {"camera", camera_json(info.camera)},
                     {"rig", rig_json(info.rig)},
                     {"water", water_json(info.water)},
                     {"lattice", lattice},
-                    {"quadrature", quadrature_json(info.quadrature)}};
+                    {"quadrature", quadrature_json(info.quadrature)},
+                    {"scattering", to_string(info.scattering)}};
+    if (info.scattering == Scattering::Multiple) {
+        const HigherOrderSettings& h = info.higher_orders;
+        j["multiple_scattering"] = {{"method", "monte carlo, orders >= 2"},
+                                    {"paths", h.paths},
+                                    {"stride", h.stride},
+                                    {"seed", h.seed},
+                                    {"rel_std_error", h.rel_std_error},
+                                    {"fraction", h.fraction}};
+    }
     return j.dump(indent);
 }
 
@@ -280,6 +297,26 @@ BakeInfo bake_info_from_json(const std::string& text) {
     info.quadrature.rel_tol = num(q, "rel_tol", "quadrature");
     info.quadrature.abs_tol = num(q, "abs_tol", "quadrature");
     info.quadrature.max_depth = integer(q, "max_depth", "quadrature");
+    // Assets from before multiple scattering existed hold single scattering.
+    if (j.contains("scattering")) {
+        try {
+            info.scattering = parse_scattering(str(j, "scattering", "(top)"));
+        } catch (const ConfigError& e) {
+            fail("scattering", e.what());
+        }
+    }
+    if (info.scattering == Scattering::Multiple) {
+        const json& m = get(j, "multiple_scattering", "(top)");
+        HigherOrderSettings& h = info.higher_orders;
+        h.paths = integer(m, "paths", "multiple_scattering");
+        h.stride = integer(m, "stride", "multiple_scattering");
+        const json& seed = get(m, "seed", "multiple_scattering");
+        if (!seed.is_number_unsigned()) fail("multiple_scattering.seed", "not an unsigned integer");
+        h.seed = seed.get<std::uint64_t>();
+        h.rel_std_error = num(m, "rel_std_error", "multiple_scattering");
+        h.fraction = num(m, "fraction", "multiple_scattering");
+        if (h.paths < 1 || h.stride < 1) fail("multiple_scattering", "paths and stride must be >= 1");
+    }
     return info;
 }
 

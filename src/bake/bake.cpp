@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "deepsea/asset/asset_json.h"
+#include "deepsea/bake/higher_orders.h"
 #include "deepsea/core/error.h"
 
 namespace deepsea {
@@ -65,6 +66,10 @@ void validate(const BakeSettings& s) {
     }
     if (!(s.tolerance > 0.0 && s.tolerance < 0.5)) {
         throw ConfigError("--tolerance must be in (0, 0.5), got " + std::to_string(s.tolerance));
+    }
+    if (s.scattering == Scattering::Multiple &&
+        (s.higher_orders.paths < 1 || s.higher_orders.stride < 1)) {
+        throw ConfigError("multiple scattering: paths and stride must be >= 1");
     }
     if (s.threads < 0) throw ConfigError("--threads must be >= 0, got " + std::to_string(s.threads));
     if (s.scheme == DepthScheme::Log && !(s.z0 > 0.0)) {
@@ -145,6 +150,8 @@ BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const 
     info.z_max_auto = s.z_max == 0.0;
     info.tolerance = info.z_max_auto ? s.tolerance : 0.0;
     info.quadrature = s.quadrature;
+    info.scattering = s.scattering;
+    if (s.scattering == Scattering::Multiple) info.higher_orders = s.higher_orders;
     info.baker_version = kBakerVersion;
     info.input_hash = input_hash(info);
     return info;
@@ -194,6 +201,14 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
             progress.add(long(r.size()));
         });
     });
+    if (s.scattering == Scattering::Multiple) {
+        Parallel par{s.threads, 1, {}};
+        if (s.progress) par.progress = [&](long done, long total) {
+            s.progress(done, total);
+            return true;
+        };
+        add_higher_orders(asset, par);
+    }
     return asset;
 }
 

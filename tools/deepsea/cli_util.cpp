@@ -50,11 +50,19 @@ void BakeFlags::add_to(CLI::App& sub) {
     sub.add_option("--tolerance", settings.tolerance,
                    "auto z-max: remaining backscatter / total beyond it");
     sub.add_option("--threads", settings.threads, "worker threads (0: all cores)");
+    sub.add_option("--scattering", scattering,
+                   "single (the paper's model, exact) | multiple (all orders, Monte Carlo)");
+    sub.add_option("--paths", settings.higher_orders.paths,
+                   "multiple scattering: Monte Carlo paths per computed column");
+    sub.add_option("--ms-stride", settings.higher_orders.stride,
+                   "multiple scattering: computed on every n-th lattice column and row");
+    sub.add_option("--seed", settings.higher_orders.seed, "multiple scattering: random seed");
 }
 
 BakeSettings BakeFlags::resolve() const {
     BakeSettings s = settings;
     if (!scheme.empty()) s.scheme = parse_depth_scheme(scheme);
+    s.scattering = parse_scattering(scattering);
     if (z_max == "auto" || z_max.empty()) {
         s.z_max = 0.0;
     } else {

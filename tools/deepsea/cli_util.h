@@ -36,6 +36,7 @@ struct BakeFlags {
     BakeSettings settings;
     std::string scheme;  ///< empty: the default
     std::string z_max;   ///< empty or "auto": auto
+    std::string scattering = "single";
     void add_to(CLI::App& sub);
     /// Settings with the flags applied; ConfigError for a bad value.
     BakeSettings resolve() const;

@@ -47,6 +47,12 @@ void run(const BakeArgs& a) {
                 "bake %.2f s, with writing %.2f s\n",
                 a.output.c_str(), l.ni, l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(),
                 std::filesystem::file_size(a.output) / 1e6, bake_s, total_s);
+    if (asset.info.scattering == Scattering::Multiple) {
+        const HigherOrderSettings& h = asset.info.higher_orders;
+        std::printf("multiple scattering: orders >= 2 are %.1f %% of the light at z_max, "
+                    "Monte Carlo standard error %.2f %% of the total (%d paths per column)\n",
+                    100.0 * h.fraction, 100.0 * h.rel_std_error, h.paths);
+    }
     if (a.check) {
         // The file's values, as the runtime will see them (half storage included).
         const Asset loaded = load_asset(a.output);

@@ -100,6 +100,16 @@ void run(const InfoArgs& a) {
                 b.z_max_auto ? " (auto)" : "");
     std::printf("values     backscatter at z_max: R %.4g..%.4g, G %.4g..%.4g, B %.4g..%.4g\n",
                 lo.r, hi.r, lo.g, hi.g, lo.b, hi.b);
+    if (b.scattering == Scattering::Multiple) {
+        const HigherOrderSettings& h = b.higher_orders;
+        std::printf("scattering multiple: single exact + orders >= 2 by Monte Carlo (%d paths on "
+                    "every %d-th column, seed %llu): %.1f %% of the light, standard error "
+                    "%.2f %% of the total\n",
+                    h.paths, h.stride, static_cast<unsigned long long>(h.seed), 100.0 * h.fraction,
+                    100.0 * h.rel_std_error);
+    } else {
+        std::printf("scattering single (the paper's model, exact)\n");
+    }
     std::printf("bake       tolerance %g, quadrature rel %g, %s, inputs %s\n", b.tolerance,
                 b.quadrature.rel_tol, b.baker_version.c_str(), b.input_hash.c_str());
     for (const GridSummary& g : s.grids) {

@@ -4,6 +4,7 @@
 /// No OpenVDB here: the runtime reads this header only; asset_file.h does the file.
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,27 @@ namespace deepsea {
 /// The asset format this library writes and the newest it reads (`deepsea:format`).
 inline constexpr int kAssetFormat = 1;
 
+/// Which light the backscatter values hold.
+enum class Scattering {
+    Single,    ///< the paper's model: light scattered once, exact
+    Multiple,  ///< all orders: exact single scattering plus Monte Carlo for orders >= 2
+};
+/// "single" / "multiple"
+const char* to_string(Scattering s);
+/// Inverse of to_string; throws ConfigError naming the known values.
+Scattering parse_scattering(const std::string& name);
+
+/// Monte Carlo settings of a multiple-scattering bake, and what it measured of itself.
+struct HigherOrderSettings {
+    int paths = 65536;        ///< Monte Carlo paths per computed column, >= 1
+    int stride = 4;           ///< computed on every stride-th lattice column and row (and the
+                              ///< last), bilinear in between: this light is smooth in angle
+    std::uint64_t seed = 1;   ///< base seed; results depend on it, never on the threads
+    double rel_std_error = 0; ///< measured: mean over computed columns and channels of the
+                              ///< standard error at z_max / the all-order total
+    double fraction = 0;      ///< measured: mean share of orders >= 2 in the total at z_max
+};
+
 /// Everything a bake depended on, stored as the `deepsea:bake` JSON (asset_json.h).
 struct BakeInfo {
     Camera camera;
@@ -27,6 +49,8 @@ struct BakeInfo {
     bool z_max_auto = false;   ///< z_max was chosen by the tail tolerance, not given
     double tolerance = 0.0;    ///< auto z_max: tail beyond z_max / total, every column, channel
     Quadrature quadrature;     ///< accuracy of the exact integrals at bake time
+    Scattering scattering = Scattering::Single;
+    HigherOrderSettings higher_orders;  ///< Multiple only
     std::string baker_version; ///< the bake module that made it (kBakerVersion)
     std::string input_hash;    ///< input_hash(*this) at bake time: "fnv1a64:<16 hex>"
 };

@@ -27,6 +27,8 @@ struct BakeSettings {
     double z_max = 0.0;                ///< planar depth of the last sample, metres; 0: auto
     double tolerance = 5e-4;           ///< auto z_max: the tail beyond it / the total, (0, 0.5)
     Quadrature quadrature{1e-6, 1e-14, 40};  ///< the exact integrals' accuracy
+    Scattering scattering = Scattering::Single;  ///< Multiple: add orders >= 2 (Monte Carlo)
+    HigherOrderSettings higher_orders;           ///< Multiple only
     int threads = 0;                   ///< 0: all cores
     /// Called as columns finish (done, total), serialised, from any worker thread.
     std::function<void(long done, long total)> progress;

@@ -1,0 +1,17 @@
+#pragma once
+/// \file Multiple scattering in a baked asset: the light scattered two or more times, added to
+/// the exact single-scattering columns (docs/model.md, "Multiple scattering").
+
+#include "deepsea/asset/asset.h"
+#include "deepsea/core/parallel.h"
+
+namespace deepsea {
+
+/// Adds the radiance of orders >= 2 to an asset holding exact single scattering (values as
+/// bake() leaves them), with asset.info.higher_orders' settings, and records there what the
+/// estimate measured of itself (rel_std_error, fraction) and Scattering::Multiple. Parallel
+/// over computed columns; the result is identical at any thread count. Throws ConfigError for
+/// paths < 1 or stride < 1, Cancelled if par.progress says stop.
+void add_higher_orders(Asset& asset, const Parallel& par = {});
+
+}  // namespace deepsea

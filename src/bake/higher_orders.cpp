@@ -1,0 +1,104 @@
+#include "deepsea/bake/higher_orders.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "deepsea/core/error.h"
+#include "deepsea/optics/multiple_scattering.h"
+
+namespace deepsea {
+
+namespace {
+
+/// Lattice indices computed along one axis of n: 0, stride, 2 stride, ..., and n - 1.
+std::vector<int> computed(int n, int stride) {
+    std::vector<int> out;
+    for (int i = 0; i < n; i += stride) out.push_back(i);
+    if (out.back() != n - 1) out.push_back(n - 1);
+    return out;
+}
+
+/// Bracket of lattice index i among the computed indices c: c[a] <= i <= c[a + 1], weight of
+/// c[a + 1].
+void bracket(const std::vector<int>& c, int i, std::size_t& a, double& w) {
+    a = std::size_t(std::upper_bound(c.begin(), c.end(), i) - c.begin());
+    a = std::min(std::max<std::size_t>(a, 1), c.size() - 1) - 1;
+    if (c.size() == 1) {
+        w = 0.0;
+        return;
+    }
+    w = double(i - c[a]) / double(c[a + 1] - c[a]);
+}
+
+}  // namespace
+
+void add_higher_orders(Asset& asset, const Parallel& par) {
+    HigherOrderSettings& s = asset.info.higher_orders;
+    if (s.paths < 1) throw ConfigError("multiple scattering: paths must be >= 1, got " + std::to_string(s.paths));
+    if (s.stride < 1) throw ConfigError("multiple scattering: stride must be >= 1, got " + std::to_string(s.stride));
+    const BakeInfo& info = asset.info;
+    const Lattice& l = info.lattice;
+    const Transport transport(info.rig, info.water);
+    const std::vector<int> ci = computed(l.ni, s.stride), cj = computed(l.nj, s.stride);
+    const std::size_t nk = std::size_t(l.nk());
+    // Higher orders of computed column (a, b) at [(a * cj.size() + b) * nk + k].
+    std::vector<Rgb> coarse(ci.size() * cj.size() * nk);
+    std::vector<double> rel_error(ci.size() * cj.size()), fraction(ci.size() * cj.size());
+    const MonteCarlo mc{s.paths, s.seed};
+    parallel_for(
+        ci.size() * cj.size(),
+        [&](std::size_t begin, std::size_t end) {
+            std::vector<double> t(nk);
+            for (std::size_t n = begin; n < end; ++n) {
+                const int i = ci[n / cj.size()], j = cj[n % cj.size()];
+                const Vec3 ray = info.camera.ray(l.u(i), l.v(j));
+                const double stretch = length(ray);
+                for (std::size_t k = 0; k < nk; ++k) t[k] = l.z[k] * stretch;
+                const std::uint64_t stream = std::uint64_t(i) * std::uint64_t(l.nj) + std::uint64_t(j);
+                const Estimate e = higher_orders_cumulative(transport, ray / stretch, t, mc, stream);
+                std::copy(e.value.begin(), e.value.end(), coarse.begin() + std::ptrdiff_t(n * nk));
+                const Rgb single = asset.at(i, j, int(nk) - 1);
+                double err = 0.0, frac = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    const double total = single[c] + e.value.back()[c];
+                    if (total > 0.0) {
+                        err += e.std_error.back()[c] / total / 3.0;
+                        frac += e.value.back()[c] / total / 3.0;
+                    }
+                }
+                rel_error[n] = err;
+                fraction[n] = frac;
+            }
+        },
+        Parallel{par.threads, 1, par.progress});
+
+    for (int i = 0; i < l.ni; ++i) {
+        std::size_t a;
+        double wa;
+        bracket(ci, i, a, wa);
+        for (int j = 0; j < l.nj; ++j) {
+            std::size_t b;
+            double wb;
+            bracket(cj, j, b, wb);
+            const auto at = [&](std::size_t ia, std::size_t jb, std::size_t k) {
+                return coarse[(ia * cj.size() + jb) * nk + k];
+            };
+            const std::size_t a1 = std::min(a + 1, ci.size() - 1), b1 = std::min(b + 1, cj.size() - 1);
+            float* out = asset.values.data() + asset.index(i, j, 0);
+            for (std::size_t k = 0; k < nk; ++k) {
+                const Rgb v = at(a, b, k) * ((1 - wa) * (1 - wb)) + at(a1, b, k) * (wa * (1 - wb)) +
+                              at(a, b1, k) * ((1 - wa) * wb) + at(a1, b1, k) * (wa * wb);
+                for (int c = 0; c < 3; ++c) out[3 * k + c] += float(v[c]);
+            }
+        }
+    }
+    s.rel_std_error = s.fraction = 0.0;
+    for (std::size_t n = 0; n < rel_error.size(); ++n) {
+        s.rel_std_error += rel_error[n] / double(rel_error.size());
+        s.fraction += fraction[n] / double(fraction.size());
+    }
+    asset.info.scattering = Scattering::Multiple;
+}
+
+}  // namespace deepsea
