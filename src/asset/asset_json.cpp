@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deepsea/core/error.h"
+#include "deepsea/optics/schema.h"
 
 namespace deepsea {
 
@@ -269,6 +270,15 @@ BakeInfo bake_info_from_json(const std::string& text) {
     info.camera = parse_camera(get(j, "camera", "(top)"));
     info.rig = parse_rig(get(j, "rig", "(top)"));
     info.water = parse_water(get(j, "water", "(top)"));
+    try {
+        // The same range checks as the YAML configs (optics/schema.h): a damaged or hand-edited
+        // asset is refused here rather than rendering nonsense.
+        validate(info.camera);
+        validate(info.rig);
+        validate(info.water);
+    } catch (const SchemaError& e) {
+        fail(e.key(), e.problem());
+    }
 
     const json& lj = get(j, "lattice", "(top)");
     info.z_max_auto = get(lj, "z_max_auto", "lattice").is_boolean() && lj["z_max_auto"].get<bool>();

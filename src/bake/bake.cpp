@@ -57,21 +57,21 @@ double min_channel(const Rgb& x) { return std::min({x.r, x.g, x.b}); }
 }  // namespace
 
 void validate(const BakeSettings& s) {
-    if (s.step < 1) throw ConfigError("--xy-step must be >= 1 pixel, got " + std::to_string(s.step));
+    if (s.step < 1) throw ConfigError("xy_step must be >= 1 pixel, got " + std::to_string(s.step));
     if (s.depth_samples < 2) {
-        throw ConfigError("--depth-samples must be >= 2, got " + std::to_string(s.depth_samples));
+        throw ConfigError("depth_samples must be >= 2, got " + std::to_string(s.depth_samples));
     }
     if (s.z_max < 0.0 || !std::isfinite(s.z_max)) {
-        throw ConfigError("--z-max must be > 0 metres or auto, got " + std::to_string(s.z_max));
+        throw ConfigError("z_max must be > 0 metres or auto, got " + std::to_string(s.z_max));
     }
     if (!(s.tolerance > 0.0 && s.tolerance < 0.5)) {
-        throw ConfigError("--tolerance must be in (0, 0.5), got " + std::to_string(s.tolerance));
+        throw ConfigError("tolerance must be in (0, 0.5), got " + std::to_string(s.tolerance));
     }
     if (s.scattering == Scattering::Multiple &&
         (s.higher_orders.paths < 1 || s.higher_orders.stride < 1)) {
         throw ConfigError("multiple scattering: paths and stride must be >= 1");
     }
-    if (s.threads < 0) throw ConfigError("--threads must be >= 0, got " + std::to_string(s.threads));
+    if (s.threads < 0) throw ConfigError("threads must be >= 0, got " + std::to_string(s.threads));
     if (s.scheme == DepthScheme::Log && !(s.z0 > 0.0)) {
         throw ConfigError("log depth scheme: z0 must be > 0 metres, got " + std::to_string(s.z0));
     }

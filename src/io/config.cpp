@@ -1,25 +1,25 @@
 #include "deepsea/io/config.h"
 
-#include <algorithm>
-#include <array>
-#include <charconv>
-#include <cmath>
-#include <cstring>
-#include <filesystem>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <sstream>
 #include <utility>
 
-#include <yaml-cpp/yaml.h>
-
+#include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/jerlov.h"
+#include "deepsea/optics/schema.h"
+#include "yaml_reader.h"
 
 namespace deepsea {
 
 namespace {
+
+using yaml::Document;
+using yaml::Field;
+using yaml::MapView;
+using yaml::fmt;
+using yaml::join;
 
 /// Scattering albedo b/c used when a config gives `attenuation` without `scattering` and no
 /// preset: the mean band albedo of the six Jerlov presets (0.66; they range from 0.23 in the
@@ -27,186 +27,9 @@ namespace {
 /// should give it; this keeps a c-only config usable with a plausible amount of backscatter.
 constexpr double kDefaultAlbedo = 0.66;
 
-// ---------------------------------------------------------------------------------------------
-// Error reporting: every message is "file:line: key.path: problem".
-
-struct Ctx {
-    std::string file;
-};
-
-int line_of(const YAML::Mark& m) { return m.is_null() ? 1 : m.line + 1; }
-
-[[noreturn]] void fail(const Ctx& ctx, const YAML::Mark& mark, const std::string& path,
-                       const std::string& problem) {
-    throw ConfigError(ctx.file + ":" + std::to_string(line_of(mark)) + ": " +
-                      (path.empty() ? std::string("(top level)") : path) + ": " + problem);
-}
-
-std::string join(const std::vector<std::string>& v, const char* sep = ", ") {
-    std::string out;
-    for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
-    return out;
-}
-
-/// What a node holds, for "expected X, got Y" messages.
-std::string describe(const YAML::Node& n) {
-    switch (n.Type()) {
-        case YAML::NodeType::Null: return "nothing";
-        case YAML::NodeType::Scalar:
-            return (n.Tag() == "!" ? "the string \"" : "'") + n.Scalar() +
-                   (n.Tag() == "!" ? "\"" : "'");
-        case YAML::NodeType::Sequence: return "a list";
-        case YAML::NodeType::Map: return "a map";
-        default: return "an undefined value";
-    }
-}
-
-/// A value with where it came from: its key path and the best line to report.
-struct Field {
-    YAML::Node node;
-    YAML::Mark mark;      ///< where the value starts: for errors in the value
-    std::string path;
-    YAML::Mark key_mark;  ///< the line of its key (or list item): for errors about the whole
-                          ///< value, such as a missing key inside it
-};
-
-Field make_field(const YAML::Node& value, const YAML::Mark& key, std::string path) {
-    const YAML::Mark m = value.Mark();
-    // A null value ("key:" with nothing after it) may carry no mark of its own.
-    return {value, m.is_null() ? key : m, std::move(path), key};
-}
-
-std::string child_path(const std::string& parent, const std::string& key) {
-    return parent.empty() ? key : parent + "." + key;
-}
-
-/// The keys of one YAML map, checked against the allowed set (unknown and repeated keys are
-/// errors: yaml-cpp itself silently keeps only one of two equal keys).
-class MapView {
-public:
-    MapView(const Ctx& ctx, const Field& f, const std::vector<std::string>& allowed)
-        : ctx_(ctx), field_(f) {
-        if (!f.node.IsMap()) fail(ctx, f.mark, f.path, "expected a map, got " + describe(f.node));
-        for (auto it = f.node.begin(); it != f.node.end(); ++it) {
-            const YAML::Node k = it->first;  // a copy: it-> yields a temporary
-            const std::string path = child_path(f.path, k.IsScalar() ? k.Scalar() : "?");
-            if (!k.IsScalar()) fail(ctx, k.Mark(), f.path, "keys must be plain names");
-            const std::string key = k.Scalar();
-            if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
-                fail(ctx, k.Mark(), path,
-                     "unknown key (expected " + join(allowed, ", ") + ")");
-            if (entries_.count(key))
-                fail(ctx, k.Mark(), path,
-                     "repeated key (first given on line " +
-                         std::to_string(line_of(entries_.at(key).mark)) + ")");
-            entries_.emplace(key, make_field(it->second, k.Mark(), path));
-        }
-    }
-
-    bool has(const std::string& key) const { return entries_.count(key) != 0; }
-    const Field& mark_field() const { return field_; }
-
-    /// A required key: missing is reported at the line of the enclosing map's key.
-    const Field& need(const std::string& key) const {
-        const auto it = entries_.find(key);
-        if (it == entries_.end())
-            fail(ctx_, field_.key_mark.is_null() ? field_.mark : field_.key_mark,
-                 child_path(field_.path, key), "missing required key");
-        return it->second;
-    }
-    const Field* opt(const std::string& key) const {
-        const auto it = entries_.find(key);
-        return it == entries_.end() ? nullptr : &it->second;
-    }
-    std::vector<std::string> keys() const {
-        std::vector<std::string> k;
-        for (const auto& e : entries_) k.push_back(e.first);
-        return k;
-    }
-
-private:
-    const Ctx& ctx_;
-    Field field_;
-    std::map<std::string, Field> entries_;
-};
-
-// ---------------------------------------------------------------------------------------------
-// Scalars and vectors.
-
-/// Shortest text that reads back to exactly v (messages and setup_to_yaml).
-std::string fmt(double v) {
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
-
-double get_number(const Ctx& ctx, const Field& f) {
-    // A quoted scalar ("1.0") is a string in YAML: strict configs do not coerce it.
-    if (!f.node.IsScalar() || f.node.Tag() == "!")
-        fail(ctx, f.mark, f.path, "expected a number, got " + describe(f.node));
-    double v = 0.0;
-    try {
-        v = f.node.as<double>();
-    } catch (const YAML::Exception&) {
-        fail(ctx, f.mark, f.path, "expected a number, got " + describe(f.node));
-    }
-    if (!std::isfinite(v)) fail(ctx, f.mark, f.path, "must be a finite number");
-    return v;
-}
-
-int get_int(const Ctx& ctx, const Field& f) {
-    if (!f.node.IsScalar() || f.node.Tag() == "!")
-        fail(ctx, f.mark, f.path, "expected an integer, got " + describe(f.node));
-    long long v = 0;
-    try {
-        v = f.node.as<long long>();
-    } catch (const YAML::Exception&) {
-        fail(ctx, f.mark, f.path, "expected an integer, got " + describe(f.node));
-    }
-    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-        fail(ctx, f.mark, f.path, "integer out of range");
-    return int(v);
-}
-
-std::string get_string(const Ctx& ctx, const Field& f) {
-    if (!f.node.IsScalar()) fail(ctx, f.mark, f.path, "expected a string, got " + describe(f.node));
-    return f.node.Scalar();
-}
-
-std::vector<Field> get_list(const Ctx& ctx, const Field& f) {
-    if (!f.node.IsSequence())
-        fail(ctx, f.mark, f.path, "expected a list, got " + describe(f.node));
-    std::vector<Field> out;
-    for (std::size_t i = 0; i < f.node.size(); ++i)
-        out.push_back(make_field(f.node[i], f.node[i].Mark().is_null() ? f.mark : f.node[i].Mark(),
-                                 f.path + "[" + std::to_string(i) + "]"));
-    return out;
-}
-
-std::array<double, 3> get_triple(const Ctx& ctx, const Field& f, const char* what) {
-    const auto items = get_list(ctx, f);
-    if (items.size() != 3)
-        fail(ctx, f.mark, f.path,
-             std::string("expected a list of 3 numbers [") + what + "], got " +
-                 std::to_string(items.size()));
-    return {get_number(ctx, items[0]), get_number(ctx, items[1]), get_number(ctx, items[2])};
-}
-
-Vec3 get_vec3(const Ctx& ctx, const Field& f) {
-    const auto v = get_triple(ctx, f, "x, y, z");
-    return {v[0], v[1], v[2]};
-}
-
-/// R, G, B triple with each channel >= 0.
-Rgb get_rgb(const Ctx& ctx, const Field& f) {
-    const auto v = get_triple(ctx, f, "r, g, b");
-    static const char* names[] = {"R", "G", "B"};
-    for (int i = 0; i < 3; ++i)
-        if (v[i] < 0.0)
-            fail(ctx, f.mark, f.path,
-                 std::string("must be >= 0 (") + names[i] + " is " + fmt(v[i]) + ")");
-    return {v[0], v[1], v[2]};
-}
+// The key names and every range check live in optics/schema.h, shared with the asset's JSON;
+// this file maps YAML onto the structs (types, required keys, defaults, presets) and then
+// calls validate(), whose errors Document::fail reports at the offending line.
 
 // ---------------------------------------------------------------------------------------------
 // camera
@@ -215,29 +38,18 @@ Rgb get_rgb(const Ctx& ctx, const Field& f) {
 //   width   pixels  int > 0   yes
 //   height  pixels  int > 0   yes
 //   fx, fy  pixels  > 0       yes
-//   cx, cy  pixels  any       yes   (pixel centres at integer coordinates, DESIGN.md 1)
+//   cx, cy  pixels  any       yes   (pixel centres at integer coordinates, docs/model.md)
 
-Camera parse_camera(const Ctx& ctx, const Field& f) {
-    const MapView m(ctx, f, {"width", "height", "fx", "fy", "cx", "cy"});
+Camera parse_camera(const Document& doc, const Field& f) {
+    const MapView m(doc, f, schema::kCamera);
     Camera cam;
-    auto positive_int = [&](const char* key) {
-        const Field& v = m.need(key);
-        const int x = get_int(ctx, v);
-        if (x <= 0) fail(ctx, v.mark, v.path, "must be > 0, got " + std::to_string(x));
-        return x;
-    };
-    auto positive = [&](const char* key) {
-        const Field& v = m.need(key);
-        const double x = get_number(ctx, v);
-        if (x <= 0.0) fail(ctx, v.mark, v.path, "must be > 0, got " + fmt(x));
-        return x;
-    };
-    cam.width = positive_int("width");
-    cam.height = positive_int("height");
-    cam.fx = positive("fx");
-    cam.fy = positive("fy");
-    cam.cx = get_number(ctx, m.need("cx"));
-    cam.cy = get_number(ctx, m.need("cy"));
+    cam.width = doc.integer(m.need("width"));
+    cam.height = doc.integer(m.need("height"));
+    cam.fx = doc.number(m.need("fx"));
+    cam.fy = doc.number(m.need("fy"));
+    cam.cx = doc.number(m.need("cx"));
+    cam.cy = doc.number(m.need("cy"));
+    validate(cam);
     return cam;
 }
 
@@ -258,80 +70,46 @@ Camera parse_camera(const Ctx& ctx, const Field& f) {
 //     table.value           -        same length as angle_deg, each >= 0
 //   lights[i].cutoff_deg    degrees  (0, 180]                         180 (no cutoff)
 
-Rid parse_rid(const Ctx& ctx, const Field& f) {
-    const MapView m(ctx, f, {"gaussian", "table"});
+Rid parse_rid(const Document& doc, const Field& f) {
+    const MapView m(doc, f, schema::kRid);
     if (m.has("gaussian") == m.has("table"))
-        fail(ctx, f.mark, f.path, "give exactly one of gaussian, table");
+        doc.fail(f, "give exactly one of " + join(schema::kRid));
     Rid rid;
     if (const Field* g = m.opt("gaussian")) {
-        const MapView gm(ctx, *g, {"sigma_deg"});
-        const Field& s = gm.need("sigma_deg");
         rid.kind = Rid::Kind::Gaussian;
-        rid.sigma_deg = get_number(ctx, s);
-        if (rid.sigma_deg <= 0.0) fail(ctx, s.mark, s.path, "must be > 0 degrees");
+        rid.sigma_deg = doc.number(MapView(doc, *g, schema::kRidGaussian).need("sigma_deg"));
         return rid;
     }
-    const Field& t = *m.opt("table");
-    const MapView tm(ctx, t, {"angle_deg", "value"});
-    const Field& af = tm.need("angle_deg");
-    const Field& vf = tm.need("value");
+    const MapView tm(doc, *m.opt("table"), schema::kRidTable);
     rid.kind = Rid::Kind::Table;
-    for (const Field& a : get_list(ctx, af)) {
-        const double x = get_number(ctx, a);
-        if (x < 0.0 || x > 180.0) fail(ctx, a.mark, a.path, "must be in [0, 180] degrees");
-        if (!rid.angle_deg.empty() && x <= rid.angle_deg.back())
-            fail(ctx, a.mark, a.path, "angles must be strictly ascending");
-        rid.angle_deg.push_back(x);
-    }
-    for (const Field& v : get_list(ctx, vf)) {
-        const double x = get_number(ctx, v);
-        if (x < 0.0) fail(ctx, v.mark, v.path, "must be >= 0");
-        rid.value.push_back(x);
-    }
-    if (rid.angle_deg.size() < 2) fail(ctx, af.mark, af.path, "needs at least 2 angles");
-    if (rid.value.size() != rid.angle_deg.size())
-        fail(ctx, vf.mark, vf.path,
-             "has " + std::to_string(rid.value.size()) + " values for " +
-                 std::to_string(rid.angle_deg.size()) + " angles");
+    for (const Field& a : doc.list(tm.need("angle_deg"))) rid.angle_deg.push_back(doc.number(a));
+    for (const Field& v : doc.list(tm.need("value"))) rid.value.push_back(doc.number(v));
     return rid;
 }
 
-Light parse_light(const Ctx& ctx, const Field& f, std::size_t index) {
-    const MapView m(ctx, f, {"name", "position", "direction", "intensity", "rid", "cutoff_deg"});
+/// The light as written: its direction is normalised only after validate() has checked it.
+Light parse_light(const Document& doc, const Field& f, std::size_t index) {
+    const MapView m(doc, f, schema::kLight);
     Light l;
-    l.name = m.has("name") ? get_string(ctx, *m.opt("name")) : "light" + std::to_string(index + 1);
-    l.position = get_vec3(ctx, m.need("position"));
-    const Field& d = m.need("direction");
-    const Vec3 dir = get_vec3(ctx, d);
-    if (!(length(dir) > 1e-12)) fail(ctx, d.mark, d.path, "must not be the zero vector");
-    l.direction = normalize(dir);
-    l.intensity = get_rgb(ctx, m.need("intensity"));
-    if (const Field* r = m.opt("rid")) l.rid = parse_rid(ctx, *r);
-    if (const Field* c = m.opt("cutoff_deg")) {
-        const double x = get_number(ctx, *c);
-        if (x <= 0.0 || x > 180.0) fail(ctx, c->mark, c->path, "must be in (0, 180] degrees");
-        l.rid.cutoff_deg = x;
-    }
+    const Field* name = m.opt("name");
+    l.name = name ? doc.string(*name) : "light" + std::to_string(index + 1);
+    l.position = doc.vec3(m.need("position"));
+    l.direction = doc.vec3(m.need("direction"));
+    l.intensity = doc.rgb(m.need("intensity"));
+    if (const Field* r = m.opt("rid")) l.rid = parse_rid(doc, *r);
+    if (const Field* c = m.opt("cutoff_deg")) l.rid.cutoff_deg = doc.number(*c);
     return l;
 }
 
-Rig parse_rig(const Ctx& ctx, const Field& f) {
-    const MapView m(ctx, f, {"name", "lights"});
+Rig parse_rig(const Document& doc, const Field& f) {
+    const MapView m(doc, f, schema::kRig);
     Rig rig;
-    if (const Field* n = m.opt("name")) rig.name = get_string(ctx, *n);
-    const Field& lf = m.need("lights");
-    const auto items = get_list(ctx, lf);
-    if (items.empty()) fail(ctx, lf.mark, lf.path, "needs at least one light");
-    std::map<std::string, int> seen;
-    for (std::size_t i = 0; i < items.size(); ++i) {
-        Light l = parse_light(ctx, items[i], i);
-        if (seen.count(l.name))
-            fail(ctx, items[i].mark, items[i].path,
-                 "light name '" + l.name + "' already used by lights[" +
-                     std::to_string(seen[l.name]) + "]");
-        seen[l.name] = int(i);
-        rig.lights.push_back(std::move(l));
-    }
+    if (const Field* n = m.opt("name")) rig.name = doc.string(*n);
+    const auto items = doc.list(m.need("lights"));
+    for (std::size_t i = 0; i < items.size(); ++i)
+        rig.lights.push_back(parse_light(doc, items[i], i));
+    validate(rig);
+    for (Light& l : rig.lights) l.direction = normalize(l.direction);
     return rig;
 }
 
@@ -349,7 +127,7 @@ Rig parse_rig(const Ctx& ctx, const Field& f) {
 //   forward_scatter  -      off | on | {G: [r, g, b] 1/m, 0 <= G <= c; k: rad/m >= 0}    off
 //                           (on: default_forward_scatter of the final c, b and phase)
 
-Phase parse_phase(const Ctx& ctx, const Field& f) {
+Phase parse_phase(const Document& doc, const Field& f) {
     Phase p;
     if (f.node.IsScalar()) {
         // The names of to_string(PhaseKind) are accepted as plain scalars as well.
@@ -359,57 +137,51 @@ Phase parse_phase(const Ctx& ctx, const Field& f) {
         else if (s == "petzold:coastal") p.kind = PhaseKind::PetzoldCoastal;
         else if (s == "petzold:turbid") p.kind = PhaseKind::PetzoldTurbid;
         else
-            fail(ctx, f.mark, f.path,
-                 "unknown phase function '" + s +
-                     "' (expected isotropic, {petzold: clear|coastal|turbid} or "
-                     "{henyey_greenstein: {g: ..}})");
+            doc.fail(f, "unknown phase function '" + s +
+                            "' (expected isotropic, {petzold: clear|coastal|turbid} or "
+                            "{henyey_greenstein: {g: ..}})");
         return p;
     }
-    const MapView m(ctx, f, {"petzold", "henyey_greenstein"});
+    const MapView m(doc, f, schema::kPhase);
     if (m.has("petzold") == m.has("henyey_greenstein"))
-        fail(ctx, f.mark, f.path, "give exactly one of petzold, henyey_greenstein");
+        doc.fail(f, "give exactly one of " + join(schema::kPhase));
     if (const Field* pz = m.opt("petzold")) {
-        const std::string s = get_string(ctx, *pz);
+        const std::string s = doc.string(*pz);
         if (s == "clear") p.kind = PhaseKind::PetzoldClear;
         else if (s == "coastal") p.kind = PhaseKind::PetzoldCoastal;
         else if (s == "turbid") p.kind = PhaseKind::PetzoldTurbid;
-        else fail(ctx, pz->mark, pz->path, "expected clear, coastal or turbid, got '" + s + "'");
+        else doc.fail(*pz, "expected clear, coastal or turbid, got '" + s + "'");
         return p;
     }
-    const MapView hg(ctx, *m.opt("henyey_greenstein"), {"g"});
-    const Field& g = hg.need("g");
     p.kind = PhaseKind::HenyeyGreenstein;
-    p.g = get_number(ctx, g);
-    if (!(p.g > -1.0 && p.g < 1.0)) fail(ctx, g.mark, g.path, "must be in (-1, 1)");
+    p.g = doc.number(MapView(doc, *m.opt("henyey_greenstein"), schema::kPhaseHg).need("g"));
     return p;
 }
 
-Water parse_water(const Ctx& ctx, const Field& f) {
-    const MapView m(ctx, f, {"name", "preset", "attenuation", "scattering", "phase",
-                             "forward_scatter"});
+Water parse_water(const Document& doc, const Field& f) {
+    const MapView m(doc, f, schema::kWater);
     Water w;
     w.name = "custom";
     w.phase.kind = PhaseKind::PetzoldClear;
     const Field* preset = m.opt("preset");
     if (preset) {
-        const std::string s = get_string(ctx, *preset);
+        const std::string s = doc.string(*preset);
         const std::string prefix = "jerlov:";
         if (s.compare(0, prefix.size(), prefix) != 0)
-            fail(ctx, preset->mark, preset->path, "expected jerlov:<TYPE>, got '" + s + "'");
+            doc.fail(*preset, "expected jerlov:<TYPE>, got '" + s + "'");
         try {
             w = jerlov_water(s.substr(prefix.size()));
         } catch (const ConfigError& e) {
-            fail(ctx, preset->mark, preset->path, e.what());
+            doc.fail(*preset, e.what());
         }
     }
     const Rgb preset_c = w.c, preset_b = w.b;
     const Field* att = m.opt("attenuation");
-    if (att) w.c = get_rgb(ctx, *att);
+    if (att) w.c = doc.rgb(*att);
     else if (!preset) m.need("attenuation");  // throws: required without a preset
 
-    const Field* sca = m.opt("scattering");
-    if (sca) {
-        w.b = get_rgb(ctx, *sca);
+    if (const Field* sca = m.opt("scattering")) {
+        w.b = doc.rgb(*sca);
     } else if (!preset) {
         w.b = w.c * kDefaultAlbedo;
     } else if (att) {
@@ -417,17 +189,8 @@ Water parse_water(const Ctx& ctx, const Field& f) {
         for (int i = 0; i < 3; ++i)
             w.b[i] = preset_c[i] > 0.0 ? w.c[i] * preset_b[i] / preset_c[i] : 0.0;
     }
-    static const char* names[] = {"R", "G", "B"};
-    for (int i = 0; i < 3; ++i) {
-        if (w.b[i] > w.c[i]) {
-            const Field& where = sca ? *sca : (att ? *att : *preset);
-            fail(ctx, where.mark, sca ? where.path : child_path(f.path, "scattering"),
-                 std::string("scattering must not exceed attenuation (") + names[i] + ": b = " +
-                     fmt(w.b[i]) + " > c = " + fmt(w.c[i]) + ")");
-        }
-    }
-    if (const Field* ph = m.opt("phase")) w.phase = parse_phase(ctx, *ph);
-    if (const Field* n = m.opt("name")) w.name = get_string(ctx, *n);
+    if (const Field* ph = m.opt("phase")) w.phase = parse_phase(doc, *ph);
+    if (const Field* n = m.opt("name")) w.name = doc.string(*n);
 
     if (const Field* fw = m.opt("forward_scatter")) {
         if (fw->node.IsScalar()) {
@@ -437,26 +200,16 @@ Water parse_water(const Ctx& ctx, const Field& f) {
             } else if (s == "on" || s == "true") {
                 w.forward = default_forward_scatter(w);
             } else {
-                fail(ctx, fw->mark, fw->path,
-                     "expected off, on or {G: [r, g, b], k: ..}, got '" + s + "'");
+                doc.fail(*fw, "expected off, on or {G: [r, g, b], k: ..}, got '" + s + "'");
             }
         } else {
-            const MapView fm(ctx, *fw, {"G", "k"});
-            const Field& gf = fm.need("G");
-            const Field& kf = fm.need("k");
-            ForwardScatter fs;
-            fs.enabled = true;
-            fs.G = get_rgb(ctx, gf);
-            for (int i = 0; i < 3; ++i)
-                if (fs.G[i] > w.c[i])
-                    fail(ctx, gf.mark, gf.path,
-                         std::string("G must not exceed attenuation c (") + names[i] +
-                             ": G = " + fmt(fs.G[i]) + " > c = " + fmt(w.c[i]) + ")");
-            fs.k = get_number(ctx, kf);
-            if (fs.k < 0.0) fail(ctx, kf.mark, kf.path, "must be >= 0 rad/m");
-            w.forward = fs;
+            const MapView fm(doc, *fw, schema::kForwardScatter);
+            w.forward.enabled = true;
+            w.forward.G = doc.rgb(fm.need("G"));
+            w.forward.k = doc.number(fm.need("k"));
         }
     }
+    validate(w);
     return w;
 }
 
@@ -468,52 +221,33 @@ struct Parsed {
     std::map<std::string, int> line;  ///< line of each section found
 };
 
-Parsed parse_document(const std::string& text, const std::string& file) {
-    const Ctx ctx{file};
-    YAML::Node root;
-    try {
-        root = YAML::Load(text);
-    } catch (const YAML::Exception& e) {
-        throw ConfigError(file + ":" + std::to_string(line_of(e.mark)) +
-                          ": YAML syntax error: " + e.msg);
-    }
+Parsed parse_document(const Document& doc) {
     Parsed out;
     try {
-        if (root.IsNull())
-            fail(ctx, YAML::Mark::null_mark(), "",
-                 "empty configuration (expected camera, rig and/or water sections)");
-        const Field top{root, root.Mark(), "", root.Mark()};
-        const MapView m(ctx, top, {"camera", "rig", "water"});
+        if (doc.empty())
+            doc.fail(YAML::Mark::null_mark(), "",
+                     "empty configuration (expected camera, rig and/or water sections)");
+        const MapView m(doc, doc.root(), schema::kSections);
         if (const Field* c = m.opt("camera")) {
-            out.setup.camera = parse_camera(ctx, *c);
-            out.line["camera"] = line_of(c->key_mark);
+            out.setup.camera = parse_camera(doc, *c);
+            out.line["camera"] = yaml::line_of(c->key_mark);
         }
         if (const Field* r = m.opt("rig")) {
-            out.setup.rig = parse_rig(ctx, *r);
-            out.line["rig"] = line_of(r->key_mark);
+            out.setup.rig = parse_rig(doc, *r);
+            out.line["rig"] = yaml::line_of(r->key_mark);
         }
         if (const Field* w = m.opt("water")) {
-            out.setup.water = parse_water(ctx, *w);
-            out.line["water"] = line_of(w->key_mark);
+            out.setup.water = parse_water(doc, *w);
+            out.line["water"] = yaml::line_of(w->key_mark);
         }
+    } catch (const SchemaError& e) {
+        doc.fail(e);
     } catch (const YAML::Exception& e) {
         // Should not happen after the checks above; keep the one-line file:line format anyway.
-        throw ConfigError(file + ":" + std::to_string(line_of(e.mark)) + ": " + e.msg);
+        throw ConfigError(doc.file() + ":" + std::to_string(yaml::line_of(e.mark)) + ": " +
+                          e.msg);
     }
     return out;
-}
-
-std::string read_text(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
-    if (std::filesystem::is_directory(path, ec))
-        throw IoError(path + ": is a folder, not a config file");
-    std::ifstream is(path, std::ios::binary);
-    if (!is) throw IoError(path + ": cannot read: " + std::strerror(errno));
-    std::ostringstream ss;
-    ss << is.rdbuf();
-    if (is.bad()) throw IoError(path + ": read error");
-    return ss.str();
 }
 
 std::string quote(const std::string& s) {
@@ -536,14 +270,14 @@ std::string triple(double a, double b, double c) {
 }  // namespace
 
 Setup parse_setup(const std::string& yaml_text, const std::string& file_name) {
-    return parse_document(yaml_text, file_name).setup;
+    return parse_document(Document(yaml_text, file_name)).setup;
 }
 
 Setup load_setup(const std::vector<std::string>& files) {
     Setup all;
     std::map<std::string, std::string> where;  // section -> "file:line" of its first definition
     for (const auto& file : files) {
-        Parsed p = parse_document(read_text(file), file);
+        Parsed p = parse_document(Document::load(file));
         auto merge = [&](auto& dst, auto& src, const char* name) {
             if (!src) return;
             const std::string here = file + ":" + std::to_string(p.line[name]);
@@ -569,7 +303,7 @@ Water load_water(const std::string& spec) {
             throw ConfigError(spec + ": " + e.what());
         }
     }
-    Parsed p = parse_document(read_text(spec), spec);
+    Parsed p = parse_document(Document::load(spec));
     for (const char* other : {"camera", "rig"})
         if (p.line.count(other))
             throw ConfigError(spec + ":" + std::to_string(p.line[other]) + ": " + other +
@@ -647,6 +381,16 @@ std::string setup_to_yaml(const Setup& s) {
             o << "  forward_scatter: off\n";
     }
     return o.str();
+}
+
+void write_setup(const std::string& path, const Setup& setup, const std::string& comment) {
+    const std::string text = comment + setup_to_yaml(setup);
+    write_atomically(path, [&](const std::string& tmp) {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text;
+        f.close();
+        if (!f) throw IoError("cannot write " + path);
+    });
 }
 
 }  // namespace deepsea

@@ -15,7 +15,7 @@ Exposure parse_exposure(const std::string& text) {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (text.empty() || *end != '\0' || !(v > 0.0) || !std::isfinite(v)) {
-        throw ConfigError("--exposure: expected 'auto' or a positive number, got '" + text + "'");
+        throw ConfigError("exposure: expected 'auto' or a positive number, got '" + text + "'");
     }
     e.automatic = false;
     e.factor = v;

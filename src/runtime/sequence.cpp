@@ -1,6 +1,5 @@
 #include "deepsea/runtime/sequence.h"
 
-#include <glob.h>
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
@@ -47,43 +46,6 @@ Camera frame_camera(const Asset& asset, const Camera& requested, int width, int 
                          " but the camera is " + describe(cam));
     }
     return cam;
-}
-
-std::vector<std::string> glob_files(const std::string& pattern) {
-    glob_t g{};
-    std::vector<std::string> out;
-    if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
-        for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
-    }
-    globfree(&g);
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
-std::vector<FrameJob> pair_frames(std::vector<std::string> rgb, std::vector<std::string> depth,
-                                  const std::string& rgb_pattern,
-                                  const std::string& depth_pattern) {
-    if (rgb.empty()) throw InputError("no colour files match '" + rgb_pattern + "'");
-    if (depth.empty()) throw InputError("no depth files match '" + depth_pattern + "'");
-    // A pattern like 'dir/*.png' may also match nothing else; depth files are often named
-    // <frame>_depth.exr: drop them from the colour list if both patterns caught them.
-    std::sort(rgb.begin(), rgb.end());
-    std::sort(depth.begin(), depth.end());
-    std::vector<std::string> rgb_only;
-    for (const auto& f : rgb) {
-        if (!std::binary_search(depth.begin(), depth.end(), f)) rgb_only.push_back(f);
-    }
-    if (rgb_only.size() != depth.size()) {
-        throw InputError(std::to_string(rgb_only.size()) + " colour files ('" + rgb_pattern +
-                         "') but " + std::to_string(depth.size()) + " depth files ('" +
-                         depth_pattern + "')");
-    }
-    std::vector<FrameJob> jobs(rgb_only.size());
-    for (std::size_t i = 0; i < jobs.size(); ++i) {
-        jobs[i].rgb = rgb_only[i];
-        jobs[i].depth = depth[i];
-    }
-    return jobs;
 }
 
 namespace {

@@ -1,8 +1,6 @@
 // deepsea bake-library: bake every camera x rig x water of a manifest, skipping assets whose
 // inputs are unchanged; shardable so that array jobs split a large library without overlap.
 
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -13,110 +11,13 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/error.h"
+#include "deepsea/io/library_manifest.h"
 
 namespace deepsea::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
-
-/// One asset of the library.
-struct Entry {
-    std::string camera, rig, water;  ///< files (or a jerlov: spec for the water)
-    std::string name;                ///< <camera>__<rig>__<water>.vdb
-};
-
-[[noreturn]] void fail(const std::string& file, const YAML::Node& n, const std::string& key,
-                       const std::string& problem) {
-    throw ConfigError(file + ":" + std::to_string(n.Mark().line + 1) + ": " + key + ": " + problem);
-}
-
-std::string stem(const std::string& spec) {
-    if (spec.rfind("jerlov:", 0) == 0) return "jerlov-" + spec.substr(7);
-    return fs::path(spec).stem().string();
-}
-
-/// Manifest keys (paths relative to the manifest):
-///   cameras, rigs, waters   lists of YAML files (waters also jerlov:<TYPE>), each non-empty
-///   bake                    optional map: xy_step, depth_samples, depth_scheme, z_max
-///                           (metres or auto), tolerance — as the `deepsea bake` options
-std::vector<Entry> read_manifest(const std::string& file, BakeFlags& flags) {
-    YAML::Node root;
-    try {
-        root = YAML::LoadFile(file);
-    } catch (const YAML::BadFile&) {
-        throw IoError("cannot read manifest " + file);
-    } catch (const YAML::Exception& e) {
-        throw ConfigError(file + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-    }
-    if (!root.IsMap()) throw ConfigError(file + ": not a manifest (expected cameras, rigs, waters)");
-    const fs::path base = fs::path(file).parent_path();
-    std::vector<std::string> lists[3];
-    const char* names[3] = {"cameras", "rigs", "waters"};
-    for (const auto& kv : root) {
-        const std::string key = kv.first.as<std::string>();
-        if (key == "bake") {
-            if (!kv.second.IsMap() && !kv.second.IsNull()) fail(file, kv.second, key, "expected a map");
-            for (const auto& b : kv.second) {
-                const std::string k = b.first.as<std::string>();
-                const std::string where = "bake." + k;
-                try {
-                    if (k == "xy_step") flags.settings.step = b.second.as<int>();
-                    else if (k == "depth_samples") flags.settings.depth_samples = b.second.as<int>();
-                    else if (k == "depth_scheme") flags.scheme = b.second.as<std::string>();
-                    else if (k == "z_max") flags.z_max = b.second.as<std::string>();
-                    else if (k == "tolerance") flags.settings.tolerance = b.second.as<double>();
-                    else fail(file, b.first, where, "unknown key");
-                } catch (const YAML::Exception&) {
-                    fail(file, b.second, where, "wrong type");
-                }
-            }
-            continue;
-        }
-        int which = -1;
-        for (int i = 0; i < 3; ++i) if (key == names[i]) which = i;
-        if (which < 0) fail(file, kv.first, key, "unknown key (cameras, rigs, waters, bake)");
-        if (!kv.second.IsSequence() || kv.second.size() == 0) {
-            fail(file, kv.second, key, "expected a non-empty list of files");
-        }
-        for (const auto& item : kv.second) {
-            std::string s = item.as<std::string>();
-            if (s.rfind("jerlov:", 0) != 0) {
-                s = (base / s).string();
-                if (!fs::exists(s)) fail(file, item, key, "missing file " + s);
-            }
-            lists[which].push_back(s);
-        }
-    }
-    for (int i = 0; i < 3; ++i) {
-        if (lists[i].empty()) throw ConfigError(file + ": missing key " + names[i]);
-    }
-    // Sorted and de-duplicated: the asset index (and so each shard's share) depends only on
-    // the set of inputs, not on how the manifest happens to list them.
-    for (auto& list : lists) {
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
-    }
-    std::vector<Entry> out;
-    for (const auto& c : lists[0]) {
-        for (const auto& r : lists[1]) {
-            for (const auto& w : lists[2]) {
-                out.push_back({c, r, w, stem(c) + "__" + stem(r) + "__" + stem(w) + ".vdb"});
-            }
-        }
-    }
-    // Two inputs with one stem (cameras/a.yaml and other/a.yaml, or jerlov:IB and
-    // jerlov-IB.yaml) would overwrite each other's asset: refuse rather than guess.
-    std::vector<std::string> asset_names;
-    for (const Entry& e : out) asset_names.push_back(e.name);
-    std::sort(asset_names.begin(), asset_names.end());
-    const auto dup = std::adjacent_find(asset_names.begin(), asset_names.end());
-    if (dup != asset_names.end()) {
-        throw ConfigError(file + ": two entries would both write " + *dup +
-                          " (inputs with the same file stem)");
-    }
-    return out;
-}
 
 /// (index, count) of this shard: --shard i/n, else SLURM_ARRAY_TASK_ID/_COUNT (minus
 /// SLURM_ARRAY_TASK_MIN), else JOB_COMPLETION_INDEX with --shard-count, else (0, 1).
@@ -158,8 +59,15 @@ struct LibraryArgs {
 };
 
 void run(const LibraryArgs& a) {
+    const LibraryManifest manifest = load_library_manifest(a.manifest);
+    const std::vector<LibraryEntry>& entries = manifest.entries;
     BakeFlags flags;
-    const std::vector<Entry> entries = read_manifest(a.manifest, flags);
+    const LibraryBakeSettings& b = manifest.bake;
+    if (b.xy_step) flags.settings.step = *b.xy_step;
+    if (b.depth_samples) flags.settings.depth_samples = *b.depth_samples;
+    if (b.depth_scheme) flags.scheme = *b.depth_scheme;
+    if (b.z_max) flags.z_max = *b.z_max;
+    if (b.tolerance) flags.settings.tolerance = *b.tolerance;
     BakeSettings settings;
     try {
         settings = flags.resolve();
@@ -175,7 +83,7 @@ void run(const LibraryArgs& a) {
     for (std::size_t e = 0; e < entries.size(); ++e) {
         if (int(e % count) != index) continue;
         ++mine;
-        const Entry& entry = entries[e];
+        const LibraryEntry& entry = entries[e];
         const std::string path = (fs::path(a.out) / entry.name).string();
         try {
             Setup setup = load_setup({entry.camera, entry.rig});

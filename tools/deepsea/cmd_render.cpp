@@ -1,7 +1,6 @@
 // deepsea render: composite one frame or a whole sequence with a baked asset.
 
 #include <cstdio>
-#include <filesystem>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -20,32 +19,6 @@ struct RenderArgs {
     int bits = 8;
 };
 
-bool is_pattern(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
-
-std::string stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
-
-/// Jobs for one frame, or for every file pair of two glob patterns (outputs go to folders).
-std::vector<FrameJob> make_jobs(const RenderArgs& a) {
-    namespace fs = std::filesystem;
-    if (!is_pattern(a.rgb)) {
-        if (is_pattern(a.depth_path)) throw ConfigError("--rgb is one file but --depth is a pattern");
-        return {{a.rgb, a.depth_path, a.output, a.layers}};
-    }
-    std::vector<FrameJob> jobs =
-        pair_frames(glob_files(a.rgb), glob_files(a.depth_path), a.rgb, a.depth_path);
-    for (const std::string& dir : {a.output, a.layers}) {
-        if (dir.empty()) continue;
-        std::error_code ec;
-        fs::create_directories(dir, ec);
-        if (ec || !fs::is_directory(dir)) throw IoError("cannot create output folder " + dir);
-    }
-    for (FrameJob& j : jobs) {
-        if (!a.output.empty()) j.output = (fs::path(a.output) / (stem(j.rgb) + ".png")).string();
-        if (!a.layers.empty()) j.layers = (fs::path(a.layers) / (stem(j.rgb) + ".exr")).string();
-    }
-    return jobs;
-}
-
 int run(const RenderArgs& a) {
     if (a.output.empty() && a.layers.empty()) {
         throw ConfigError("nothing to write: give -o and/or --layers");
@@ -62,7 +35,7 @@ int run(const RenderArgs& a) {
         if (!s.camera) throw ConfigError(a.camera + ": no camera section");
         opt.camera = *s.camera;
     }
-    const std::vector<FrameJob> jobs = make_jobs(a);
+    const std::vector<FrameJob> jobs = frame_jobs({a.rgb, a.depth_path, a.output, a.layers});
     const Asset asset = load_asset(a.asset);
     Progress bar("render", long(jobs.size()));
     opt.progress = [&](int done, int) { bar.update(done); };

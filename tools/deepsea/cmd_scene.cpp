@@ -49,14 +49,9 @@ Camera camera_from(const SceneArgs& a) {
 
 /// The frames' camera as a `camera` section, so that `deepsea render --camera` can use them.
 void write_camera_yaml(const fs::path& path, const Camera& cam) {
-    std::FILE* f = std::fopen(path.string().c_str(), "w");
-    if (!f) throw IoError("cannot write " + path.string());
-    std::fprintf(f,
-                 "# camera of the frames written by deepsea scene\n"
-                 "camera:\n  width: %d\n  height: %d\n  fx: %.17g\n  fy: %.17g\n"
-                 "  cx: %.17g\n  cy: %.17g\n",
-                 cam.width, cam.height, cam.fx, cam.fy, cam.cx, cam.cy);
-    if (std::fclose(f) != 0) throw IoError("cannot write " + path.string());
+    Setup setup;
+    setup.camera = cam;
+    write_setup(path.string(), setup, "# camera of the frames written by deepsea scene\n");
 }
 
 void run(SceneArgs a) {

@@ -1,7 +1,7 @@
 #pragma once
 /// \file The `deepsea:bake` metadata: BakeInfo as JSON and back, and the input hash.
-/// Field names follow the YAML config schema (DESIGN.md section 5); docs/asset-format.md
-/// lists them.
+/// Key names and value ranges are those of the YAML configs (optics/schema.h, docs/config.md);
+/// docs/asset-format.md lists them.
 
 #include <string>
 
@@ -14,7 +14,7 @@ namespace deepsea {
 std::string bake_info_to_json(const BakeInfo& info, int indent = -1);
 
 /// Parses what bake_info_to_json wrote. Throws AssetError ("deepsea:bake: <key>: <problem>")
-/// for malformed JSON, a missing key or a value of the wrong type.
+/// for malformed JSON, a missing key, a value of the wrong type or out of the schema's range.
 BakeInfo bake_info_from_json(const std::string& json);
 
 /// Hash of the canonical JSON of the bake's inputs: camera, rig, water and the requested

@@ -1,7 +1,8 @@
 #pragma once
-/// \file Strict YAML configuration (DESIGN.md section 5): `camera`, `rig` and `water`
+/// \file The camera / rig / water YAML configs (docs/config.md): `camera`, `rig` and `water`
 /// sections, from one file or several. Unknown keys, missing keys, wrong types and out-of-range
-/// values throw ConfigError with "file:line: key: problem".
+/// values throw ConfigError with "file:line: key: problem". The keys and ranges are those of
+/// optics/schema.h, shared with the asset's JSON; the strict reader is src/io/yaml_reader.h.
 
 #include <optional>
 #include <string>
@@ -37,5 +38,9 @@ void require_complete(const Setup& setup, const std::string& where);
 /// 17 significant digits, water as explicit values without a preset). Absent sections are
 /// left out.
 std::string setup_to_yaml(const Setup& setup);
+
+/// Writes `comment` (each line starting with "# ") and setup_to_yaml(setup) to `path`
+/// atomically (core's write_atomically).
+void write_setup(const std::string& path, const Setup& setup, const std::string& comment = "");
 
 }  // namespace deepsea

@@ -10,15 +10,9 @@
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/runtime/exposure.h"
+#include "deepsea/runtime/frame_jobs.h"
 
 namespace deepsea {
-
-/// One frame's files: inputs and where its outputs go (an empty path is not written).
-struct FrameJob {
-    std::string rgb, depth;
-    std::string output;  ///< exposed image (PNG/JPEG/EXR)
-    std::string layers;  ///< multi-layer EXR
-};
 
 struct SequenceOptions {
     DepthReadOptions depth_read;
@@ -50,14 +44,5 @@ Camera frame_camera(const Asset& asset, const Camera& requested, int width, int 
 /// asset does not fit the frames' camera).
 SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
                                const SequenceOptions& opt);
-
-/// Pairs colour and depth files: both lists sorted; InputError when the counts differ or a
-/// list is empty (naming the patterns).
-std::vector<FrameJob> pair_frames(std::vector<std::string> rgb, std::vector<std::string> depth,
-                                  const std::string& rgb_pattern,
-                                  const std::string& depth_pattern);
-
-/// Files matching a shell glob pattern, sorted (empty if none).
-std::vector<std::string> glob_files(const std::string& pattern);
 
 }  // namespace deepsea

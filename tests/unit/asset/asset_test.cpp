@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/error.h"
+#include "deepsea/optics/schema.h"
 #include "test_assets.h"
 
 namespace deepsea {
@@ -135,6 +139,49 @@ TEST(BakeInfoJson, MalformedIsAssetError) {
     std::string j = bake_info_to_json(a.info);
     j.replace(j.find("\"fx\""), 4, "\"fz\"");
     EXPECT_THROW(bake_info_from_json(j), AssetError);
+}
+
+TEST(BakeInfoJson, UsesTheSchemasKeysAndRanges) {
+    Asset a = test::function_asset(kCam, 8, DepthScheme::Uniform, 4, 5.0, bilinear_field);
+    a.info.rig.lights[1].rid.kind = Rid::Kind::Table;
+    a.info.rig.lights[1].rid.angle_deg = {0.0, 45.0};
+    a.info.rig.lights[1].rid.value = {1.0, 0.1};
+    a.info.water.forward = ForwardScatter{true, {0.2, 0.1, 0.1}, 0.05};
+    const nlohmann::json j = nlohmann::json::parse(bake_info_to_json(a.info));
+    // Every key the JSON writes is a key of the YAML schema (optics/schema.h).
+    auto within = [](const nlohmann::json& obj, const std::vector<std::string>& keys) {
+        for (const auto& [k, v] : obj.items())
+            EXPECT_NE(std::find(keys.begin(), keys.end(), k), keys.end()) << k;
+    };
+    within(j["camera"], schema::kCamera);
+    within(j["rig"], schema::kRig);
+    for (const auto& l : j["rig"]["lights"]) {
+        within(l, schema::kLight);
+        within(l["rid"], schema::kRid);
+    }
+    within(j["rig"]["lights"][0]["rid"]["gaussian"], schema::kRidGaussian);
+    within(j["rig"]["lights"][1]["rid"]["table"], schema::kRidTable);
+    within(j["water"], schema::kWater);
+    within(j["water"]["phase"], schema::kPhase);
+    within(j["water"]["forward_scatter"], schema::kForwardScatter);
+
+    // The schema's range checks apply to the asset too, naming the key.
+    auto refused = [&](const char* pointer, const nlohmann::json& value, const char* key) {
+        nlohmann::json bad = j;
+        bad[nlohmann::json::json_pointer(pointer)] = value;
+        try {
+            bake_info_from_json(bad.dump());
+            ADD_FAILURE() << "accepted " << pointer;
+        } catch (const AssetError& e) {
+            EXPECT_EQ(std::string(e.what()).rfind(std::string("deepsea:bake: ") + key + ": ", 0),
+                      0u)
+                << e.what();
+        }
+    };
+    refused("/camera/fx", -1.0, "camera.fx");
+    refused("/rig/lights/0/intensity/1", -1.0, "rig.lights[0].intensity");
+    refused("/rig/lights/1/rid/table/angle_deg/1", 200.0, "rig.lights[1].rid.table.angle_deg[1]");
+    refused("/water/scattering/0", 1.0, "water.scattering");
 }
 
 TEST(InputHash, ChangesWithInputsNotWithResults) {

@@ -184,11 +184,11 @@ TEST(Bake, ValidateRejectsBadSettings) {
             EXPECT_NE(std::string(e.what()).find(word), std::string::npos) << e.what();
         }
     };
-    rejects([](BakeSettings& s) { s.depth_samples = 1; }, "depth-samples");
-    rejects([](BakeSettings& s) { s.depth_samples = 0; }, "depth-samples");
-    rejects([](BakeSettings& s) { s.z_max = -1.0; }, "z-max");
-    rejects([](BakeSettings& s) { s.z_max = std::nan(""); }, "z-max");
-    rejects([](BakeSettings& s) { s.step = 0; }, "xy-step");
+    rejects([](BakeSettings& s) { s.depth_samples = 1; }, "depth_samples");
+    rejects([](BakeSettings& s) { s.depth_samples = 0; }, "depth_samples");
+    rejects([](BakeSettings& s) { s.z_max = -1.0; }, "z_max");
+    rejects([](BakeSettings& s) { s.z_max = std::nan(""); }, "z_max");
+    rejects([](BakeSettings& s) { s.step = 0; }, "xy_step");
     rejects([](BakeSettings& s) { s.tolerance = 0.0; }, "tolerance");
     rejects([](BakeSettings& s) { s.tolerance = 0.5; }, "tolerance");
     rejects([](BakeSettings& s) { s.threads = -1; }, "threads");

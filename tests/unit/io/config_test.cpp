@@ -1,3 +1,6 @@
+// The camera / rig / water schema on the strict reader (src/io/config.cpp): what each section
+// accepts, its defaults and presets, and where each error is reported. The reader on its own
+// is yaml_reader_test.cpp; the ranges on their own tests/unit/optics/schema_test.cpp.
 #include "deepsea/io/config.h"
 
 #include <unistd.h>

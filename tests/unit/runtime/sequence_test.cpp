@@ -93,16 +93,6 @@ TEST(Sequence, AssetForAnotherCameraStopsEverything) {
     EXPECT_THROW(render_sequence(d.asset, d.jobs, opt), AssetError);
 }
 
-TEST(PairFrames, CountsMustMatch) {
-    EXPECT_THROW(pair_frames({"a.png", "b.png"}, {"a_depth.exr"}, "*.png", "*_depth.exr"),
-                 InputError);
-    EXPECT_THROW(pair_frames({}, {"a_depth.exr"}, "*.png", "*_depth.exr"), InputError);
-    const auto jobs = pair_frames({"b.png", "a.png"}, {"b_depth.exr", "a_depth.exr"}, "", "");
-    ASSERT_EQ(jobs.size(), 2u);
-    EXPECT_EQ(jobs[0].rgb, "a.png");
-    EXPECT_EQ(jobs[0].depth, "a_depth.exr");
-}
-
 TEST(FrameCamera, ScalesTheAssetCameraToTheFrameSize) {
     SequenceDir d("scale", 0);
     const Camera c = frame_camera(d.asset, Camera{}, 60, 45);

@@ -1,0 +1,106 @@
+#include "deepsea/optics/schema.h"
+
+#include <charconv>
+#include <cmath>
+#include <map>
+
+namespace deepsea {
+
+namespace {
+
+/// Shortest text that reads back to exactly v.
+std::string fmt(double v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
+const char* const kChannel[] = {"R", "G", "B"};
+
+void require_non_negative(const Rgb& x, const std::string& key) {
+    for (int i = 0; i < 3; ++i)
+        if (!(x[i] >= 0.0))
+            throw SchemaError(key, std::string("must be >= 0 (") + kChannel[i] + " is " +
+                                       fmt(x[i]) + ")");
+}
+
+void validate_rid(const Rid& rid, const std::string& light) {
+    const std::string key = light + ".rid";
+    if (rid.kind == Rid::Kind::Gaussian) {
+        if (!(rid.sigma_deg > 0.0))
+            throw SchemaError(key + ".gaussian.sigma_deg", "must be > 0 degrees");
+    } else {
+        const std::string angles = key + ".table.angle_deg", values = key + ".table.value";
+        for (std::size_t i = 0; i < rid.angle_deg.size(); ++i) {
+            const double x = rid.angle_deg[i];
+            const std::string at = angles + "[" + std::to_string(i) + "]";
+            if (!(x >= 0.0 && x <= 180.0)) throw SchemaError(at, "must be in [0, 180] degrees");
+            if (i > 0 && x <= rid.angle_deg[i - 1])
+                throw SchemaError(at, "angles must be strictly ascending");
+        }
+        for (std::size_t i = 0; i < rid.value.size(); ++i)
+            if (!(rid.value[i] >= 0.0))
+                throw SchemaError(values + "[" + std::to_string(i) + "]", "must be >= 0");
+        if (rid.angle_deg.size() < 2) throw SchemaError(angles, "needs at least 2 angles");
+        if (rid.value.size() != rid.angle_deg.size())
+            throw SchemaError(values, "has " + std::to_string(rid.value.size()) +
+                                          " values for " + std::to_string(rid.angle_deg.size()) +
+                                          " angles");
+    }
+    if (!(rid.cutoff_deg > 0.0 && rid.cutoff_deg <= 180.0))
+        throw SchemaError(light + ".cutoff_deg", "must be in (0, 180] degrees");
+}
+
+}  // namespace
+
+void validate(const Camera& c) {
+    if (c.width <= 0) throw SchemaError("camera.width", "must be > 0, got " + std::to_string(c.width));
+    if (c.height <= 0)
+        throw SchemaError("camera.height", "must be > 0, got " + std::to_string(c.height));
+    if (!(c.fx > 0.0) || !std::isfinite(c.fx))
+        throw SchemaError("camera.fx", "must be > 0, got " + fmt(c.fx));
+    if (!(c.fy > 0.0) || !std::isfinite(c.fy))
+        throw SchemaError("camera.fy", "must be > 0, got " + fmt(c.fy));
+    if (!std::isfinite(c.cx)) throw SchemaError("camera.cx", "must be a finite number");
+    if (!std::isfinite(c.cy)) throw SchemaError("camera.cy", "must be a finite number");
+}
+
+void validate(const Rig& rig) {
+    if (rig.lights.empty()) throw SchemaError("rig.lights", "needs at least one light");
+    std::map<std::string, std::size_t> seen;
+    for (std::size_t i = 0; i < rig.lights.size(); ++i) {
+        const Light& l = rig.lights[i];
+        const std::string key = "rig.lights[" + std::to_string(i) + "]";
+        if (!(length(l.direction) > 1e-12))
+            throw SchemaError(key + ".direction", "must not be the zero vector");
+        require_non_negative(l.intensity, key + ".intensity");
+        validate_rid(l.rid, key);
+        const auto [it, fresh] = seen.emplace(l.name, i);
+        if (!fresh)
+            throw SchemaError(key, "light name '" + l.name + "' already used by lights[" +
+                                       std::to_string(it->second) + "]");
+    }
+}
+
+void validate(const Water& w) {
+    require_non_negative(w.c, "water.attenuation");
+    require_non_negative(w.b, "water.scattering");
+    for (int i = 0; i < 3; ++i)
+        if (w.b[i] > w.c[i])
+            throw SchemaError("water.scattering",
+                              std::string("scattering must not exceed attenuation (") +
+                                  kChannel[i] + ": b = " + fmt(w.b[i]) + " > c = " + fmt(w.c[i]) +
+                                  ")");
+    if (w.phase.kind == PhaseKind::HenyeyGreenstein && !(w.phase.g > -1.0 && w.phase.g < 1.0))
+        throw SchemaError("water.phase.henyey_greenstein.g", "must be in (-1, 1)");
+    if (!w.forward.enabled) return;
+    require_non_negative(w.forward.G, "water.forward_scatter.G");
+    for (int i = 0; i < 3; ++i)
+        if (w.forward.G[i] > w.c[i])
+            throw SchemaError("water.forward_scatter.G",
+                              std::string("G must not exceed attenuation c (") + kChannel[i] +
+                                  ": G = " + fmt(w.forward.G[i]) + " > c = " + fmt(w.c[i]) + ")");
+    if (!(w.forward.k >= 0.0)) throw SchemaError("water.forward_scatter.k", "must be >= 0 rad/m");
+}
+
+}  // namespace deepsea

@@ -1,0 +1,141 @@
+#include "deepsea/io/import_config.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "deepsea/core/error.h"
+#include "deepsea/io/config.h"
+#include "deepsea/optics/jerlov.h"
+
+namespace deepsea {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A DeepSeaRenderer config as their test set ships it (keys deepsea ignores included).
+const std::string kAuthors =
+    "scale_factor: 10.0\n"                                                               // 1
+    "image_width_height: [800, 800]\n"                                                   // 2
+    "camera_intrinsic_matrix: [600.0, 0.0, 400.0, 0.0, 600.0, 400.0, 0.0, 0.0, 1.0]\n"  // 3
+    "water_attenuation_RGB: [0.37, 0.044, 0.035]\n"                                      // 4
+    "vsf_type: 1\n"                                                                      // 5
+    "light_spectrum_RGB: [0.25, 0.35, 0.4]\n"                                            // 6
+    "light_RID_type: 1\n"                                                                // 7
+    "num_lights: 2\n"                                                                    // 8
+    "light_positions_XYZ: [[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0]]\n"                         // 9
+    "light_orientations_RollPitchYaw: [[0.0, 0.536, 0.0], [0.0, -0.536, 0.0]]\n"         // 10
+    "refine_depth: false\n";                                                             // 11
+
+class ImportConfig : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_dir = fs::temp_directory_path() /
+                ("deepsea-import-" + std::to_string(::getpid()) + "-" + info->name());
+        fs::remove_all(m_dir);
+        fs::create_directories(m_dir);
+    }
+    void TearDown() override { fs::remove_all(m_dir); }
+    std::string file(const std::string& text) {
+        const std::string p = (m_dir / "cfg.yaml").string();
+        std::ofstream(p) << text;
+        return p;
+    }
+    /// The ConfigError message for text, or "" if it converts.
+    std::string error(const std::string& text) {
+        try {
+            import_config(file(text));
+        } catch (const ConfigError& e) {
+            return e.what();
+        }
+        return "";
+    }
+    static std::string replaced(std::string text, const std::string& from, const std::string& to) {
+        const auto p = text.find(from);
+        EXPECT_NE(p, std::string::npos) << from;
+        return p == std::string::npos ? text : text.replace(p, from.size(), to);
+    }
+    fs::path m_dir;
+};
+
+TEST_F(ImportConfig, AuthorsConfigBecomesTheirSetup) {
+    const deepsea::Setup s = parse_setup(import_config(file(kAuthors)), "converted.yaml");
+    ASSERT_TRUE(s.camera && s.rig && s.water);
+    EXPECT_EQ(s.camera->width, 800);
+    EXPECT_EQ(s.camera->fx, 600.0);
+    EXPECT_EQ(s.camera->cx, 400.0);
+    ASSERT_EQ(s.rig->lights.size(), 2u);
+    const Light& left = s.rig->lights[0];
+    EXPECT_EQ(left.position.x, -0.5);
+    // Pitch 0.536 rad about y turns the left lamp toward the optical axis.
+    EXPECT_NEAR(left.direction.x, std::sin(0.536), 1e-8);
+    EXPECT_NEAR(left.direction.z, std::cos(0.536), 1e-8);
+    EXPECT_NEAR(s.rig->lights[1].direction.x, -std::sin(0.536), 1e-8);
+    EXPECT_EQ(left.intensity.b, 0.4);
+    EXPECT_EQ(left.rid.kind, Rid::Kind::Gaussian);
+    EXPECT_EQ(left.rid.sigma_deg, 35.0);
+    // Their Kd numbers for Jerlov IB become the measured IB preset, with forward scatter on.
+    EXPECT_EQ(s.water->c.r, jerlov_water("IB").c.r);
+    EXPECT_EQ(s.water->phase.kind, PhaseKind::PetzoldClear);
+    EXPECT_TRUE(s.water->forward.enabled);
+}
+
+TEST_F(ImportConfig, OtherWatersAndPhases) {
+    std::string text = replaced(kAuthors, "[0.37, 0.044, 0.035]", "[0.5, 0.2, 0.1]");
+    text = replaced(text, "vsf_type: 1", "vsf_type: 4");
+    const deepsea::Setup s = parse_setup(import_config(file(text)), "converted.yaml");
+    EXPECT_EQ(s.water->c.g, 0.2);
+    EXPECT_EQ(s.water->phase.kind, PhaseKind::HenyeyGreenstein);
+    EXPECT_EQ(s.water->phase.g, 0.9);
+}
+
+TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
+    const std::string f = (m_dir / "cfg.yaml").string();
+    auto starts = [&](const std::string& text, const std::string& want) {
+        const std::string got = error(text);
+        EXPECT_EQ(got.rfind(f + want, 0), 0u) << "got: " << got << "\nwant: " << f + want;
+    };
+    starts("camera: {width: 3}\n", ":1: (top level): not a DeepSeaRenderer config");
+    starts(replaced(kAuthors, "600.0, 400.0, 0.0, 0.0, 1.0]", "600.0]"),
+           ":3: camera_intrinsic_matrix: expected a list of 9 numbers");
+    starts(replaced(kAuthors, "num_lights: 2", "num_lights: 3"),
+           ":9: light_positions_XYZ: expected 3 entries");
+    starts(replaced(kAuthors, "num_lights: 2", "num_lights: 0"), ":8: num_lights: must be >= 1");
+    starts(replaced(kAuthors, "vsf_type: 1", "vsf_type: 7"), ":5: vsf_type: expected 1, 2, 3 or 4");
+    starts(replaced(kAuthors, "vsf_type: 1\n", ""), ":1: vsf_type: missing required key");
+    starts(replaced(kAuthors, "[0.25, 0.35, 0.4]", "[0.25, x, 0.4]"),
+           ":6: light_spectrum_RGB[1]: expected a number");
+    // Values their format allows but deepsea's schema does not: named in the converted text.
+    const std::string zero_fx = error(replaced(kAuthors, "[600.0, 0.0, 400.0", "[0.0, 0.0, 400.0"));
+    EXPECT_NE(zero_fx.find("(converted)"), std::string::npos) << zero_fx;
+    EXPECT_NE(zero_fx.find("camera.fx: must be > 0"), std::string::npos) << zero_fx;
+    EXPECT_THROW(import_config((m_dir / "none.yaml").string()), IoError);
+}
+
+TEST_F(ImportConfig, WritesAtomically) {
+    const std::string in = file(kAuthors);
+    const std::string out = (m_dir / "out.yaml").string();
+    import_config(in, out);
+    std::ifstream is(out);
+    const std::string written((std::istreambuf_iterator<char>(is)), {});
+    EXPECT_EQ(written, import_config(in));
+    // A failed conversion leaves nothing behind, not even a temporary.
+    const std::string bad_out = (m_dir / "bad.yaml").string();
+    std::ofstream(in) << "camera: {width: 3}\n";
+    EXPECT_THROW(import_config(in, bad_out), ConfigError);
+    EXPECT_FALSE(fs::exists(bad_out));
+    int files = 0;
+    for (const auto& e : fs::directory_iterator(m_dir)) files += e.is_regular_file();
+    EXPECT_EQ(files, 2);  // cfg.yaml, out.yaml
+    std::ofstream(in) << kAuthors;
+    EXPECT_THROW(import_config(in, (m_dir / "no/such/dir/x.yaml").string()), IoError);
+}
+
+}  // namespace
+}  // namespace deepsea

@@ -1,0 +1,99 @@
+// The schema's range checks on their own: each names the key path that the YAML reader maps
+// to a line and the asset's JSON reader reports as is.
+#include "deepsea/optics/schema.h"
+
+#include <gtest/gtest.h>
+
+namespace deepsea {
+namespace {
+
+template <class T>
+std::string key_of(const T& x) {
+    try {
+        validate(x);
+    } catch (const SchemaError& e) {
+        return e.key();
+    }
+    return "";
+}
+
+Rig one_lamp() {
+    Light l;
+    l.name = "a";
+    l.direction = {0.0, 0.0, 2.0};  // need not be unit
+    Rig r;
+    r.lights = {l};
+    return r;
+}
+
+TEST(Schema, CameraRanges) {
+    Camera c{800, 600, 600.0, 600.0, 399.5, 299.5};
+    EXPECT_EQ(key_of(c), "");
+    c.height = 0;
+    EXPECT_EQ(key_of(c), "camera.height");
+    c = Camera{800, 600, 600.0, -1.0, 399.5, 299.5};
+    EXPECT_EQ(key_of(c), "camera.fy");
+}
+
+TEST(Schema, RigRanges) {
+    EXPECT_EQ(key_of(one_lamp()), "");
+    EXPECT_EQ(key_of(Rig{}), "rig.lights");
+    Rig r = one_lamp();
+    r.lights.push_back(r.lights[0]);
+    EXPECT_EQ(key_of(r), "rig.lights[1]");
+    r = one_lamp();
+    r.lights[0].direction = {0, 0, 0};
+    EXPECT_EQ(key_of(r), "rig.lights[0].direction");
+    r = one_lamp();
+    r.lights[0].intensity.g = -1.0;
+    EXPECT_EQ(key_of(r), "rig.lights[0].intensity");
+    r = one_lamp();
+    r.lights[0].rid.sigma_deg = 0.0;
+    EXPECT_EQ(key_of(r), "rig.lights[0].rid.gaussian.sigma_deg");
+    r = one_lamp();
+    r.lights[0].rid.cutoff_deg = 181.0;
+    EXPECT_EQ(key_of(r), "rig.lights[0].cutoff_deg");
+    r = one_lamp();
+    r.lights[0].rid.kind = Rid::Kind::Table;
+    r.lights[0].rid.angle_deg = {0, 30, 60};
+    r.lights[0].rid.value = {1, 0.5, 0};
+    EXPECT_EQ(key_of(r), "");
+    r.lights[0].rid.angle_deg = {0, 60, 30};
+    EXPECT_EQ(key_of(r), "rig.lights[0].rid.table.angle_deg[2]");
+    r.lights[0].rid.angle_deg = {0, 30, 60};
+    r.lights[0].rid.value = {1, 0.5};
+    EXPECT_EQ(key_of(r), "rig.lights[0].rid.table.value");
+    r.lights[0].rid.value = {1, -0.5, 0};
+    EXPECT_EQ(key_of(r), "rig.lights[0].rid.table.value[1]");
+}
+
+TEST(Schema, WaterRanges) {
+    Water w;
+    w.c = {0.4, 0.2, 0.18};
+    w.b = {0.12, 0.12, 0.13};
+    EXPECT_EQ(key_of(w), "");
+    w.b.r = 0.5;
+    EXPECT_EQ(key_of(w), "water.scattering");
+    w.b.r = 0.1;
+    w.phase = Phase{PhaseKind::HenyeyGreenstein, 1.0};
+    EXPECT_EQ(key_of(w), "water.phase.henyey_greenstein.g");
+    w.phase = Phase{PhaseKind::HenyeyGreenstein, 0.9};
+    w.forward = ForwardScatter{true, {0.5, 0.1, 0.1}, 0.05};
+    EXPECT_EQ(key_of(w), "water.forward_scatter.G");
+    w.forward = ForwardScatter{true, {0.3, 0.1, 0.1}, -1.0};
+    EXPECT_EQ(key_of(w), "water.forward_scatter.k");
+    w.forward.enabled = false;  // values of a disabled forward term are not used
+    EXPECT_EQ(key_of(w), "");
+}
+
+TEST(Schema, MessagesAreKeyThenProblem) {
+    try {
+        validate(Camera{0, 1, 1.0, 1.0, 0.0, 0.0});
+        FAIL();
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()), "camera.width: must be > 0, got 0");
+    }
+}
+
+}  // namespace
+}  // namespace deepsea
