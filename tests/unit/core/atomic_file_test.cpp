@@ -1,7 +1,6 @@
 #include "deepsea/core/atomic_file.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include <vector>
 
 #include "deepsea/core/error.h"
+#include "../temp_folder.h"
 
 namespace deepsea {
 
@@ -17,27 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class AtomicFile : public ::testing::Test {
-protected:
-    void SetUp() override {
-        m_dir = fs::temp_directory_path() /
-                ("deepsea_atomic_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
-    /// Names of everything in the folder.
-    std::vector<std::string> listing() const {
-        std::vector<std::string> out;
-        for (const auto& e : fs::directory_iterator(m_dir)) out.push_back(e.path().filename());
-        return out;
-    }
-
-    fs::path m_dir;
-};
+class AtomicFile : public test::TempFolderTest {};
 
 void put(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
@@ -53,7 +33,7 @@ TEST_F(AtomicFile, ReplacesTheTargetOnSuccess) {
     std::string tmp_seen;
     write_atomically(path("a.txt"), [&](const std::string& tmp) {
         tmp_seen = tmp;
-        EXPECT_EQ(fs::path(tmp).parent_path(), m_dir);  // same folder: the rename is atomic
+        EXPECT_EQ(fs::path(tmp).parent_path(), dir_);  // same folder: the rename is atomic
         EXPECT_EQ(fs::path(tmp).extension(), ".txt");   // format-by-extension writers agree
         EXPECT_EQ(get(path("a.txt")), "old");           // readers see the old file meanwhile
         put(tmp, "new");
