@@ -13,8 +13,8 @@ namespace {
 
 double min_channel(const Rgb& x) { return std::min({x.r, x.g, x.b}); }
 
-/// par, its progress reported as items [offset, offset + n) of `total`: one bar for the
-/// stages of a bake.
+/// par for one stage of a bake: the stage's `done` is reported as offset + done of `total`,
+/// so that the stages fill one progress bar.
 Parallel stage(const Parallel& par, long offset, long total) {
     Parallel p = par;
     if (par.progress) {
