@@ -7,10 +7,8 @@
 #include <openvdb/math/Transform.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +19,7 @@
 #include <mutex>
 
 #include "deepsea/asset/asset_json.h"
+#include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "preview.h"
 
@@ -246,27 +245,11 @@ GridSummary summarize(const vdb::GridBase& g) {
     return s;
 }
 
-std::atomic<unsigned> g_temp_counter{0};
-
-/// The directory part of require_writable; write_asset lets a bad target fail at the rename,
-/// after the temporary file exists, which is the path that must clean up.
-void require_directory_writable(const std::string& path) {
-    const fs::path p(path);
-    if (p.filename().empty()) throw IoError("cannot write " + path + ": not a file name");
-    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) {
-        throw IoError("cannot write " + path + ": directory " + dir.string() + " does not exist");
-    }
-    if (::access(dir.c_str(), W_OK) != 0) {
-        throw IoError("cannot write " + path + ": directory " + dir.string() + " is not writable");
-    }
-}
-
 }  // namespace
 
 void require_writable(const std::string& path) {
-    require_directory_writable(path);
+    if (fs::path(path).filename().empty()) throw IoError("cannot write " + path + ": not a file name");
+    require_writable_folder(path);
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw IoError("cannot write " + path + ": it is a directory");
 }
@@ -278,7 +261,7 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
         throw AssetError("write_asset: " + std::to_string(asset.values.size()) +
                          " values do not fill the lattice");
     }
-    require_directory_writable(path);
+    require_writable_folder(path);  // fail before the work of building the grids
     init_openvdb();
 
     // The stored values: optionally scaled by a power of two (exact) and rounded to half, so
@@ -350,25 +333,22 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     meta.insertMeta("creator", vdb::StringMetadata("deepsea bake"));
     meta.insertMeta(kMetaBytes, vdb::StringMetadata(kBytesPlaceholder));
 
-    // Same directory as the target, so the rename is atomic (one file system).
-    const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." +
-                            std::to_string(g_temp_counter.fetch_add(1));
-    try {
-        vdb::io::File file(tmp);
-        file.setCompression(vdb::io::Archive::hasBloscCompression()
-                                ? vdb::io::COMPRESS_BLOSC | vdb::io::COMPRESS_ACTIVE_MASK
-                                : vdb::io::COMPRESS_ZIP | vdb::io::COMPRESS_ACTIVE_MASK);
-        file.write(grids, meta);
-        file.close();
-        std::error_code ec;
-        if (fs::file_size(tmp, ec) == 0 || ec) throw IoError("nothing was written");
-        record_file_size(tmp);
-        fs::rename(tmp, path);
-    } catch (const std::exception& e) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw IoError("cannot write asset " + path + ": " + one_line(e.what()));
-    }
+    // A missing folder or a failed rename is reported by write_atomically, naming the path.
+    write_atomically(path, [&](const std::string& tmp) {
+        try {
+            vdb::io::File file(tmp);
+            file.setCompression(vdb::io::Archive::hasBloscCompression()
+                                    ? vdb::io::COMPRESS_BLOSC | vdb::io::COMPRESS_ACTIVE_MASK
+                                    : vdb::io::COMPRESS_ZIP | vdb::io::COMPRESS_ACTIVE_MASK);
+            file.write(grids, meta);
+            file.close();
+            std::error_code ec;
+            if (fs::file_size(tmp, ec) == 0 || ec) throw IoError("nothing was written");
+            record_file_size(tmp);
+        } catch (const std::exception& e) {
+            throw IoError("cannot write asset " + path + ": " + one_line(e.what()));
+        }
+    });
 }
 
 Asset load_asset(const std::string& path) {

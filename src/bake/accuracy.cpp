@@ -1,14 +1,12 @@
 #include "deepsea/bake/accuracy.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 
 namespace deepsea {
 
@@ -41,7 +39,8 @@ std::string plane_name(double z) {
 
 }  // namespace
 
-std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const AccuracyOptions& opt) {
+std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const AccuracyOptions& opt,
+                                                 const Parallel& par) {
     if (opt.stride < 1) throw ConfigError("accuracy stride must be >= 1");
     const BakeInfo& info = asset.info;
     const Camera& cam = info.camera;
@@ -70,10 +69,10 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
     // Per test pixel and row: the error; reduced in a fixed order afterwards.
     std::vector<double> err(us.size() * vs.size() * R, 0.0);
 
-    auto body = [&] {
-        tbb::parallel_for(std::size_t(0), vs.size(), [&](std::size_t jv) {
-            std::vector<double> t;
-            std::vector<std::size_t> order(R);
+    parallel_for(vs.size(), [&](std::size_t jv0, std::size_t jv1) {
+        std::vector<double> t;
+        std::vector<std::size_t> order(R);
+        for (std::size_t jv = jv0; jv != jv1; ++jv) {
             for (std::size_t iu = 0; iu < us.size(); ++iu) {
                 const double u = us[iu], v = vs[jv];
                 const Vec3 ray = cam.ray(u, v);
@@ -95,14 +94,8 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
                     err[(jv * us.size() + iu) * R + r] = rel_error(lookup, C[n + 1]);
                 }
             }
-        });
-    };
-    if (opt.threads > 0) {
-        tbb::task_arena arena(opt.threads);
-        arena.execute(body);
-    } else {
-        body();
-    }
+        }
+    }, par.or_grain(1));
 
     for (std::size_t r = 0; r < R; ++r) {
         double sum = 0.0;

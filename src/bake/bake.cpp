@@ -1,58 +1,35 @@
 #include "deepsea/bake/bake.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
 
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/bake/higher_orders.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 
 namespace deepsea {
 
 namespace {
 
-/// Runs body in an arena of `threads` workers (0: TBB's default, all cores).
-template <typename F>
-void in_arena(int threads, F&& body) {
-    if (threads > 0) {
-        tbb::task_arena arena(threads);
-        arena.execute(body);
-    } else {
-        body();
+double min_channel(const Rgb& x) { return std::min({x.r, x.g, x.b}); }
+
+/// par for one stage of a bake: the stage's `done` is reported as offset + done of `total`,
+/// so that the stages fill one progress bar.
+/// A stage's items may weigh more than one column each (`weight`).
+Parallel stage(const Parallel& par, long offset, long total, long weight = 1) {
+    Parallel p = par;
+    if (par.progress) {
+        p.progress = [&par, offset, total, weight](long done, long) {
+            return par.progress(offset + weight * done, total);
+        };
     }
+    return p;
 }
 
-/// Progress from worker threads: a counter, and a callback under a mutex so that the caller
-/// sees one call at a time with a non-decreasing count.
-class ProgressReport {
-public:
-    ProgressReport(const std::function<void(long, long)>& cb, long total) : m_cb(cb), m_total(total) {}
-    void add(long n) {
-        const long done = m_done.fetch_add(n) + n;
-        if (!m_cb) return;
-        std::lock_guard<std::mutex> lock(m_mutex);
-        if (done > m_reported) {
-            m_reported = done;
-            m_cb(done, m_total);
-        }
-    }
-
-private:
-    const std::function<void(long, long)>& m_cb;
-    long m_total;
-    std::atomic<long> m_done{0};
-    long m_reported = 0;
-    std::mutex m_mutex;
-};
-
-double min_channel(const Rgb& x) { return std::min({x.r, x.g, x.b}); }
+/// A Monte Carlo column of the multiple-scattering stage costs about this many exact
+/// single-scattering columns (measured on the demo's rig in Jerlov IB and 3C water).
+constexpr long kMonteCarloColumnWeight = 32;
 
 }  // namespace
 
@@ -71,7 +48,6 @@ void validate(const BakeSettings& s) {
         (s.higher_orders.paths < 1 || s.higher_orders.stride < 1)) {
         throw ConfigError("multiple scattering: paths and stride must be >= 1");
     }
-    if (s.threads < 0) throw ConfigError("threads must be >= 0, got " + std::to_string(s.threads));
     if (s.scheme == DepthScheme::Log && !(s.z0 > 0.0)) {
         throw ConfigError("log depth scheme: z0 must be > 0 metres, got " + std::to_string(s.z0));
     }
@@ -87,7 +63,7 @@ double far_path_length(const Water& water, double tolerance) {
 }
 
 double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int step,
-                  double tolerance, const Quadrature& q, int threads) {
+                  double tolerance, const Quadrature& q, const Parallel& par) {
     const int ni = lattice_count(cam.width, step), nj = lattice_count(cam.height, step);
     const double t_far = far_path_length(water, tolerance);
     // Geometric path samples from 5 cm to t_far: the tail decays roughly exponentially, so a
@@ -98,40 +74,36 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
     t[0] = 0.0;
     for (int m = 0; m <= kM; ++m) t[m + 1] = t_lo * std::pow(t_far / t_lo, double(m) / kM);
 
-    double z_max = 0.0;
-    in_arena(threads, [&] {
-        z_max = tbb::parallel_reduce(
-            tbb::blocked_range<long>(0, long(ni) * nj), 0.0,
-            [&](const tbb::blocked_range<long>& r, double acc) {
-                for (long n = r.begin(); n != r.end(); ++n) {
-                    const Vec3 ray = cam.ray(double(n / nj) * step, double(n % nj) * step);
-                    const double stretch = length(ray);
-                    const auto C = backscatter_cumulative(rig, water, ray / stretch, t, q);
-                    const Rgb total = C.back();
-                    // Fraction of the total still to come beyond t[m], worst channel.
-                    const auto tail = [&](std::size_t m) {
-                        double f = 0.0;
-                        for (int c = 0; c < 3; ++c) {
-                            if (total[c] > 0.0) f = std::max(f, (total[c] - C[m][c]) / total[c]);
-                        }
-                        return f;
-                    };
-                    std::size_t m = 0;
-                    while (m + 1 < t.size() && tail(m) > tolerance) ++m;
-                    double t_cross = t[m];
-                    if (m > 0 && tail(m) > 0.0) {
-                        // log(tail) is convex in t, so the chord crosses the tolerance at or
-                        // beyond the true crossing: conservative.
-                        const double a = std::log(tail(m - 1)), b = std::log(tail(m));
-                        const double w = (a - std::log(tolerance)) / (a - b);
-                        t_cross = t[m - 1] + std::clamp(w, 0.0, 1.0) * (t[m] - t[m - 1]);
-                    }
-                    acc = std::max(acc, t_cross / stretch);
+    // Each column's crossing in its own slot, the maximum taken afterwards: any thread count.
+    std::vector<double> z_cross(std::size_t(ni) * nj, 0.0);
+    parallel_for(z_cross.size(), [&](std::size_t begin, std::size_t end) {
+        for (std::size_t n = begin; n != end; ++n) {
+            const Vec3 ray = cam.ray(double(n / nj) * step, double(n % nj) * step);
+            const double stretch = length(ray);
+            const auto C = backscatter_cumulative(rig, water, ray / stretch, t, q);
+            const Rgb total = C.back();
+            // Fraction of the total still to come beyond t[m], worst channel.
+            const auto tail = [&](std::size_t m) {
+                double f = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    if (total[c] > 0.0) f = std::max(f, (total[c] - C[m][c]) / total[c]);
                 }
-                return acc;
-            },
-            [](double a, double b) { return std::max(a, b); });
-    });
+                return f;
+            };
+            std::size_t m = 0;
+            while (m + 1 < t.size() && tail(m) > tolerance) ++m;
+            double t_cross = t[m];
+            if (m > 0 && tail(m) > 0.0) {
+                // log(tail) is convex in t, so the chord crosses the tolerance at or
+                // beyond the true crossing: conservative.
+                const double a = std::log(tail(m - 1)), b = std::log(tail(m));
+                const double w = (a - std::log(tolerance)) / (a - b);
+                t_cross = t[m - 1] + std::clamp(w, 0.0, 1.0) * (t[m] - t[m - 1]);
+            }
+            z_cross[n] = t_cross / stretch;
+        }
+    }, par.or_grain(16));
+    const double z_max = *std::max_element(z_cross.begin(), z_cross.end());
     // A ray with no light at all gives 0; a lattice must still have some depth.
     return std::max(std::ceil(z_max * 1000.0) / 1000.0, 1e-3);
 }
@@ -165,13 +137,24 @@ BakeInfo bake_request(const Camera& cam, const Rig& rig, const Water& water,
     return make_info(cam, rig, water, s, s.z_max == 0.0 ? 1.0 : s.z_max);
 }
 
-Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s) {
+Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
+           const Parallel& par) {
     validate(s);
     if (rig.lights.empty()) throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
     const bool automatic = s.z_max == 0.0;
-    const double z_max = automatic
-                             ? auto_z_max(cam, rig, water, s.step, s.tolerance, s.quadrature, s.threads)
-                             : s.z_max;
+    // The auto z_max search visits the same columns as the bake: the first half of the bar.
+    const long columns = long(lattice_count(cam.width, s.step)) * lattice_count(cam.height, s.step);
+    const long mc_weight =
+        s.scattering == Scattering::Multiple
+            ? kMonteCarloColumnWeight *
+                  higher_order_columns(lattice_count(cam.width, s.step),
+                                       lattice_count(cam.height, s.step), s.higher_orders.stride)
+            : 0;
+    const long total = (automatic ? 2 * columns : columns) + mc_weight;
+    const double z_max =
+        automatic ? auto_z_max(cam, rig, water, s.step, s.tolerance, s.quadrature,
+                               stage(par, 0, total))
+                  : s.z_max;
 
     Asset asset;
     asset.info = make_info(cam, rig, water, s, z_max);
@@ -179,35 +162,25 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
     asset.allocate();
 
     const Lattice& l = info.lattice;
-    const long columns = l.columns();
-    ProgressReport progress(s.progress, columns);
-    in_arena(s.threads, [&] {
-        // Column n = i * nj + j owns values[n * nk * 3 ...]: fixed slots, any thread count.
-        tbb::parallel_for(tbb::blocked_range<long>(0, columns, 16), [&](const tbb::blocked_range<long>& r) {
-            std::vector<double> t(l.z.size());
-            for (long n = r.begin(); n != r.end(); ++n) {
-                const int i = int(n / l.nj), j = int(n % l.nj);
-                const Vec3 ray = cam.ray(l.u(i), l.v(j));
-                const double stretch = length(ray);  // t = z / cos(phi) = z |r|
-                for (std::size_t k = 0; k < t.size(); ++k) t[k] = l.z[k] * stretch;
-                const auto C = backscatter_cumulative(rig, water, ray / stretch, t, s.quadrature);
-                float* out = asset.values.data() + asset.index(i, j, 0);
-                for (std::size_t k = 0; k < C.size(); ++k) {
-                    out[3 * k] = float(C[k].r);
-                    out[3 * k + 1] = float(C[k].g);
-                    out[3 * k + 2] = float(C[k].b);
-                }
+    // Column n = i * nj + j owns values[n * nk * 3 ...]: fixed slots, any thread count.
+    parallel_for(std::size_t(l.columns()), [&](std::size_t begin, std::size_t end) {
+        std::vector<double> t(l.z.size());
+        for (std::size_t n = begin; n != end; ++n) {
+            const int i = int(n / l.nj), j = int(n % l.nj);
+            const Vec3 ray = cam.ray(l.u(i), l.v(j));
+            const double stretch = length(ray);  // t = z / cos(phi) = z |r|
+            for (std::size_t k = 0; k < t.size(); ++k) t[k] = l.z[k] * stretch;
+            const auto C = backscatter_cumulative(rig, water, ray / stretch, t, s.quadrature);
+            float* out = asset.values.data() + asset.index(i, j, 0);
+            for (std::size_t k = 0; k < C.size(); ++k) {
+                out[3 * k] = float(C[k].r);
+                out[3 * k + 1] = float(C[k].g);
+                out[3 * k + 2] = float(C[k].b);
             }
-            progress.add(long(r.size()));
-        });
-    });
+        }
+    }, stage(par, total - mc_weight - columns, total).or_grain(16));
     if (s.scattering == Scattering::Multiple) {
-        Parallel par{s.threads, 1, {}};
-        if (s.progress) par.progress = [&](long done, long total) {
-            s.progress(done, total);
-            return true;
-        };
-        add_higher_orders(asset, par);
+        add_higher_orders(asset, stage(par, total - mc_weight, total, kMonteCarloColumnWeight));
     }
     return asset;
 }

@@ -33,6 +33,10 @@ void bracket(const std::vector<int>& c, int i, std::size_t& a, double& w) {
 
 }  // namespace
 
+long higher_order_columns(int ni, int nj, int stride) {
+    return long(computed(ni, std::max(stride, 1)).size()) * long(computed(nj, std::max(stride, 1)).size());
+}
+
 void add_higher_orders(Asset& asset, const Parallel& par) {
     HigherOrderSettings& s = asset.info.higher_orders;
     if (s.paths < 1) throw ConfigError("multiple scattering: paths must be >= 1, got " + std::to_string(s.paths));
@@ -72,6 +76,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
             }
         },
         Parallel{par.threads, 1, par.progress});
+
 
     for (int i = 0; i < l.ni; ++i) {
         std::size_t a;

@@ -8,10 +8,20 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
+#include <string>
 
 namespace deepsea {
 
+namespace {
+
+void check_threads(int threads) {
+    if (threads < 0) throw ConfigError("threads must be >= 0, got " + std::to_string(threads));
+}
+
+}  // namespace
+
 void in_arena(int threads, const std::function<void()>& f) {
+    check_threads(threads);
     if (threads > 0) {
         tbb::task_arena arena(threads);
         arena.execute(f);
@@ -54,6 +64,7 @@ private:
 
 void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body,
                   const Parallel& par) {
+    check_threads(par.threads);
     if (n == 0) return;
     ProgressCounter counter(par.progress, long(n));
     const std::size_t grain = std::max<std::size_t>(1, par.grain);

@@ -17,7 +17,7 @@ using yaml::MapView;
 
 const std::vector<std::string> kManifestKeys = {"cameras", "rigs", "waters", "bake"};
 const std::vector<std::string> kBakeKeys = {"xy_step", "depth_samples", "depth_scheme", "z_max",
-                                            "tolerance"};
+                                            "tolerance", "scattering", "paths"};
 
 bool is_preset(const std::string& spec) { return spec.rfind("jerlov:", 0) == 0; }
 
@@ -61,6 +61,8 @@ LibraryManifest parse(const Document& doc, const fs::path& folder) {
         if (const Field* x = bm.opt("depth_scheme")) s.depth_scheme = doc.string(*x);
         if (const Field* x = bm.opt("z_max")) s.z_max = doc.string(*x);
         if (const Field* x = bm.opt("tolerance")) s.tolerance = doc.number(*x);
+        if (const Field* x = bm.opt("scattering")) s.scattering = doc.string(*x);
+        if (const Field* x = bm.opt("paths")) s.paths = doc.integer(*x);
     }
     for (const auto& c : out.cameras)
         for (const auto& r : out.rigs)

@@ -2,12 +2,12 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/optics/direct.h"
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/normals.h"
@@ -97,7 +97,7 @@ void forward_scatter_exact(const Camera& cam, const Water& water, const Image& z
 }  // namespace
 
 Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, const Image& rgb,
-                        const Image& zdepth, const ReferenceOptions& opt) {
+                        const Image& zdepth, const ReferenceOptions& opt, const Parallel& par) {
     check_inputs(cam, rgb, zdepth);
     Layers out;
     out.resize(cam.width, cam.height);
@@ -128,12 +128,7 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
         });
         if (water.forward.enabled) forward_scatter_exact(cam, water, zdepth, out);
     };
-    if (opt.threads > 0) {
-        tbb::task_arena arena(opt.threads);
-        arena.execute(body);
-    } else {
-        body();
-    }
+    in_arena(par.threads, body);
     for (std::size_t i = 0; i < out.final.data.size(); ++i) {
         out.final.data[i] = out.direct.data[i] + out.forward.data[i] + out.backscatter.data[i];
     }

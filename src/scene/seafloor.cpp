@@ -1,19 +1,12 @@
-// Procedural seafloor: height field, albedo texture, ray marching and the flight renderer.
-// docs/scene.md describes the model; the numbers below are its parameters.
+// Procedural seafloor: height field, albedo texture and ray marching (flight.cpp renders
+// frames with it). docs/scene.md describes the model; the numbers below are its parameters.
 
 #include "deepsea/scene/seafloor.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
-#include <string>
 
-#include "deepsea/core/error.h"
 #include "noise.h"
 
 namespace deepsea {
@@ -83,8 +76,6 @@ constexpr int kMaxBumps = 16;
 // Albedo-only layers: bright specks (forams, shell grit) and shell fragments.
 constexpr double kSpeckCell = 0.03;
 constexpr double kShellCell = 0.5;
-
-constexpr double kMinClearance = 0.05;  // m between the camera and the floor below it
 
 Rgb mix(const Rgb& a, const Rgb& b, double t) { return a + (b - a) * t; }
 
@@ -572,116 +563,6 @@ double Seafloor::intersect(const Vec3& o, const Vec3& d, double max_range) const
         }
     }
     return tr;
-}
-
-FlightPose flight_pose(const FlightParams& flight, int index) {
-    const double p = flight.pitch_deg * (3.14159265358979323846 / 180.0);
-    const double s = std::sin(p), c = std::cos(p);
-    FlightPose pose;
-    pose.origin = {double(index) * flight.speed, 0.0, flight.altitude};
-    pose.forward = {s, 0.0, -c};
-    pose.down = {-c, 0.0, -s};
-    pose.right = {0.0, -1.0, 0.0};
-    return pose;
-}
-
-namespace {
-
-void validate(const FlightParams& f, int index) {
-    const Camera& cam = f.camera;
-    auto bad = [](const std::string& what) { throw ConfigError("scene: " + what); };
-    if (cam.width <= 0 || cam.height <= 0) {
-        bad("image size must be positive, got " + std::to_string(cam.width) + "x" +
-            std::to_string(cam.height));
-    }
-    if (!(cam.fx > 0.0) || !(cam.fy > 0.0) || !std::isfinite(cam.fx) || !std::isfinite(cam.fy)) {
-        bad("focal lengths fx, fy must be positive");
-    }
-    if (!std::isfinite(cam.cx) || !std::isfinite(cam.cy)) bad("cx, cy must be finite");
-    if (!(f.altitude > 0.0) || !std::isfinite(f.altitude)) bad("altitude must be > 0 m");
-    if (!std::isfinite(f.speed)) bad("speed must be finite");
-    if (!(std::fabs(f.pitch_deg) < 90.0)) bad("pitch must be within (-90, 90) degrees");
-    if (!(f.relief >= 0.0) || !std::isfinite(f.relief)) bad("relief must be >= 0");
-    if (!(f.max_range > 0.0)) bad("max range must be > 0 m");
-    if (f.threads < 0) bad("threads must be >= 0");
-    if (index < 0) bad("frame index must be >= 0");
-}
-
-/// Throws unless the camera of frame `index` is at least kMinClearance above the floor.
-void check_clearance(const FlightParams& f, const Seafloor& floor, int index) {
-    const FlightPose pose = flight_pose(f, index);
-    const double ground = floor.height(pose.origin.x, pose.origin.y);
-    if (pose.origin.z - ground < kMinClearance) {
-        char msg[256];
-        std::snprintf(msg, sizeof msg,
-                      "scene: altitude %g m puts the camera of frame %d within 5 cm of the "
-                      "seafloor (%.3f m high there); raise the altitude or lower the relief",
-                      f.altitude, index, ground);
-        throw ConfigError(msg);
-    }
-}
-
-}  // namespace
-
-void validate_flight(const FlightParams& flight) {
-    if (flight.frames < 1) {
-        throw ConfigError("scene: frames must be >= 1, got " + std::to_string(flight.frames));
-    }
-    validate(flight, 0);
-    const Seafloor floor(flight.seed, flight.relief);
-    for (int i = 0; i < flight.frames; ++i) check_clearance(flight, floor, i);
-}
-
-RgbdFrame render_flight_frame(const FlightParams& flight, int index) {
-    validate(flight, index);
-    const Seafloor floor(flight.seed, flight.relief);
-    check_clearance(flight, floor, index);
-    const FlightPose pose = flight_pose(flight, index);
-
-    const Camera& cam = flight.camera;
-    RgbdFrame out{Image(cam.width, cam.height, 3), Image(cam.width, cam.height, 1)};
-    auto world = [&](const Vec3& r) {
-        return pose.right * r.x + pose.down * r.y + pose.forward * r.z;
-    };
-    const Vec3 o = pose.origin;
-    // Colour is the mean albedo at 2x2 sub-pixel rays; their hit points are taken on the
-    // horizontal plane through the centre ray's hit (albedo depends on x, y only, and the
-    // sub-pixel spread is millimetres), which saves four ray marches per pixel.
-    constexpr double kSub[4][2] = {{-0.25, -0.25}, {0.25, -0.25}, {-0.25, 0.25}, {0.25, 0.25}};
-
-    auto rows = [&](const tbb::blocked_range<int>& range) {
-        for (int v = range.begin(); v != range.end(); ++v) {
-            float* rgb = out.rgb.row(v);
-            float* depth = out.depth.row(v);
-            for (int u = 0; u < cam.width; ++u) {
-                const Vec3 d = world(cam.ray(u, v));
-                const double t = floor.intersect(o, d, flight.max_range);
-                if (t < 0.0) continue;  // open water: depth 0, colour black
-                depth[u] = float(t);    // camera z of the hit, since the ray's z is 1
-                const double hz = o.z + t * d.z;
-                double sx[4], sy[4];
-                for (int k = 0; k < 4; ++k) {
-                    const Vec3 ds = world(cam.ray(u + kSub[k][0], v + kSub[k][1]));
-                    double ts = ds.z < 0.0 ? (hz - o.z) / ds.z : t;
-                    ts = std::clamp(ts, 0.5 * t, 2.0 * t);
-                    sx[k] = o.x + ts * ds.x;
-                    sy[k] = o.y + ts * ds.y;
-                }
-                const Rgb c = floor.mean_albedo(sx, sy, 4);
-                rgb[3 * u + 0] = float(c.r);
-                rgb[3 * u + 1] = float(c.g);
-                rgb[3 * u + 2] = float(c.b);
-            }
-        }
-    };
-    const tbb::blocked_range<int> all(0, cam.height, 4);
-    if (flight.threads > 0) {
-        tbb::task_arena arena(flight.threads);
-        arena.execute([&] { tbb::parallel_for(all, rows); });
-    } else {
-        tbb::parallel_for(all, rows);
-    }
-    return out;
 }
 
 }  // namespace deepsea

@@ -49,7 +49,8 @@ void BakeFlags::add_to(CLI::App& sub) {
     sub.add_option("--z-max", z_max, "planar depth of the last sample in metres, or 'auto'");
     sub.add_option("--tolerance", settings.tolerance,
                    "auto z-max: remaining backscatter / total beyond it");
-    sub.add_option("--threads", settings.threads, "worker threads (0: all cores)");
+    sub.add_option("--threads", threads, "worker threads (0: all cores)")
+        ->check(CLI::NonNegativeNumber);
     sub.add_option("--scattering", scattering,
                    "single (the paper's model, exact) | multiple (all orders, Monte Carlo)");
     sub.add_option("--paths", settings.higher_orders.paths,

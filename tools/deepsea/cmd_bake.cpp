@@ -29,12 +29,13 @@ void run(const BakeArgs& a) {
     require_complete(setup, "deepsea bake");
     require_writable(a.output);  // fail before a long bake, not after
     Progress bar("bake", 1);
-    settings.progress = [&](long done, long total) {
-        bar.set_total(total);
-        bar.update(done);
-    };
     const auto t0 = std::chrono::steady_clock::now();
-    const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings);
+    const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings,
+                             a.bake.parallel([&](long done, long total) {
+                                 bar.set_total(total);
+                                 bar.update(done);
+                                 return true;
+                             }));
     bar.finish();
     const double bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     WriteOptions w;
@@ -60,7 +61,7 @@ void run(const BakeArgs& a) {
                     "pixels");
         AccuracyOptions opt;
         opt.stride = a.check_stride;
-        for (const AccuracyRow& r : evaluate_asset_accuracy(loaded, opt)) {
+        for (const AccuracyRow& r : evaluate_asset_accuracy(loaded, opt, a.bake.parallel())) {
             std::printf("%-22s %8.3f %11.4f%% %11.4f%% %8ld\n", r.scene.c_str(), r.z,
                         100.0 * r.mean_rel, 100.0 * r.max_rel, r.pixels);
         }

@@ -56,6 +56,7 @@ struct LibraryArgs {
     std::string manifest, out = "volumes/baked", shard;
     int shard_count = 0;
     bool force = false, dry_run = false;
+    int threads = 0;
 };
 
 void run(const LibraryArgs& a) {
@@ -68,6 +69,9 @@ void run(const LibraryArgs& a) {
     if (b.depth_scheme) flags.scheme = *b.depth_scheme;
     if (b.z_max) flags.z_max = *b.z_max;
     if (b.tolerance) flags.settings.tolerance = *b.tolerance;
+    if (b.scattering) flags.scattering = *b.scattering;
+    if (b.paths) flags.settings.higher_orders.paths = *b.paths;
+    flags.threads = a.threads;
     BakeSettings settings;
     try {
         settings = flags.resolve();
@@ -105,7 +109,7 @@ void run(const LibraryArgs& a) {
                 std::printf("would bake  %s\n", path.c_str());
                 continue;
             }
-            const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings);
+            const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings, flags.parallel());
             write_asset(path, asset);
             std::printf("baked       %s\n", path.c_str());
             ++baked;
@@ -129,6 +133,8 @@ void setup_bake_library(CLI::App& sub) {
     sub.add_option("--shard-count", a->shard_count, "shards when JOB_COMPLETION_INDEX is used");
     sub.add_flag("--force", a->force, "bake even if an asset is up to date");
     sub.add_flag("--dry-run", a->dry_run, "list what would be baked");
+    sub.add_option("--threads", a->threads, "worker threads (0: all cores)")
+        ->check(CLI::NonNegativeNumber);
     sub.callback([a] { run(*a); });
 }
 

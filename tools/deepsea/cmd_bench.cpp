@@ -23,7 +23,7 @@
 #include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/lamps.h"
 #include "deepsea/runtime/sequence.h"
-#include "deepsea/scene/seafloor.h"
+#include "deepsea/scene/flight.h"
 
 namespace deepsea::cli {
 
@@ -115,11 +115,7 @@ std::vector<Case> time_compositor(const Setup& setup, const Camera& cam, const B
     const Asset asset = bake(cam, *setup.rig, water, BakeSettings{});
     FlightParams flight;
     flight.camera = cam;
-    Frame frame;
-    {
-        RgbdFrame rgbd = render_flight_frame(flight, 0);
-        frame = Frame{std::move(rgbd.rgb), std::move(rgbd.depth)};
-    }
+    const Frame frame = render_flight_frame(flight, 0);
     const AnalyticLamps lamps(*setup.rig, water);
     const AssetBackscatter backscatter(asset, cam);
     std::vector<Case> cases;
@@ -151,7 +147,7 @@ Case time_sequence(const Setup& setup, const BenchArgs& a, int threads) {
     std::vector<FrameJob> jobs;
     const int n = 8;
     for (int i = 0; i < n; ++i) {
-        const RgbdFrame f = render_flight_frame(flight, i);
+        const Frame f = render_flight_frame(flight, i);
         FrameJob j;
         j.rgb = (dir / ("f" + std::to_string(i) + ".png")).string();
         j.depth = (dir / ("f" + std::to_string(i) + "_depth.exr")).string();

@@ -13,7 +13,7 @@
 #include "deepsea/runtime/contact_sheet.h"
 #include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/sequence.h"
-#include "deepsea/scene/seafloor.h"
+#include "deepsea/scene/flight.h"
 
 namespace deepsea::cli {
 
@@ -44,8 +44,12 @@ Asset demo_asset(const Setup& setup, const std::string& path) {
         }
     }
     Progress bar("bake", 1);
-    settings.progress = [&](long done, long total) { bar.set_total(total); bar.update(done); };
-    Asset a = bake(*setup.camera, *setup.rig, *setup.water, settings);
+    Asset a = bake(*setup.camera, *setup.rig, *setup.water, settings,
+                   {0, 0, [&](long done, long total) {
+                        bar.set_total(total);
+                        bar.update(done);
+                        return true;
+                    }});
     bar.finish();
     write_asset(path, a);
     std::printf("asset: baked %s\n", path.c_str());
@@ -74,7 +78,7 @@ void run(const DemoArgs& a) {
     for (int i = 0; i < a.frames; ++i) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d", i + 1);
-        const RgbdFrame f = render_flight_frame(flight, i);
+        const Frame f = render_flight_frame(flight, i);
         FrameJob j;
         j.rgb = (input / (std::string(name) + ".png")).string();
         j.depth = (input / (std::string(name) + "_depth.exr")).string();

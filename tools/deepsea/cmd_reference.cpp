@@ -37,8 +37,8 @@ void run(const ReferenceArgs& a) {
     ReferenceOptions opt;
     opt.quadrature.rel_tol = a.rel_tol;
     opt.open_water_z = a.z_max;
-    opt.threads = a.threads;
-    const Layers layers = render_reference(*setup.camera, *setup.rig, *setup.water, rgb, depth, opt);
+    const Layers layers =
+        render_reference(*setup.camera, *setup.rig, *setup.water, rgb, depth, opt, {a.threads});
     if (!a.layers.empty()) {
         write_layers(a.layers, layers);
         std::printf("wrote %s\n", a.layers.c_str());

@@ -12,7 +12,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
-#include "deepsea/scene/seafloor.h"
+#include "deepsea/scene/flight.h"
 
 namespace deepsea::cli {
 
@@ -28,6 +28,7 @@ struct SceneArgs {
     int width = 800, height = 800;
     double fx = 0.0, fy = 0.0, cx = -1.0, cy = -1.0;
     FlightParams flight;
+    int threads = 0;
 };
 
 Camera camera_from(const SceneArgs& a) {
@@ -74,7 +75,7 @@ void run(SceneArgs a) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d", i + 1);
         const auto t0 = Clock::now();
-        const RgbdFrame frame = render_flight_frame(a.flight, i);
+        const Frame frame = render_flight_frame(a.flight, i, {a.threads});
         render_s += since(t0);
         const auto t1 = Clock::now();
         write_color((dir / (std::string(name) + ".png")).string(), frame.rgb);
@@ -116,7 +117,7 @@ void setup_scene(CLI::App& sub) {
                    "height scale of the relief, 0 = flat (default 1)");
     sub.add_option("--max-range", a->flight.max_range,
                    "metres along a ray beyond which depth is 0 (default 50)");
-    sub.add_option("--threads", a->flight.threads, "worker threads (0: all cores)");
+    sub.add_option("--threads", a->threads, "worker threads (0: all cores)");
     sub.callback([a] { run(*a); });
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "deepsea/asset/asset.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/optics/backscatter.h"
 
 namespace deepsea {
@@ -21,7 +22,6 @@ struct AccuracyOptions {
     /// column. An odd stride puts most test pixels between lattice columns.
     int stride = 7;
     Quadrature quadrature{1e-9, 1e-16, 40};  ///< for the exact reference
-    int threads = 0;                          ///< 0: all cores
 };
 
 /// Errors of one scene over the test pixels. A pixel's error is the largest relative error
@@ -36,7 +36,8 @@ struct AccuracyRow {
 };
 
 /// Compares the asset's lookup with exact integration for its own camera, rig and water.
-/// Deterministic at any thread count.
-std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const AccuracyOptions& opt = {});
+/// Deterministic at any thread count. Progress counts rows of test pixels.
+std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const AccuracyOptions& opt = {},
+                                                 const Parallel& par = {});
 
 }  // namespace deepsea

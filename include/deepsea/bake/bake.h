@@ -1,12 +1,13 @@
 #pragma once
-/// \file The baker (DESIGN.md section 3): the exact cumulative single-scattering backscatter
-/// of every lattice column, from optics' backscatter_cumulative, into an Asset.
+/// \file The baker (docs/model.md, Backscatter; docs/asset-format.md): the exact cumulative
+/// single-scattering backscatter of every lattice column, from optics' backscatter_cumulative,
+/// into an Asset.
 
-#include <functional>
 #include <string>
 
 #include "deepsea/asset/asset.h"
 #include "deepsea/asset/lattice.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/optics/backscatter.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
@@ -29,13 +30,10 @@ struct BakeSettings {
     Quadrature quadrature{1e-6, 1e-14, 40};  ///< the exact integrals' accuracy
     Scattering scattering = Scattering::Single;  ///< Multiple: add orders >= 2 (Monte Carlo)
     HigherOrderSettings higher_orders;           ///< Multiple only
-    int threads = 0;                   ///< 0: all cores
-    /// Called as columns finish (done, total), serialised, from any worker thread.
-    std::function<void(long done, long total)> progress;
 };
 
 /// Throws ConfigError naming the setting unless the settings can be baked (step >= 1,
-/// K >= 2, z_max > 0 or auto, 0 < tolerance < 0.5, threads >= 0, z0 > 0).
+/// K >= 2, z_max > 0 or auto, 0 < tolerance < 0.5, z0 > 0).
 void validate(const BakeSettings& settings);
 
 /// The BakeInfo a bake with these inputs would record, without baking (for an auto z_max the
@@ -45,15 +43,20 @@ BakeInfo bake_request(const Camera& camera, const Rig& rig, const Water& water,
                       const BakeSettings& settings);
 
 /// Bakes the asset of one camera x rig x water. Parallel over columns; the values are written
-/// to fixed slots, so the result is bit-identical at any thread count. Throws ConfigError for
-/// bad settings or a rig without lights.
-Asset bake(const Camera& camera, const Rig& rig, const Water& water, const BakeSettings& settings);
+/// to fixed slots, so the result is bit-identical at any thread count. Progress counts lattice
+/// columns, twice as many with an auto z_max (the search visits them first). Throws
+/// ConfigError for bad settings, a rig without lights or threads < 0; Cancelled when the
+/// progress callback returns false.
+Asset bake(const Camera& camera, const Rig& rig, const Water& water, const BakeSettings& settings,
+           const Parallel& par = {});
 
 /// The smallest planar depth beyond which, for every column of the lattice with this step and
 /// every channel, the backscatter still to come (to where exp(-2 c_min t) is negligible) is at
 /// most `tolerance` of the column's total (the paper's Fig. 6 argument). Rounded up to 1 mm.
+/// Progress counts lattice columns.
 double auto_z_max(const Camera& camera, const Rig& rig, const Water& water, int step,
-                  double tolerance, const Quadrature& q = {1e-6, 1e-14, 40}, int threads = 0);
+                  double tolerance, const Quadrature& q = {1e-6, 1e-14, 40},
+                  const Parallel& par = {});
 
 /// Path length (metres) beyond which every ray's backscatter is negligible for the auto
 /// z_max search with this tolerance: exp(-2 c_min t) < 1e-4 tolerance.

@@ -7,6 +7,9 @@
 
 namespace deepsea {
 
+/// Columns the Monte Carlo computes on an ni x nj lattice with this stride.
+long higher_order_columns(int ni, int nj, int stride);
+
 /// Adds the radiance of orders >= 2 to an asset holding exact single scattering (values as
 /// bake() leaves them), with asset.info.higher_orders' settings, and records there what the
 /// estimate measured of itself (rel_std_error, fraction) and Scattering::Multiple. Parallel

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <utility>
 
 #include "deepsea/core/error.h"
 
@@ -15,11 +16,25 @@ namespace deepsea {
 /// Cancelled.
 using Progress = std::function<bool(long done, long total)>;
 
-/// How to run a long parallel operation.
+/// How to run a long parallel operation. Library functions take it last, defaulted, so that a
+/// caller names only what it cares about: `bake(cam, rig, water, settings, {threads, 0, bar})`.
 struct Parallel {
-    int threads = 0;          ///< worker threads; 0: all cores
-    std::size_t grain = 1;    ///< items per task (at least 1)
+    int threads = 0;          ///< worker threads, >= 0; 0: all cores
+    std::size_t grain = 0;    ///< items per task; 0: the operation's own choice
     Progress progress;        ///< optional
+
+    Parallel() = default;
+    /// Not explicit: a call can pass `{threads}` or `{threads, grain, progress}`.
+    Parallel(int threads_, std::size_t grain_ = 0, Progress progress_ = {})
+        : threads(threads_), grain(grain_), progress(std::move(progress_)) {}
+
+    /// A copy with grain `g` unless the caller chose one: how an operation states the task
+    /// size that suits its items (a lattice column, an image row).
+    Parallel or_grain(std::size_t g) const {
+        Parallel p = *this;
+        if (p.grain == 0) p.grain = g;
+        return p;
+    }
 };
 
 /// The user (or a Progress callback) stopped a long operation.
@@ -29,13 +44,14 @@ public:
     int exit_code() const override { return 130; }
 };
 
-/// Runs body(begin, end) over disjoint sub-ranges of [0, n) on par.threads workers, reporting
-/// progress in items. Exceptions thrown by body propagate (the first one wins).
+/// Runs body(begin, end) over disjoint sub-ranges of [0, n), each at most par.grain items
+/// (grain 0 counts as 1), on par.threads workers, reporting progress in items. Exceptions
+/// thrown by body propagate (the first one wins); ConfigError for threads < 0.
 void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body,
                   const Parallel& par = {});
 
 /// Runs f inside an arena of `threads` workers (0: all cores), for code that calls TBB or
-/// OpenVDB's own parallel tools.
+/// OpenVDB's own parallel tools. ConfigError for threads < 0.
 void in_arena(int threads, const std::function<void()>& f);
 
 }  // namespace deepsea

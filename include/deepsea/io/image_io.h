@@ -1,6 +1,7 @@
 #pragma once
-/// \file Reading and writing images through OpenImageIO. Every writer writes to a temporary
-/// file beside the target and renames it, so no half-written image is ever left behind.
+/// \file Reading and writing images through OpenImageIO (PFM and .npy depth: depth_formats.h).
+/// Every writer goes through core's write_atomically, so no half-written image is ever left
+/// behind.
 
 #include <string>
 #include <vector>

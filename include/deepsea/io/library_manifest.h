@@ -24,6 +24,8 @@ struct LibraryBakeSettings {
     std::optional<std::string> depth_scheme;
     std::optional<std::string> z_max;  ///< metres or "auto"
     std::optional<double> tolerance;
+    std::optional<std::string> scattering;  ///< single | multiple
+    std::optional<int> paths;               ///< multiple: Monte Carlo paths per column
 };
 
 struct LibraryManifest {
@@ -40,7 +42,8 @@ struct LibraryManifest {
 ///   cameras, rigs, waters   non-empty lists of YAML files (waters also jerlov:<TYPE>); each
 ///                           file must exist
 ///   bake                    optional map: xy_step, depth_samples, depth_scheme, z_max
-///                           (metres or auto), tolerance
+///                           (metres or auto), tolerance, scattering (single | multiple),
+///                           paths
 /// ConfigError for an unknown, missing or mistyped key, a missing file, or two entries that
 /// would write the same asset (inputs with one file stem); IoError if the manifest is unreadable.
 LibraryManifest load_library_manifest(const std::string& path);

@@ -1,9 +1,10 @@
 #pragma once
-/// \file The runtime compositor: RGB-D frame in, deep-sea layers out (DESIGN.md section 4).
+/// \file The runtime compositor: RGB-D frame in, deep-sea layers out (docs/runtime.md).
 
 #include <memory>
 #include <vector>
 
+#include "deepsea/core/frame.h"
 #include "deepsea/core/image.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/water.h"
@@ -12,12 +13,6 @@
 #include "deepsea/runtime/sources.h"
 
 namespace deepsea {
-
-/// One input frame: linear RGB albedo (3 channels) and planar z-depth in metres (1 channel).
-struct Frame {
-    Image rgb;
-    Image depth;
-};
 
 /// Composites frames of one camera. Keeps its scratch buffers, so after the first frame of a
 /// size nothing is allocated. Output is identical at any thread count (rows are independent).

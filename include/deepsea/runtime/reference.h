@@ -3,6 +3,7 @@
 /// is checked against. Slow by design: the backscatter integral is evaluated for every pixel.
 
 #include "deepsea/core/image.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/optics/backscatter.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
@@ -16,7 +17,6 @@ struct ReferenceOptions {
     /// Open-water rays end at this planar depth in metres (e.g. an asset's z_max to compare
     /// with it). 0: integrate until the transmission along the ray is negligible (1e-9).
     double open_water_z = 0.0;
-    int threads = 0;  ///< 0: all cores
 };
 
 /// Planar depth at which open-water rays end for this water and options.
@@ -25,8 +25,10 @@ double open_water_depth(const Water& water, const ReferenceOptions& opt);
 /// Renders direct, forward, backscatter, transmission, depth and normal layers exactly.
 /// rgb: linear albedo, 3 channels; zdepth: planar depth in metres, 1 channel, same size as rgb
 /// and as the camera (InputError otherwise). Non-finite or <= 0 depth is open water.
+/// Runs on par.threads workers; par.progress is not called yet (the rows run as one task).
 Layers render_reference(const Camera& camera, const Rig& rig, const Water& water,
-                        const Image& rgb, const Image& zdepth, const ReferenceOptions& opt = {});
+                        const Image& rgb, const Image& zdepth, const ReferenceOptions& opt = {},
+                        const Parallel& par = {});
 
 /// Converts a depth map of the given kind to planar z-depth, in place (open water kept).
 void to_planar_depth(const Camera& camera, Image& depth, DepthKind kind);

@@ -81,10 +81,8 @@ TEST(Bake, ValuesAreTheExactCumulativeIntegrals) {
 TEST(Bake, BitIdenticalAtOneAndTwoThreads) {
     BakeSettings s = small_settings();
     s.z_max = 0.0;  // auto: the z_max search is parallel too
-    s.threads = 1;
-    const Asset a1 = bake(kCam, two_lamps(), jerlov_water("3C"), s);
-    s.threads = 2;
-    const Asset a2 = bake(kCam, two_lamps(), jerlov_water("3C"), s);
+    const Asset a1 = bake(kCam, two_lamps(), jerlov_water("3C"), s, {1});
+    const Asset a2 = bake(kCam, two_lamps(), jerlov_water("3C"), s, {2});
     ASSERT_EQ(a1.values.size(), a2.values.size());
     EXPECT_EQ(a1.lattice().z, a2.lattice().z);
     EXPECT_EQ(0, std::memcmp(a1.values.data(), a2.values.data(),
@@ -95,16 +93,35 @@ TEST(Bake, BitIdenticalAtOneAndTwoThreads) {
 TEST(Bake, ProgressReachesTheTotal) {
     BakeSettings s = small_settings();
     long last = 0, total = 0, calls = 0;
-    s.progress = [&](long done, long t) {
-        EXPECT_GT(done, last);  // serialised and increasing
-        last = done;
-        total = t;
-        ++calls;
-    };
-    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s);
+    const Parallel par{0, 0, [&](long done, long t) {
+                           EXPECT_GT(done, last);  // serialised and increasing
+                           last = done;
+                           total = t;
+                           ++calls;
+                           return true;
+                       }};
+    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s, par);
     EXPECT_GT(calls, 0);
     EXPECT_EQ(last, a.lattice().columns());
     EXPECT_EQ(total, a.lattice().columns());
+    // With an auto z_max the search comes first, on the same bar: twice the columns.
+    s.z_max = 0.0;
+    last = 0;
+    const Asset b = bake(kCam, two_lamps(), jerlov_water("IB"), s, par);
+    EXPECT_EQ(last, 2 * b.lattice().columns());
+    EXPECT_EQ(total, 2 * b.lattice().columns());
+}
+
+TEST(Bake, ProgressCanCancel) {
+    long last = 0;
+    const Parallel par{2, 1, [&](long done, long) {
+                           last = done;
+                           return done < 3;
+                       }};
+    EXPECT_THROW(bake(kCam, two_lamps(), jerlov_water("IB"), small_settings(), par), Cancelled);
+    EXPECT_GE(last, 3);
+    EXPECT_LT(last, bake_request(kCam, two_lamps(), jerlov_water("IB"), small_settings())
+                        .lattice.columns());
 }
 
 TEST(Bake, AutoZMaxMeetsItsTolerance) {
@@ -154,9 +171,7 @@ TEST(Bake, RequestHashMatchesTheBakedAsset) {
         const Asset a = bake(kCam, rig, water, s);
         EXPECT_EQ(want.input_hash, a.info.input_hash) << "z_max " << z_max;
         EXPECT_EQ(input_hash(a.info), a.info.input_hash);
-        // Threads and progress are not inputs; any other setting is.
-        s.threads = 1;
-        EXPECT_EQ(bake_request(kCam, rig, water, s).input_hash, want.input_hash);
+        // Any setting is an input (threads and progress are not settings but a Parallel).
         s.depth_samples += 1;
         EXPECT_NE(bake_request(kCam, rig, water, s).input_hash, want.input_hash);
     }
@@ -191,12 +206,17 @@ TEST(Bake, ValidateRejectsBadSettings) {
     rejects([](BakeSettings& s) { s.step = 0; }, "xy_step");
     rejects([](BakeSettings& s) { s.tolerance = 0.0; }, "tolerance");
     rejects([](BakeSettings& s) { s.tolerance = 0.5; }, "tolerance");
-    rejects([](BakeSettings& s) { s.threads = -1; }, "threads");
     // bake() validates too, and refuses a rig without lamps.
     BakeSettings s = small_settings();
     s.depth_samples = 1;
     EXPECT_THROW(bake(kCam, two_lamps(), jerlov_water("IB"), s), ConfigError);
     EXPECT_THROW(bake(kCam, Rig{}, jerlov_water("IB"), small_settings()), ConfigError);
+    try {
+        bake(kCam, two_lamps(), jerlov_water("IB"), small_settings(), {-1});
+        ADD_FAILURE() << "accepted threads = -1";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("threads"), std::string::npos) << e.what();
+    }
 }
 
 class BakeFile : public ::testing::Test {
@@ -273,10 +293,8 @@ TEST(BakeAccuracy, SmallAssetIsAccurateAndDeterministic) {
     AccuracyOptions opt;
     opt.quadrature = {1e-7, 1e-15, 40};  // the default 1e-9 is for the docs' tables: slow
     opt.stride = 9;
-    opt.threads = 1;
-    const auto rows = evaluate_asset_accuracy(a, opt);
-    opt.threads = 2;
-    const auto rows2 = evaluate_asset_accuracy(a, opt);
+    const auto rows = evaluate_asset_accuracy(a, opt, {1});
+    const auto rows2 = evaluate_asset_accuracy(a, opt, {2});
     ASSERT_EQ(rows.size(), 5u);  // three planes, open water at z_max and to infinity
     for (std::size_t r = 0; r < rows.size(); ++r) {
         EXPECT_EQ(rows[r].mean_rel, rows2[r].mean_rel);

@@ -17,53 +17,23 @@
 #include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
+#include "io_fixtures.h"
 
 namespace deepsea {
 namespace {
 
 namespace fs = std::filesystem;
+using test::be32;
+using test::raw;
+using test::write_bytes;
 
-/// A fresh folder per test, removed afterwards.
-class ImageIo : public ::testing::Test {
-protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() /
-               ("deepsea-io-" + std::to_string(::getpid()) + "-" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add, ec);
-        fs::remove_all(dir_, ec);
-    }
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    /// Names in the folder, to prove no temporary file is left behind.
-    std::vector<std::string> listing() const {
-        std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename());
-        return names;
-    }
-    fs::path dir_;
-};
+class ImageIo : public test::TempFolderTest {};
 
 Image ramp(int w, int h, int c) {
     Image img(w, h, c);
     for (std::size_t i = 0; i < img.data.size(); ++i)
         img.data[i] = float(i % 97) / 96.0f;
     return img;
-}
-
-void write_bytes(const std::string& p, const std::string& bytes) {
-    std::ofstream os(p, std::ios::binary);
-    os.write(bytes.data(), std::streamsize(bytes.size()));
-}
-
-template <typename T>
-std::string raw(const std::vector<T>& v) {
-    // The test machine is little-endian (x86-64/aarch64), as are .npy '<' and PFM scale < 0.
-    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
 // --- PNG writer for a 16-bit grey image: uncompressed deflate blocks, so no zlib needed -------
@@ -75,10 +45,6 @@ std::uint32_t crc32(const std::string& s) {
         for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
     }
     return c ^ 0xffffffffu;
-}
-
-std::string be32(std::uint32_t v) {
-    return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
 }
 
 std::string chunk(const std::string& type, const std::string& data) {
@@ -110,15 +76,6 @@ std::string png16_grey(int w, int h, const std::vector<std::uint16_t>& px) {
     ihdr += std::string("\x10\x00\x00\x00\x00", 5);
     return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", z) +
            chunk("IEND", "");
-}
-
-std::string npy(const std::string& descr, const std::string& shape, const std::string& data) {
-    std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape +
-                         ", }";
-    while ((10 + header.size() + 1) % 64 != 0) header += ' ';
-    header += '\n';
-    const auto n = std::uint16_t(header.size());
-    return std::string("\x93NUMPY\x01\x00", 8) + char(n & 0xff) + char(n >> 8) + header + data;
 }
 
 // --- sRGB ------------------------------------------------------------------------------------
@@ -280,42 +237,6 @@ TEST_F(ImageIo, Png16DepthIsScaled) {
 TEST_F(ImageIo, EightBitDepthIsAnInputError) {
     write_color(path("d8.png"), Image(4, 4, 1, 0.5f), 8);
     EXPECT_THROW(read_depth(path("d8.png")), InputError);
-}
-
-TEST_F(ImageIo, PfmRowsEndUpTopToBottom) {
-    // 2 x 2, bottom row (3, 4) stored first, little-endian (negative scale).
-    write_bytes(path("d.pfm"), "Pf\n2 2\n-1.0\n" + raw(std::vector<float>{3, 4, 1, 2}));
-    Image d = read_depth(path("d.pfm"));
-    EXPECT_EQ(d.data, (std::vector<float>{1, 2, 3, 4}));
-    // Big-endian (positive scale) gives the same image.
-    std::string be;
-    for (float v : {3.0f, 4.0f, 1.0f, 2.0f}) {
-        std::uint32_t u;
-        std::memcpy(&u, &v, 4);
-        be += be32(u);
-    }
-    write_bytes(path("be.pfm"), "Pf\n2 2\n1.0\n" + be);
-    EXPECT_EQ(read_depth(path("be.pfm")).data, (std::vector<float>{1, 2, 3, 4}));
-}
-
-TEST_F(ImageIo, NpyDepth) {
-    write_bytes(path("f4.npy"), npy("<f4", "(2, 3)", raw(std::vector<float>{1, 2, 3, 4, 5, 6})));
-    Image d = read_depth(path("f4.npy"));
-    ASSERT_EQ(d.width, 3);
-    ASSERT_EQ(d.height, 2);
-    EXPECT_EQ(d.at(2, 0), 3.0f);
-    EXPECT_EQ(d.at(0, 1), 4.0f);
-
-    write_bytes(path("f8.npy"), npy("<f8", "(2, 2, 1)", raw(std::vector<double>{1.5, 2, 3, 4})));
-    EXPECT_EQ(read_depth(path("f8.npy")).data, (std::vector<float>{1.5, 2, 3, 4}));
-
-    write_bytes(path("u2.npy"), npy("<u2", "(1, 2)", raw(std::vector<std::uint16_t>{1500, 0})));
-    EXPECT_NEAR(read_depth(path("u2.npy")).at(0, 0), 1.5, 1e-6);
-
-    write_bytes(path("bad.npy"), npy("<f4", "(1, 1, 3)", raw(std::vector<float>{1, 2, 3})));
-    EXPECT_THROW(read_depth(path("bad.npy")), InputError);
-    write_bytes(path("short.npy"), npy("<f4", "(4, 4)", raw(std::vector<float>{1, 2})));
-    EXPECT_THROW(read_depth(path("short.npy")), IoError);
 }
 
 // --- errors ----------------------------------------------------------------------------------

@@ -1,0 +1,88 @@
+#include "deepsea/core/atomic_file.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "deepsea/core/error.h"
+#include "../temp_folder.h"
+
+namespace deepsea {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class AtomicFile : public test::TempFolderTest {};
+
+void put(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+std::string get(const std::string& path) {
+    std::ifstream f(path);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace
+
+TEST_F(AtomicFile, ReplacesTheTargetOnSuccess) {
+    put(path("a.txt"), "old");
+    std::string tmp_seen;
+    write_atomically(path("a.txt"), [&](const std::string& tmp) {
+        tmp_seen = tmp;
+        EXPECT_EQ(fs::path(tmp).parent_path(), dir_);  // same folder: the rename is atomic
+        EXPECT_EQ(fs::path(tmp).extension(), ".txt");   // format-by-extension writers agree
+        EXPECT_EQ(get(path("a.txt")), "old");           // readers see the old file meanwhile
+        put(tmp, "new");
+    });
+    EXPECT_EQ(get(path("a.txt")), "new");
+    EXPECT_FALSE(fs::exists(tmp_seen));
+    EXPECT_EQ(listing(), std::vector<std::string>{"a.txt"});
+}
+
+TEST_F(AtomicFile, WriterThatThrowsLeavesNoTemporaryAndTheOldFile) {
+    put(path("a.txt"), "old");
+    EXPECT_THROW(write_atomically(path("a.txt"),
+                                  [&](const std::string& tmp) {
+                                      put(tmp, "half");
+                                      throw InputError("writer failed");
+                                  }),
+                 InputError);  // the writer's own exception
+    EXPECT_EQ(get(path("a.txt")), "old");
+    EXPECT_EQ(listing(), std::vector<std::string>{"a.txt"});
+}
+
+TEST_F(AtomicFile, WriterThatWritesNothingIsAnIoErrorAndLeavesNoFile) {
+    EXPECT_THROW(write_atomically(path("none.txt"), [](const std::string&) {}), IoError);
+    EXPECT_THROW(write_atomically(path("empty.txt"), [](const std::string& tmp) { put(tmp, ""); }),
+                 IoError);
+    EXPECT_TRUE(listing().empty());
+}
+
+TEST_F(AtomicFile, RefusesAMissingFolderBeforeWriting) {
+    bool called = false;
+    const std::string target = path("no/such/dir/a.txt");
+    try {
+        write_atomically(target, [&](const std::string&) { called = true; });
+        FAIL() << "no exception";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find(target), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(called);
+    EXPECT_THROW(require_writable_folder(target), IoError);
+    put(path("file"), "x");
+    EXPECT_THROW(require_writable_folder(path("file/a.txt")), IoError);  // not a folder
+    EXPECT_NO_THROW(require_writable_folder(path("a.txt")));
+}
+
+TEST_F(AtomicFile, RenameOntoAFolderFailsAndCleansUp) {
+    fs::create_directories(path("busy.txt"));
+    EXPECT_THROW(write_atomically(path("busy.txt"), [](const std::string& tmp) { put(tmp, "x"); }),
+                 IoError);
+    EXPECT_EQ(listing(), std::vector<std::string>{"busy.txt"});
+}
+
+}  // namespace deepsea
