@@ -81,6 +81,17 @@ BIN = 4
 B_PERTURB = 1.01
 
 
+def asserted_layers(scene, orders):
+    """Single scattering: every layer. All orders: Cycles files light that the water scatters
+    after the plane reflected it (the forward-scattered image of the plane and its glow in the
+    water) under VolumeInd, with the water, so the backscatter/surface split of a plane scene
+    is not deepsea's; there only the final image is held to the tolerances, and the backscatter
+    of the empty scenes (the baked water light itself)."""
+    if orders == "single":
+        return ("backscatter", "surface", "final")
+    return ("final",) if SCENES[scene]["plane"] else ("backscatter",)
+
+
 def scene_json(name, orders, samples, seed):
     s = SCENES[name]
     d = dict(camera=CAMERA,
@@ -246,7 +257,8 @@ def write_markdown(path, rows, sens, orders, seeds, samples, sum_tol, bin_tol):
         out.append(f"| {r['scene']} | {r['layer']} | {r['method']} | {r['channel']} | "
                    f"{r['cycles']:.5g} | {r['se'] / abs(r['cycles']):.2%} | {r['deepsea']:.5g} | "
                    f"{r['rel']:+.3%} | {r['nse']:+.2f} | {r['bin_worst']:.2%} | "
-                   f"{r['bin_rms']:.2%} | {'yes' if r['ok'] and r['bin_bad'] == 0 else 'NO'} |")
+                   f"{r['bin_rms']:.2%} | "
+                   f"{('yes' if r['ok'] and r['bin_bad'] == 0 else 'NO') if r['asserted'] else 'reported'} |")
     if sens:
         out += ["", f"Sensitivity: deepsea reference with b x {B_PERTURB}, backscatter sums "
                 "(R, G, B):", ""]
@@ -307,7 +319,7 @@ def main():
     ap.add_argument("workdir")
     ap.add_argument("--orders", choices=("single", "all"), default="single")
     ap.add_argument("--samples", type=int, default=None,
-                    help="Cycles samples per pixel per seed (default 128 single, 512 all)")
+                    help="Cycles samples per pixel per seed (default 128 single, 256 all)")
     ap.add_argument("--seeds", type=int, default=8)
     ap.add_argument("--blender", default="blender")
     ap.add_argument("--scenes", default=",".join(SCENES))
@@ -315,7 +327,7 @@ def main():
     ap.add_argument("--bin-tol", type=float, default=None)
     args = ap.parse_args()
     orders = args.orders
-    samples = args.samples or (128 if orders == "single" else 512)
+    samples = args.samples or (128 if orders == "single" else 256)
     sum_tol = args.sum_tol if args.sum_tol is not None else SUM_TOL[orders]
     bin_tol = args.bin_tol if args.bin_tol is not None else BIN_TOL[orders]
     names = [s for s in args.scenes.split(",") if s]
@@ -381,17 +393,21 @@ def main():
         layers = ("backscatter", "surface", "final") if SCENES[s]["plane"] else ("backscatter",)
         for layer in layers:
             ref = stats([c[layer] for c in cyc])
+            asserted = layer in asserted_layers(s, orders)
             for meth, lay in methods[s].items():
                 r = compare(ref, lay[layer], sum_tol, bin_tol)
                 for k, c in enumerate(r["channels"]):
                     flag = "" if (c["ok"] and c["bin_bad"] == 0) else "  FAIL"
+                    if not asserted:
+                        flag = "  (reported only" + (", outside" if flag else "") + ")"
+                    c["asserted"] = asserted
                     print(f"{s:14s} {layer:11s} {meth:9s} {'RGB'[k]}  {c['cycles']:11.5g} "
                           f"{c['se'] / abs(c['cycles']):7.2%} {c['deepsea']:11.5g} "
                           f"{c['rel']:+8.3%} {c['nse']:+6.2f} | {c['bins']:4d} "
                           f"{c['bin_worst']:7.2%} {c['bin_rms']:6.2%} {c['bin_nse_max']:6.2f} "
                           f"{c['bin_bad']:4d}{flag}")
                     rows.append(dict(scene=s, layer=layer, method=meth, channel="RGB"[k], **c))
-                if not r["ok"]:
+                if not r["ok"] and asserted:
                     ok = False
                     diff = lay[layer] - ref["pixels"]
                     rel = diff / np.where(np.abs(ref["pixels"]) > 0, ref["pixels"], 1.0)
