@@ -18,13 +18,13 @@ Sensitivity (single scattering): deepsea with b scaled by 1.01 must fail the bac
 in every scene, so a 1 % error cannot pass unnoticed.
 
 --orders single (default): Cycles with every bounce count 0, which is exactly single
-scattering, against `deepsea reference` and the default bake.
+scattering, against `deepsea reference` and a bake (`deepsea bake`, single scattering).
 --orders all: Cycles with every bounce count 64, against `deepsea bake --scattering multiple`
 (the multiple-scattering baker; `deepsea reference` is single scattering only, so it is left
-out).
+out); plane scenes assert only the final image (see asserted_layers).
 
 usage: cycles_check.py DEEPSEA_BIN WORKDIR [--orders single|all] [--samples N] [--seeds K]
-                       [--blender BIN] [--scenes a,b] [--keep-going]
+                       [--blender BIN] [--scenes a,b] [--sum-tol F] [--bin-tol F]
 """
 import argparse
 import json
