@@ -25,6 +25,7 @@ out); plane scenes assert only the final image (see asserted_layers).
 
 usage: cycles_check.py DEEPSEA_BIN WORKDIR [--orders single|all] [--samples N] [--seeds K]
                        [--blender BIN] [--scenes a,b] [--sum-tol F] [--bin-tol F]
+                       [--bin PX]
 """
 import argparse
 import json
@@ -314,6 +315,7 @@ def run_deepsea(ds, work, names, orders, log):
 
 
 def main():
+    global BIN
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("deepsea")
     ap.add_argument("workdir")
@@ -325,7 +327,10 @@ def main():
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--sum-tol", type=float, default=None)
     ap.add_argument("--bin-tol", type=float, default=None)
+    ap.add_argument("--bin", type=int, default=BIN,
+                    help="bin size in pixels (default 4; all orders may need coarser bins)")
     args = ap.parse_args()
+    BIN = args.bin
     orders = args.orders
     samples = args.samples or (128 if orders == "single" else 256)
     sum_tol = args.sum_tol if args.sum_tol is not None else SUM_TOL[orders]
