@@ -187,3 +187,35 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir, const st
 }
 
 }  // namespace deepsea
+
+#include "deepsea/optics/spherical_harmonics.h"
+
+namespace deepsea {
+
+ShEstimate scattered_radiance_sh(const Transport& tr, const Vec3& X, int samples, Rng& rng) {
+    ShEstimate out;
+    if (samples < 1) return out;
+    double s2[27] = {};
+    for (int i = 0; i < samples; ++i) {
+        const PhaseSample ps = tr.any_direction(X, rng);
+        const Rgb L = tr.scattered_radiance(X, ps.direction, rng) * ps.weight;
+        double Y[kShCount];
+        sh_basis(ps.direction.x, ps.direction.y, ps.direction.z, Y);
+        for (int m = 0; m < kShCount; ++m) {
+            for (int c = 0; c < 3; ++c) {
+                const double f = L[c] * Y[m];
+                out.value[3 * m + c] += f;
+                s2[3 * m + c] += f * f;
+            }
+        }
+    }
+    const double n = samples;
+    for (int i = 0; i < 27; ++i) {
+        const double mean = out.value[i] / n;
+        out.value[i] = mean;
+        out.std_error[i] = std::sqrt(std::max(0.0, s2[i] / n - mean * mean) / n);
+    }
+    return out;
+}
+
+}  // namespace deepsea

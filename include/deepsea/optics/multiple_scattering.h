@@ -86,3 +86,17 @@ Estimate higher_orders_cumulative(const Transport& transport, const Vec3& dir,
                                   std::uint64_t stream);
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+/// SH coefficients (kShCount per channel, [3 * m + c]) of the scattered radiance arriving at X
+/// from all directions (Transport::scattered_radiance), from `samples` directions drawn by
+/// Transport::any_direction; std_error (same layout) is each coefficient's standard error.
+/// The irradiance onto a Lambertian surface follows with sh_irradiance.
+struct ShEstimate {
+    double value[27] = {};
+    double std_error[27] = {};
+};
+ShEstimate scattered_radiance_sh(const Transport& transport, const Vec3& X, int samples, Rng& rng);
+
+}  // namespace deepsea
