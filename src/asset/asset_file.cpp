@@ -245,6 +245,79 @@ GridSummary summarize(const vdb::GridBase& g) {
     return s;
 }
 
+/// Grid name of lamp l's scattered-light table.
+std::string lamp_field_grid(std::size_t l) { return kLampFieldGrid + std::to_string(l); }
+
+constexpr const char* kMetaFieldR0 = "deepsea:r0";
+constexpr const char* kMetaFieldRMax = "deepsea:r_max";
+constexpr const char* kMetaFieldError = "deepsea:rel_std_error";
+
+/// A lamp field as a Vec3f grid, index (i, j, m) = (distance, angle, SH coefficient), RGB per
+/// voxel, full float. Its 1 mm voxels keep it next to the lamp in world space (a grid of unit
+/// voxels would frame a box metres wide around nothing in Blender).
+vdb::GridBase::Ptr lamp_field_to_grid(const LampField& f, std::size_t l) {
+    std::vector<vdb::Vec3s> stored(f.sh.size() / 3);
+    std::memcpy(stored.data(), f.sh.data(), f.sh.size() * sizeof(float));
+    const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(f.nr - 1, f.ntheta - 1, kShCount - 1));
+    auto grid = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
+    // Layout: (i, j, m) with m fastest, as LampField::sh: OpenVDB's z-y-x dense layout.
+    vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, stored.data());
+    vdb::tools::copyFromDense(dense, *grid, vdb::Vec3s(0.0f));
+    grid->setName(lamp_field_grid(l));
+    grid->setTransform(vdb::math::Transform::createLinearTransform(1e-3));
+    grid->setVectorType(vdb::VEC_INVARIANT);
+    grid->insertMeta(kMetaFieldR0, vdb::DoubleMetadata(f.r0));
+    grid->insertMeta(kMetaFieldRMax, vdb::DoubleMetadata(f.r_max));
+    grid->insertMeta(kMetaFieldError, vdb::DoubleMetadata(f.rel_std_error));
+    grid->insertMeta("deepsea:nr", vdb::Int32Metadata(f.nr));
+    grid->insertMeta("deepsea:ntheta", vdb::Int32Metadata(f.ntheta));
+    grid->insertMeta(kMetaChecksum, vdb::StringMetadata(hex(checksum(f.sh.data(), f.sh.size()))));
+    return grid;
+}
+
+LampField lamp_field_from_file(vdb::io::File& file, const std::string& path, std::size_t l) {
+    const std::string name = lamp_field_grid(l);
+    vdb::GridBase::Ptr base;
+    try {
+        if (!file.hasGrid(name)) throw AssetError("multiple-scattering asset without grid " + name);
+        base = file.readGrid(name);
+    } catch (const AssetError& e) {
+        throw AssetError(path + ": " + one_line(e.what()));
+    } catch (const std::exception& e) {
+        throw AssetError(path + ": truncated or damaged asset (" + one_line(e.what()) + ")");
+    }
+    const auto grid = vdb::gridPtrCast<vdb::Vec3SGrid>(base);
+    LampField f;
+    std::int32_t nr = 0, nt = 0;
+    std::string sum;
+    if (!grid || !get_meta(*grid, "deepsea:nr", nr) || !get_meta(*grid, "deepsea:ntheta", nt) ||
+        !get_meta(*grid, kMetaFieldR0, f.r0) || !get_meta(*grid, kMetaFieldRMax, f.r_max) ||
+        !get_meta(*grid, kMetaChecksum, sum) || nr < 2 || nt < 2 || nr > 4096 || nt > 4096 ||
+        !(f.r0 > 0.0) || !(f.r_max > f.r0)) {
+        throw AssetError(path + ": grid " + name + " is not a deepsea lamp field");
+    }
+    get_meta(*grid, kMetaFieldError, f.rel_std_error);
+    f.nr = nr;
+    f.ntheta = nt;
+    const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(nr - 1, nt - 1, kShCount - 1));
+    const vdb::CoordBBox active = grid->evalActiveVoxelBoundingBox();
+    if (!active.empty() && !box.isInside(active)) {
+        throw AssetError(path + ": grid " + name + " is larger than its table");
+    }
+    std::vector<vdb::Vec3s> dense_data(box.volume());
+    vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, dense_data.data());
+    vdb::tools::copyToDense(*grid, dense);
+    f.sh.resize(dense_data.size() * 3);
+    std::memcpy(f.sh.data(), dense_data.data(), f.sh.size() * sizeof(float));
+    if (hex(checksum(f.sh.data(), f.sh.size())) != sum) {
+        throw AssetError(path + ": truncated or damaged asset (grid " + name + " checksum mismatch)");
+    }
+    for (float x : f.sh) {
+        if (!std::isfinite(x)) throw AssetError(path + ": non-finite value in grid " + name);
+    }
+    return f;
+}
+
 }  // namespace
 
 void require_writable(const std::string& path) {
@@ -329,6 +402,14 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
             meta.insertMeta(kMetaPreviewScale, vdb::DoubleMetadata(pv.density_scale));
         }
     }
+    if (asset.info.scattering == Scattering::Multiple) {
+        if (asset.lamp_fields.size() != asset.info.rig.lights.size()) {
+            throw AssetError("write_asset: a multiple-scattering asset needs one lamp field per lamp");
+        }
+        for (std::size_t l = 0; l < asset.lamp_fields.size(); ++l) {
+            grids.push_back(lamp_field_to_grid(asset.lamp_fields[l], l));
+        }
+    }
     grids.push_back(grid);
     meta.insertMeta("creator", vdb::StringMetadata("deepsea bake"));
     meta.insertMeta(kMetaBytes, vdb::StringMetadata(kBytesPlaceholder));
@@ -389,6 +470,11 @@ Asset load_asset(const std::string& path) {
             const float x = dense_data[n][c];
             if (!std::isfinite(x)) throw AssetError(path + ": non-finite backscatter value");
             asset.values[3 * n + c] = float(x * inv);
+        }
+    }
+    if (asset.info.scattering == Scattering::Multiple) {
+        for (std::size_t l = 0; l < asset.info.rig.lights.size(); ++l) {
+            asset.lamp_fields.push_back(lamp_field_from_file(f.file, path, l));
         }
     }
     return asset;

@@ -71,6 +71,7 @@ json settings_json(const BakeInfo& info) {
         s["paths"] = info.higher_orders.paths;
         s["stride"] = info.higher_orders.stride;
         s["seed"] = info.higher_orders.seed;
+        s["lamp_samples"] = info.higher_orders.lamp_samples;
     }
     if (info.z_max_auto) {
         s["z_max"] = "auto";
@@ -251,7 +252,9 @@ std::string bake_info_to_json(const BakeInfo& info, int indent) {
                                     {"stride", h.stride},
                                     {"seed", h.seed},
                                     {"rel_std_error", h.rel_std_error},
-                                    {"fraction", h.fraction}};
+                                    {"fraction", h.fraction},
+                                    {"lamp_samples", h.lamp_samples},
+                                    {"lamp_rel_std_error", h.lamp_rel_std_error}};
     }
     return j.dump(indent);
 }
@@ -325,7 +328,11 @@ BakeInfo bake_info_from_json(const std::string& text) {
         h.seed = seed.get<std::uint64_t>();
         h.rel_std_error = num(m, "rel_std_error", "multiple_scattering");
         h.fraction = num(m, "fraction", "multiple_scattering");
-        if (h.paths < 1 || h.stride < 1) fail("multiple_scattering", "paths and stride must be >= 1");
+        h.lamp_samples = integer(m, "lamp_samples", "multiple_scattering");
+        h.lamp_rel_std_error = num(m, "lamp_rel_std_error", "multiple_scattering");
+        if (h.paths < 1 || h.stride < 1 || h.lamp_samples < 1) {
+            fail("multiple_scattering", "paths, stride and lamp_samples must be >= 1");
+        }
     }
     return info;
 }

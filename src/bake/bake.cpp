@@ -45,8 +45,9 @@ void validate(const BakeSettings& s) {
         throw ConfigError("tolerance must be in (0, 0.5), got " + std::to_string(s.tolerance));
     }
     if (s.scattering == Scattering::Multiple &&
-        (s.higher_orders.paths < 1 || s.higher_orders.stride < 1)) {
-        throw ConfigError("multiple scattering: paths and stride must be >= 1");
+        (s.higher_orders.paths < 1 || s.higher_orders.stride < 1 ||
+         s.higher_orders.lamp_samples < 1)) {
+        throw ConfigError("multiple scattering: paths, stride and lamp samples must be >= 1");
     }
     if (s.scheme == DepthScheme::Log && !(s.z0 > 0.0)) {
         throw ConfigError("log depth scheme: z0 must be > 0 metres, got " + std::to_string(s.z0));
@@ -181,6 +182,7 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
     }, stage(par, total - mc_weight - columns, total).or_grain(16));
     if (s.scattering == Scattering::Multiple) {
         add_higher_orders(asset, stage(par, total - mc_weight, total, kMonteCarloColumnWeight));
+        add_lamp_fields(asset, Parallel{par.threads});
     }
     return asset;
 }

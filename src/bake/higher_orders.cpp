@@ -37,6 +37,43 @@ long higher_order_columns(int ni, int nj, int stride) {
     return long(computed(ni, std::max(stride, 1)).size()) * long(computed(nj, std::max(stride, 1)).size());
 }
 
+namespace {
+
+/// Farthest a lit surface of this asset can be from lamp L: the frustum's corners at z_max.
+double reach(const Camera& cam, double z_max, const Light& L) {
+    double r = 0.0;
+    for (double u : {-0.5, cam.width - 0.5})
+        for (double v : {-0.5, cam.height - 0.5}) r = std::max(r, length(cam.ray(u, v) * z_max - L.position));
+    return r;
+}
+
+bool same_profile(const Rid& a, const Rid& b) {
+    return a.kind == b.kind && a.sigma_deg == b.sigma_deg && a.angle_deg == b.angle_deg &&
+           a.value == b.value && a.cutoff_deg == b.cutoff_deg;
+}
+
+}  // namespace
+
+void add_lamp_fields(Asset& asset, const Parallel& par) {
+    const BakeInfo& info = asset.info;
+    const std::vector<Light>& lights = info.rig.lights;
+    LampFieldSettings ls;
+    ls.samples = info.higher_orders.lamp_samples;
+    ls.seed = info.higher_orders.seed;
+    for (const Light& L : lights) ls.r_max = std::max(ls.r_max, 1.1 * reach(info.camera, info.lattice.z_max(), L));
+    ls.r_max = std::max(ls.r_max, 10.0 * ls.r0);
+    asset.lamp_fields.assign(lights.size(), LampField{});
+    HigherOrderSettings& h = asset.info.higher_orders;
+    h.lamp_rel_std_error = 0.0;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        std::size_t twin = 0;
+        while (twin < l && !same_profile(lights[twin].rid, lights[l].rid)) ++twin;
+        asset.lamp_fields[l] = twin < l ? asset.lamp_fields[twin]
+                                        : bake_lamp_field(lights[l], info.water, ls, par);
+        h.lamp_rel_std_error += asset.lamp_fields[l].rel_std_error / double(lights.size());
+    }
+}
+
 void add_higher_orders(Asset& asset, const Parallel& par) {
     HigherOrderSettings& s = asset.info.higher_orders;
     if (s.paths < 1) throw ConfigError("multiple scattering: paths must be >= 1, got " + std::to_string(s.paths));

@@ -11,6 +11,7 @@
 #include "deepsea/asset/lattice.h"
 #include "deepsea/optics/backscatter.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/water.h"
 
@@ -35,9 +36,11 @@ struct HigherOrderSettings {
     int stride = 4;           ///< computed on every stride-th lattice column and row (and the
                               ///< last), bilinear in between: this light is smooth in angle
     std::uint64_t seed = 1;   ///< base seed; results depend on it, never on the threads
+    int lamp_samples = 4096;  ///< directions per node of each lamp's scattered-light table
     double rel_std_error = 0; ///< measured: mean over computed columns and channels of the
                               ///< standard error at z_max / the all-order total
     double fraction = 0;      ///< measured: mean share of orders >= 2 in the total at z_max
+    double lamp_rel_std_error = 0;  ///< measured: lamp tables' mean LampField::rel_std_error
 };
 
 /// Everything a bake depended on, stored as the `deepsea:bake` JSON (asset_json.h).
@@ -61,6 +64,10 @@ struct BakeInfo {
 struct Asset {
     BakeInfo info;
     std::vector<float> values;  ///< 3 * ni * nj * nk floats, interleaved RGB
+    /// Multiple scattering: the scattered light around each lamp of info.rig (same order),
+    /// per unit intensity; lamps with the same intensity profile share equal tables. Empty for
+    /// single scattering.
+    std::vector<LampField> lamp_fields;
 
     const Lattice& lattice() const { return info.lattice; }
     /// Offset of (i, j, k)'s red value: depth fastest, then row j, then column i (OpenVDB's

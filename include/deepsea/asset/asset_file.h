@@ -18,6 +18,8 @@ namespace deepsea {
 inline constexpr const char* kBackscatterGrid = "backscatter";
 inline constexpr const char* kDensityGrid = "density";
 inline constexpr const char* kColorGrid = "color";
+/// Prefix of the multiple-scattering lamp tables: lamp_field_0, lamp_field_1, ...
+inline constexpr const char* kLampFieldGrid = "lamp_field_";
 
 struct WriteOptions {
     /// Store the backscatter grid as 16-bit half floats (OpenVDB's saveFloatAsHalf). Values

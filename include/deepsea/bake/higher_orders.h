@@ -7,6 +7,11 @@
 
 namespace deepsea {
 
+/// Bakes the scattered light around each lamp of the asset's rig (lamp_fields) with
+/// asset.info.higher_orders' lamp_samples and seed, out to the frustum's far corners, and
+/// records its standard error. Lamps with the same intensity profile share one table.
+void add_lamp_fields(Asset& asset, const Parallel& par = {});
+
 /// Columns the Monte Carlo computes on an ni x nj lattice with this stride.
 long higher_order_columns(int ni, int nj, int stride);
 
