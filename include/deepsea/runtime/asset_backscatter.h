@@ -21,12 +21,8 @@ public:
     void backscatter_row(int v, int n, const float* z, float* out_rgb_planar) const override;
 
 private:
-    struct Tap {
-        int i0 = 0, i1 = 0;
-        float w = 0.0f;
-    };
     const Asset& m_asset;
-    std::vector<Tap> m_rows;  ///< per image row
+    std::vector<LatticeCell<float>> m_rows;  ///< per image row: its two lattice rows
     /// Per image column: offsets of its two lattice columns in a row's slice (3 nk floats
     /// per column), and the weight of the second.
     std::vector<int> m_col0, m_col1;

@@ -28,7 +28,4 @@ double open_water_depth(const Water& water, const ReferenceOptions& opt);
 Layers render_reference(const Camera& camera, const Rig& rig, const Water& water,
                         const Image& rgb, const Image& zdepth, const ReferenceOptions& opt = {});
 
-/// Converts a depth map of the given kind to planar z-depth, in place (open water kept).
-void to_planar_depth(const Camera& camera, Image& depth, DepthKind kind);
-
 }  // namespace deepsea

@@ -103,11 +103,4 @@ TEST(PairFrames, CountsMustMatch) {
     EXPECT_EQ(jobs[0].depth, "a_depth.exr");
 }
 
-TEST(FrameCamera, ScalesTheAssetCameraToTheFrameSize) {
-    SequenceDir d("scale", 0);
-    const Camera c = frame_camera(d.asset, Camera{}, 60, 45);
-    EXPECT_DOUBLE_EQ(c.fx, d.asset.info.camera.fx / 2);
-    EXPECT_THROW(frame_camera(d.asset, Camera{}, 60, 60), AssetError);
-}
-
 }  // namespace deepsea
