@@ -14,7 +14,7 @@ namespace deepsea {
 /// Looks B(u, v, z) up in an asset for frames of `camera`: bilinear in (u, v), linear in z,
 /// constant beyond z_max (also for open water). The camera must be the asset's or the same
 /// view at another resolution (AssetError otherwise); pixel positions are then mapped through
-/// the intrinsics. Same interpolation as Asset::sample.
+/// the intrinsics. Same interpolation as Asset::sample (lattice.h's lattice_cell and lerp).
 class AssetBackscatter final : public BackscatterSource {
 public:
     AssetBackscatter(const Asset& asset, const Camera& camera);
