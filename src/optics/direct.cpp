@@ -2,18 +2,24 @@
 
 #include <cmath>
 
+#include "deepsea/optics/lamp.h"
+
 namespace deepsea {
+
+// The per-pixel arithmetic is lamp.h's, shared with the runtime's float rows (lamps.cpp,
+// kernels.cpp); this file only loops over the lamps and channels.
 
 Rgb lamp_irradiance(const Rig& rig, const Water& water, const Vec3& P, const Vec3& n) {
     Rgb e;
     for (const Light& L : rig.lights) {
-        const Vec3 to_light = L.position - P;
-        const double d1 = length(to_light);
-        const Vec3 w = to_light / d1;
-        const double cos_n = dot(n, w);
-        if (cos_n <= 0.0) continue;
-        // intensity toward P (direction light -> P = -w), spread over d1^2, attenuated on the way
-        e += L.intensity_toward(-w) * exp(water.c * -d1) * (cos_n / (d1 * d1));
+        const LampGeometry<double> g =
+            lamp_geometry(vec3t(L.position - P), vec3t(n), vec3t(L.direction));
+        const double spread = lamp_spread(g.d1, g.cos_n);
+        if (spread == 0.0) continue;  // the lamp is behind the surface
+        const double rid = L.rid(lamp_angle(g.cos_theta));
+        for (int ch = 0; ch < 3; ++ch) {
+            e[ch] += lamp_term(L.intensity[ch], rid, spread, water.c[ch], g.d1);
+        }
     }
     return e;
 }
@@ -21,7 +27,9 @@ Rgb lamp_irradiance(const Rig& rig, const Water& water, const Vec3& P, const Vec
 Rgb direct_radiance(const Rig& rig, const Water& water, const Vec3& P, const Vec3& n,
                     const Rgb& J) {
     const double d2 = length(P);
-    return J * lamp_irradiance(rig, water, P, n) * exp(water.c * -d2) * (1.0 / M_PI);
+    const Rgb E = lamp_irradiance(rig, water, P, n);
+    return {direct_signal(J.r, E.r, water.c.r, d2), direct_signal(J.g, E.g, water.c.g, d2),
+            direct_signal(J.b, E.b, water.c.b, d2)};
 }
 
 }  // namespace deepsea

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "deepsea/optics/lamp.h"
+
 namespace deepsea {
 
 namespace {
@@ -12,10 +14,7 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 double Rid::operator()(double theta_rad) const {
     const double deg = theta_rad * kRadToDeg;
     if (deg > cutoff_deg) return 0.0;
-    if (kind == Kind::Gaussian) {
-        const double s = sigma_deg / kRadToDeg;
-        return std::exp(-theta_rad * theta_rad / (2.0 * s * s));
-    }
+    if (kind == Kind::Gaussian) return gaussian_rid(theta_rad, sigma_deg / kRadToDeg);
     if (angle_deg.empty()) return 0.0;
     if (deg <= angle_deg.front()) return value.front();
     if (deg > angle_deg.back()) return 0.0;
@@ -28,8 +27,7 @@ double Rid::operator()(double theta_rad) const {
 }
 
 Rgb Light::intensity_toward(const Vec3& w) const {
-    const double ct = std::clamp(dot(direction, w), -1.0, 1.0);
-    return intensity * rid(std::acos(ct));
+    return intensity * rid(lamp_angle(dot(direction, w)));
 }
 
 }  // namespace deepsea

@@ -33,7 +33,7 @@ void blend_rows(int columns, int block, std::size_t stride, const float* __restr
         const float* pb = b + i * stride;
         float* o = out + std::size_t(i) * block;
 #pragma omp simd
-        for (int m = 0; m < block; ++m) o[m] = pa[m] + w * (pb[m] - pa[m]);
+        for (int m = 0; m < block; ++m) o[m] = lerp(pa[m], pb[m], w);
     }
 }
 
@@ -57,9 +57,7 @@ void lookup_row(int n, const float* __restrict z, const float* __restrict slice,
         const float* p1 = slice + col1[u] + 3 * k;
         const float cw = colw[u];
         for (int ch = 0; ch < 3; ++ch) {
-            const float a = p0[ch] + wz * (p0[ch + 3] - p0[ch]);
-            const float b = p1[ch] + wz * (p1[ch + 3] - p1[ch]);
-            out[ch * n + u] = a + cw * (b - a);
+            out[ch * n + u] = lerp(lerp(p0[ch], p0[ch + 3], wz), lerp(p1[ch], p1[ch + 3], wz), cw);
         }
     }
 }
@@ -70,24 +68,22 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
     check_camera(asset, camera);
     const Camera& ac = asset.info.camera;
     const Lattice& l = asset.lattice();
+    // Asset::sample's cells, in float, once per image row and column.
     auto taps = [&](int pixels, double f, double c, double fa, double ca, int count) {
-        std::vector<Tap> out(pixels);
+        std::vector<LatticeCell<float>> out(pixels);
         for (int p = 0; p < pixels; ++p) {
             const double pa = ca + (p - c) * fa / f;  // same ray, asset pixel coordinates
-            const double x = std::clamp(pa / l.step, 0.0, double(count - 1));
-            Tap t;
-            t.i0 = std::min(int(x), std::max(count - 2, 0));
-            t.i1 = std::min(t.i0 + 1, count - 1);
-            t.w = float(x - t.i0);
-            out[p] = t;
+            const LatticeCell<double> t = lattice_cell(pa / l.step, count);
+            out[p] = {t.i0, t.i1, float(t.w)};
         }
         return out;
     };
     m_rows = taps(camera.height, camera.fy, camera.cy, ac.fy, ac.cy, l.nj);
-    const std::vector<Tap> cols = taps(camera.width, camera.fx, camera.cx, ac.fx, ac.cx, l.ni);
+    const std::vector<LatticeCell<float>> cols =
+        taps(camera.width, camera.fx, camera.cx, ac.fx, ac.cx, l.ni);
     // Offsets into a row's slice (blend_rows): column i's samples start at 3 nk i.
     const int block = 3 * l.nk();
-    for (const Tap& t : cols) {
+    for (const LatticeCell<float>& t : cols) {
         m_col0.push_back(t.i0 * block);
         m_col1.push_back(t.i1 * block);
         m_colw.push_back(t.w);
@@ -113,7 +109,7 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
 
 void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out) const {
     const Lattice& l = m_asset.lattice();
-    const Tap t = m_rows[v];
+    const LatticeCell<float> t = m_rows[v];
     const int block = 3 * l.nk();
     const std::size_t stride = std::size_t(l.nj) * block;  // from column i to i + 1
     thread_local std::vector<float> slice;

@@ -89,8 +89,8 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
             }
             kernels::normals_row(W, m_rx.data(), float((v - 1 - cam.cy) / cam.fy), ry,
                                  float((v + 1 - cam.cy) / cam.fy), s.zu.data(), s.z.data(),
-                                 s.zd.data(), float(kDepthDiscontinuity), s.nx.data(),
-                                 s.ny.data(), s.nz.data(), s.irregular.data());
+                                 s.zd.data(), s.nx.data(), s.ny.data(), s.nz.data(),
+                                 s.irregular.data());
         } else {
             std::fill(s.irregular.begin(), s.irregular.end(), 1);
         }

@@ -26,11 +26,11 @@ namespace deepsea::kernels {
 
 /// Normals of one interior row by central differences, in float. z rows are sanitised (open
 /// water 0). Writes n and sets irregular[u] = 1 where a neighbour is open water or across a
-/// depth discontinuity (relative jump > disc), or where u is the first or last column: the
+/// depth discontinuity (optics' same_surface), or where u is the first or last column: the
 /// caller then uses the optics rule (one-sided differences) for those pixels.
 void normals_row(int n, const float* rx, float ry_up, float ry, float ry_down, const float* z_up,
-                 const float* z, const float* z_down, float disc, float* nx, float* ny,
-                 float* nz, unsigned char* irregular);
+                 const float* z, const float* z_down, float* nx, float* ny, float* nz,
+                 unsigned char* irregular);
 
 }  // namespace deepsea::kernels
 

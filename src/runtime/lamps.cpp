@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-
 #include "clones.h"
+#include "deepsea/optics/lamp.h"
 
 namespace deepsea {
 
@@ -24,10 +24,9 @@ void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restr
               float* __restrict scratch_theta) {
     const int n = g.n;
     const float lx = float(L.position.x), ly = float(L.position.y), lz = float(L.position.z);
-    const float ax = float(L.direction.x), ay = float(L.direction.y), az = float(L.direction.z);
+    const Vec3T<float> axis{float(L.direction.x), float(L.direction.y), float(L.direction.z)};
     const bool gaussian = L.rid.kind == Rid::Kind::Gaussian;
     const float sig = float(L.rid.sigma_deg * kDegToRad);
-    const float inv2s2 = gaussian ? 1.0f / (2.0f * sig * sig) : 0.0f;
     const float cutoff = float(L.rid.cutoff_deg * kDegToRad);
     const float cr = float(c.r), cg = float(c.g), cb = float(c.b);
     const float ir = float(L.intensity.r), ig = float(L.intensity.g), ib = float(L.intensity.b);
@@ -42,22 +41,17 @@ void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restr
     const float* __restrict nz = g.nz;
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
-        const float wx = lx - px[u], wy = ly - py[u], wz = lz - pz[u];
-        const float d1sq = wx * wx + wy * wy + wz * wz;
-        const float d1 = std::sqrt(d1sq);
-        const float inv = 1.0f / d1;
-        const float cosn = (nx[u] * wx + ny[u] * wy + nz[u] * wz) * inv;
-        // angle between the lamp axis and the direction lamp -> P (= -w)
-        float ct = -(ax * wx + ay * wy + az * wz) * inv;
-        ct = ct > 1.0f ? 1.0f : (ct < -1.0f ? -1.0f : ct);
-        const float theta = std::acos(ct);
+        // the equations are optics' (lamp.h); here only the row layout and the open-water mask
+        const LampGeometry<float> lg =
+            lamp_geometry({lx - px[u], ly - py[u], lz - pz[u]}, {nx[u], ny[u], nz[u]}, axis);
+        const float theta = lamp_angle(lg.cos_theta);
         scratch_theta[u] = theta;
-        float rid = gaussian ? std::exp(-theta * theta * inv2s2) : 1.0f;
+        float rid = gaussian ? gaussian_rid(theta, sig) : 1.0f;
         rid = theta > cutoff ? 0.0f : rid;
-        const float geo = (cosn > 0.0f && pz[u] > 0.0f) ? rid * cosn / d1sq : 0.0f;
-        er[u] += ir * geo * std::exp(-cr * d1);
-        eg[u] += ig * geo * std::exp(-cg * d1);
-        eb[u] += ib * geo * std::exp(-cb * d1);
+        const float spread = pz[u] > 0.0f ? lamp_spread(lg.d1, lg.cos_n) : 0.0f;
+        er[u] += lamp_term(ir, rid, spread, cr, lg.d1);
+        eg[u] += lamp_term(ig, rid, spread, cg, lg.d1);
+        eb[u] += lamp_term(ib, rid, spread, cb, lg.d1);
     }
 }
 

@@ -11,6 +11,7 @@
 #include "deepsea/optics/direct.h"
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/normals.h"
+#include "deepsea/optics/transmission.h"
 
 namespace deepsea {
 
@@ -19,16 +20,6 @@ double open_water_depth(const Water& water, const ReferenceOptions& opt) {
     const double c_min = std::min({water.c.r, water.c.g, water.c.b});
     // exp(-c t) = 1e-9 on the way back alone; the lamps' path only makes it smaller.
     return c_min > 0.0 ? std::log(1e9) / c_min : 1e3;
-}
-
-void to_planar_depth(const Camera& camera, Image& depth, DepthKind kind) {
-    if (kind == DepthKind::Z) return;
-    for (int v = 0; v < depth.height; ++v) {
-        for (int u = 0; u < depth.width; ++u) {
-            float& d = depth.at(u, v);
-            if (has_surface(d)) d = float(camera.z_depth(u, v, d, kind));
-        }
-    }
 }
 
 namespace {
@@ -114,7 +105,7 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
                     const Vec3 n = surface_normal(cam, zdepth, u, v);
                     const double d2 = length(P);
                     put(out.direct, u, v, direct_radiance(rig, water, P, n, get(rgb, u, v)));
-                    put(out.transmission, u, v, exp(water.c * -d2));
+                    put(out.transmission, u, v, transmission(water.c, d2));
                     put(out.normal, u, v, {n.x, n.y, n.z});
                     out.depth.at(u, v) = float(z);
                     put(out.backscatter, u, v,

@@ -13,40 +13,8 @@
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/lamps.h"
-#include "deepsea/runtime/reference.h"
 
 namespace deepsea {
-
-Camera frame_camera(const Asset& asset, const Camera& requested, int width, int height) {
-    const Camera& ac = asset.info.camera;
-    Camera cam = requested;
-    if (cam.width == 0) {
-        cam = ac;
-        if (width != ac.width || height != ac.height) {
-            const double sx = double(width) / ac.width, sy = double(height) / ac.height;
-            if (std::fabs(sx - sy) > 1e-9 * sx) {
-                // The same rays would need non-square pixels: almost surely another camera.
-                throw AssetError("frames are " + std::to_string(width) + "x" +
-                                 std::to_string(height) + " but the asset was baked for " +
-                                 describe(ac) + " (another aspect ratio; give --camera if the " +
-                                 "frames really have that view)");
-            }
-            cam.width = width;
-            cam.height = height;
-            cam.fx = ac.fx * sx;
-            cam.fy = ac.fy * sy;
-            // pixel centres at integers: scale the pixel edges, not the centres
-            cam.cx = (ac.cx + 0.5) * sx - 0.5;
-            cam.cy = (ac.cy + 0.5) * sy - 0.5;
-        }
-    }
-    check_camera(asset, cam);
-    if (cam.width != width || cam.height != height) {
-        throw InputError("frames are " + std::to_string(width) + "x" + std::to_string(height) +
-                         " but the camera is " + describe(cam));
-    }
-    return cam;
-}
 
 namespace {
 
@@ -118,7 +86,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     try {
                         const Image& d = s->frame.depth;
                         if (!compositor || camera.width != d.width || camera.height != d.height) {
-                            camera = frame_camera(asset, opt.camera, d.width, d.height);
+                            camera =
+                                frame_camera(asset.info.camera, opt.camera, d.width, d.height);
                             backscatter = std::make_unique<AssetBackscatter>(asset, camera);
                             compositor =
                                 std::make_unique<Compositor>(camera, water, lamps, *backscatter);

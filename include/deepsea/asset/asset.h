@@ -1,5 +1,5 @@
 #pragma once
-/// \file A baked backscatter asset in memory (DESIGN.md section 3, docs/asset-format.md):
+/// \file A baked backscatter asset in memory (docs/asset-format.md):
 /// what was baked (BakeInfo) and the cumulative RGB radiance B(i, j, k) in flat arrays.
 /// No OpenVDB here: the runtime reads this header only; asset_file.h does the file.
 
@@ -91,10 +91,7 @@ struct Asset {
 };
 
 /// Throws AssetError naming both cameras unless `camera` equals the asset's camera or has the
-/// same view at another resolution (Camera::same_view; the runtime then resamples).
+/// same view at another resolution (check_same_view; the runtime then resamples).
 void check_camera(const Asset& asset, const Camera& camera);
-
-/// "800x800 fx=600 fy=600 cx=400 cy=400": a camera in one line, for messages.
-std::string describe(const Camera& camera);
 
 }  // namespace deepsea

@@ -1,5 +1,5 @@
 #pragma once
-/// \file The frustum lattice of a baked asset (DESIGN.md section 3, docs/asset-format.md):
+/// \file The frustum lattice of a baked asset (docs/asset-format.md):
 /// columns (i, j) at pixel positions (i * step, j * step) and depth samples
 /// z_0 = 0 < z_1 < ... < z_K = z_max (planar z-depth, metres) shared by all columns.
 
@@ -36,6 +36,33 @@ std::vector<double> depth_samples(DepthScheme scheme, int K, double z_max,
 /// Columns needed to cover `pixels` pixel centres 0 .. pixels-1 with a step of `step` pixels:
 /// ceil((pixels - 1) / step) + 1 (the last column may lie up to step - 1 pixels beyond).
 int lattice_count(int pixels, int step);
+
+/// Two neighbouring lattice nodes i0, i1 and the weight w in [0, 1] of i1: the one
+/// interpolation rule of every lookup in an asset (Asset::sample in double, the runtime's
+/// per-frame tables in float).
+template <class T>
+struct LatticeCell {
+    int i0 = 0, i1 = 0;
+    T w = T(0);
+};
+
+/// The cell of coordinate x (lattice units: pixel / step) among n >= 1 nodes, clamped to the
+/// lattice: x <= 0 and NaN give the first node, x >= n - 1 the last (w = 1 between the last
+/// two; a single node has i1 = i0 and w = 0).
+template <class T>
+inline LatticeCell<T> lattice_cell(T x, int n) {
+    if (!(x > T(0))) x = T(0);  // also NaN
+    const T last = T(n - 1);
+    if (x >= last) return {n > 1 ? n - 2 : 0, n - 1, n > 1 ? T(1) : T(0)};
+    const int i0 = int(x);
+    return {i0, i0 + 1, x - T(i0)};
+}
+
+/// a + w (b - a): linear interpolation, w = 0 gives a, w = 1 gives b.
+template <class T>
+inline T lerp(T a, T b, T w) {
+    return a + w * (b - a);
+}
 
 /// A position between two depth samples: z = z[k] + w (z[k + 1] - z[k]), 0 <= w <= 1.
 struct DepthPosition {

@@ -1,6 +1,10 @@
 #pragma once
-/// \file Pinhole camera (DESIGN.md section 1).
+/// \file Pinhole camera (docs/model.md; OpenCV frame, pixel centres at integers), and what
+/// follows from it alone: depth conversion and the camera of frames of another size.
 
+#include <string>
+
+#include "deepsea/core/image.h"
 #include "deepsea/core/vec.h"
 
 namespace deepsea {
@@ -32,5 +36,22 @@ struct Camera {
     bool same_view(const Camera& o) const;
     bool operator==(const Camera& o) const;
 };
+
+/// "800x800 fx=600 fy=600 cx=400 cy=400": a camera in one line, for messages.
+std::string describe(const Camera& camera);
+
+/// Throws AssetError naming both cameras unless `frames` equals `baked` (the camera an asset
+/// was baked for) or has the same view at another resolution (Camera::same_view).
+void check_same_view(const Camera& baked, const Camera& frames);
+
+/// The camera of width x height frames rendered with an asset baked for `baked`: `requested`
+/// if set (width > 0), else `baked` scaled to the frame size (pixel edges scaled, so the rays
+/// stay the same; AssetError if the aspect ratio differs). Then AssetError unless it has
+/// `baked`'s view (check_same_view), InputError unless it is width x height.
+Camera frame_camera(const Camera& baked, const Camera& requested, int width, int height);
+
+/// Converts a one-channel depth map of the given kind to planar z-depth, in place. Open water
+/// (no surface, see normals.h's has_surface) is kept as it is.
+void to_planar_depth(const Camera& camera, Image& depth, DepthKind kind);
 
 }  // namespace deepsea

@@ -1,5 +1,7 @@
 #pragma once
-/// \file Direct signal of a Lambertian surface lit by the rig (DESIGN.md section 2).
+/// \file Direct signal of a Lambertian surface lit by the rig (docs/model.md, "Direct signal"):
+/// the sums over lamps and channels; the per-pixel terms are lamp.h's, which the runtime's
+/// vectorised rows call too.
 
 #include "deepsea/core/vec.h"
 #include "deepsea/optics/light.h"

@@ -1,17 +1,30 @@
 #pragma once
-/// \file Jaffe-McGlamery forward scatter terms (DESIGN.md section 2):
+/// \file Jaffe-McGlamery forward scatter terms (docs/model.md, "Forward scatter"):
 /// F = w(d2) * (G_sigma(d2) * D), the blur done by the renderer, these two factors here.
 
 #include <cmath>
 
 #include "deepsea/core/vec.h"
+#include "deepsea/optics/transmission.h"
 #include "deepsea/optics/water.h"
 
 namespace deepsea {
 
-/// Weight w(d) = exp(-G d) - exp(-c d) per channel for camera-to-surface distance d (metres).
+/// Weight w(d) = exp(-G d) - exp(-c d) of the blurred direct signal, one channel, for
+/// camera-to-surface distance d (metres), G <= c (1/m): 0 at d = 0 and where G = c. The
+/// reference (double) and the runtime's rows (float, `#pragma omp simd`) both call this;
+/// exp(-c d) is the transmission, which a caller that also needs it shares (GCC merges the
+/// two calls).
+template <class T>
+inline T forward_weight(T G, T c, T d) {
+    using std::exp;
+    return exp(-G * d) - transmission(c, d);
+}
+
+/// forward_weight per channel.
 inline Rgb forward_weight(const ForwardScatter& fs, const Rgb& c, double d) {
-    return exp(fs.G * -d) - exp(c * -d);
+    return {forward_weight(fs.G.r, c.r, d), forward_weight(fs.G.g, c.g, d),
+            forward_weight(fs.G.b, c.b, d)};
 }
 
 /// Blur standard deviation in pixels, sigma_px = fx * k * d, for distance d (metres).

@@ -1,5 +1,6 @@
 #pragma once
-/// \file Spotlights and rigs (DESIGN.md section 2): I_l(theta) = I0_l * RID_l(theta).
+/// \file Spotlights and rigs (docs/model.md, "Lamps"): I_l(theta) = I0_l * RID_l(theta).
+/// The Gaussian profile itself is lamp.h's gaussian_rid, shared with the runtime.
 
 #include <string>
 #include <vector>

@@ -14,19 +14,15 @@ namespace deepsea {
 /// Looks B(u, v, z) up in an asset for frames of `camera`: bilinear in (u, v), linear in z,
 /// constant beyond z_max (also for open water). The camera must be the asset's or the same
 /// view at another resolution (AssetError otherwise); pixel positions are then mapped through
-/// the intrinsics. Same interpolation as Asset::sample.
+/// the intrinsics. Same interpolation as Asset::sample (lattice.h's lattice_cell and lerp).
 class AssetBackscatter final : public BackscatterSource {
 public:
     AssetBackscatter(const Asset& asset, const Camera& camera);
     void backscatter_row(int v, int n, const float* z, float* out_rgb_planar) const override;
 
 private:
-    struct Tap {
-        int i0 = 0, i1 = 0;
-        float w = 0.0f;
-    };
     const Asset& m_asset;
-    std::vector<Tap> m_rows;  ///< per image row
+    std::vector<LatticeCell<float>> m_rows;  ///< per image row: its two lattice rows
     /// Per image column: offsets of its two lattice columns in a row's slice (3 nk floats
     /// per column), and the weight of the second.
     std::vector<int> m_col0, m_col1;

@@ -10,7 +10,8 @@
 namespace deepsea {
 
 /// The rig's spotlights evaluated analytically, row by row, in structure-of-arrays form.
-/// Same equation as optics' lamp_irradiance (checked against it to 1e-5 in the tests).
+/// The per-pixel terms are optics' lamp.h, as in lamp_irradiance; this adds the float rows
+/// (the tests check a row against lamp_irradiance to 1e-5).
 class AnalyticLamps final : public IrradianceSource {
 public:
     AnalyticLamps(const Rig& rig, const Water& water);

@@ -30,7 +30,4 @@ Layers render_reference(const Camera& camera, const Rig& rig, const Water& water
                         const Image& rgb, const Image& zdepth, const ReferenceOptions& opt = {},
                         const Parallel& par = {});
 
-/// Converts a depth map of the given kind to planar z-depth, in place (open water kept).
-void to_planar_depth(const Camera& camera, Image& depth, DepthKind kind);
-
 }  // namespace deepsea

@@ -35,10 +35,6 @@ struct SequenceResult {
     double exposure = 0.0;            ///< the factor used
 };
 
-/// The frames' camera for an asset: `requested` if set (checked against the asset), else the
-/// asset's camera scaled to width x height (AssetError if the aspect differs).
-Camera frame_camera(const Asset& asset, const Camera& requested, int width, int height);
-
 /// Renders every job; a frame that cannot be read or written is reported in `errors` and
 /// skipped, the rest are written. Throws only for problems that stop every frame (e.g. the
 /// asset does not fit the frames' camera).

@@ -118,4 +118,36 @@ TEST(DepthPosition, BracketsEveryDepth) {
 }
 
 }  // namespace
+TEST(LatticeCell, InteriorEdgesAndOneNode) {
+    const LatticeCell<double> in = lattice_cell(2.25, 5);
+    EXPECT_EQ(in.i0, 2);
+    EXPECT_EQ(in.i1, 3);
+    EXPECT_DOUBLE_EQ(in.w, 0.25);
+    for (double x : {-1.0, 0.0, double(std::nan(""))}) {
+        const LatticeCell<double> c = lattice_cell(x, 5);
+        EXPECT_EQ(c.i0, 0) << x;
+        EXPECT_EQ(c.w, 0.0) << x;
+    }
+    for (double x : {4.0, 7.5}) {  // at and beyond the last node: the last node, w = 1
+        const LatticeCell<double> c = lattice_cell(x, 5);
+        EXPECT_EQ(c.i0, 3);
+        EXPECT_EQ(c.i1, 4);
+        EXPECT_EQ(c.w, 1.0);
+    }
+    const LatticeCell<double> one = lattice_cell(3.0, 1);
+    EXPECT_EQ(one.i0, 0);
+    EXPECT_EQ(one.i1, 0);
+    EXPECT_EQ(one.w, 0.0);
+    // float (the runtime's tables) picks the same nodes
+    const LatticeCell<float> f = lattice_cell(2.25f, 5);
+    EXPECT_EQ(f.i0, 2);
+    EXPECT_EQ(f.w, 0.25f);
+}
+
+TEST(Lerp, EndsAndMiddle) {
+    EXPECT_EQ(lerp(2.0, 6.0, 0.0), 2.0);
+    EXPECT_EQ(lerp(2.0, 6.0, 1.0), 6.0);
+    EXPECT_EQ(lerp(2.0f, 6.0f, 0.25f), 3.0f);
+}
+
 }  // namespace deepsea

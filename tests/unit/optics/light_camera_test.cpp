@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
+#include "deepsea/core/error.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
 
@@ -38,6 +40,49 @@ TEST(Camera, SameViewAtAnotherResolution) {
     Camera other = half;
     other.fx = 310;
     EXPECT_FALSE(a.same_view(other));
+}
+
+TEST(FrameCamera, ScalesTheAssetCameraToTheFrameSize) {
+    const Camera baked{120, 90, 90.0, 90.0, 59.5, 44.5};
+    const Camera c = frame_camera(baked, Camera{}, 60, 45);
+    EXPECT_EQ(c.width, 60);
+    EXPECT_DOUBLE_EQ(c.fx, baked.fx / 2);
+    EXPECT_DOUBLE_EQ(c.cx, 29.5);  // pixel edges scale, centres stay at integers
+    EXPECT_TRUE(baked.same_view(c));
+    EXPECT_EQ(frame_camera(baked, Camera{}, 120, 90), baked);
+    EXPECT_THROW(frame_camera(baked, Camera{}, 60, 60), AssetError);  // another aspect ratio
+}
+
+TEST(FrameCamera, RequestedCameraIsCheckedAgainstTheAssetAndTheFrames) {
+    const Camera baked{120, 90, 90.0, 90.0, 59.5, 44.5};
+    const Camera half{60, 45, 45.0, 45.0, 29.5, 22.0};
+    EXPECT_EQ(frame_camera(baked, half, 60, 45), half);
+    EXPECT_THROW(frame_camera(baked, half, 120, 90), InputError);  // not the frames' size
+    Camera other = half;
+    other.fx = 60.0;
+    try {
+        frame_camera(baked, other, 60, 45);
+        FAIL() << "no AssetError";
+    } catch (const AssetError& e) {
+        const std::string msg = e.what();  // names both cameras on one line
+        EXPECT_NE(msg.find(describe(baked)), std::string::npos) << msg;
+        EXPECT_NE(msg.find(describe(other)), std::string::npos) << msg;
+    }
+}
+
+TEST(ToPlanarDepth, RangeBecomesZAndOpenWaterStays) {
+    const Camera cam{3, 1, 1.0, 1.0, 1.0, 0.0};
+    Image depth(3, 1, 1);
+    depth.at(0, 0) = float(2.0 * std::sqrt(2.0));  // ray (-1, 0, 1): z = range / sqrt(2)
+    depth.at(1, 0) = 2.0f;                         // on the axis
+    depth.at(2, 0) = std::nanf("");
+    Image same = depth;
+    to_planar_depth(cam, same, DepthKind::Z);
+    EXPECT_EQ(same.at(0, 0), depth.at(0, 0));
+    to_planar_depth(cam, depth, DepthKind::Range);
+    EXPECT_NEAR(depth.at(0, 0), 2.0f, 1e-6f);
+    EXPECT_EQ(depth.at(1, 0), 2.0f);
+    EXPECT_TRUE(std::isnan(depth.at(2, 0)));
 }
 
 TEST(Rid, GaussianInDegrees) {

@@ -93,11 +93,4 @@ TEST(Sequence, AssetForAnotherCameraStopsEverything) {
     EXPECT_THROW(render_sequence(d.asset, d.jobs, opt), AssetError);
 }
 
-TEST(FrameCamera, ScalesTheAssetCameraToTheFrameSize) {
-    SequenceDir d("scale", 0);
-    const Camera c = frame_camera(d.asset, Camera{}, 60, 45);
-    EXPECT_DOUBLE_EQ(c.fx, d.asset.info.camera.fx / 2);
-    EXPECT_THROW(frame_camera(d.asset, Camera{}, 60, 60), AssetError);
-}
-
 }  // namespace deepsea
