@@ -7,11 +7,18 @@
 #include <cmath>
 
 #include "clones.h"
+#include "deepsea/core/error.h"
 #include "deepsea/optics/lamp.h"
 
 namespace deepsea {
 
-AnalyticLamps::AnalyticLamps(const Rig& rig, const Water& water) : m_rig(rig), m_water(water) {}
+AnalyticLamps::AnalyticLamps(const Rig& rig, const Water& water, std::vector<LampField> scattered)
+    : m_rig(rig), m_water(water), m_scattered(std::move(scattered)) {
+    if (!m_scattered.empty() && m_scattered.size() != m_rig.lights.size()) {
+        throw AssetError("multiple scattering: " + std::to_string(m_scattered.size()) +
+                         " lamp fields for " + std::to_string(m_rig.lights.size()) + " lamps");
+    }
+}
 
 namespace {
 
@@ -55,6 +62,44 @@ void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restr
     }
 }
 
+/// Adds one lamp's scattered light (its baked field, per unit intensity) to the planar row.
+DEEPSEA_CLONES
+void add_scattered(const Light& L, const LampField& field, const RowGeometry& g,
+                   float* __restrict e) {
+    const int n = g.n;
+    Vec3 ex, ey;
+    lamp_frame(L.direction, ex, ey);
+    const LampFieldView<float> f(field);
+    const float lx = float(L.position.x), ly = float(L.position.y), lz = float(L.position.z);
+    const float xx = float(ex.x), xy = float(ex.y), xz = float(ex.z);
+    const float yx = float(ey.x), yy = float(ey.y), yz = float(ey.z);
+    const float ax = float(L.direction.x), ay = float(L.direction.y), az = float(L.direction.z);
+    const float ir = float(L.intensity.r), ig = float(L.intensity.g), ib = float(L.intensity.b);
+    float* __restrict er = e;
+    float* __restrict eg = e + n;
+    float* __restrict eb = e + 2 * n;
+    const float* __restrict px = g.x;
+    const float* __restrict py = g.y;
+    const float* __restrict pz = g.z;
+    const float* __restrict nx = g.nx;
+    const float* __restrict ny = g.ny;
+    const float* __restrict nz = g.nz;
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        // into the lamp frame: the equation is optics' (lamp_field.h)
+        const float qx = px[u] - lx, qy = py[u] - ly, qz = pz[u] - lz;
+        float sr, sg, sb;
+        lamp_field_irradiance(f, xx * qx + xy * qy + xz * qz, yx * qx + yy * qy + yz * qz,
+                              ax * qx + ay * qy + az * qz, xx * nx[u] + xy * ny[u] + xz * nz[u],
+                              yx * nx[u] + yy * ny[u] + yz * nz[u],
+                              ax * nx[u] + ay * ny[u] + az * nz[u], sr, sg, sb);
+        const float surf = pz[u] > 0.0f ? 1.0f : 0.0f;
+        er[u] += surf * ir * sr;
+        eg[u] += surf * ig * sg;
+        eb[u] += surf * ib * sb;
+    }
+}
+
 }  // namespace
 
 void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
@@ -75,6 +120,9 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
                 out[2 * n + u] += s * part[2 * n + u];
             }
         }
+    }
+    for (std::size_t l = 0; l < m_scattered.size(); ++l) {
+        add_scattered(m_rig.lights[l], m_scattered[l], g, out);
     }
 }
 

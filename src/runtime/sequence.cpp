@@ -42,7 +42,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
 
     Water water = asset.info.water;
     if (!opt.forward) water.forward.enabled = false;
-    const AnalyticLamps lamps(asset.info.rig, water);
+    const AnalyticLamps lamps(asset.info.rig, water, asset.lamp_fields);
     std::unique_ptr<AssetBackscatter> backscatter;
     std::unique_ptr<Compositor> compositor;
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy

@@ -49,13 +49,26 @@ LampField bake_lamp_field(const Light& lamp, const Water& water, const LampField
 /// Unit vectors (x, y) completing a lamp's axis a to a right-handed frame (x, y, a).
 void lamp_frame(const Vec3& a, Vec3& x, Vec3& y);
 
-/// Scattered irradiance (per unit on-axis intensity, per channel) onto a Lambertian surface at
-/// point p with unit normal n, both in the lamp frame. Bilinear in (log r, theta) between
-/// nodes. The one home of this equation: the baker's checks (double) and the runtime's rows
-/// (float, vectorised) call it.
+/// A LampField's constants in the number type of a row loop (computed once, not per pixel).
 template <typename T>
-inline void lamp_field_irradiance(const LampField& f, T px, T py, T pz, T nx, T ny, T nz,
-                                  T e[3]) {
+struct LampFieldView {
+    const float* sh = nullptr;
+    int nr = 0, ntheta = 0;
+    T log_r0 = 0, inv_log_step = 0, theta_scale = 0, r_max = 0;
+
+    explicit LampFieldView(const LampField& f)
+        : sh(f.sh.data()), nr(f.nr), ntheta(f.ntheta), log_r0(T(std::log(f.r0))),
+          inv_log_step(T((f.nr - 1) / std::log(f.r_max / f.r0))),
+          theta_scale(T((f.ntheta - 1) / M_PI)), r_max(T(f.r_max)) {}
+};
+
+/// Scattered irradiance (per unit on-axis intensity, per channel) onto a Lambertian surface at
+/// point p with unit normal n, both in the lamp frame, into (er, eg, eb). Bilinear in (log r, theta) between
+/// nodes; zero beyond r_max. The one home of this equation: the baker's checks (double) and
+/// the runtime's rows (float, vectorised) call it.
+template <typename T>
+inline void lamp_field_irradiance(const LampFieldView<T>& f, T px, T py, T pz, T nx, T ny, T nz,
+                                  T& er, T& eg, T& eb) {
     using std::atan2;
     using std::log;
     using std::sqrt;
@@ -67,31 +80,36 @@ inline void lamp_field_irradiance(const LampField& f, T px, T py, T pz, T nx, T 
     const T mx = ca * nx + sa * ny, my = -sa * nx + ca * ny;
     T Y[kShCount];
     sh_basis(mx, my, nz, Y);
+#pragma GCC unroll 9
     for (int m = 0; m < kShCount; ++m) Y[m] *= sh_cosine_factor<T>(m);
-    const T log_step = T(std::log(f.r_max / f.r0) / (f.nr - 1));
-    T fi = (log(r > T(1e-30) ? r : T(1e-30)) - T(std::log(f.r0))) / log_step;
-    fi = fi < T(0) ? T(0) : fi;
-    const bool beyond = r > T(f.r_max);
-    fi = fi > T(f.nr - 1) ? T(f.nr - 1) : fi;
-    T fj = atan2(rho, pz) * T((f.ntheta - 1) / M_PI);
+    T fi = (log(r > T(1e-30) ? r : T(1e-30)) - f.log_r0) * f.inv_log_step;
+    fi = fi < T(0) ? T(0) : (fi > T(f.nr - 1) ? T(f.nr - 1) : fi);
+    T fj = atan2(rho, pz) * f.theta_scale;
     fj = fj > T(f.ntheta - 1) ? T(f.ntheta - 1) : fj;
     const int i0 = int(fi) < f.nr - 1 ? int(fi) : f.nr - 2;
     const int j0 = int(fj) < f.ntheta - 1 ? int(fj) : f.ntheta - 2;
     const T wi = fi - T(i0), wj = fj - T(j0);
-    T acc[3] = {T(0), T(0), T(0)};
     const T w[4] = {(T(1) - wi) * (T(1) - wj), (T(1) - wi) * wj, wi * (T(1) - wj), wi * wj};
-    const int nodes[4] = {i0 * f.ntheta + j0, i0 * f.ntheta + j0 + 1, (i0 + 1) * f.ntheta + j0,
-                          (i0 + 1) * f.ntheta + j0 + 1};
+    const int node[4] = {i0 * f.ntheta + j0, i0 * f.ntheta + j0 + 1, (i0 + 1) * f.ntheta + j0,
+                         (i0 + 1) * f.ntheta + j0 + 1};
+    T acc0 = T(0), acc1 = T(0), acc2 = T(0);
+    // Fully unrolled, so that the caller's `omp simd` row loop has no inner control flow.
+#pragma GCC unroll 4
     for (int q = 0; q < 4; ++q) {
-        const float* s = f.sh.data() + std::size_t(nodes[q]) * kShCount * 3;
+        const int base = node[q] * (kShCount * 3);  // int offsets: gathers vectorise
+#pragma GCC unroll 9
         for (int m = 0; m < kShCount; ++m) {
-            for (int c = 0; c < 3; ++c) acc[c] += w[q] * Y[m] * T(s[3 * m + c]);
+            const T a = w[q] * Y[m];
+            acc0 += a * T(f.sh[base + 3 * m]);
+            acc1 += a * T(f.sh[base + 3 * m + 1]);
+            acc2 += a * T(f.sh[base + 3 * m + 2]);
         }
     }
-    for (int c = 0; c < 3; ++c) {
-        const T v = beyond ? T(0) : acc[c];
-        e[c] = v > T(0) ? v : T(0);  // order-2 ringing can dip below 0 facing away
-    }
+    // Order-2 ringing can dip below 0 facing away from the light.
+    const T inside = r > f.r_max ? T(0) : T(1);
+    er = inside * (acc0 > T(0) ? acc0 : T(0));
+    eg = inside * (acc1 > T(0) ? acc1 : T(0));
+    eb = inside * (acc2 > T(0) ? acc2 : T(0));
 }
 
 }  // namespace deepsea
