@@ -48,7 +48,7 @@ YAML
 SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=2 "$ds" bake-library "$work/lib.yaml" \
   --out "$work/lib" | grep -q "shard 1/2: 2 of 4 assets; baked 0, up to date 2"
 # the shipped manifest (paths relative to it) expands to 1 x 3 x 6 assets
-"$ds" bake-library "$v/library.yaml" --out "$work/vl" --dry-run | grep -q "0/1: 18 of 18 assets"
+"$ds" bake-library "$v/library.yaml" --out "$work/vl" --dry-run | grep -q "0/1: 27 of 27 assets"
 echo "cameras: [$v/cameras/none.yaml]" > "$work/badlib.yaml"
 echo "rigs: [$v/rigs/single-down.yaml]" >> "$work/badlib.yaml"
 echo "waters: [jerlov:IB]" >> "$work/badlib.yaml"
