@@ -7,7 +7,7 @@
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
-#include "deepsea/optics/jerlov.h"
+#include "deepsea/optics/water_presets.h"
 #include "deepsea/optics/schema.h"
 #include "yaml_reader.h"
 
@@ -119,6 +119,7 @@ Rig parse_rig(const Document& doc, const Field& f) {
 //   key              unit   range                               default
 //   name             -      string                              the preset's, else "custom"
 //   preset           -      jerlov:<IB|II|III|1C|3C|5C>         none
+//                           | deep:<clear|moderate|nepheloid>
 //   attenuation      1/m    [r, g, b], each >= 0 (c)            the preset's; required without
 //   scattering       1/m    [r, g, b], 0 <= b <= c per channel  the preset's albedo b/c times c,
 //                                                               else 0.66 c (kDefaultAlbedo)
@@ -165,12 +166,8 @@ Water parse_water(const Document& doc, const Field& f) {
     w.phase.kind = PhaseKind::PetzoldClear;
     const Field* preset = m.opt("preset");
     if (preset) {
-        const std::string s = doc.string(*preset);
-        const std::string prefix = "jerlov:";
-        if (s.compare(0, prefix.size(), prefix) != 0)
-            doc.fail(*preset, "expected jerlov:<TYPE>, got '" + s + "'");
         try {
-            w = jerlov_water(s.substr(prefix.size()));
+            w = water_preset(doc.string(*preset));
         } catch (const ConfigError& e) {
             doc.fail(*preset, e.what());
         }
@@ -295,14 +292,7 @@ Setup load_setup(const std::vector<std::string>& files) {
 }
 
 Water load_water(const std::string& spec) {
-    const std::string prefix = "jerlov:";
-    if (spec.compare(0, prefix.size(), prefix) == 0) {
-        try {
-            return jerlov_water(spec.substr(prefix.size()));
-        } catch (const ConfigError& e) {
-            throw ConfigError(spec + ": " + e.what());
-        }
-    }
+    if (is_water_preset(spec)) return water_preset(spec);
     Parsed p = parse_document(Document::load(spec));
     for (const char* other : {"camera", "rig"})
         if (p.line.count(other))

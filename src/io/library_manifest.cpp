@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "deepsea/core/error.h"
+#include "deepsea/optics/water_presets.h"
 #include "yaml_reader.h"
 
 namespace deepsea {
@@ -19,10 +20,12 @@ const std::vector<std::string> kManifestKeys = {"cameras", "rigs", "waters", "ba
 const std::vector<std::string> kBakeKeys = {"xy_step", "depth_samples", "depth_scheme", "z_max",
                                             "tolerance", "scattering", "paths"};
 
-bool is_preset(const std::string& spec) { return spec.rfind("jerlov:", 0) == 0; }
+bool is_preset(const std::string& spec) { return is_water_preset(spec); }
 
+/// A preset's stem is its water name ("jerlov-IB", "deep-clear"), like the stem of
+/// volumes/waters/<name>.yaml.
 std::string stem(const std::string& spec) {
-    if (is_preset(spec)) return "jerlov-" + spec.substr(7);
+    if (is_preset(spec)) return water_preset(spec).name;
     return fs::path(spec).stem().string();
 }
 
@@ -37,6 +40,12 @@ std::vector<std::string> files(const Document& doc, const MapView& m, const char
         if (!is_preset(s)) {
             s = (folder / s).string();
             if (!fs::exists(s)) doc.fail(item, "missing file " + s);
+        } else {
+            try {
+                water_preset(s);
+            } catch (const ConfigError& e) {
+                doc.fail(item, e.what());
+            }
         }
         out.push_back(s);
     }

@@ -71,6 +71,17 @@ void validate(const Rig& rig) {
     for (std::size_t i = 0; i < rig.lights.size(); ++i) {
         const Light& l = rig.lights[i];
         const std::string key = "rig.lights[" + std::to_string(i) + "]";
+        const Vec3& p = l.position;
+        const std::string where = "[" + fmt(p.x) + ", " + fmt(p.y) + ", " + fmt(p.z) + "] m";
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw SchemaError(key + ".position", "lamp '" + l.name + "' at " + where +
+                                                     ": coordinates must be finite");
+        if (!(length(p) >= kLampNearFieldRadius))
+            throw SchemaError(key + ".position",
+                              "lamp '" + l.name + "' at " + where + " is " + fmt(length(p)) +
+                                  " m from the camera centre, inside the near-field limit of " +
+                                  fmt(kLampNearFieldRadius) +
+                                  " m (single-scattering backscatter diverges there)");
         if (!(length(l.direction) > 1e-12))
             throw SchemaError(key + ".direction", "must not be the zero vector");
         require_non_negative(l.intensity, key + ".intensity");

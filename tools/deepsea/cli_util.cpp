@@ -14,7 +14,8 @@ void SetupFlags::add_to(CLI::App& sub, bool camera_required) {
     sub.add_option("--config", configs, "YAML file(s) with camera, rig and/or water sections");
     sub.add_option("--camera", camera, "YAML file with a camera section");
     sub.add_option("--rig", rig, "YAML file with a rig section");
-    sub.add_option("--water", water, "YAML file with a water section, or jerlov:<TYPE>");
+    sub.add_option("--water", water,
+                   "YAML file with a water section, or a preset: jerlov:<TYPE>, deep:<TYPE>");
     (void)camera_required;
 }
 

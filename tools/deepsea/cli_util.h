@@ -12,7 +12,7 @@
 
 namespace deepsea::cli {
 
-/// --config (repeatable), --camera, --rig, --water (file or jerlov:<TYPE>).
+/// --config (repeatable), --camera, --rig, --water (file or preset).
 struct SetupFlags {
     std::vector<std::string> configs;
     std::string camera, rig, water;

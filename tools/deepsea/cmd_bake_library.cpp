@@ -78,6 +78,12 @@ void run(const LibraryArgs& a) {
     } catch (const ConfigError& e) {
         throw ConfigError(a.manifest + ": bake: " + e.what());  // name the file, not a flag
     }
+    // Read every input once before baking anything: a config error (a value out of range, a
+    // lamp in the camera's near field) stops the whole run with exit 2, as a missing file does,
+    // instead of failing its assets one by one after others have been baked.
+    for (const std::string& f : manifest.cameras) load_setup({f});
+    for (const std::string& f : manifest.rigs) load_setup({f});
+    for (const std::string& w : manifest.waters) load_water(w);
     const auto [index, count] = shard_of(a.shard, a.shard_count);
     std::error_code ec;
     fs::create_directories(a.out, ec);

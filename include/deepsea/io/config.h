@@ -28,7 +28,8 @@ Setup load_setup(const std::vector<std::string>& files);
 /// Parses YAML text (file name used only in messages).
 Setup parse_setup(const std::string& yaml_text, const std::string& file_name);
 
-/// A water from a spec: "jerlov:<TYPE>" or a YAML file with a `water` section.
+/// A water from a spec: a preset ("jerlov:IB", "deep:clear", water_presets.h) or a YAML file
+/// with a `water` section.
 Water load_water(const std::string& spec);
 
 /// Throws ConfigError naming what is missing unless the setup has camera, rig and water.

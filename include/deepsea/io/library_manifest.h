@@ -11,7 +11,7 @@ namespace deepsea {
 
 /// One asset of a library: its inputs and the file name it is baked to.
 struct LibraryEntry {
-    std::string camera, rig, water;  ///< files (the water may also be a jerlov:<TYPE> spec)
+    std::string camera, rig, water;  ///< files (the water may also be a preset spec, jerlov:IB)
     std::string name;                ///< <camera>__<rig>__<water>.vdb, from the file stems
 };
 
@@ -39,8 +39,8 @@ struct LibraryManifest {
 };
 
 /// Manifest keys (paths relative to the manifest):
-///   cameras, rigs, waters   non-empty lists of YAML files (waters also jerlov:<TYPE>); each
-///                           file must exist
+///   cameras, rigs, waters   non-empty lists of YAML files (waters also presets: jerlov:IB,
+///                           deep:clear, ...); each file must exist
 ///   bake                    optional map: xy_step, depth_samples, depth_scheme, z_max
 ///                           (metres or auto), tolerance, scattering (single | multiple),
 ///                           paths

@@ -47,10 +47,19 @@ inline const std::vector<std::string> kPhaseHg = {"g"};
 inline const std::vector<std::string> kForwardScatter = {"G", "k"};
 }  // namespace schema
 
+/// The nearest a lamp may be to the camera centre, metres. The single-scattering backscatter
+/// of a point lamp at distance r from the camera grows like 1/r (along a ray past it,
+/// integral dt / (r^2 + t^2) = pi / (2 r)) and is infinite at r = 0, where the quadrature
+/// returned 1e10-scale radiance or ran for minutes. Real lamps sit outside the camera's
+/// housing, several centimetres from the lens at the least; within 2 cm a "lamp" is a modelling
+/// mistake (a position forgotten at [0, 0, 0]), not a rig.
+inline constexpr double kLampNearFieldRadius = 0.02;
+
 /// width, height > 0; fx, fy > 0; cx, cy finite. Throws SchemaError.
 void validate(const Camera& camera);
 
-/// At least one light, unique names; per light: a non-zero direction (it need not be unit: the
+/// At least one light, unique names; per light: a finite position at least kLampNearFieldRadius
+/// from the camera centre, a non-zero direction (it need not be unit: the
 /// YAML reader normalises after this check), intensity >= 0, a Gaussian sigma > 0 or a table of
 /// >= 2 strictly ascending angles in [0, 180] with as many values >= 0, cutoff in (0, 180].
 void validate(const Rig& rig);

@@ -180,6 +180,8 @@ TEST(BakeInfoJson, UsesTheSchemasKeysAndRanges) {
     };
     refused("/camera/fx", -1.0, "camera.fx");
     refused("/rig/lights/0/intensity/1", -1.0, "rig.lights[0].intensity");
+    refused("/rig/lights/0/position", nlohmann::json::array({0.0, 0.0, 0.01}),
+            "rig.lights[0].position");
     refused("/rig/lights/1/rid/table/angle_deg/1", 200.0, "rig.lights[1].rid.table.angle_deg[1]");
     refused("/water/scattering/0", 1.0, "water.scattering");
 }

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
+#include "deepsea/optics/deep_ocean.h"
 #include "deepsea/optics/jerlov.h"
 
 namespace deepsea {
@@ -118,6 +119,10 @@ TEST(Config, EachBadInputNamesFileLineAndKey) {
          "rig.lights[0].position[1]"},
         {"      direction: [0.51, 0.0, 0.86]", "      direction: [0, 0, 0]", 13,
          "rig.lights[0].direction"},
+        {"      position: [-0.5, 0.0, 0.0]", "      position: [0, 0, 0]", 12,
+         "rig.lights[0].position"},
+        {"    - position: [0.5, 0, 0]", "    - position: [0.005, 0, 0.01]", 17,
+         "rig.lights[1].position"},
         {"      intensity: [1.0, 1.0, 1.0]", "      intensity: [1.0, -1.0, 1.0]", 14,
          "rig.lights[0].intensity"},
         {"      intensity: [1.0, 1.0, 1.0]\n", "", 11, "rig.lights[0].intensity"},
@@ -147,6 +152,7 @@ TEST(Config, EachBadInputNamesFileLineAndKey) {
         {"{G: [0.3, 0.1, 0.1], k: 0.05}", "{G: [0.3, 0.1, 0.1]}", 26,
          "water.forward_scatter.k"},
         {"  name: mine", "  name: mine\n  preset: jerlov:XX", 23, "water.preset"},
+        {"  name: mine", "  name: mine\n  preset: deep:murky", 23, "water.preset"},
         {"  name: mine", "  name: mine\n  preset: petzold", 23, "water.preset"},
         {"  name: mine", "  name: mine\n  colour: blue", 23, "water.colour"},
         {"water:", "weather:", 21, "weather"},
@@ -216,6 +222,12 @@ TEST(Config, PresetAndOverrides) {
     EXPECT_TRUE(s.water->forward.enabled);
     EXPECT_EQ(s.water->forward.G.r, fs.G.r);
     EXPECT_EQ(s.water->forward.k, fs.k);
+
+    // The deep-ocean presets resolve like the Jerlov ones.
+    s = parse_setup("water:\n  preset: deep:nepheloid\n", "w.yaml");
+    EXPECT_EQ(s.water->name, "deep-nepheloid");
+    EXPECT_EQ(s.water->c.g, deep_ocean_water("nepheloid").c.g);
+    EXPECT_EQ(s.water->phase.kind, deep_ocean_water("nepheloid").phase.kind);
 
     // Without a preset: name "custom", Petzold clear, b a fixed fraction of c.
     s = parse_setup("water:\n  attenuation: [0.5, 0.2, 0.1]\n", "w.yaml");
@@ -288,6 +300,16 @@ TEST_F(ConfigFiles, ErrorsInFilesNameTheFile) {
 TEST_F(ConfigFiles, LoadWater) {
     EXPECT_EQ(load_water("jerlov:II").name, jerlov_water("II").name);
     EXPECT_THROW(load_water("jerlov:XX"), ConfigError);
+    EXPECT_EQ(load_water("deep:clear").c.b, deep_ocean_water("clear").c.b);
+    try {
+        load_water("deep:murky");
+        FAIL();
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("deep:moderate"), std::string::npos) << e.what();
+    }
+    // The shipped water files name the presets they wrap.
+    EXPECT_EQ(load_water(DEEPSEA_SOURCE_DIR "/volumes/waters/deep-clear.yaml").c.r,
+              deep_ocean_water("clear").c.r);
     const std::string w = file("w.yaml", "water:\n  preset: jerlov:1C\n  name: deep\n");
     EXPECT_EQ(load_water(w).name, "deep");
     const std::string full = file("full.yaml", kValid);

@@ -62,7 +62,9 @@ TEST_F(Manifest, ExpandsSortedUniqueCombinations) {
     EXPECT_EQ(*m.bake.depth_scheme, "sqrt");
     EXPECT_EQ(*m.bake.tolerance, 0.01);
     const LibraryManifest plain = parse("cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\n"
-                                        "waters: [jerlov:II]\nbake:\n");
+                                        "waters: [jerlov:II, deep:clear]\nbake:\n");
+    ASSERT_EQ(plain.entries.size(), 2u);
+    EXPECT_EQ(plain.entries[0].name, "cam__a__deep-clear.vdb");
     EXPECT_FALSE(plain.bake.xy_step || plain.bake.z_max || plain.bake.tolerance);
 }
 
@@ -83,6 +85,10 @@ TEST_F(Manifest, ErrorsNameFileLineAndKey) {
         error("cameras: [cam.yaml]\nrigs: [rigs/a.yaml, rigs/none.yaml]\nwaters: [jerlov:IB]\n");
     EXPECT_EQ(missing.rfind("lib.yaml:2: rigs[1]: missing file ", 0), 0u) << missing;
     EXPECT_NE(error("- cameras\n").find("not a manifest"), std::string::npos);
+    const std::string preset =
+        error("cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\nwaters: [jerlov:IB, deep:murky]\n");
+    EXPECT_EQ(preset.rfind("lib.yaml:3: waters[1]: unknown water preset 'deep:murky'", 0), 0u)
+        << preset;
     // Same stem twice: both would write one asset.
     std::ofstream((m_dir / "jerlov-IB.yaml").string()) << "# placeholder\n";
     EXPECT_NE(error("cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\nwaters: [jerlov:IB, jerlov-IB.yaml]\n")

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace deepsea {
 namespace {
 
@@ -20,6 +22,7 @@ std::string key_of(const T& x) {
 Rig one_lamp() {
     Light l;
     l.name = "a";
+    l.position = {0.1, 0.0, 0.0};
     l.direction = {0.0, 0.0, 2.0};  // need not be unit
     Rig r;
     r.lights = {l};
@@ -65,6 +68,40 @@ TEST(Schema, RigRanges) {
     EXPECT_EQ(key_of(r), "rig.lights[0].rid.table.value");
     r.lights[0].rid.value = {1, -0.5, 0};
     EXPECT_EQ(key_of(r), "rig.lights[0].rid.table.value[1]");
+}
+
+TEST(Schema, LampInTheCamerasNearFieldIsRefused) {
+    Rig r = one_lamp();
+    for (const Vec3 p : {Vec3{0, 0, 0}, Vec3{0.01, 0.01, 0.01}, Vec3{0, 0, -0.019}}) {
+        r.lights[0].position = p;
+        EXPECT_EQ(key_of(r), "rig.lights[0].position") << p.x << " " << p.y << " " << p.z;
+    }
+    // At or beyond the limit, in any direction (behind the camera too), a lamp is fine.
+    for (const Vec3 p : {Vec3{kLampNearFieldRadius, 0, 0}, Vec3{0, -0.05, 0}, Vec3{0, 0, -0.5}}) {
+        r.lights[0].position = p;
+        EXPECT_EQ(key_of(r), "") << p.x << " " << p.y << " " << p.z;
+    }
+    r.lights[0].position = {0, 0, std::nan("")};
+    EXPECT_EQ(key_of(r), "rig.lights[0].position");
+    // The message names the lamp, its position and the limit, on one line.
+    r.lights[0].name = "centre";
+    r.lights[0].position = {0, 0.01, 0};
+    try {
+        validate(r);
+        FAIL();
+    } catch (const SchemaError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("'centre'"), std::string::npos) << what;
+        EXPECT_NE(what.find("[0, 0.01, 0] m"), std::string::npos) << what;
+        EXPECT_NE(what.find("0.02 m"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    // The second lamp of a rig is checked as well.
+    r = one_lamp();
+    r.lights.push_back(r.lights[0]);
+    r.lights[1].name = "b";
+    r.lights[1].position = {0, 0, 0};
+    EXPECT_EQ(key_of(r), "rig.lights[1].position");
 }
 
 TEST(Schema, WaterRanges) {
