@@ -7,7 +7,7 @@ pkgs=(build-essential cmake pkg-config
       libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
       libgtest-dev libbenchmark-dev)
 if [[ "${1:-}" == "--tests" ]]; then
-  pkgs+=(blender python3-numpy python3-openimageio python3-openvdb)
+  pkgs+=(blender python3-numpy python3-openimageio python3-openvdb clang-format)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

@@ -107,8 +107,8 @@ vdb::math::Transform::Ptr frustum_transform(const Camera& cam, const Lattice& l)
                              0.0, 0.0, -Sx, 0.0,  //
                              0.0, 0.0, -dz, 1.0);
     auto second = vdb::math::MapBase::Ptr(new vdb::math::AffineMap(m));
-    auto frustum = vdb::math::MapBase::Ptr(
-        new vdb::math::NonlinearFrustumMap(bbox, taper, depth, second));
+    auto frustum =
+        vdb::math::MapBase::Ptr(new vdb::math::NonlinearFrustumMap(bbox, taper, depth, second));
     return vdb::math::Transform::Ptr(new vdb::math::Transform(frustum));
 }
 
@@ -198,7 +198,8 @@ struct OpenAsset {
         } catch (const std::exception& e) {
             throw AssetError(path + ": damaged OpenVDB file (" + one_line(e.what()) + ")");
         }
-        if (format == 0) throw AssetError(path + ": not a deepsea asset (no deepsea:format metadata)");
+        if (format == 0)
+            throw AssetError(path + ": not a deepsea asset (no deepsea:format metadata)");
         if (format < 0 || format > kAssetFormat) {
             throw AssetError(path + ": asset format " + std::to_string(format) +
                              " is not one this deepsea reads (1.." + std::to_string(kAssetFormat) +
@@ -220,8 +221,8 @@ GridSummary summarize(const vdb::GridBase& g) {
     GridSummary s;
     s.name = g.getName();
     s.value_type = g.valueType();
-    s.transform = g.transform().mapType() == vdb::math::NonlinearFrustumMap::mapType()
-                      ? "frustum" : "linear";
+    s.transform =
+        g.transform().mapType() == vdb::math::NonlinearFrustumMap::mapType() ? "frustum" : "linear";
     s.half = g.saveFloatAsHalf();
     if (auto c = g.getMetadata<vdb::Int64Metadata>(vdb::GridBase::META_FILE_VOXEL_COUNT)) {
         s.active_voxels = c->value();
@@ -231,7 +232,8 @@ GridSummary summarize(const vdb::GridBase& g) {
     if (lo && hi && s.active_voxels > 0) {
         double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
         for (int corner = 0; corner < 8; ++corner) {
-            const vdb::Vec3d p((corner & 1 ? hi : lo)->value().x(), (corner & 2 ? hi : lo)->value().y(),
+            const vdb::Vec3d p((corner & 1 ? hi : lo)->value().x(),
+                               (corner & 2 ? hi : lo)->value().y(),
                                (corner & 4 ? hi : lo)->value().z());
             const vdb::Vec3d w = g.transform().indexToWorld(p);
             for (int a = 0; a < 3; ++a) {
@@ -310,7 +312,8 @@ LampField lamp_field_from_file(vdb::io::File& file, const std::string& path, std
     f.sh.resize(dense_data.size() * 3);
     std::memcpy(f.sh.data(), dense_data.data(), f.sh.size() * sizeof(float));
     if (hex(checksum(f.sh.data(), f.sh.size())) != sum) {
-        throw AssetError(path + ": truncated or damaged asset (grid " + name + " checksum mismatch)");
+        throw AssetError(path + ": truncated or damaged asset (grid " + name +
+                         " checksum mismatch)");
     }
     for (float x : f.sh) {
         if (!std::isfinite(x)) throw AssetError(path + ": non-finite value in grid " + name);
@@ -321,7 +324,8 @@ LampField lamp_field_from_file(vdb::io::File& file, const std::string& path, std
 }  // namespace
 
 void require_writable(const std::string& path) {
-    if (fs::path(path).filename().empty()) throw IoError("cannot write " + path + ": not a file name");
+    if (fs::path(path).filename().empty())
+        throw IoError("cannot write " + path + ": not a file name");
     require_writable_folder(path);
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw IoError("cannot write " + path + ": it is a directory");
@@ -370,7 +374,8 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     std::string zs;
     for (double z : l.z) zs += (zs.empty() ? "" : " ") + std::to_string(z);
     meta.insertMeta(kMetaZ, vdb::StringMetadata(zs));
-    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) grid->insertMeta(it->first, *it->second);
+    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it)
+        grid->insertMeta(it->first, *it->second);
 
     // The backscatter grid goes last: a truncated file then always damages it (or the
     // descriptors before it), and load_asset, which reads only this grid, notices.
@@ -404,7 +409,8 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     }
     if (asset.info.scattering == Scattering::Multiple) {
         if (asset.lamp_fields.size() != asset.info.rig.lights.size()) {
-            throw AssetError("write_asset: a multiple-scattering asset needs one lamp field per lamp");
+            throw AssetError(
+                "write_asset: a multiple-scattering asset needs one lamp field per lamp");
         }
         for (std::size_t l = 0; l < asset.lamp_fields.size(); ++l) {
             grids.push_back(lamp_field_to_grid(asset.lamp_fields[l], l));
@@ -447,7 +453,8 @@ Asset load_asset(const std::string& path) {
         throw AssetError(path + ": truncated or damaged asset (" + one_line(e.what()) + ")");
     }
     const auto grid = vdb::gridPtrCast<vdb::Vec3SGrid>(base);
-    if (!grid) throw AssetError(path + ": the backscatter grid is " + base->valueType() + ", not Vec3f");
+    if (!grid)
+        throw AssetError(path + ": the backscatter grid is " + base->valueType() + ", not Vec3f");
     const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(l.ni - 1, l.nj - 1, l.nk() - 1));
     const vdb::CoordBBox active = grid->evalActiveVoxelBoundingBox();
     if (!active.empty() && !box.isInside(active)) {

@@ -237,14 +237,14 @@ std::string bake_info_to_json(const BakeInfo& info, int indent) {
                     {"z", l.z}};
     if (l.scheme == DepthScheme::Log) lattice["z0"] = l.z0;
     json j = {{"format", kAssetFormat},
-                    {"baker_version", info.baker_version},
-                    {"input_hash", info.input_hash},
-                    {"camera", camera_json(info.camera)},
-                    {"rig", rig_json(info.rig)},
-                    {"water", water_json(info.water)},
-                    {"lattice", lattice},
-                    {"quadrature", quadrature_json(info.quadrature)},
-                    {"scattering", to_string(info.scattering)}};
+              {"baker_version", info.baker_version},
+              {"input_hash", info.input_hash},
+              {"camera", camera_json(info.camera)},
+              {"rig", rig_json(info.rig)},
+              {"water", water_json(info.water)},
+              {"lattice", lattice},
+              {"quadrature", quadrature_json(info.quadrature)},
+              {"scattering", to_string(info.scattering)}};
     if (info.scattering == Scattering::Multiple) {
         const HigherOrderSettings& h = info.higher_orders;
         j["multiple_scattering"] = {{"method", "monte carlo, orders >= 2"},

@@ -57,7 +57,8 @@ DepthScheme parse_depth_scheme(const std::string& name) {
 }
 
 std::vector<double> depth_samples(DepthScheme scheme, int K, double z_max, double z0) {
-    if (K < 1) throw ConfigError("depth samples: need at least one slab, got K = " + std::to_string(K));
+    if (K < 1)
+        throw ConfigError("depth samples: need at least one slab, got K = " + std::to_string(K));
     if (!(z_max > 0.0) || !std::isfinite(z_max)) {
         throw ConfigError("depth samples: z_max must be > 0 metres, got " + std::to_string(z_max));
     }
@@ -69,10 +70,17 @@ std::vector<double> depth_samples(DepthScheme scheme, int K, double z_max, doubl
     for (int k = 0; k <= K; ++k) {
         const double x = double(k) / K;
         switch (scheme) {
-            case DepthScheme::Uniform: z[k] = z_max * x; break;
-            case DepthScheme::Sqrt: z[k] = z_max * x * x; break;
-            case DepthScheme::Log: z[k] = z0 * std::expm1(x * std::log1p(z_max / z0)); break;
-            case DepthScheme::Taylor: break;
+            case DepthScheme::Uniform:
+                z[k] = z_max * x;
+                break;
+            case DepthScheme::Sqrt:
+                z[k] = z_max * x * x;
+                break;
+            case DepthScheme::Log:
+                z[k] = z0 * std::expm1(x * std::log1p(z_max / z0));
+                break;
+            case DepthScheme::Taylor:
+                break;
         }
     }
     z[0] = 0.0;
@@ -97,9 +105,15 @@ DepthPosition Lattice::depth_position(double zz) const {
     // are the truth (a file's samples went through a text round trip).
     double x = 0.0;
     switch (scheme) {
-        case DepthScheme::Uniform: x = zz / z.back(); break;
-        case DepthScheme::Sqrt: x = std::sqrt(zz / z.back()); break;
-        case DepthScheme::Log: x = std::log1p(zz / z0) / std::log1p(z.back() / z0); break;
+        case DepthScheme::Uniform:
+            x = zz / z.back();
+            break;
+        case DepthScheme::Sqrt:
+            x = std::sqrt(zz / z.back());
+            break;
+        case DepthScheme::Log:
+            x = std::log1p(zz / z0) / std::log1p(z.back() / z0);
+            break;
         case DepthScheme::Taylor: {
             const auto it = std::upper_bound(z.begin(), z.end(), zz);
             x = double(it - z.begin() - 1) / K;

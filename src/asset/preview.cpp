@@ -67,7 +67,8 @@ Preview make_preview(const Asset& asset, int resolution) {
         const int m1 = int(std::upper_bound(mid.begin(), mid.end(), Z) - mid.begin());
         const int m0 = std::max(m1 - 1, 0);
         const int m1c = std::min(m1, K - 1);
-        const double w = m1c > m0 ? std::clamp((Z - mid[m0]) / (mid[m1c] - mid[m0]), 0.0, 1.0) : 0.0;
+        const double w =
+            m1c > m0 ? std::clamp((Z - mid[m0]) / (mid[m1c] - mid[m0]), 0.0, 1.0) : 0.0;
         std::vector<float> at(std::size_t(l.ni) * l.nj * 3);
         for (std::size_t col = 0; col < std::size_t(l.ni) * l.nj; ++col) {
             const float* d = s.data() + col * K * 3;
@@ -95,7 +96,9 @@ Preview make_preview(const Asset& asset, int resolution) {
                 const double wx = x - i0;
                 double rgb[3];
                 for (int c = 0; c < 3; ++c) {
-                    const auto f = [&](int i, int j) { return at[3 * (std::size_t(i) * l.nj + j) + c]; };
+                    const auto f = [&](int i, int j) {
+                        return at[3 * (std::size_t(i) * l.nj + j) + c];
+                    };
                     const double top = f(i0, j0) + wx * (f(i1, j0) - f(i0, j0));
                     const double bottom = f(i0, j1) + wx * (f(i1, j1) - f(i0, j1));
                     rgb[c] = top + wy * (bottom - top);
@@ -103,7 +106,10 @@ Preview make_preview(const Asset& asset, int resolution) {
                 const double density = luminance(rgb[0], rgb[1], rgb[2]) / lum_max;
                 if (!(density >= kDensityCut)) continue;
                 const double peak = std::max({rgb[0], rgb[1], rgb[2]});
-                vox.push_back({a, bb, -(n + 1), float(density),
+                vox.push_back({a,
+                               bb,
+                               -(n + 1),
+                               float(density),
                                {float(rgb[0] / peak), float(rgb[1] / peak), float(rgb[2] / peak)}});
             }
         }

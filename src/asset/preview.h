@@ -18,9 +18,9 @@ struct PreviewVoxel {
 };
 
 struct Preview {
-    double voxel_size = 0.0;     ///< metres
-    double density_scale = 0.0;  ///< in-scatter luminance (radiance per metre) at density 1
-    double depth = 0.0;          ///< planar depth the preview covers, metres
+    double voxel_size = 0.0;           ///< metres
+    double density_scale = 0.0;        ///< in-scatter luminance (radiance per metre) at density 1
+    double depth = 0.0;                ///< planar depth the preview covers, metres
     std::vector<PreviewVoxel> voxels;  ///< in a fixed order (deterministic files)
 };
 

@@ -69,33 +69,37 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
     // Per test pixel and row: the error; reduced in a fixed order afterwards.
     std::vector<double> err(us.size() * vs.size() * R, 0.0);
 
-    parallel_for(vs.size(), [&](std::size_t jv0, std::size_t jv1) {
-        std::vector<double> t;
-        std::vector<std::size_t> order(R);
-        for (std::size_t jv = jv0; jv != jv1; ++jv) {
-            for (std::size_t iu = 0; iu < us.size(); ++iu) {
-                const double u = us[iu], v = vs[jv];
-                const Vec3 ray = cam.ray(u, v);
-                const double stretch = length(ray);
-                // One cumulative integral per pixel serves every scene: sort the path lengths.
-                for (std::size_t r = 0; r < R; ++r) order[r] = r;
-                const auto path = [&](std::size_t r) {
-                    return exact_z[r] < 0.0 ? std::max(t_far, z_max * stretch) : exact_z[r] * stretch;
-                };
-                std::sort(order.begin(), order.end(),
-                          [&](std::size_t a, std::size_t b) { return path(a) < path(b); });
-                t.assign(1, 0.0);
-                for (std::size_t r : order) t.push_back(path(r));
-                const auto C = backscatter_cumulative(info.rig, info.water, ray / stretch, t,
-                                                      opt.quadrature);
-                for (std::size_t n = 0; n < R; ++n) {
-                    const std::size_t r = order[n];
-                    const Rgb lookup = asset.sample(u, v, rows[r].z);
-                    err[(jv * us.size() + iu) * R + r] = rel_error(lookup, C[n + 1]);
+    parallel_for(
+        vs.size(),
+        [&](std::size_t jv0, std::size_t jv1) {
+            std::vector<double> t;
+            std::vector<std::size_t> order(R);
+            for (std::size_t jv = jv0; jv != jv1; ++jv) {
+                for (std::size_t iu = 0; iu < us.size(); ++iu) {
+                    const double u = us[iu], v = vs[jv];
+                    const Vec3 ray = cam.ray(u, v);
+                    const double stretch = length(ray);
+                    // One cumulative integral per pixel serves every scene: sort the path lengths.
+                    for (std::size_t r = 0; r < R; ++r) order[r] = r;
+                    const auto path = [&](std::size_t r) {
+                        return exact_z[r] < 0.0 ? std::max(t_far, z_max * stretch)
+                                                : exact_z[r] * stretch;
+                    };
+                    std::sort(order.begin(), order.end(),
+                              [&](std::size_t a, std::size_t b) { return path(a) < path(b); });
+                    t.assign(1, 0.0);
+                    for (std::size_t r : order) t.push_back(path(r));
+                    const auto C = backscatter_cumulative(info.rig, info.water, ray / stretch, t,
+                                                          opt.quadrature);
+                    for (std::size_t n = 0; n < R; ++n) {
+                        const std::size_t r = order[n];
+                        const Rgb lookup = asset.sample(u, v, rows[r].z);
+                        err[(jv * us.size() + iu) * R + r] = rel_error(lookup, C[n + 1]);
+                    }
                 }
             }
-        }
-    }, par.or_grain(1));
+        },
+        par.or_grain(1));
 
     for (std::size_t r = 0; r < R; ++r) {
         double sum = 0.0;

@@ -63,8 +63,8 @@ double far_path_length(const Water& water, double tolerance) {
     return std::min(std::log(1e4 / tolerance) / (2.0 * c_min), 1e4);
 }
 
-double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int step,
-                  double tolerance, const Quadrature& q, const Parallel& par) {
+double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int step, double tolerance,
+                  const Quadrature& q, const Parallel& par) {
     const int ni = lattice_count(cam.width, step), nj = lattice_count(cam.height, step);
     const double t_far = far_path_length(water, tolerance);
     // Geometric path samples from 5 cm to t_far: the tail decays roughly exponentially, so a
@@ -77,33 +77,36 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
 
     // Each column's crossing in its own slot, the maximum taken afterwards: any thread count.
     std::vector<double> z_cross(std::size_t(ni) * nj, 0.0);
-    parallel_for(z_cross.size(), [&](std::size_t begin, std::size_t end) {
-        for (std::size_t n = begin; n != end; ++n) {
-            const Vec3 ray = cam.ray(double(n / nj) * step, double(n % nj) * step);
-            const double stretch = length(ray);
-            const auto C = backscatter_cumulative(rig, water, ray / stretch, t, q);
-            const Rgb total = C.back();
-            // Fraction of the total still to come beyond t[m], worst channel.
-            const auto tail = [&](std::size_t m) {
-                double f = 0.0;
-                for (int c = 0; c < 3; ++c) {
-                    if (total[c] > 0.0) f = std::max(f, (total[c] - C[m][c]) / total[c]);
+    parallel_for(
+        z_cross.size(),
+        [&](std::size_t begin, std::size_t end) {
+            for (std::size_t n = begin; n != end; ++n) {
+                const Vec3 ray = cam.ray(double(n / nj) * step, double(n % nj) * step);
+                const double stretch = length(ray);
+                const auto C = backscatter_cumulative(rig, water, ray / stretch, t, q);
+                const Rgb total = C.back();
+                // Fraction of the total still to come beyond t[m], worst channel.
+                const auto tail = [&](std::size_t m) {
+                    double f = 0.0;
+                    for (int c = 0; c < 3; ++c) {
+                        if (total[c] > 0.0) f = std::max(f, (total[c] - C[m][c]) / total[c]);
+                    }
+                    return f;
+                };
+                std::size_t m = 0;
+                while (m + 1 < t.size() && tail(m) > tolerance) ++m;
+                double t_cross = t[m];
+                if (m > 0 && tail(m) > 0.0) {
+                    // log(tail) is convex in t, so the chord crosses the tolerance at or
+                    // beyond the true crossing: conservative.
+                    const double a = std::log(tail(m - 1)), b = std::log(tail(m));
+                    const double w = (a - std::log(tolerance)) / (a - b);
+                    t_cross = t[m - 1] + std::clamp(w, 0.0, 1.0) * (t[m] - t[m - 1]);
                 }
-                return f;
-            };
-            std::size_t m = 0;
-            while (m + 1 < t.size() && tail(m) > tolerance) ++m;
-            double t_cross = t[m];
-            if (m > 0 && tail(m) > 0.0) {
-                // log(tail) is convex in t, so the chord crosses the tolerance at or
-                // beyond the true crossing: conservative.
-                const double a = std::log(tail(m - 1)), b = std::log(tail(m));
-                const double w = (a - std::log(tolerance)) / (a - b);
-                t_cross = t[m - 1] + std::clamp(w, 0.0, 1.0) * (t[m] - t[m - 1]);
+                z_cross[n] = t_cross / stretch;
             }
-            z_cross[n] = t_cross / stretch;
-        }
-    }, par.or_grain(16));
+        },
+        par.or_grain(16));
     const double z_max = *std::max_element(z_cross.begin(), z_cross.end());
     // A ray with no light at all gives 0; a lattice must still have some depth.
     return std::max(std::ceil(z_max * 1000.0) / 1000.0, 1e-3);
@@ -141,21 +144,21 @@ BakeInfo bake_request(const Camera& cam, const Rig& rig, const Water& water,
 Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
            const Parallel& par) {
     validate(s);
-    if (rig.lights.empty()) throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
+    if (rig.lights.empty())
+        throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
     const bool automatic = s.z_max == 0.0;
     // The auto z_max search visits the same columns as the bake: the first half of the bar.
     const long columns = long(lattice_count(cam.width, s.step)) * lattice_count(cam.height, s.step);
     const long mc_weight =
         s.scattering == Scattering::Multiple
-            ? kMonteCarloColumnWeight *
-                  higher_order_columns(lattice_count(cam.width, s.step),
-                                       lattice_count(cam.height, s.step), s.higher_orders.stride)
+            ? kMonteCarloColumnWeight * higher_order_columns(lattice_count(cam.width, s.step),
+                                                             lattice_count(cam.height, s.step),
+                                                             s.higher_orders.stride)
             : 0;
     const long total = (automatic ? 2 * columns : columns) + mc_weight;
-    const double z_max =
-        automatic ? auto_z_max(cam, rig, water, s.step, s.tolerance, s.quadrature,
-                               stage(par, 0, total))
-                  : s.z_max;
+    const double z_max = automatic ? auto_z_max(cam, rig, water, s.step, s.tolerance, s.quadrature,
+                                                stage(par, 0, total))
+                                   : s.z_max;
 
     Asset asset;
     asset.info = make_info(cam, rig, water, s, z_max);
@@ -164,22 +167,25 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
 
     const Lattice& l = info.lattice;
     // Column n = i * nj + j owns values[n * nk * 3 ...]: fixed slots, any thread count.
-    parallel_for(std::size_t(l.columns()), [&](std::size_t begin, std::size_t end) {
-        std::vector<double> t(l.z.size());
-        for (std::size_t n = begin; n != end; ++n) {
-            const int i = int(n / l.nj), j = int(n % l.nj);
-            const Vec3 ray = cam.ray(l.u(i), l.v(j));
-            const double stretch = length(ray);  // t = z / cos(phi) = z |r|
-            for (std::size_t k = 0; k < t.size(); ++k) t[k] = l.z[k] * stretch;
-            const auto C = backscatter_cumulative(rig, water, ray / stretch, t, s.quadrature);
-            float* out = asset.values.data() + asset.index(i, j, 0);
-            for (std::size_t k = 0; k < C.size(); ++k) {
-                out[3 * k] = float(C[k].r);
-                out[3 * k + 1] = float(C[k].g);
-                out[3 * k + 2] = float(C[k].b);
+    parallel_for(
+        std::size_t(l.columns()),
+        [&](std::size_t begin, std::size_t end) {
+            std::vector<double> t(l.z.size());
+            for (std::size_t n = begin; n != end; ++n) {
+                const int i = int(n / l.nj), j = int(n % l.nj);
+                const Vec3 ray = cam.ray(l.u(i), l.v(j));
+                const double stretch = length(ray);  // t = z / cos(phi) = z |r|
+                for (std::size_t k = 0; k < t.size(); ++k) t[k] = l.z[k] * stretch;
+                const auto C = backscatter_cumulative(rig, water, ray / stretch, t, s.quadrature);
+                float* out = asset.values.data() + asset.index(i, j, 0);
+                for (std::size_t k = 0; k < C.size(); ++k) {
+                    out[3 * k] = float(C[k].r);
+                    out[3 * k + 1] = float(C[k].g);
+                    out[3 * k + 2] = float(C[k].b);
+                }
             }
-        }
-    }, stage(par, total - mc_weight - columns, total).or_grain(16));
+        },
+        stage(par, total - mc_weight - columns, total).or_grain(16));
     if (s.scattering == Scattering::Multiple) {
         add_higher_orders(asset, stage(par, total - mc_weight, total, kMonteCarloColumnWeight));
         add_lamp_fields(asset, Parallel{par.threads});

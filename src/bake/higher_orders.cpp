@@ -34,7 +34,8 @@ void bracket(const std::vector<int>& c, int i, std::size_t& a, double& w) {
 }  // namespace
 
 long higher_order_columns(int ni, int nj, int stride) {
-    return long(computed(ni, std::max(stride, 1)).size()) * long(computed(nj, std::max(stride, 1)).size());
+    return long(computed(ni, std::max(stride, 1)).size()) *
+           long(computed(nj, std::max(stride, 1)).size());
 }
 
 namespace {
@@ -43,7 +44,8 @@ namespace {
 double reach(const Camera& cam, double z_max, const Light& L) {
     double r = 0.0;
     for (double u : {-0.5, cam.width - 0.5})
-        for (double v : {-0.5, cam.height - 0.5}) r = std::max(r, length(cam.ray(u, v) * z_max - L.position));
+        for (double v : {-0.5, cam.height - 0.5})
+            r = std::max(r, length(cam.ray(u, v) * z_max - L.position));
     return r;
 }
 
@@ -60,7 +62,8 @@ void add_lamp_fields(Asset& asset, const Parallel& par) {
     LampFieldSettings ls;
     ls.samples = info.higher_orders.lamp_samples;
     ls.seed = info.higher_orders.seed;
-    for (const Light& L : lights) ls.r_max = std::max(ls.r_max, 1.1 * reach(info.camera, info.lattice.z_max(), L));
+    for (const Light& L : lights)
+        ls.r_max = std::max(ls.r_max, 1.1 * reach(info.camera, info.lattice.z_max(), L));
     ls.r_max = std::max(ls.r_max, 10.0 * ls.r0);
     asset.lamp_fields.assign(lights.size(), LampField{});
     HigherOrderSettings& h = asset.info.higher_orders;
@@ -68,16 +71,20 @@ void add_lamp_fields(Asset& asset, const Parallel& par) {
     for (std::size_t l = 0; l < lights.size(); ++l) {
         std::size_t twin = 0;
         while (twin < l && !same_profile(lights[twin].rid, lights[l].rid)) ++twin;
-        asset.lamp_fields[l] = twin < l ? asset.lamp_fields[twin]
-                                        : bake_lamp_field(lights[l], info.water, ls, par);
+        asset.lamp_fields[l] =
+            twin < l ? asset.lamp_fields[twin] : bake_lamp_field(lights[l], info.water, ls, par);
         h.lamp_rel_std_error += asset.lamp_fields[l].rel_std_error / double(lights.size());
     }
 }
 
 void add_higher_orders(Asset& asset, const Parallel& par) {
     HigherOrderSettings& s = asset.info.higher_orders;
-    if (s.paths < 1) throw ConfigError("multiple scattering: paths must be >= 1, got " + std::to_string(s.paths));
-    if (s.stride < 1) throw ConfigError("multiple scattering: stride must be >= 1, got " + std::to_string(s.stride));
+    if (s.paths < 1)
+        throw ConfigError("multiple scattering: paths must be >= 1, got " +
+                          std::to_string(s.paths));
+    if (s.stride < 1)
+        throw ConfigError("multiple scattering: stride must be >= 1, got " +
+                          std::to_string(s.stride));
     const BakeInfo& info = asset.info;
     const Lattice& l = info.lattice;
     const Transport transport(info.rig, info.water);
@@ -96,8 +103,10 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
                 const Vec3 ray = info.camera.ray(l.u(i), l.v(j));
                 const double stretch = length(ray);
                 for (std::size_t k = 0; k < nk; ++k) t[k] = l.z[k] * stretch;
-                const std::uint64_t stream = std::uint64_t(i) * std::uint64_t(l.nj) + std::uint64_t(j);
-                const Estimate e = higher_orders_cumulative(transport, ray / stretch, t, mc, stream);
+                const std::uint64_t stream =
+                    std::uint64_t(i) * std::uint64_t(l.nj) + std::uint64_t(j);
+                const Estimate e =
+                    higher_orders_cumulative(transport, ray / stretch, t, mc, stream);
                 std::copy(e.value.begin(), e.value.end(), coarse.begin() + std::ptrdiff_t(n * nk));
                 const Rgb single = asset.at(i, j, int(nk) - 1);
                 double err = 0.0, frac = 0.0;
@@ -114,7 +123,6 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
         },
         Parallel{par.threads, 1, par.progress});
 
-
     for (int i = 0; i < l.ni; ++i) {
         std::size_t a;
         double wa;
@@ -126,7 +134,8 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
             const auto at = [&](std::size_t ia, std::size_t jb, std::size_t k) {
                 return coarse[(ia * cj.size() + jb) * nk + k];
             };
-            const std::size_t a1 = std::min(a + 1, ci.size() - 1), b1 = std::min(b + 1, cj.size() - 1);
+            const std::size_t a1 = std::min(a + 1, ci.size() - 1),
+                              b1 = std::min(b + 1, cj.size() - 1);
             float* out = asset.values.data() + asset.index(i, j, 0);
             for (std::size_t k = 0; k < nk; ++k) {
                 const Rgb v = at(a, b, k) * ((1 - wa) * (1 - wb)) + at(a1, b, k) * (wa * (1 - wb)) +

@@ -7,8 +7,8 @@
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
-#include "deepsea/optics/water_presets.h"
 #include "deepsea/optics/schema.h"
+#include "deepsea/optics/water_presets.h"
 #include "yaml_reader.h"
 
 namespace deepsea {
@@ -17,9 +17,9 @@ namespace {
 
 using yaml::Document;
 using yaml::Field;
-using yaml::MapView;
 using yaml::fmt;
 using yaml::join;
+using yaml::MapView;
 
 /// Scattering albedo b/c used when a config gives `attenuation` without `scattering` and no
 /// preset: the mean band albedo of the six Jerlov presets (0.66; they range from 0.23 in the
@@ -133,10 +133,14 @@ Phase parse_phase(const Document& doc, const Field& f) {
     if (f.node.IsScalar()) {
         // The names of to_string(PhaseKind) are accepted as plain scalars as well.
         const std::string s = f.node.Scalar();
-        if (s == "isotropic") p.kind = PhaseKind::Isotropic;
-        else if (s == "petzold:clear") p.kind = PhaseKind::PetzoldClear;
-        else if (s == "petzold:coastal") p.kind = PhaseKind::PetzoldCoastal;
-        else if (s == "petzold:turbid") p.kind = PhaseKind::PetzoldTurbid;
+        if (s == "isotropic")
+            p.kind = PhaseKind::Isotropic;
+        else if (s == "petzold:clear")
+            p.kind = PhaseKind::PetzoldClear;
+        else if (s == "petzold:coastal")
+            p.kind = PhaseKind::PetzoldCoastal;
+        else if (s == "petzold:turbid")
+            p.kind = PhaseKind::PetzoldTurbid;
         else
             doc.fail(f, "unknown phase function '" + s +
                             "' (expected isotropic, {petzold: clear|coastal|turbid} or "
@@ -148,10 +152,14 @@ Phase parse_phase(const Document& doc, const Field& f) {
         doc.fail(f, "give exactly one of " + join(schema::kPhase));
     if (const Field* pz = m.opt("petzold")) {
         const std::string s = doc.string(*pz);
-        if (s == "clear") p.kind = PhaseKind::PetzoldClear;
-        else if (s == "coastal") p.kind = PhaseKind::PetzoldCoastal;
-        else if (s == "turbid") p.kind = PhaseKind::PetzoldTurbid;
-        else doc.fail(*pz, "expected clear, coastal or turbid, got '" + s + "'");
+        if (s == "clear")
+            p.kind = PhaseKind::PetzoldClear;
+        else if (s == "coastal")
+            p.kind = PhaseKind::PetzoldCoastal;
+        else if (s == "turbid")
+            p.kind = PhaseKind::PetzoldTurbid;
+        else
+            doc.fail(*pz, "expected clear, coastal or turbid, got '" + s + "'");
         return p;
     }
     p.kind = PhaseKind::HenyeyGreenstein;
@@ -174,8 +182,10 @@ Water parse_water(const Document& doc, const Field& f) {
     }
     const Rgb preset_c = w.c, preset_b = w.b;
     const Field* att = m.opt("attenuation");
-    if (att) w.c = doc.rgb(*att);
-    else if (!preset) m.need("attenuation");  // throws: required without a preset
+    if (att)
+        w.c = doc.rgb(*att);
+    else if (!preset)
+        m.need("attenuation");  // throws: required without a preset
 
     if (const Field* sca = m.opt("scattering")) {
         w.b = doc.rgb(*sca);
@@ -241,8 +251,7 @@ Parsed parse_document(const Document& doc) {
         doc.fail(e);
     } catch (const YAML::Exception& e) {
         // Should not happen after the checks above; keep the one-line file:line format anyway.
-        throw ConfigError(doc.file() + ":" + std::to_string(yaml::line_of(e.mark)) + ": " +
-                          e.msg);
+        throw ConfigError(doc.file() + ":" + std::to_string(yaml::line_of(e.mark)) + ": " + e.msg);
     }
     return out;
 }
@@ -331,10 +340,8 @@ std::string setup_to_yaml(const Setup& s) {
         for (const Light& l : s.rig->lights) {
             o << "    - name: " << quote(l.name) << "\n"
               << "      position: " << triple(l.position.x, l.position.y, l.position.z) << "\n"
-              << "      direction: " << triple(l.direction.x, l.direction.y, l.direction.z)
-              << "\n"
-              << "      intensity: " << triple(l.intensity.r, l.intensity.g, l.intensity.b)
-              << "\n";
+              << "      direction: " << triple(l.direction.x, l.direction.y, l.direction.z) << "\n"
+              << "      intensity: " << triple(l.intensity.r, l.intensity.g, l.intensity.b) << "\n";
             if (l.rid.kind == Rid::Kind::Gaussian) {
                 o << "      rid: {gaussian: {sigma_deg: " << fmt(l.rid.sigma_deg) << "}}\n";
             } else {
@@ -356,13 +363,21 @@ std::string setup_to_yaml(const Setup& s) {
           << "  scattering: " << triple(w.b.r, w.b.g, w.b.b) << "\n"
           << "  phase: ";
         switch (w.phase.kind) {
-            case PhaseKind::Isotropic: o << "isotropic\n"; break;
+            case PhaseKind::Isotropic:
+                o << "isotropic\n";
+                break;
             case PhaseKind::HenyeyGreenstein:
                 o << "{henyey_greenstein: {g: " << fmt(w.phase.g) << "}}\n";
                 break;
-            case PhaseKind::PetzoldClear: o << "{petzold: clear}\n"; break;
-            case PhaseKind::PetzoldCoastal: o << "{petzold: coastal}\n"; break;
-            case PhaseKind::PetzoldTurbid: o << "{petzold: turbid}\n"; break;
+            case PhaseKind::PetzoldClear:
+                o << "{petzold: clear}\n";
+                break;
+            case PhaseKind::PetzoldCoastal:
+                o << "{petzold: coastal}\n";
+                break;
+            case PhaseKind::PetzoldTurbid:
+                o << "{petzold: turbid}\n";
+                break;
         }
         if (w.forward.enabled)
             o << "  forward_scatter: {G: " << triple(w.forward.G.r, w.forward.G.g, w.forward.G.b)

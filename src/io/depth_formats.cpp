@@ -27,7 +27,8 @@ namespace {
 bool read_token(std::istream& is, std::string& tok) {
     tok.clear();
     int ch;
-    while ((ch = is.get()) != EOF && std::isspace(ch)) {}
+    while ((ch = is.get()) != EOF && std::isspace(ch)) {
+    }
     if (ch == EOF) return false;
     tok += char(ch);
     while ((ch = is.peek()) != EOF && !std::isspace(ch)) tok += char(is.get());
@@ -117,8 +118,8 @@ Image read_npy(const std::string& path, double scale) {
     } else if (major == 2 || major == 3) {
         unsigned char b[4];
         if (!is.read(reinterpret_cast<char*>(b), 4)) io_fail(path, "truncated .npy header");
-        hlen = b[0] | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 |
-               std::uint32_t(b[3]) << 24;
+        hlen =
+            b[0] | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24;
     } else {
         io_fail(path, "unsupported .npy version " + std::to_string(major));
     }
@@ -141,9 +142,12 @@ Image read_npy(const std::string& path, double scale) {
         }
     }
     int bytes = 0;
-    if (descr == "<f4" || descr == "f4") bytes = 4;
-    else if (descr == "<f8" || descr == "f8") bytes = 8;
-    else if (descr == "<u2" || descr == "u2") bytes = 2;
+    if (descr == "<f4" || descr == "f4")
+        bytes = 4;
+    else if (descr == "<f8" || descr == "f8")
+        bytes = 8;
+    else if (descr == "<u2" || descr == "u2")
+        bytes = 2;
     else
         throw InputError(path + ": .npy dtype '" + descr +
                          "' is not supported for depth (use <f4, <f8 or <u2)");

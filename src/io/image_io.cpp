@@ -1,6 +1,9 @@
 #include "deepsea/io/image_io.h"
 
+#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,11 +16,6 @@
 #include <mutex>
 #include <string>
 #include <vector>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
@@ -225,7 +223,7 @@ Image read_color(const std::string& path) {
     // 8- and 16-bit files hold one of 2^bits codes: decode through a table of srgb_to_linear.
     const int codes = spec.format.basetype == OIIO::TypeDesc::UINT8    ? 255
                       : spec.format.basetype == OIIO::TypeDesc::UINT16 ? 65535
-                                                                        : 0;
+                                                                       : 0;
     const float* lut = codes ? srgb_decode_table(codes) : nullptr;
     Image img(spec.width, spec.height, 3);
     const std::size_t n = std::size_t(spec.width) * spec.height;
@@ -352,11 +350,10 @@ void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& laye
                              std::to_string(l.image->channels));
         if (!first) first = l.image;
         if (l.image->width != first->width || l.image->height != first->height)
-            throw InputError(path + ": layer '" + l.name + "' is " +
-                             std::to_string(l.image->width) + "x" +
-                             std::to_string(l.image->height) + ", layer '" + layers[0].name +
-                             "' is " + std::to_string(first->width) + "x" +
-                             std::to_string(first->height));
+            throw InputError(
+                path + ": layer '" + l.name + "' is " + std::to_string(l.image->width) + "x" +
+                std::to_string(l.image->height) + ", layer '" + layers[0].name + "' is " +
+                std::to_string(first->width) + "x" + std::to_string(first->height));
         total += l.image->channels;
     }
     OIIO::ImageSpec spec(first->width, first->height, total, OIIO::TypeDesc::FLOAT);

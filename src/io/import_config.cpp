@@ -106,29 +106,38 @@ std::string convert(const Document& doc) {
     } else {
         y << "  # water_attenuation_RGB taken as the beam attenuation c. If these are diffuse Kd\n"
              "  # values (as the authors' examples are), c is larger and this water too clear.\n";
-        y << "  name: deepsearenderer\n  attenuation: [" << kd[0] << ", " << kd[1] << ", "
-          << kd[2] << "]\n";
+        y << "  name: deepsearenderer\n  attenuation: [" << kd[0] << ", " << kd[1] << ", " << kd[2]
+          << "]\n";
     }
     y << "  # vsf_type " << vsf << "\n";
     switch (vsf) {
-        case 1: y << "  phase: {petzold: clear}\n"; break;
-        case 2: y << "  phase: {petzold: coastal}\n"; break;
-        case 3: y << "  phase: {petzold: turbid}\n"; break;
+        case 1:
+            y << "  phase: {petzold: clear}\n";
+            break;
+        case 2:
+            y << "  phase: {petzold: coastal}\n";
+            break;
+        case 3:
+            y << "  phase: {petzold: turbid}\n";
+            break;
         case 4:
             y << "  phase: {henyey_greenstein: {g: 0.9}}  # their H-G option; g not in the file\n";
             break;
-        default: doc.fail(vf, "expected 1, 2, 3 or 4");
+        default:
+            doc.fail(vf, "expected 1, 2, 3 or 4");
     }
     y << "  forward_scatter: on\n\n";
     y << "# Not converted (no deepsea counterpart):\n"
-         "#   scale_factor, scale_factor_bs: ad-hoc gains for direct and backscatter; deepsea keeps\n"
+         "#   scale_factor, scale_factor_bs: ad-hoc gains for direct and backscatter; deepsea "
+         "keeps\n"
          "#     both in radiance and applies one exposure.\n"
          "#   volumetric_max_depth, num_volumetric_slabs, slab_sampling_method: their slab table;\n"
          "#     deepsea bakes exact cumulative integrals (deepsea bake --z-max/--depth-samples).\n"
          "#   white_balance, auto_iso: camera processing after rendering.\n"
          "#   light_ambient_RGB: Phong ambient; there is no ambient light at 3,000 m.\n"
          "#   depth_smooth_window_size, refine_depth: input clean-up, not part of the model.\n"
-         "#   render_back_scatter, write_slab, write_uw_img_in_exr: output switches (see render).\n";
+         "#   render_back_scatter, write_slab, write_uw_img_in_exr: output switches (see "
+         "render).\n";
     return y.str();
 }
 

@@ -17,8 +17,8 @@ using yaml::Field;
 using yaml::MapView;
 
 const std::vector<std::string> kManifestKeys = {"cameras", "rigs", "waters", "bake"};
-const std::vector<std::string> kBakeKeys = {"xy_step", "depth_samples", "depth_scheme", "z_max",
-                                            "tolerance", "scattering", "paths"};
+const std::vector<std::string> kBakeKeys = {"xy_step",   "depth_samples", "depth_scheme", "z_max",
+                                            "tolerance", "scattering",    "paths"};
 
 bool is_preset(const std::string& spec) { return is_water_preset(spec); }
 

@@ -22,13 +22,17 @@ namespace {
 /// What a node holds, for "expected X, got Y" messages.
 std::string describe(const YAML::Node& n) {
     switch (n.Type()) {
-        case YAML::NodeType::Null: return "nothing";
+        case YAML::NodeType::Null:
+            return "nothing";
         case YAML::NodeType::Scalar:
             return (n.Tag() == "!" ? "the string \"" : "'") + n.Scalar() +
                    (n.Tag() == "!" ? "\"" : "'");
-        case YAML::NodeType::Sequence: return "a list";
-        case YAML::NodeType::Map: return "a map";
-        default: return "an undefined value";
+        case YAML::NodeType::Sequence:
+            return "a list";
+        case YAML::NodeType::Map:
+            return "a map";
+        default:
+            return "an undefined value";
     }
 }
 

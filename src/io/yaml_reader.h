@@ -4,13 +4,13 @@
 /// an allowed key set, every error a ConfigError "file:line: key.path: problem". Private to
 /// io (under src/, not include/): only io sees yaml-cpp.
 
+#include <yaml-cpp/yaml.h>
+
 #include <array>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <yaml-cpp/yaml.h>
 
 #include "deepsea/core/vec.h"
 

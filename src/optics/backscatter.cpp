@@ -14,8 +14,7 @@ Rgb lamp_in_scatter(const Light& L, const Water& water, const Vec3& X, const Vec
     if (d1_out) *d1_out = d1;
     if (!(d1 > 0.0)) return {};  // the point is the lamp itself
     const Vec3 w = lx / d1;      // light -> X
-    return L.intensity_toward(w) * water.beta(dot(w, out)) * exp(water.c * -d1) *
-           (1.0 / (d1 * d1));
+    return L.intensity_toward(w) * water.beta(dot(w, out)) * exp(water.c * -d1) * (1.0 / (d1 * d1));
 }
 
 Rgb in_scatter(const Rig& rig, const Water& water, const Vec3& dir, double t) {
@@ -33,8 +32,8 @@ Rgb abs_diff(const Rgb& a, const Rgb& b) {
 }
 
 /// Recursive bisection until every channel's error estimate is within its share of tol.
-void adapt(const Rig& rig, const Water& water, const Vec3& dir, double a, double b,
-           const Rgb& tol, int depth, Integral& out) {
+void adapt(const Rig& rig, const Water& water, const Vec3& dir, double a, double b, const Rgb& tol,
+           int depth, Integral& out) {
     const auto f = [&](double t) { return in_scatter(rig, water, dir, t); };
     Rgb k, e;
     detail::gk15<Rgb>(f, a, b, k, e, abs_diff);
@@ -83,7 +82,8 @@ std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, cons
     // One tolerance for the whole ray, shared among segments by length: the error of the
     // cumulative value at any sample stays within rel_tol of the ray's total.
     const double t_end = t.back();
-    const Rgb total_tol = t_end > 0.0 ? tolerance_for(rig, water, dir, 0.0, t_end, q) : Rgb(q.abs_tol);
+    const Rgb total_tol =
+        t_end > 0.0 ? tolerance_for(rig, water, dir, 0.0, t_end, q) : Rgb(q.abs_tol);
     Rgb acc;
     double prev = 0.0;
     for (std::size_t k = 0; k < t.size(); ++k) {

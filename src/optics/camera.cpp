@@ -21,7 +21,9 @@ double Camera::z_depth(double u, double v, double depth, DepthKind kind) const {
 }
 
 namespace {
-bool close(double a, double b) { return std::fabs(a - b) <= 1e-6 * std::max(std::fabs(a), std::fabs(b)) + 1e-12; }
+bool close(double a, double b) {
+    return std::fabs(a - b) <= 1e-6 * std::max(std::fabs(a), std::fabs(b)) + 1e-12;
+}
 }  // namespace
 
 bool Camera::same_view(const Camera& o) const {
@@ -39,8 +41,8 @@ bool Camera::operator==(const Camera& o) const {
 
 std::string describe(const Camera& c) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%dx%d fx=%.6g fy=%.6g cx=%.6g cy=%.6g", c.width, c.height,
-                  c.fx, c.fy, c.cx, c.cy);
+    std::snprintf(buf, sizeof buf, "%dx%d fx=%.6g fy=%.6g cx=%.6g cy=%.6g", c.width, c.height, c.fx,
+                  c.fy, c.cx, c.cy);
     return buf;
 }
 

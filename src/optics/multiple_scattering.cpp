@@ -41,8 +41,9 @@ Rgb Transport::segment_from_lamp(const Light& L, const Vec3& X, const Vec3& d, d
     } else {
         theta = m_sampler.sample_angle(pa, pb, 2.0 * u - 1.0) - 0.5 * M_PI;
     }
-    const double pdf_theta = 0.5 / (tb - ta) +
-                             (mass > 0.0 ? 0.5 * m_sampler.angle_density(0.5 * M_PI + theta) / mass : 0.0);
+    const double pdf_theta =
+        0.5 / (tb - ta) +
+        (mass > 0.0 ? 0.5 * m_sampler.angle_density(0.5 * M_PI + theta) / mass : 0.0);
     const double r = delta + h * std::tan(theta);
     if (!(r > 0.0) || !(pdf_theta > 0.0)) return {};
     double d1 = 0.0;
@@ -119,7 +120,8 @@ Rgb Transport::scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const {
     const Vec3 start = X;
     for (;;) {
         // Light scattered once on this segment (next event, every lamp).
-        for (const Light& L : m_rig.lights) sum += weight * segment_from_lamp(L, X, d, rng.uniform());
+        for (const Light& L : m_rig.lights)
+            sum += weight * segment_from_lamp(L, X, d, rng.uniform());
         // Then follow the path: a free flight with the smallest attenuation, per-channel weight
         // b exp(-c r) / (c_min exp(-c_min r)), and a new direction from the phase function.
         const double r = -std::log(1.0 - rng.uniform()) / m_c_min;
@@ -138,8 +140,9 @@ Rgb Transport::scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const {
     return sum;
 }
 
-Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir, const std::vector<double>& t,
-                                  const MonteCarlo& mc, std::uint64_t stream) {
+Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
+                                  const std::vector<double>& t, const MonteCarlo& mc,
+                                  std::uint64_t stream) {
     const std::size_t nk = t.size();
     Estimate out;
     out.value.assign(nk, Rgb());
@@ -165,8 +168,8 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir, const st
         }
         const Vec3 X = dir * s;
         const PhaseSample ps = tr.next_direction(X, dir, rng);
-        const Rgb f = w.b * exp(w.c * -s) * (ps.weight / pdf) *
-                      tr.scattered_radiance(X, ps.direction, rng);
+        const Rgb f =
+            w.b * exp(w.c * -s) * (ps.weight / pdf) * tr.scattered_radiance(X, ps.direction, rng);
         const std::size_t k = std::size_t(std::lower_bound(t.begin(), t.end(), s) - t.begin());
         if (k >= nk) continue;
         s1[k] += f;

@@ -84,9 +84,12 @@ struct PetzoldPhase {
 const PetzoldPhase& petzold(PhaseKind kind) {
     static const PetzoldPhase clear(1), coastal(2), turbid(3);
     switch (kind) {
-        case PhaseKind::PetzoldCoastal: return coastal;
-        case PhaseKind::PetzoldTurbid: return turbid;
-        default: return clear;
+        case PhaseKind::PetzoldCoastal:
+            return coastal;
+        case PhaseKind::PetzoldTurbid:
+            return turbid;
+        default:
+            return clear;
     }
 }
 
@@ -100,12 +103,14 @@ bool is_petzold(PhaseKind k) {
 double Phase::operator()(double cos_psi) const {
     cos_psi = std::clamp(cos_psi, -1.0, 1.0);
     switch (kind) {
-        case PhaseKind::Isotropic: return 1.0 / (4.0 * M_PI);
+        case PhaseKind::Isotropic:
+            return 1.0 / (4.0 * M_PI);
         case PhaseKind::HenyeyGreenstein: {
             const double d = 1.0 + g * g - 2.0 * g * cos_psi;
             return (1.0 - g * g) / (4.0 * M_PI * d * std::sqrt(d));
         }
-        default: return petzold(kind).eval(std::acos(cos_psi));
+        default:
+            return petzold(kind).eval(std::acos(cos_psi));
     }
 }
 
@@ -125,11 +130,16 @@ double Phase::fraction_within(double psi_max) const {
 
 const char* to_string(PhaseKind kind) {
     switch (kind) {
-        case PhaseKind::Isotropic: return "isotropic";
-        case PhaseKind::HenyeyGreenstein: return "henyey_greenstein";
-        case PhaseKind::PetzoldClear: return "petzold:clear";
-        case PhaseKind::PetzoldCoastal: return "petzold:coastal";
-        case PhaseKind::PetzoldTurbid: return "petzold:turbid";
+        case PhaseKind::Isotropic:
+            return "isotropic";
+        case PhaseKind::HenyeyGreenstein:
+            return "henyey_greenstein";
+        case PhaseKind::PetzoldClear:
+            return "petzold:clear";
+        case PhaseKind::PetzoldCoastal:
+            return "petzold:coastal";
+        case PhaseKind::PetzoldTurbid:
+            return "petzold:turbid";
     }
     return "unknown";
 }

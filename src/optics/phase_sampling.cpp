@@ -48,7 +48,8 @@ PhaseSampler::PhaseSampler(const Phase& phase) : m_phase(phase) {
 double PhaseSampler::sample_cos(double u, double& weight) const {
     weight = 1.0;
     switch (m_phase.kind) {
-        case PhaseKind::Isotropic: return 1.0 - 2.0 * u;
+        case PhaseKind::Isotropic:
+            return 1.0 - 2.0 * u;
         case PhaseKind::HenyeyGreenstein: {
             const double g = m_phase.g;
             if (std::fabs(g) < 1e-4) return 1.0 - 2.0 * u;
@@ -56,12 +57,14 @@ double PhaseSampler::sample_cos(double u, double& weight) const {
             const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
             return std::clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
         }
-        default: break;
+        default:
+            break;
     }
     // Tabulated: psi uniform within the table interval that u falls in (density constant in
     // psi there), weight = p / pdf over the sphere, so the estimate stays unbiased.
     const auto it = std::upper_bound(m_cdf.begin(), m_cdf.end(), u);
-    const std::size_t i = std::clamp<std::size_t>(std::size_t(it - m_cdf.begin()), 1, m_cdf.size() - 1);
+    const std::size_t i =
+        std::clamp<std::size_t>(std::size_t(it - m_cdf.begin()), 1, m_cdf.size() - 1);
     const double c0 = m_cdf[i - 1], c1 = m_cdf[i];
     const double w = c1 > c0 ? (u - c0) / (c1 - c0) : 0.5;
     const double psi = m_psi[i - 1] + w * (m_psi[i] - m_psi[i - 1]);
@@ -75,7 +78,8 @@ double PhaseSampler::sample_cos(double u, double& weight) const {
 double PhaseSampler::angle_cdf(double psi) const {
     psi = std::clamp(psi, 0.0, M_PI);
     const auto it = std::upper_bound(m_grid.begin(), m_grid.end(), psi);
-    const std::size_t i = std::clamp<std::size_t>(std::size_t(it - m_grid.begin()), 1, m_grid.size() - 1);
+    const std::size_t i =
+        std::clamp<std::size_t>(std::size_t(it - m_grid.begin()), 1, m_grid.size() - 1);
     const double w = (psi - m_grid[i - 1]) / (m_grid[i] - m_grid[i - 1]);
     return m_acdf[i - 1] + w * (m_acdf[i] - m_acdf[i - 1]);
 }
@@ -87,14 +91,16 @@ double PhaseSampler::angle_mass(double psi_a, double psi_b) const {
 double PhaseSampler::angle_density(double psi) const {
     psi = std::clamp(psi, 0.0, M_PI);
     const auto it = std::upper_bound(m_grid.begin(), m_grid.end(), psi);
-    const std::size_t i = std::clamp<std::size_t>(std::size_t(it - m_grid.begin()), 1, m_grid.size() - 1);
+    const std::size_t i =
+        std::clamp<std::size_t>(std::size_t(it - m_grid.begin()), 1, m_grid.size() - 1);
     return (m_acdf[i] - m_acdf[i - 1]) / (m_grid[i] - m_grid[i - 1]);
 }
 
 double PhaseSampler::sample_angle(double psi_a, double psi_b, double u) const {
     const double target = angle_cdf(psi_a) + u * angle_mass(psi_a, psi_b);
     const auto it = std::upper_bound(m_acdf.begin(), m_acdf.end(), target);
-    const std::size_t i = std::clamp<std::size_t>(std::size_t(it - m_acdf.begin()), 1, m_acdf.size() - 1);
+    const std::size_t i =
+        std::clamp<std::size_t>(std::size_t(it - m_acdf.begin()), 1, m_acdf.size() - 1);
     const double c0 = m_acdf[i - 1], c1 = m_acdf[i];
     const double w = c1 > c0 ? (target - c0) / (c1 - c0) : 0.5;
     return std::clamp(m_grid[i - 1] + w * (m_grid[i] - m_grid[i - 1]), psi_a, psi_b);
@@ -104,7 +110,8 @@ double PhaseSampler::pdf(double cos_psi) const {
     if (m_psi.empty()) return m_phase(cos_psi);
     const double psi = std::acos(std::clamp(cos_psi, -1.0, 1.0));
     const auto it = std::upper_bound(m_psi.begin(), m_psi.end(), psi);
-    const std::size_t i = std::clamp<std::size_t>(std::size_t(it - m_psi.begin()), 1, m_psi.size() - 1);
+    const std::size_t i =
+        std::clamp<std::size_t>(std::size_t(it - m_psi.begin()), 1, m_psi.size() - 1);
     const double pdf_psi = (m_cdf[i] - m_cdf[i - 1]) / (m_psi[i] - m_psi[i - 1]);
     return pdf_psi / (2.0 * M_PI * std::max(std::sin(psi), 1e-300));
 }

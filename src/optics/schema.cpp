@@ -20,8 +20,8 @@ const char* const kChannel[] = {"R", "G", "B"};
 void require_non_negative(const Rgb& x, const std::string& key) {
     for (int i = 0; i < 3; ++i)
         if (!(x[i] >= 0.0))
-            throw SchemaError(key, std::string("must be >= 0 (") + kChannel[i] + " is " +
-                                       fmt(x[i]) + ")");
+            throw SchemaError(
+                key, std::string("must be >= 0 (") + kChannel[i] + " is " + fmt(x[i]) + ")");
 }
 
 void validate_rid(const Rid& rid, const std::string& light) {
@@ -43,9 +43,8 @@ void validate_rid(const Rid& rid, const std::string& light) {
                 throw SchemaError(values + "[" + std::to_string(i) + "]", "must be >= 0");
         if (rid.angle_deg.size() < 2) throw SchemaError(angles, "needs at least 2 angles");
         if (rid.value.size() != rid.angle_deg.size())
-            throw SchemaError(values, "has " + std::to_string(rid.value.size()) +
-                                          " values for " + std::to_string(rid.angle_deg.size()) +
-                                          " angles");
+            throw SchemaError(values, "has " + std::to_string(rid.value.size()) + " values for " +
+                                          std::to_string(rid.angle_deg.size()) + " angles");
     }
     if (!(rid.cutoff_deg > 0.0 && rid.cutoff_deg <= 180.0))
         throw SchemaError(light + ".cutoff_deg", "must be in (0, 180] degrees");
@@ -54,7 +53,8 @@ void validate_rid(const Rid& rid, const std::string& light) {
 }  // namespace
 
 void validate(const Camera& c) {
-    if (c.width <= 0) throw SchemaError("camera.width", "must be > 0, got " + std::to_string(c.width));
+    if (c.width <= 0)
+        throw SchemaError("camera.width", "must be > 0, got " + std::to_string(c.width));
     if (c.height <= 0)
         throw SchemaError("camera.height", "must be > 0, got " + std::to_string(c.height));
     if (!(c.fx > 0.0) || !std::isfinite(c.fx))
@@ -74,8 +74,8 @@ void validate(const Rig& rig) {
         const Vec3& p = l.position;
         const std::string where = "[" + fmt(p.x) + ", " + fmt(p.y) + ", " + fmt(p.z) + "] m";
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-            throw SchemaError(key + ".position", "lamp '" + l.name + "' at " + where +
-                                                     ": coordinates must be finite");
+            throw SchemaError(key + ".position",
+                              "lamp '" + l.name + "' at " + where + ": coordinates must be finite");
         if (!(length(p) >= kLampNearFieldRadius))
             throw SchemaError(key + ".position",
                               "lamp '" + l.name + "' at " + where + " is " + fmt(length(p)) +

@@ -45,8 +45,8 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     }
     if (f.rgb.width != W || f.rgb.height != H) {
         throw InputError("frame is " + std::to_string(f.rgb.width) + "x" +
-                         std::to_string(f.rgb.height) + " but the camera is " +
-                         std::to_string(W) + "x" + std::to_string(H));
+                         std::to_string(f.rgb.height) + " but the camera is " + std::to_string(W) +
+                         "x" + std::to_string(H));
     }
     dst.resize(W, H, set);
     const bool all = set == LayerSet::All;
@@ -105,8 +105,8 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
             s.ny[u] = float(n.y);
             s.nz[u] = float(n.z);
         }
-        const RowGeometry g{v, W, s.x.data(), s.y.data(), s.z.data(),
-                            s.nx.data(), s.ny.data(), s.nz.data()};
+        const RowGeometry g{v,          W,           s.x.data(),  s.y.data(),
+                            s.z.data(), s.nx.data(), s.ny.data(), s.nz.data()};
         m_lamps.irradiance_row(g, s.e.data());
         m_backscatter.backscatter_row(v, W, s.z.data(), s.b.data());
 
@@ -139,8 +139,8 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
         if (forward) m_blur.blend_row(v, m_d2.row(v), blurred);
         float* T = all ? dst.transmission.row(v) : blurred + 3 * W;
         float* F = all ? dst.forward.row(v) : blurred + 6 * W;
-        kernels::finish_row(W, m_d2.row(v), c, G, forward ? blurred : nullptr, dst.direct.row(v),
-                            T, F, dst.final.row(v));
+        kernels::finish_row(W, m_d2.row(v), c, G, forward ? blurred : nullptr, dst.direct.row(v), T,
+                            F, dst.final.row(v));
     });
 }
 

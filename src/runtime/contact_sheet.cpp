@@ -18,7 +18,8 @@ Image downscale(const Image& img, int width) {
             double acc[3] = {0, 0, 0};
             for (int sy = y0; sy < y1; ++sy) {
                 for (int sx = x0; sx < x1; ++sx) {
-                    for (int c = 0; c < 3; ++c) acc[c] += img.at(sx, sy, std::min(c, img.channels - 1));
+                    for (int c = 0; c < 3; ++c)
+                        acc[c] += img.at(sx, sy, std::min(c, img.channels - 1));
                 }
             }
             const double n = double(y1 - y0) * (x1 - x0);
@@ -42,7 +43,8 @@ Image depth_picture(const Image& depth) {
         for (int x = 0; x < depth.width; ++x) {
             const float z = depth.at(x, y);
             // near bright; the curve keeps relief visible on a mostly flat floor
-            const float g = has_surface(z) ? float(0.05 + 0.9 * std::pow(1.0 - (z - lo) / span, 2.2)) : 0.0f;
+            const float g =
+                has_surface(z) ? float(0.05 + 0.9 * std::pow(1.0 - (z - lo) / span, 2.2)) : 0.0f;
             for (int c = 0; c < 3; ++c) out.at(x, y, c) = g;
         }
     }
@@ -67,7 +69,8 @@ Image contact_sheet(const std::vector<std::vector<Image>>& rows, int tile_width)
     for (std::size_t r = 0; r < tiles.size(); ++r) {
         for (std::size_t c = 0; c < tiles[r].size(); ++c) {
             const Image& t = tiles[r][c];
-            const int ox = kGap + int(c) * (tile_width + kGap), oy = kGap + int(r) * (tile_h + kGap);
+            const int ox = kGap + int(c) * (tile_width + kGap),
+                      oy = kGap + int(r) * (tile_h + kGap);
             for (int y = 0; y < t.height; ++y) {
                 for (int x = 0; x < t.width; ++x) {
                     for (int ch = 0; ch < 3; ++ch) sheet.at(ox + x, oy + y, ch) = t.at(x, y, ch);

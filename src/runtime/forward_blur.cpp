@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "clones.h"
-#include "kernels.h"
 #include "deepsea/optics/forward.h"
+#include "kernels.h"
 
 namespace deepsea {
 
@@ -94,9 +94,9 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
     });
 }
 
-/// Weight of one blur level per pixel (sigma = scale * s, at most cap): a hat in sigma that is 1 at the level's sigma s and 0 at
-/// its neighbours' (inv_lo, inv_hi: 1 / distance to them; 0 for an end level, which keeps
-/// weight 1 beyond itself). Returns whether any pixel of the row uses the level.
+/// Weight of one blur level per pixel (sigma = scale * s, at most cap): a hat in sigma that is 1 at
+/// the level's sigma s and 0 at its neighbours' (inv_lo, inv_hi: 1 / distance to them; 0 for an end
+/// level, which keeps weight 1 beyond itself). Returns whether any pixel of the row uses the level.
 DEEPSEA_CLONES
 bool level_weights(int n, const float* __restrict sigma, float scale, float cap, float s,
                    float inv_lo, float inv_hi, float* __restrict w) {
@@ -130,8 +130,8 @@ void lerp_rows(int n, const float* __restrict a, const float* __restrict b, floa
 /// acc[u] += w[u] * (bilinear sample of the low-resolution row at x0[u] .. x1[u]).
 DEEPSEA_CLONES
 void add_upsampled(int n, const float* __restrict w, const float* __restrict row,
-                   const int* __restrict x0, const int* __restrict x1,
-                   const float* __restrict ax, float* __restrict acc) {
+                   const int* __restrict x0, const int* __restrict x1, const float* __restrict ax,
+                   float* __restrict acc) {
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
         const float a = row[x0[u]], b = row[x1[u]];
@@ -147,9 +147,9 @@ void ForwardBlur::build_level(const Image& in, Level& L) {
     while (L.sigma / (1 << (lvl + 1)) >= 1.0 && lvl + 1 < int(m_pyramid.size())) ++lvl;
     const int f = 1 << lvl;
     L.factor = f;
-    const Source src =
-        lvl == 0 ? interleaved(in)
-                 : planar(m_pyramid[lvl].data.data(), m_pyramid[lvl].w, m_pyramid[lvl].h);
+    const Source src = lvl == 0
+                           ? interleaved(in)
+                           : planar(m_pyramid[lvl].data.data(), m_pyramid[lvl].w, m_pyramid[lvl].h);
     L.blurred.w = src.w;
     L.blurred.h = src.h;
     L.blurred.data.resize(3 * std::size_t(src.w) * src.h);
@@ -217,8 +217,7 @@ void ForwardBlur::prepare(const Image& in, const Image& s_img, float scale) {
     // Pyramid of 2x2 box averages (edge blocks average what they have), only as deep as the
     // widest level needs; level 0 is the input itself.
     int depth = 1;
-    while ((2 << (depth - 1)) <= sigmas.back() && depth < 8 &&
-           std::min(W, H) >> depth >= 8) {
+    while ((2 << (depth - 1)) <= sigmas.back() && depth < 8 && std::min(W, H) >> depth >= 8) {
         ++depth;
     }
     m_pyramid.resize(depth);

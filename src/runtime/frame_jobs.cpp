@@ -25,7 +25,8 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
                               f.depth + "' is a pattern");
         return {{f.rgb, f.depth, f.output, f.layers}};
     }
-    std::vector<FrameJob> jobs = pair_frames(glob_files(f.rgb), glob_files(f.depth), f.rgb, f.depth);
+    std::vector<FrameJob> jobs =
+        pair_frames(glob_files(f.rgb), glob_files(f.depth), f.rgb, f.depth);
     for (const std::string& dir : {f.output, f.layers}) {
         if (dir.empty()) continue;
         std::error_code ec;

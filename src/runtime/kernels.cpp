@@ -34,8 +34,8 @@ namespace deepsea::kernels {
 
 DEEPSEA_CLONES
 void finish_row(int n, const float* __restrict d2, const float c[3], const float G[3],
-                const float* __restrict blurred, const float* __restrict D,
-                float* __restrict T, float* __restrict F, float* __restrict final) {
+                const float* __restrict blurred, const float* __restrict D, float* __restrict T,
+                float* __restrict F, float* __restrict final) {
     const float c0 = c[0], c1 = c[1], c2 = c[2];
     if (!blurred) {
 #pragma omp simd
@@ -87,10 +87,10 @@ void normals_row(int n, const float* __restrict rx, float ry_up, float ry, float
                         same_surface(zc, zd);
         // central differences, right - left and down - up, of back-projected neighbours
         // (passed as temporaries: see vec3t.h)
-        const Vec3T<float> nrm = normal_from_tangents(
-            back_project(rx[u + 1], ry, zr) - back_project(rx[u - 1], ry, zl),
-            back_project(rx[u], ry_down, zd) - back_project(rx[u], ry_up, zu),
-            Vec3T<float>{rx[u], ry, 1.0f});
+        const Vec3T<float> nrm =
+            normal_from_tangents(back_project(rx[u + 1], ry, zr) - back_project(rx[u - 1], ry, zl),
+                                 back_project(rx[u], ry_down, zd) - back_project(rx[u], ry_up, zu),
+                                 Vec3T<float>{rx[u], ry, 1.0f});
         nx[u] = nrm.x;
         ny[u] = nrm.y;
         nz[u] = nrm.z;

@@ -3,8 +3,8 @@
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -86,8 +86,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     try {
                         const Image& d = s->frame.depth;
                         if (!compositor || camera.width != d.width || camera.height != d.height) {
-                            camera =
-                                frame_camera(asset.info.camera, opt.camera, d.width, d.height);
+                            camera = frame_camera(asset.info.camera, opt.camera, d.width, d.height);
                             backscatter = std::make_unique<AssetBackscatter>(asset, camera);
                             compositor =
                                 std::make_unique<Compositor>(camera, water, lamps, *backscatter);
@@ -95,8 +94,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         to_planar_depth(camera, s->frame.depth, opt.depth_kind);
                         const bool all = !jobs[s->index].layers.empty();
                         Layers& out = all ? s->layers : shared;
-                        compositor->composite(out, s->frame,
-                                              all ? LayerSet::All : LayerSet::Final);
+                        compositor->composite(out, s->frame, all ? LayerSet::All : LayerSet::Final);
                         s->final = out.final;
                         if (exposure == 0.0) exposure = exposure_factor(opt.exposure, s->final);
                     } catch (const AssetError&) {
@@ -106,35 +104,32 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     }
                     return s;
                 }) &
-            tbb::make_filter<Slot*, void>(
-                tbb::filter_mode::parallel, [&](Slot* s) {
-                    const FrameJob& job = jobs[s->index];
-                    if (!s->skip && s->error.empty()) {
-                        try {
-                            if (!job.layers.empty()) write_layers(job.layers, s->layers);
-                            if (!job.output.empty()) {
-                                write_color(job.output, apply_exposure(s->final, exposure),
-                                            opt.bits);
-                            }
-                        } catch (const Error& e) {
-                            s->error = e.what();
+            tbb::make_filter<Slot*, void>(tbb::filter_mode::parallel, [&](Slot* s) {
+                const FrameJob& job = jobs[s->index];
+                if (!s->skip && s->error.empty()) {
+                    try {
+                        if (!job.layers.empty()) write_layers(job.layers, s->layers);
+                        if (!job.output.empty()) {
+                            write_color(job.output, apply_exposure(s->final, exposure), opt.bits);
                         }
+                    } catch (const Error& e) {
+                        s->error = e.what();
                     }
-                    std::lock_guard<std::mutex> lock(errors_mutex);
-                    if (s->skip) {
-                        ++result.skipped;
-                    } else if (s->error.empty()) {
-                        ++result.written;
-                    } else {
-                        result.errors.push_back(s->error);
-                    }
-                    ++done;
-                    if (opt.progress) opt.progress(done, int(jobs.size()));
-                }));
+                }
+                std::lock_guard<std::mutex> lock(errors_mutex);
+                if (s->skip) {
+                    ++result.skipped;
+                } else if (s->error.empty()) {
+                    ++result.written;
+                } else {
+                    result.errors.push_back(s->error);
+                }
+                ++done;
+                if (opt.progress) opt.progress(done, int(jobs.size()));
+            }));
 
     result.exposure = exposure;
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;
 }
 

@@ -89,31 +89,34 @@ Frame render_flight_frame(const FlightParams& flight, int index, const Parallel&
     // sub-pixel spread is millimetres), which saves four ray marches per pixel.
     constexpr double kSub[4][2] = {{-0.25, -0.25}, {0.25, -0.25}, {-0.25, 0.25}, {0.25, 0.25}};
 
-    parallel_for(std::size_t(cam.height), [&](std::size_t v0, std::size_t v1) {
-        for (int v = int(v0); v != int(v1); ++v) {
-            float* rgb = out.rgb.row(v);
-            float* depth = out.depth.row(v);
-            for (int u = 0; u < cam.width; ++u) {
-                const Vec3 d = world(cam.ray(u, v));
-                const double t = floor.intersect(o, d, flight.max_range);
-                if (t < 0.0) continue;  // open water: depth 0, colour black
-                depth[u] = float(t);    // camera z of the hit, since the ray's z is 1
-                const double hz = o.z + t * d.z;
-                double sx[4], sy[4];
-                for (int k = 0; k < 4; ++k) {
-                    const Vec3 ds = world(cam.ray(u + kSub[k][0], v + kSub[k][1]));
-                    double ts = ds.z < 0.0 ? (hz - o.z) / ds.z : t;
-                    ts = std::clamp(ts, 0.5 * t, 2.0 * t);
-                    sx[k] = o.x + ts * ds.x;
-                    sy[k] = o.y + ts * ds.y;
+    parallel_for(
+        std::size_t(cam.height),
+        [&](std::size_t v0, std::size_t v1) {
+            for (int v = int(v0); v != int(v1); ++v) {
+                float* rgb = out.rgb.row(v);
+                float* depth = out.depth.row(v);
+                for (int u = 0; u < cam.width; ++u) {
+                    const Vec3 d = world(cam.ray(u, v));
+                    const double t = floor.intersect(o, d, flight.max_range);
+                    if (t < 0.0) continue;  // open water: depth 0, colour black
+                    depth[u] = float(t);    // camera z of the hit, since the ray's z is 1
+                    const double hz = o.z + t * d.z;
+                    double sx[4], sy[4];
+                    for (int k = 0; k < 4; ++k) {
+                        const Vec3 ds = world(cam.ray(u + kSub[k][0], v + kSub[k][1]));
+                        double ts = ds.z < 0.0 ? (hz - o.z) / ds.z : t;
+                        ts = std::clamp(ts, 0.5 * t, 2.0 * t);
+                        sx[k] = o.x + ts * ds.x;
+                        sy[k] = o.y + ts * ds.y;
+                    }
+                    const Rgb c = floor.mean_albedo(sx, sy, 4);
+                    rgb[3 * u + 0] = float(c.r);
+                    rgb[3 * u + 1] = float(c.g);
+                    rgb[3 * u + 2] = float(c.b);
                 }
-                const Rgb c = floor.mean_albedo(sx, sy, 4);
-                rgb[3 * u + 0] = float(c.r);
-                rgb[3 * u + 1] = float(c.g);
-                rgb[3 * u + 2] = float(c.b);
             }
-        }
-    }, par.or_grain(4));
+        },
+        par.or_grain(4));
     return out;
 }
 

@@ -25,17 +25,20 @@ Setup SetupFlags::load() const {
     if (!rig.empty()) files.push_back(rig);
     Setup setup = load_setup(files);
     if (!water.empty()) {
-        if (setup.water) throw ConfigError("--water given but a config already has a water section");
+        if (setup.water)
+            throw ConfigError("--water given but a config already has a water section");
         setup.water = load_water(water);
     }
     return setup;
 }
 
 void DepthFlags::add_to(CLI::App& sub) {
-    sub.add_option("--depth-channel", channel, "channel of the depth file to use (Z, Y, R, depth, ...)");
+    sub.add_option("--depth-channel", channel,
+                   "channel of the depth file to use (Z, Y, R, depth, ...)");
     sub.add_option("--depth-scale", scale, "metres per unit for 16-bit depth images")
         ->check(CLI::PositiveNumber);
-    sub.add_option("--depth-kind", kind, "depth values are planar z (default) or range along the ray")
+    sub.add_option("--depth-kind", kind,
+                   "depth values are planar z (default) or range along the ray")
         ->check(CLI::IsMember({"z", "range"}));
 }
 

@@ -37,12 +37,14 @@ struct BakeFlags {
     std::string scheme;  ///< empty: the default
     std::string z_max;   ///< empty or "auto": auto
     std::string scattering = "single";
-    int threads = 0;     ///< how to run, not what to bake: not part of the settings
+    int threads = 0;  ///< how to run, not what to bake: not part of the settings
     void add_to(CLI::App& sub);
     /// Settings with the flags applied; ConfigError for a bad value.
     BakeSettings resolve() const;
     /// --threads, with `progress` (may be empty).
-    Parallel parallel(deepsea::Progress progress = {}) const { return {threads, 0, std::move(progress)}; }
+    Parallel parallel(deepsea::Progress progress = {}) const {
+        return {threads, 0, std::move(progress)};
+    }
 };
 
 /// A one-line progress bar on stderr when it is a terminal; silent otherwise.

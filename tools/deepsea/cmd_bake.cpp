@@ -37,28 +37,31 @@ void run(const BakeArgs& a) {
                                  return true;
                              }));
     bar.finish();
-    const double bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double bake_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     WriteOptions w;
     w.preview = !a.no_preview;
     w.half = !a.full_float;
     write_asset(a.output, asset, w);
-    const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double total_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const Lattice& l = asset.lattice();
-    std::printf("wrote %s: %dx%d columns (step %d) x %d samples (%s, z_max %.3f m), %.2f MB; "
-                "bake %.2f s, with writing %.2f s\n",
-                a.output.c_str(), l.ni, l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(),
-                std::filesystem::file_size(a.output) / 1e6, bake_s, total_s);
+    std::printf(
+        "wrote %s: %dx%d columns (step %d) x %d samples (%s, z_max %.3f m), %.2f MB; "
+        "bake %.2f s, with writing %.2f s\n",
+        a.output.c_str(), l.ni, l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(),
+        std::filesystem::file_size(a.output) / 1e6, bake_s, total_s);
     if (asset.info.scattering == Scattering::Multiple) {
         const HigherOrderSettings& h = asset.info.higher_orders;
-        std::printf("multiple scattering: orders >= 2 are %.1f %% of the light at z_max, "
-                    "Monte Carlo standard error %.2f %% of the total (%d paths per column)\n",
-                    100.0 * h.fraction, 100.0 * h.rel_std_error, h.paths);
+        std::printf(
+            "multiple scattering: orders >= 2 are %.1f %% of the light at z_max, "
+            "Monte Carlo standard error %.2f %% of the total (%d paths per column)\n",
+            100.0 * h.fraction, 100.0 * h.rel_std_error, h.paths);
     }
     if (a.check) {
         // The file's values, as the runtime will see them (half storage included).
         const Asset loaded = load_asset(a.output);
-        std::printf("%-22s %8s %12s %12s %8s\n", "scene", "z (m)", "mean rel", "max rel",
-                    "pixels");
+        std::printf("%-22s %8s %12s %12s %8s\n", "scene", "z (m)", "mean rel", "max rel", "pixels");
         AccuracyOptions opt;
         opt.stride = a.check_stride;
         for (const AccuracyRow& r : evaluate_asset_accuracy(loaded, opt, a.bake.parallel())) {

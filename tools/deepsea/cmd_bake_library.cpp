@@ -31,14 +31,17 @@ std::pair<int, int> shard_of(const std::string& flag, int k8s_count) {
     int i = 0, n = 1;
     if (!flag.empty()) {
         const auto slash = flag.find('/');
-        if (slash == std::string::npos) throw ConfigError("--shard: expected i/n, got '" + flag + "'");
+        if (slash == std::string::npos)
+            throw ConfigError("--shard: expected i/n, got '" + flag + "'");
         i = parse_int(flag.substr(0, slash).c_str(), "--shard");
         n = parse_int(flag.substr(slash + 1).c_str(), "--shard");
     } else if (const char* id = std::getenv("SLURM_ARRAY_TASK_ID")) {
         const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
-        if (!count) throw ConfigError("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not");
+        if (!count)
+            throw ConfigError("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not");
         const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
-        i = parse_int(id, "SLURM_ARRAY_TASK_ID") - (min ? parse_int(min, "SLURM_ARRAY_TASK_MIN") : 0);
+        i = parse_int(id, "SLURM_ARRAY_TASK_ID") -
+            (min ? parse_int(min, "SLURM_ARRAY_TASK_MIN") : 0);
         n = parse_int(count, "SLURM_ARRAY_TASK_COUNT");
     } else if (const char* idx = std::getenv("JOB_COMPLETION_INDEX")) {
         if (k8s_count < 1) throw ConfigError("JOB_COMPLETION_INDEX is set: give --shard-count N");
@@ -115,7 +118,8 @@ void run(const LibraryArgs& a) {
                 std::printf("would bake  %s\n", path.c_str());
                 continue;
             }
-            const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings, flags.parallel());
+            const Asset asset =
+                bake(*setup.camera, *setup.rig, *setup.water, settings, flags.parallel());
             write_asset(path, asset);
             std::printf("baked       %s\n", path.c_str());
             ++baked;

@@ -3,9 +3,9 @@
 
 #include <malloc.h>
 #include <sys/resource.h>
-#include <unistd.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -195,28 +195,30 @@ void run(const BenchArgs& a) {
     }
     cases.push_back(time_sequence(setup, a, threads));
     if (a.json) {
-        std::printf("{\"baseline_rss_mb\": %.1f, \"scattering\": \"%s\", \"cases\": [",
-                    baseline_mb, a.scattering.c_str());
+        std::printf("{\"baseline_rss_mb\": %.1f, \"scattering\": \"%s\", \"cases\": [", baseline_mb,
+                    a.scattering.c_str());
         for (std::size_t i = 0; i < cases.size(); ++i) {
             const Case& c = cases[i];
-            std::printf("%s{\"name\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
-                        "\"runs\": %d, \"median_ms\": %.3f, \"min_ms\": %.3f, \"max_ms\": %.3f, "
-                        "\"peak_rss_mb\": %.1f}",
-                        i ? ", " : "", c.name.c_str(), c.width, c.height, c.threads, c.runs,
-                        c.median_ms, c.min_ms, c.max_ms, c.peak_rss_mb);
+            std::printf(
+                "%s{\"name\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
+                "\"runs\": %d, \"median_ms\": %.3f, \"min_ms\": %.3f, \"max_ms\": %.3f, "
+                "\"peak_rss_mb\": %.1f}",
+                i ? ", " : "", c.name.c_str(), c.width, c.height, c.threads, c.runs, c.median_ms,
+                c.min_ms, c.max_ms, c.peak_rss_mb);
         }
         std::printf("]}\n");
         return;
     }
     std::printf("%-28s %11s %7s %5s %10s %10s %10s %9s\n", "case", "size", "threads", "runs",
                 "median ms", "min ms", "max ms", "peak MB");
-    std::printf("(peak MB: resident memory while running the case: asset, frame, compositor\n"
-                " buffers and the loaded libraries, not the bake before it; the bare process\n"
-                " holds %.1f MB, mostly shared libraries)\n", baseline_mb);
+    std::printf(
+        "(peak MB: resident memory while running the case: asset, frame, compositor\n"
+        " buffers and the loaded libraries, not the bake before it; the bare process\n"
+        " holds %.1f MB, mostly shared libraries)\n",
+        baseline_mb);
     for (const Case& c : cases) {
-        std::printf("%-28s %5dx%-5d %7d %5d %10.2f %10.2f %10.2f %9.1f\n", c.name.c_str(),
-                    c.width, c.height, c.threads, c.runs, c.median_ms, c.min_ms, c.max_ms,
-                    c.peak_rss_mb);
+        std::printf("%-28s %5dx%-5d %7d %5d %10.2f %10.2f %10.2f %9.1f\n", c.name.c_str(), c.width,
+                    c.height, c.threads, c.runs, c.median_ms, c.min_ms, c.max_ms, c.peak_rss_mb);
     }
 }
 

@@ -44,12 +44,12 @@ Asset demo_asset(const Setup& setup, const std::string& path) {
         }
     }
     Progress bar("bake", 1);
-    Asset a = bake(*setup.camera, *setup.rig, *setup.water, settings,
-                   {0, 0, [&](long done, long total) {
-                        bar.set_total(total);
-                        bar.update(done);
-                        return true;
-                    }});
+    Asset a =
+        bake(*setup.camera, *setup.rig, *setup.water, settings, {0, 0, [&](long done, long total) {
+                                                                     bar.set_total(total);
+                                                                     bar.update(done);
+                                                                     return true;
+                                                                 }});
     bar.finish();
     write_asset(path, a);
     std::printf("asset: baked %s\n", path.c_str());
@@ -61,7 +61,7 @@ void run(const DemoArgs& a) {
     Setup setup = load_setup({a.config});
     require_complete(setup, a.config);
     const fs::path out(a.out), input = out / "input", frames = out / "frames",
-        layers = out / "layers";
+                               layers = out / "layers";
     for (const fs::path& d : {input, frames, layers}) {
         std::error_code ec;
         fs::create_directories(d, ec);
@@ -115,7 +115,8 @@ void run(const DemoArgs& a) {
     }
     const std::string sheet = (out / "contact_sheet.png").string();
     write_color(sheet, contact_sheet(rows, 256));
-    std::printf("contact sheet (in-air | depth | direct | backscatter | final): %s\n", sheet.c_str());
+    std::printf("contact sheet (in-air | depth | direct | backscatter | final): %s\n",
+                sheet.c_str());
     std::printf("demo output in %s\n", fs::absolute(out).c_str());
     if (!r.errors.empty()) throw FramesFailed("some frames failed (listed above)");
 }

@@ -64,16 +64,19 @@ void run(const InfoArgs& a) {
                           g.half ? "true" : "false", static_cast<long long>(g.active_voxels));
             grids += buf;
         }
-        std::printf("{\"file\": %s, \"bytes\": %ju, \"format\": %d, \"value_scale\": %.17g, "
-                    "\"backscatter_at_z_max\": {\"min\": [%.9g, %.9g, %.9g], "
-                    "\"max\": [%.9g, %.9g, %.9g]}, \"grids\": [%s], \"bake\": %s}\n",
-                    json_string(a.path).c_str(), s.file_bytes, s.format, s.value_scale, lo.r,
-                    lo.g, lo.b, hi.r, hi.g, hi.b, grids.c_str(), bake_info_to_json(b, -1).c_str());
+        std::printf(
+            "{\"file\": %s, \"bytes\": %ju, \"format\": %d, \"value_scale\": %.17g, "
+            "\"backscatter_at_z_max\": {\"min\": [%.9g, %.9g, %.9g], "
+            "\"max\": [%.9g, %.9g, %.9g]}, \"grids\": [%s], \"bake\": %s}\n",
+            json_string(a.path).c_str(), s.file_bytes, s.format, s.value_scale, lo.r, lo.g, lo.b,
+            hi.r, hi.g, hi.b, grids.c_str(), bake_info_to_json(b, -1).c_str());
         return;
     }
     const Camera& c = b.camera;
-    std::printf("asset      %s (%.2f MB, format %d)\n", a.path.c_str(), s.file_bytes / 1e6, s.format);
-    std::printf("camera     %dx%d fx=%g fy=%g cx=%g cy=%g\n", c.width, c.height, c.fx, c.fy, c.cx, c.cy);
+    std::printf("asset      %s (%.2f MB, format %d)\n", a.path.c_str(), s.file_bytes / 1e6,
+                s.format);
+    std::printf("camera     %dx%d fx=%g fy=%g cx=%g cy=%g\n", c.width, c.height, c.fx, c.fy, c.cx,
+                c.cy);
     std::printf("rig        %s, %zu lamp(s)\n", b.rig.name.c_str(), b.rig.lights.size());
     for (const Light& L : b.rig.lights) {
         char rid[64] = "table RID";
@@ -82,12 +85,11 @@ void run(const InfoArgs& a) {
         }
         std::printf("  %-8s at (%g, %g, %g) m, axis (%.4f, %.4f, %.4f), I (%g, %g, %g) W/sr, %s\n",
                     L.name.c_str(), L.position.x, L.position.y, L.position.z, L.direction.x,
-                    L.direction.y, L.direction.z, L.intensity.r, L.intensity.g, L.intensity.b,
-                    rid);
+                    L.direction.y, L.direction.z, L.intensity.r, L.intensity.g, L.intensity.b, rid);
     }
     const Water& w = b.water;
-    std::printf("water      %s: c (%g, %g, %g) 1/m, b (%g, %g, %g) 1/m, phase %s",
-                w.name.c_str(), w.c.r, w.c.g, w.c.b, w.b.r, w.b.g, w.b.b, to_string(w.phase.kind));
+    std::printf("water      %s: c (%g, %g, %g) 1/m, b (%g, %g, %g) 1/m, phase %s", w.name.c_str(),
+                w.c.r, w.c.g, w.c.b, w.b.r, w.b.g, w.b.b, to_string(w.phase.kind));
     if (w.phase.kind == PhaseKind::HenyeyGreenstein) std::printf(" g=%g", w.phase.g);
     if (w.forward.enabled) {
         std::printf(", forward scatter G (%g, %g, %g) k %g rad/m", w.forward.G.r, w.forward.G.g,
@@ -95,18 +97,19 @@ void run(const InfoArgs& a) {
     } else {
         std::printf(", forward scatter off");
     }
-    std::printf("\nlattice    %d x %d columns, step %d px; %d depth samples (%s), z 0 .. %.3f m%s\n",
-                l.ni, l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(),
-                b.z_max_auto ? " (auto)" : "");
-    std::printf("values     backscatter at z_max: R %.4g..%.4g, G %.4g..%.4g, B %.4g..%.4g\n",
-                lo.r, hi.r, lo.g, hi.g, lo.b, hi.b);
+    std::printf(
+        "\nlattice    %d x %d columns, step %d px; %d depth samples (%s), z 0 .. %.3f m%s\n", l.ni,
+        l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(), b.z_max_auto ? " (auto)" : "");
+    std::printf("values     backscatter at z_max: R %.4g..%.4g, G %.4g..%.4g, B %.4g..%.4g\n", lo.r,
+                hi.r, lo.g, hi.g, lo.b, hi.b);
     if (b.scattering == Scattering::Multiple) {
         const HigherOrderSettings& h = b.higher_orders;
-        std::printf("scattering multiple: single exact + orders >= 2 by Monte Carlo (%d paths on "
-                    "every %d-th column, seed %llu): %.1f %% of the light, standard error "
-                    "%.2f %% of the total\n",
-                    h.paths, h.stride, static_cast<unsigned long long>(h.seed), 100.0 * h.fraction,
-                    100.0 * h.rel_std_error);
+        std::printf(
+            "scattering multiple: single exact + orders >= 2 by Monte Carlo (%d paths on "
+            "every %d-th column, seed %llu): %.1f %% of the light, standard error "
+            "%.2f %% of the total\n",
+            h.paths, h.stride, static_cast<unsigned long long>(h.seed), 100.0 * h.fraction,
+            100.0 * h.rel_std_error);
     } else {
         std::printf("scattering single (the paper's model, exact)\n");
     }

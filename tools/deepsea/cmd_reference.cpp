@@ -56,16 +56,21 @@ void setup_reference(CLI::App& sub) {
     auto a = std::make_shared<ReferenceArgs>();
     a->setup.add_to(sub);
     a->depth.add_to(sub);
-    sub.add_option("--rgb", a->rgb, "in-air colour image (8/16-bit sRGB or float linear)")->required();
-    sub.add_option("--depth", a->depth_path, "depth image (EXR, 16-bit PNG, PFM, .npy)")->required();
-    sub.add_option("--layers", a->layers, "multi-layer EXR with final/direct/forward/backscatter/...");
+    sub.add_option("--rgb", a->rgb, "in-air colour image (8/16-bit sRGB or float linear)")
+        ->required();
+    sub.add_option("--depth", a->depth_path, "depth image (EXR, 16-bit PNG, PFM, .npy)")
+        ->required();
+    sub.add_option("--layers", a->layers,
+                   "multi-layer EXR with final/direct/forward/backscatter/...");
     sub.add_option("-o,--output", a->output, "exposed image (PNG, JPEG, EXR)");
     sub.add_option("--exposure", a->exposure, "'auto' or a factor applied to radiance");
-    sub.add_option("--z-max", a->z_max, "planar depth where open-water rays end (0: until negligible)")
+    sub.add_option("--z-max", a->z_max,
+                   "planar depth where open-water rays end (0: until negligible)")
         ->check(CLI::NonNegativeNumber);
     sub.add_option("--rel-tol", a->rel_tol, "relative tolerance of the backscatter quadrature")
         ->check(CLI::PositiveNumber);
-    sub.add_option("--threads", a->threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+    sub.add_option("--threads", a->threads, "worker threads (0: all cores)")
+        ->check(CLI::NonNegativeNumber);
     sub.callback([a] { run(*a); });
 }
 

@@ -60,9 +60,12 @@ int run(const RenderArgs& a) {
 void setup_render(CLI::App& sub) {
     auto a = std::make_shared<RenderArgs>();
     a->depth.add_to(sub);
-    sub.add_option("--asset", a->asset, "baked asset (.vdb) for the rig, water and camera")->required();
-    sub.add_option("--rgb", a->rgb, "colour image, or a quoted glob such as 'dir/*.png'")->required();
-    sub.add_option("--depth", a->depth_path, "depth image, or a quoted glob such as 'dir/*_depth.exr'")
+    sub.add_option("--asset", a->asset, "baked asset (.vdb) for the rig, water and camera")
+        ->required();
+    sub.add_option("--rgb", a->rgb, "colour image, or a quoted glob such as 'dir/*.png'")
+        ->required();
+    sub.add_option("--depth", a->depth_path,
+                   "depth image, or a quoted glob such as 'dir/*_depth.exr'")
         ->required();
     sub.add_option("-o,--output", a->output, "exposed image; a folder for a sequence");
     sub.add_option("--layers", a->layers, "multi-layer EXR; a folder for a sequence");

@@ -32,14 +32,14 @@ Scattering parse_scattering(const std::string& name);
 
 /// Monte Carlo settings of a multiple-scattering bake, and what it measured of itself.
 struct HigherOrderSettings {
-    int paths = 65536;        ///< Monte Carlo paths per computed column, >= 1
-    int stride = 4;           ///< computed on every stride-th lattice column and row (and the
-                              ///< last), bilinear in between: this light is smooth in angle
-    std::uint64_t seed = 1;   ///< base seed; results depend on it, never on the threads
-    int lamp_samples = 4096;  ///< directions per node of each lamp's scattered-light table
-    double rel_std_error = 0; ///< measured: mean over computed columns and channels of the
-                              ///< standard error at z_max / the all-order total
-    double fraction = 0;      ///< measured: mean share of orders >= 2 in the total at z_max
+    int paths = 65536;              ///< Monte Carlo paths per computed column, >= 1
+    int stride = 4;                 ///< computed on every stride-th lattice column and row (and the
+                                    ///< last), bilinear in between: this light is smooth in angle
+    std::uint64_t seed = 1;         ///< base seed; results depend on it, never on the threads
+    int lamp_samples = 4096;        ///< directions per node of each lamp's scattered-light table
+    double rel_std_error = 0;       ///< measured: mean over computed columns and channels of the
+                                    ///< standard error at z_max / the all-order total
+    double fraction = 0;            ///< measured: mean share of orders >= 2 in the total at z_max
     double lamp_rel_std_error = 0;  ///< measured: lamp tables' mean LampField::rel_std_error
 };
 
@@ -49,13 +49,13 @@ struct BakeInfo {
     Rig rig;
     Water water;
     Lattice lattice;
-    bool z_max_auto = false;   ///< z_max was chosen by the tail tolerance, not given
-    double tolerance = 0.0;    ///< auto z_max: tail beyond z_max / total, every column, channel
-    Quadrature quadrature;     ///< accuracy of the exact integrals at bake time
+    bool z_max_auto = false;  ///< z_max was chosen by the tail tolerance, not given
+    double tolerance = 0.0;   ///< auto z_max: tail beyond z_max / total, every column, channel
+    Quadrature quadrature;    ///< accuracy of the exact integrals at bake time
     Scattering scattering = Scattering::Single;
     HigherOrderSettings higher_orders;  ///< Multiple only
-    std::string baker_version; ///< the bake module that made it (kBakerVersion)
-    std::string input_hash;    ///< input_hash(*this) at bake time: "fnv1a64:<16 hex>"
+    std::string baker_version;          ///< the bake module that made it (kBakerVersion)
+    std::string input_hash;             ///< input_hash(*this) at bake time: "fnv1a64:<16 hex>"
 };
 
 /// Cumulative single-scattering backscatter on the lattice: values[index(i, j, k) + c] is

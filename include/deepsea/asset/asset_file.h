@@ -46,9 +46,9 @@ Asset load_asset(const std::string& path);
 /// One grid of an asset file, from its metadata (no voxel data read).
 struct GridSummary {
     std::string name;
-    std::string value_type;     ///< "vec3s", "float", ...
-    std::string transform;      ///< "frustum" or "linear"
-    bool half = false;          ///< stored as 16-bit floats
+    std::string value_type;  ///< "vec3s", "float", ...
+    std::string transform;   ///< "frustum" or "linear"
+    bool half = false;       ///< stored as 16-bit floats
     std::int64_t active_voxels = 0;
     Vec3 world_min, world_max;  ///< world-space bounding box of the active voxels
 };

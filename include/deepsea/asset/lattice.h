@@ -73,12 +73,12 @@ struct DepthPosition {
 /// The sampling lattice. Column (i, j) is the ray of pixel (i * step, j * step); sample k of
 /// that column is the point at planar depth z[k] on the ray.
 struct Lattice {
-    int step = 0;                             ///< pixels between columns (and rows), >= 1
-    int ni = 0;                               ///< columns, i = 0 .. ni - 1
-    int nj = 0;                               ///< rows, j = 0 .. nj - 1
+    int step = 0;  ///< pixels between columns (and rows), >= 1
+    int ni = 0;    ///< columns, i = 0 .. ni - 1
+    int nj = 0;    ///< rows, j = 0 .. nj - 1
     DepthScheme scheme = DepthScheme::Uniform;
-    double z0 = kDefaultLogZ0;                ///< Log scheme's depth scale, metres (else unused)
-    std::vector<double> z;                    ///< K + 1 planar depths, metres, z[0] = 0
+    double z0 = kDefaultLogZ0;  ///< Log scheme's depth scale, metres (else unused)
+    std::vector<double> z;      ///< K + 1 planar depths, metres, z[0] = 0
 
     /// K + 1, the number of samples per column.
     int nk() const { return int(z.size()); }

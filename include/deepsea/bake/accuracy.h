@@ -27,17 +27,18 @@ struct AccuracyOptions {
 /// Errors of one scene over the test pixels. A pixel's error is the largest relative error
 /// of its three channels, |lookup - exact| / exact.
 struct AccuracyRow {
-    std::string scene;       ///< "plane 2 m", "open water (z_max)", "open water (inf)"
-    double z = 0.0;          ///< planar depth looked up, metres
-    double mean_rel = 0.0;   ///< mean over test pixels
-    double max_rel = 0.0;    ///< worst test pixel
+    std::string scene;         ///< "plane 2 m", "open water (z_max)", "open water (inf)"
+    double z = 0.0;            ///< planar depth looked up, metres
+    double mean_rel = 0.0;     ///< mean over test pixels
+    double max_rel = 0.0;      ///< worst test pixel
     int max_u = 0, max_v = 0;  ///< where the worst pixel is
     long pixels = 0;
 };
 
 /// Compares the asset's lookup with exact integration for its own camera, rig and water.
 /// Deterministic at any thread count. Progress counts rows of test pixels.
-std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const AccuracyOptions& opt = {},
+std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset,
+                                                 const AccuracyOptions& opt = {},
                                                  const Parallel& par = {});
 
 }  // namespace deepsea

@@ -21,13 +21,13 @@ inline constexpr const char* kBakerVersion = "deepsea-bake/1";
 
 /// Defaults chosen by measurement (docs/asset-format.md, "Choosing the defaults").
 struct BakeSettings {
-    int step = 16;                     ///< pixels between lattice columns, >= 1
-    int depth_samples = 64;            ///< K slabs (K + 1 samples per column), >= 2
+    int step = 16;           ///< pixels between lattice columns, >= 1
+    int depth_samples = 64;  ///< K slabs (K + 1 samples per column), >= 2
     DepthScheme scheme = DepthScheme::Log;
-    double z0 = kDefaultLogZ0;         ///< Log scheme's depth scale, metres
-    double z_max = 0.0;                ///< planar depth of the last sample, metres; 0: auto
-    double tolerance = 5e-4;           ///< auto z_max: the tail beyond it / the total, (0, 0.5)
-    Quadrature quadrature{1e-6, 1e-14, 40};  ///< the exact integrals' accuracy
+    double z0 = kDefaultLogZ0;  ///< Log scheme's depth scale, metres
+    double z_max = 0.0;         ///< planar depth of the last sample, metres; 0: auto
+    double tolerance = 5e-4;    ///< auto z_max: the tail beyond it / the total, (0, 0.5)
+    Quadrature quadrature{1e-6, 1e-14, 40};      ///< the exact integrals' accuracy
     Scattering scattering = Scattering::Single;  ///< Multiple: add orders >= 2 (Monte Carlo)
     HigherOrderSettings higher_orders;           ///< Multiple only
 };

@@ -12,7 +12,8 @@ namespace deepsea {
 /// throws, the temporary is empty, the rename fails) the temporary is removed; the exception
 /// from write propagates, other failures throw IoError naming `path`. The folder must exist and
 /// be writable (IoError otherwise, before write is called).
-void write_atomically(const std::string& path, const std::function<void(const std::string& tmp)>& write);
+void write_atomically(const std::string& path,
+                      const std::function<void(const std::string& tmp)>& write);
 
 /// Throws IoError naming `path` unless its folder exists and is writable.
 void require_writable_folder(const std::string& path);

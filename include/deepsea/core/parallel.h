@@ -19,9 +19,9 @@ using Progress = std::function<bool(long done, long total)>;
 /// How to run a long parallel operation. Library functions take it last, defaulted, so that a
 /// caller names only what it cares about: `bake(cam, rig, water, settings, {threads, 0, bar})`.
 struct Parallel {
-    int threads = 0;          ///< worker threads, >= 0; 0: all cores
-    std::size_t grain = 0;    ///< items per task; 0: the operation's own choice
-    Progress progress;        ///< optional
+    int threads = 0;        ///< worker threads, >= 0; 0: all cores
+    std::size_t grain = 0;  ///< items per task; 0: the operation's own choice
+    Progress progress;      ///< optional
 
     Parallel() = default;
     /// Not explicit: a call can pass `{threads}` or `{threads, grain, progress}`.

@@ -19,11 +19,18 @@ struct Vec3 {
     constexpr Vec3 operator-() const { return {-x, -y, -z}; }
     constexpr Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
     constexpr Vec3 operator/(double s) const { return {x / s, y / s, z / s}; }
-    Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+    Vec3& operator+=(const Vec3& o) {
+        x += o.x;
+        y += o.y;
+        z += o.z;
+        return *this;
+    }
 };
 
 inline constexpr Vec3 operator*(double s, const Vec3& v) { return v * s; }
-inline constexpr double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline constexpr double dot(const Vec3& a, const Vec3& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 inline constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
@@ -46,7 +53,12 @@ struct Rgb {
     constexpr Rgb operator*(const Rgb& o) const { return {r * o.r, g * o.g, b * o.b}; }
     constexpr Rgb operator*(double s) const { return {r * s, g * s, b * s}; }
     constexpr Rgb operator/(double s) const { return {r / s, g / s, b / s}; }
-    Rgb& operator+=(const Rgb& o) { r += o.r; g += o.g; b += o.b; return *this; }
+    Rgb& operator+=(const Rgb& o) {
+        r += o.r;
+        g += o.g;
+        b += o.b;
+        return *this;
+    }
     constexpr double max() const { return r > g ? (r > b ? r : b) : (g > b ? g : b); }
 };
 

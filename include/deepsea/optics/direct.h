@@ -12,8 +12,7 @@ namespace deepsea {
 /// Radiance reaching the camera from surface point P (camera frame, metres) with unit normal n
 /// (facing the camera) and linear albedo J:
 /// D = (J / pi) * sum_l I_l(theta_l) exp(-c (d1 + d2)) / d1^2 * max(0, n . w_l).
-Rgb direct_radiance(const Rig& rig, const Water& water, const Vec3& P, const Vec3& n,
-                    const Rgb& J);
+Rgb direct_radiance(const Rig& rig, const Water& water, const Vec3& P, const Vec3& n, const Rgb& J);
 
 /// Irradiance-like factor without the albedo and the path back to the camera:
 /// sum_l I_l(theta_l) exp(-c d1) / d1^2 * max(0, n . w_l), W/m^2 per channel.

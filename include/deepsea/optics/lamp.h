@@ -40,8 +40,7 @@ struct LampGeometry {
 /// Geometry of a lamp at L with unit axis `axis` seen from P with unit normal n, given
 /// to_light = L - P (camera frame, metres).
 template <class T>
-inline LampGeometry<T> lamp_geometry(Vec3T<T> to_light, Vec3T<T> n,
-                                     Vec3T<T> axis) {
+inline LampGeometry<T> lamp_geometry(Vec3T<T> to_light, Vec3T<T> n, Vec3T<T> axis) {
     using std::sqrt;
     const T d1 = sqrt(dot(to_light, to_light));
     const T inv = T(1) / d1;

@@ -35,9 +35,9 @@ struct LampField {
 /// Monte Carlo settings of a lamp field.
 struct LampFieldSettings {
     int nr = 40, ntheta = 37;
-    double r0 = 0.02;           ///< metres; nearer points use the r0 values
-    double r_max = 30.0;        ///< metres; farther points get no scattered light
-    int samples = 4096;         ///< directions per node
+    double r0 = 0.02;     ///< metres; nearer points use the r0 values
+    double r_max = 30.0;  ///< metres; farther points get no scattered light
+    int samples = 4096;   ///< directions per node
     std::uint64_t seed = 1;
 };
 
@@ -57,15 +57,19 @@ struct LampFieldView {
     T log_r0 = 0, inv_log_step = 0, theta_scale = 0, r_max = 0;
 
     explicit LampFieldView(const LampField& f)
-        : sh(f.sh.data()), nr(f.nr), ntheta(f.ntheta), log_r0(T(std::log(f.r0))),
+        : sh(f.sh.data()),
+          nr(f.nr),
+          ntheta(f.ntheta),
+          log_r0(T(std::log(f.r0))),
           inv_log_step(T((f.nr - 1) / std::log(f.r_max / f.r0))),
-          theta_scale(T((f.ntheta - 1) / M_PI)), r_max(T(f.r_max)) {}
+          theta_scale(T((f.ntheta - 1) / M_PI)),
+          r_max(T(f.r_max)) {}
 };
 
 /// Scattered irradiance (per unit on-axis intensity, per channel) onto a Lambertian surface at
-/// point p with unit normal n, both in the lamp frame, into (er, eg, eb). Bilinear in (log r, theta) between
-/// nodes; zero beyond r_max. The one home of this equation: the baker's checks (double) and
-/// the runtime's rows (float, vectorised) call it.
+/// point p with unit normal n, both in the lamp frame, into (er, eg, eb). Bilinear in (log r,
+/// theta) between nodes; zero beyond r_max. The one home of this equation: the baker's checks
+/// (double) and the runtime's rows (float, vectorised) call it.
 template <typename T>
 inline void lamp_field_irradiance(const LampFieldView<T>& f, T px, T py, T pz, T nx, T ny, T nz,
                                   T& er, T& eg, T& eb) {

@@ -14,11 +14,11 @@ namespace deepsea {
 struct Rid {
     enum class Kind { Gaussian, Table };
     Kind kind = Kind::Gaussian;
-    double sigma_deg = 35.0;          ///< Gaussian: exp(-theta^2 / (2 sigma^2)), degrees
-    std::vector<double> angle_deg;    ///< Table: ascending angles, degrees, first >= 0
-    std::vector<double> value;        ///< Table: relative values >= 0, linear interpolation,
-                                      ///< 0 beyond the last angle
-    double cutoff_deg = 180.0;        ///< zero for theta > cutoff (degrees)
+    double sigma_deg = 35.0;        ///< Gaussian: exp(-theta^2 / (2 sigma^2)), degrees
+    std::vector<double> angle_deg;  ///< Table: ascending angles, degrees, first >= 0
+    std::vector<double> value;      ///< Table: relative values >= 0, linear interpolation,
+                                    ///< 0 beyond the last angle
+    double cutoff_deg = 180.0;      ///< zero for theta > cutoff (degrees)
 
     /// Relative intensity at angle theta (radians, in [0, pi]).
     double operator()(double theta_rad) const;
@@ -27,9 +27,9 @@ struct Rid {
 /// One lamp, rigidly mounted with the camera; all quantities in the camera frame.
 struct Light {
     std::string name;
-    Vec3 position;                ///< metres
-    Vec3 direction{0, 0, 1};      ///< unit vector of the lamp's central axis
-    Rgb intensity{1.0, 1.0, 1.0}; ///< radiant intensity on the axis, W/sr, linear R, G, B
+    Vec3 position;                 ///< metres
+    Vec3 direction{0, 0, 1};       ///< unit vector of the lamp's central axis
+    Rgb intensity{1.0, 1.0, 1.0};  ///< radiant intensity on the axis, W/sr, linear R, G, B
     Rid rid;
 
     /// Radiant intensity I0 * RID(theta) emitted along the unit vector w (W/sr per channel).

@@ -22,8 +22,8 @@ namespace deepsea {
 
 /// Monte Carlo settings.
 struct MonteCarlo {
-    int paths = 4096;         ///< paths per ray
-    std::uint64_t seed = 1;   ///< base seed; each ray has its own stream
+    int paths = 4096;        ///< paths per ray
+    std::uint64_t seed = 1;  ///< base seed; each ray has its own stream
 };
 
 /// The water and lamps, with what every path needs precomputed.

@@ -44,8 +44,7 @@ inline Vec3T<T> back_project(T rx, T ry, T z) {
 /// that tests dot(n, n) > 0 and picks a fallback. Templated for the same reasons as lamp.h:
 /// the exact normals (double) and the runtime's vectorised rows (float) both call it.
 template <class T>
-inline Vec3T<T> normal_from_tangents(Vec3T<T> tu, Vec3T<T> tv,
-                                     Vec3T<T> r) {
+inline Vec3T<T> normal_from_tangents(Vec3T<T> tu, Vec3T<T> tv, Vec3T<T> r) {
     using std::sqrt;
     const Vec3T<T> n = cross(tu, tv);
     const T len2 = dot(n, n);

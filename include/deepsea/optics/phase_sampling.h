@@ -45,10 +45,10 @@ public:
 
 private:
     Phase m_phase;
-    std::vector<double> m_psi;  ///< table angles (radians), ascending from 0 to pi
-    std::vector<double> m_cdf;  ///< fraction of scattered power within m_psi[i]
-    std::vector<double> m_grid;   ///< psi grid for the 1-D angle table, 0 .. pi
-    std::vector<double> m_acdf;   ///< integral of p(cos psi) dpsi from 0 to m_grid[i]
+    std::vector<double> m_psi;   ///< table angles (radians), ascending from 0 to pi
+    std::vector<double> m_cdf;   ///< fraction of scattered power within m_psi[i]
+    std::vector<double> m_grid;  ///< psi grid for the 1-D angle table, 0 .. pi
+    std::vector<double> m_acdf;  ///< integral of p(cos psi) dpsi from 0 to m_grid[i]
     double angle_cdf(double psi) const;
 };
 

@@ -40,8 +40,8 @@ inline const std::vector<std::string> kRid = {"gaussian", "table"};
 inline const std::vector<std::string> kRidGaussian = {"sigma_deg"};
 inline const std::vector<std::string> kRidTable = {"angle_deg", "value"};
 /// `preset` only in YAML: the asset stores the resolved values.
-inline const std::vector<std::string> kWater = {"name",  "preset", "attenuation", "scattering",
-                                                "phase", "forward_scatter"};
+inline const std::vector<std::string> kWater = {"name",       "preset", "attenuation",
+                                                "scattering", "phase",  "forward_scatter"};
 inline const std::vector<std::string> kPhase = {"petzold", "henyey_greenstein"};
 inline const std::vector<std::string> kPhaseHg = {"g"};
 inline const std::vector<std::string> kForwardScatter = {"G", "k"};

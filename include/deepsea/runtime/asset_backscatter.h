@@ -33,7 +33,7 @@ private:
     std::vector<float> m_z, m_inv_h;  ///< samples and 1 / slab thickness
     std::vector<float> m_znext;       ///< z[k + 1], and for the last slab the largest float
     std::vector<int> m_bucket;
-    float m_bucket_scale = 0.0f;      ///< buckets per metre
+    float m_bucket_scale = 0.0f;  ///< buckets per metre
 };
 
 }  // namespace deepsea

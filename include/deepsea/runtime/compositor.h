@@ -33,7 +33,7 @@ private:
     const BackscatterSource& m_backscatter;
     ForwardBlur m_blur;
     std::vector<float> m_rx;  ///< (u - cx) / fx per column
-    Image m_d2;  ///< camera-to-surface distance per pixel, metres (0 for open water)
+    Image m_d2;               ///< camera-to-surface distance per pixel, metres (0 for open water)
 };
 
 }  // namespace deepsea

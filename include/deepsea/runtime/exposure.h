@@ -10,9 +10,9 @@ namespace deepsea {
 /// How the exposure factor is chosen.
 struct Exposure {
     bool automatic = true;
-    double factor = 1.0;         ///< used when not automatic
-    double percentile = 0.995;   ///< automatic: this luminance percentile ...
-    double target = 0.85;        ///< ... is mapped to this value
+    double factor = 1.0;        ///< used when not automatic
+    double percentile = 0.995;  ///< automatic: this luminance percentile ...
+    double target = 0.85;       ///< ... is mapped to this value
 };
 
 /// Parses "auto" or a positive number (ConfigError otherwise).

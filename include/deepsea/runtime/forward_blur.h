@@ -45,11 +45,11 @@ private:
     void build_level(const Image& in, Level& level);
     int m_width = 0;
     float m_scale = 1.0f;
-    float m_cap = 0.0f;  ///< widest sigma blurred (max_forward_sigma_px)
+    float m_cap = 0.0f;             ///< widest sigma blurred (max_forward_sigma_px)
     std::vector<Planes> m_pyramid;  ///< m_pyramid[i], i >= 1: the input box-downsampled by 2^i
     std::vector<Level> m_levels;    ///< the first m_count are this frame's
     int m_count = 0;                ///< levels in use; 0 when no pixel is blurred
-    std::vector<double> m_sigmas;                    ///< this frame's level sigmas
+    std::vector<double> m_sigmas;   ///< this frame's level sigmas
     std::vector<float> m_kernel, m_norm_x, m_norm_y;  ///< blur_planes' scratch
     std::vector<float> m_tmp;
     std::vector<std::pair<float, float>> m_row_range;  ///< range of s over each row

@@ -33,8 +33,7 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& files);
 /// from the colour list; InputError when the counts differ or a list is empty (naming the
 /// patterns).
 std::vector<FrameJob> pair_frames(std::vector<std::string> rgb, std::vector<std::string> depth,
-                                  const std::string& rgb_pattern,
-                                  const std::string& depth_pattern);
+                                  const std::string& rgb_pattern, const std::string& depth_pattern);
 
 /// Files matching a shell glob pattern, sorted (empty if none).
 std::vector<std::string> glob_files(const std::string& pattern);

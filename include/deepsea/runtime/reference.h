@@ -26,8 +26,8 @@ double open_water_depth(const Water& water, const ReferenceOptions& opt);
 /// rgb: linear albedo, 3 channels; zdepth: planar depth in metres, 1 channel, same size as rgb
 /// and as the camera (InputError otherwise). Non-finite or <= 0 depth is open water.
 /// Runs on par.threads workers; par.progress is not called yet (the rows run as one task).
-Layers render_reference(const Camera& camera, const Rig& rig, const Water& water,
-                        const Image& rgb, const Image& zdepth, const ReferenceOptions& opt = {},
+Layers render_reference(const Camera& camera, const Rig& rig, const Water& water, const Image& rgb,
+                        const Image& zdepth, const ReferenceOptions& opt = {},
                         const Parallel& par = {});
 
 }  // namespace deepsea

@@ -17,10 +17,10 @@ namespace deepsea {
 struct SequenceOptions {
     DepthReadOptions depth_read;
     DepthKind depth_kind = DepthKind::Z;
-    Exposure exposure;          ///< auto: chosen on the first frame, then kept (no flicker)
-    bool forward = true;        ///< forward scatter, if the asset's water defines it
-    bool resume = false;        ///< skip frames whose `output` (or `layers`) already exists
-    int bits = 8;               ///< PNG bit depth
+    Exposure exposure;    ///< auto: chosen on the first frame, then kept (no flicker)
+    bool forward = true;  ///< forward scatter, if the asset's water defines it
+    bool resume = false;  ///< skip frames whose `output` (or `layers`) already exists
+    int bits = 8;         ///< PNG bit depth
     /// The frames' camera; unset (width 0): the asset's camera, resampled to the frame size.
     Camera camera;
     /// Called after each frame, in order: (frames done, total).
@@ -32,7 +32,7 @@ struct SequenceResult {
     int skipped = 0;                  ///< --resume
     std::vector<std::string> errors;  ///< one line per failed frame
     double seconds = 0.0;
-    double exposure = 0.0;            ///< the factor used
+    double exposure = 0.0;  ///< the factor used
 };
 
 /// Renders every job; a frame that cannot be read or written is reported in `errors` and

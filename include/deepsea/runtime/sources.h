@@ -8,12 +8,12 @@ namespace deepsea {
 
 /// One image row's surface geometry in structure-of-arrays form (camera frame, metres).
 struct RowGeometry {
-    int v = 0;                       ///< image row
-    int n = 0;                       ///< pixels in the row
-    const float* x = nullptr;        ///< surface point P
+    int v = 0;                 ///< image row
+    int n = 0;                 ///< pixels in the row
+    const float* x = nullptr;  ///< surface point P
     const float* y = nullptr;
-    const float* z = nullptr;        ///< planar depth; open water where !(z > 0) or inf
-    const float* nx = nullptr;       ///< unit normal facing the camera
+    const float* z = nullptr;   ///< planar depth; open water where !(z > 0) or inf
+    const float* nx = nullptr;  ///< unit normal facing the camera
     const float* ny = nullptr;
     const float* nz = nullptr;
 };

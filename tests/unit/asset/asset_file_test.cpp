@@ -87,7 +87,8 @@ TEST_F(AssetFile, RoundTripHalfKeepsElevenBits) {
 TEST_F(AssetFile, FrustumTransformMapsIndexToCameraPoints) {
     for (const Camera& cam : {kCam, Camera{800, 800, 600, 600, 400, 400}}) {
         const int step = 8, K = 10;
-        const Asset a = test::function_asset(cam, step, DepthScheme::Uniform, K, 5.0, test::smooth_field);
+        const Asset a =
+            test::function_asset(cam, step, DepthScheme::Uniform, K, 5.0, test::smooth_field);
         write_asset(path("f.vdb"), a);
         const AssetFileSummary s = read_asset_summary(path("f.vdb"));
         EXPECT_EQ(s.grids.at(0).transform, "frustum");
@@ -104,9 +105,12 @@ TEST_F(AssetFile, FrustumTransformMapsIndexToCameraPoints) {
             const Vec3 expect =
                 camera_to_world(cam.point(idx[n].x * step, idx[n].y * step, l.z[int(idx[n].z)]));
             const double tol = 1e-9 * (1.0 + length(expect));
-            EXPECT_NEAR(world[n].x, expect.x, tol) << idx[n].x << " " << idx[n].y << " " << idx[n].z;
-            EXPECT_NEAR(world[n].y, expect.y, tol) << idx[n].x << " " << idx[n].y << " " << idx[n].z;
-            EXPECT_NEAR(world[n].z, expect.z, tol) << idx[n].x << " " << idx[n].y << " " << idx[n].z;
+            EXPECT_NEAR(world[n].x, expect.x, tol)
+                << idx[n].x << " " << idx[n].y << " " << idx[n].z;
+            EXPECT_NEAR(world[n].y, expect.y, tol)
+                << idx[n].x << " " << idx[n].y << " " << idx[n].z;
+            EXPECT_NEAR(world[n].z, expect.z, tol)
+                << idx[n].x << " " << idx[n].y << " " << idx[n].z;
         }
     }
 }
@@ -150,9 +154,7 @@ TEST_F(AssetFile, PreviewGridsLieInTheFrustum) {
     }
 }
 
-TEST_F(AssetFile, MissingFileIsIoError) {
-    EXPECT_THROW(load_asset(path("none.vdb")), IoError);
-}
+TEST_F(AssetFile, MissingFileIsIoError) { EXPECT_THROW(load_asset(path("none.vdb")), IoError); }
 
 TEST_F(AssetFile, ForeignFileIsAssetError) {
     std::ofstream(path("text.vdb")) << "this is not a vdb file\n";
@@ -215,7 +217,8 @@ TEST_F(AssetFile, VdbWithoutDeepseaMetadataIsAssetError) {
     std::vector<char> bytes = read_bytes(path("a.vdb"));
     const std::string key = "deepsea:format";
     for (std::size_t pos = 0; pos + key.size() < bytes.size(); ++pos) {
-        if (std::memcmp(&bytes[pos], key.data(), key.size()) == 0) bytes[pos + key.size() - 1] = 'X';
+        if (std::memcmp(&bytes[pos], key.data(), key.size()) == 0)
+            bytes[pos + key.size() - 1] = 'X';
     }
     write_bytes(path("plain.vdb"), bytes, bytes.size());
     EXPECT_THROW(load_asset(path("plain.vdb")), AssetError);

@@ -17,7 +17,8 @@ const Camera kCam{64, 48, 50.0, 52.0, 31.5, 23.0};
 
 /// Functions that trilinear interpolation reproduces exactly: linear in z, bilinear in u, v.
 Rgb bilinear_field(double u, double v, double z) {
-    return Rgb{1.0, 2.0, 3.0} * ((1.0 + 0.01 * u) * (2.0 + 0.02 * v) * z) + Rgb{0.0, 0.0, 1e-3 * u * z};
+    return Rgb{1.0, 2.0, 3.0} * ((1.0 + 0.01 * u) * (2.0 + 0.02 * v) * z) +
+           Rgb{0.0, 0.0, 1e-3 * u * z};
 }
 
 TEST(AssetSample, EqualsNodeValues) {
@@ -28,7 +29,8 @@ TEST(AssetSample, EqualsNodeValues) {
             for (int k = 0; k < l.nk(); ++k) {
                 const Rgb s = a.sample(l.u(i), l.v(j), l.z[k]);
                 const Rgb x = a.at(i, j, k);
-                for (int c = 0; c < 3; ++c) EXPECT_NEAR(s[c], x[c], 1e-12) << i << " " << j << " " << k;
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(s[c], x[c], 1e-12) << i << " " << j << " " << k;
             }
         }
     }

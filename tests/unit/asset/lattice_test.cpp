@@ -15,13 +15,13 @@ const DepthScheme kAllSchemes[] = {DepthScheme::Uniform, DepthScheme::Taylor, De
 TEST(Lattice, CountCoversEveryPixelCentre) {
     EXPECT_EQ(lattice_count(800, 8), 101);  // 0, 8, ..., 800 (one column past 799)
     EXPECT_EQ(lattice_count(800, 1), 800);
-    EXPECT_EQ(lattice_count(9, 8), 2);      // 0, 8
-    EXPECT_EQ(lattice_count(10, 8), 3);     // 0, 8, 16
+    EXPECT_EQ(lattice_count(9, 8), 2);   // 0, 8
+    EXPECT_EQ(lattice_count(10, 8), 3);  // 0, 8, 16
     EXPECT_EQ(lattice_count(1, 8), 1);
     for (int w : {1, 2, 7, 64, 641}) {
         for (int s : {1, 3, 8, 16}) {
             const int n = lattice_count(w, s);
-            EXPECT_GE((n - 1) * s, w - 1) << w << " " << s;   // reaches the last pixel
+            EXPECT_GE((n - 1) * s, w - 1) << w << " " << s;  // reaches the last pixel
             if (n > 1) {
                 EXPECT_LT((n - 2) * s, w - 1) << w << " " << s;  // and no column more
             }
@@ -31,7 +31,8 @@ TEST(Lattice, CountCoversEveryPixelCentre) {
 
 TEST(Lattice, MakeLattice) {
     const Camera cam{800, 600, 600, 600, 400, 300};
-    const Lattice l = make_lattice(cam, 8, DepthScheme::Uniform, depth_samples(DepthScheme::Uniform, 4, 2.0));
+    const Lattice l =
+        make_lattice(cam, 8, DepthScheme::Uniform, depth_samples(DepthScheme::Uniform, 4, 2.0));
     EXPECT_EQ(l.ni, 101);
     EXPECT_EQ(l.nj, 76);
     EXPECT_EQ(l.nk(), 5);

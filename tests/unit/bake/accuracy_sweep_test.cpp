@@ -123,7 +123,8 @@ TEST(AccuracySweep, DISABLED_AuthorsCamera) {
             cases.push_back({16, K, s});
         }
     }
-    const int stride = std::getenv("DEEPSEA_SWEEP_STRIDE") ? std::atoi(std::getenv("DEEPSEA_SWEEP_STRIDE")) : 11;
+    const int stride =
+        std::getenv("DEEPSEA_SWEEP_STRIDE") ? std::atoi(std::getenv("DEEPSEA_SWEEP_STRIDE")) : 11;
     for (const char* rig_name : {"authors-testset", "paper-eval"}) {
         const Rig rig = rig_name[0] == 'a' ? yaml_rig(rig_name, 0.5, 0.510586, 0.859826)
                                            : yaml_rig(rig_name, 1.0, 0.707107, 0.707107);
@@ -132,8 +133,9 @@ TEST(AccuracySweep, DISABLED_AuthorsCamera) {
             const Reference ref = make_reference(rig, water, stride, defaults.tolerance);
             std::printf("\n%s, jerlov:%s (%zu^2 test pixels, stride %d)\n\n", rig_name, wt,
                         ref.us.size(), stride);
-            std::printf("| step | K | scheme | z_max m | MB | 2 m mean/max %% | 4 m | 8 m | "
-                        "open water |\n|---|---|---|---|---|---|---|---|---|\n");
+            std::printf(
+                "| step | K | scheme | z_max m | MB | 2 m mean/max %% | 4 m | 8 m | "
+                "open water |\n|---|---|---|---|---|---|---|---|---|\n");
             for (const Case& c : cases) {
                 BakeSettings s;
                 s.step = c.step;

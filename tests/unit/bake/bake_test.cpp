@@ -85,8 +85,7 @@ TEST(Bake, BitIdenticalAtOneAndTwoThreads) {
     const Asset a2 = bake(kCam, two_lamps(), jerlov_water("3C"), s, {2});
     ASSERT_EQ(a1.values.size(), a2.values.size());
     EXPECT_EQ(a1.lattice().z, a2.lattice().z);
-    EXPECT_EQ(0, std::memcmp(a1.values.data(), a2.values.data(),
-                             a1.values.size() * sizeof(float)));
+    EXPECT_EQ(0, std::memcmp(a1.values.data(), a2.values.data(), a1.values.size() * sizeof(float)));
     EXPECT_EQ(a1.info.input_hash, a2.info.input_hash);
 }
 
@@ -120,8 +119,9 @@ TEST(Bake, ProgressCanCancel) {
                        }};
     EXPECT_THROW(bake(kCam, two_lamps(), jerlov_water("IB"), small_settings(), par), Cancelled);
     EXPECT_GE(last, 3);
-    EXPECT_LT(last, bake_request(kCam, two_lamps(), jerlov_water("IB"), small_settings())
-                        .lattice.columns());
+    EXPECT_LT(
+        last,
+        bake_request(kCam, two_lamps(), jerlov_water("IB"), small_settings()).lattice.columns());
 }
 
 TEST(Bake, AutoZMaxMeetsItsTolerance) {

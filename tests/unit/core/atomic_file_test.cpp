@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "deepsea/core/error.h"
 #include "../temp_folder.h"
+#include "deepsea/core/error.h"
 
 namespace deepsea {
 
@@ -34,8 +34,8 @@ TEST_F(AtomicFile, ReplacesTheTargetOnSuccess) {
     write_atomically(path("a.txt"), [&](const std::string& tmp) {
         tmp_seen = tmp;
         EXPECT_EQ(fs::path(tmp).parent_path(), dir_);  // same folder: the rename is atomic
-        EXPECT_EQ(fs::path(tmp).extension(), ".txt");   // format-by-extension writers agree
-        EXPECT_EQ(get(path("a.txt")), "old");           // readers see the old file meanwhile
+        EXPECT_EQ(fs::path(tmp).extension(), ".txt");  // format-by-extension writers agree
+        EXPECT_EQ(get(path("a.txt")), "old");          // readers see the old file meanwhile
         put(tmp, "new");
     });
     EXPECT_EQ(get(path("a.txt")), "new");

@@ -39,7 +39,8 @@ TEST(ParallelFor, SubRangesRespectTheGrain) {
         1000,
         [&](std::size_t begin, std::size_t end) {
             std::size_t seen = largest.load();
-            while (end - begin > seen && !largest.compare_exchange_weak(seen, end - begin)) {}
+            while (end - begin > seen && !largest.compare_exchange_weak(seen, end - begin)) {
+            }
         },
         {2, 16, {}});
     EXPECT_LE(largest.load(), 16u);
@@ -81,12 +82,11 @@ TEST(ParallelFor, CancelledIsAnErrorWithItsOwnExitCode) {
 }
 
 TEST(ParallelFor, ExceptionsFromTheBodyPropagate) {
-    EXPECT_THROW(parallel_for(
-                     100,
-                     [](std::size_t b, std::size_t) {
-                         if (b >= 50) throw InputError("bad item");
-                     },
-                     {2, 1, {}}),
+    EXPECT_THROW(parallel_for(100,
+                              [](std::size_t b, std::size_t) {
+                                  if (b >= 50) throw InputError("bad item");
+                              },
+                              {2, 1, {}}),
                  InputError);
 }
 

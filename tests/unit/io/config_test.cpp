@@ -3,14 +3,13 @@
 // is yaml_reader_test.cpp; the ranges on their own tests/unit/optics/schema_test.cpp.
 #include "deepsea/io/config.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
 #include "deepsea/optics/deep_ocean.h"
@@ -23,32 +22,32 @@ namespace fs = std::filesystem;
 
 // Line numbers matter: the error tests below refer to them.
 const std::string kValid =
-    "camera:\n"                                                          // 1
-    "  width: 800\n"                                                     // 2
-    "  height: 600\n"                                                    // 3
-    "  fx: 600.0\n"                                                      // 4
-    "  fy: 600.0\n"                                                      // 5
-    "  cx: 399.5\n"                                                      // 6
-    "  cy: 299.5\n"                                                      // 7
-    "rig:\n"                                                             // 8
-    "  name: two-lamps\n"                                                // 9
-    "  lights:\n"                                                        // 10
-    "    - name: left\n"                                                 // 11
-    "      position: [-0.5, 0.0, 0.0]\n"                                 // 12
-    "      direction: [0.51, 0.0, 0.86]\n"                               // 13
-    "      intensity: [1.0, 1.0, 1.0]\n"                                 // 14
-    "      rid: {gaussian: {sigma_deg: 35}}\n"                           // 15
-    "      cutoff_deg: 90\n"                                             // 16
-    "    - position: [0.5, 0, 0]\n"                                      // 17
-    "      direction: [0, 0, 2]\n"                                       // 18
-    "      intensity: [2, 2, 2]\n"                                       // 19
-    "      rid: {table: {angle_deg: [0, 30, 60], value: [1, 0.5, 0]}}\n" // 20
-    "water:\n"                                                           // 21
-    "  name: mine\n"                                                     // 22
-    "  attenuation: [0.40, 0.20, 0.18]\n"                                // 23
-    "  scattering: [0.12, 0.12, 0.13]\n"                                 // 24
-    "  phase: {henyey_greenstein: {g: 0.9}}\n"                           // 25
-    "  forward_scatter: {G: [0.3, 0.1, 0.1], k: 0.05}\n";                // 26
+    "camera:\n"                                                           // 1
+    "  width: 800\n"                                                      // 2
+    "  height: 600\n"                                                     // 3
+    "  fx: 600.0\n"                                                       // 4
+    "  fy: 600.0\n"                                                       // 5
+    "  cx: 399.5\n"                                                       // 6
+    "  cy: 299.5\n"                                                       // 7
+    "rig:\n"                                                              // 8
+    "  name: two-lamps\n"                                                 // 9
+    "  lights:\n"                                                         // 10
+    "    - name: left\n"                                                  // 11
+    "      position: [-0.5, 0.0, 0.0]\n"                                  // 12
+    "      direction: [0.51, 0.0, 0.86]\n"                                // 13
+    "      intensity: [1.0, 1.0, 1.0]\n"                                  // 14
+    "      rid: {gaussian: {sigma_deg: 35}}\n"                            // 15
+    "      cutoff_deg: 90\n"                                              // 16
+    "    - position: [0.5, 0, 0]\n"                                       // 17
+    "      direction: [0, 0, 2]\n"                                        // 18
+    "      intensity: [2, 2, 2]\n"                                        // 19
+    "      rid: {table: {angle_deg: [0, 30, 60], value: [1, 0.5, 0]}}\n"  // 20
+    "water:\n"                                                            // 21
+    "  name: mine\n"                                                      // 22
+    "  attenuation: [0.40, 0.20, 0.18]\n"                                 // 23
+    "  scattering: [0.12, 0.12, 0.13]\n"                                  // 24
+    "  phase: {henyey_greenstein: {g: 0.9}}\n"                            // 25
+    "  forward_scatter: {G: [0.3, 0.1, 0.1], k: 0.05}\n";                 // 26
 
 std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
     const auto p = text.find(from);
@@ -127,8 +126,7 @@ TEST(Config, EachBadInputNamesFileLineAndKey) {
          "rig.lights[0].intensity"},
         {"      intensity: [1.0, 1.0, 1.0]\n", "", 11, "rig.lights[0].intensity"},
         {"sigma_deg: 35", "sigma_deg: 0", 15, "rig.lights[0].rid.gaussian.sigma_deg"},
-        {"{gaussian: {sigma_deg: 35}}", "{gauss: {sigma_deg: 35}}", 15,
-         "rig.lights[0].rid.gauss"},
+        {"{gaussian: {sigma_deg: 35}}", "{gauss: {sigma_deg: 35}}", 15, "rig.lights[0].rid.gauss"},
         {"      cutoff_deg: 90", "      cutoff_deg: 181", 16, "rig.lights[0].cutoff_deg"},
         {"      cutoff_deg: 90", "      cutoff: 90", 16, "rig.lights[0].cutoff"},
         {"angle_deg: [0, 30, 60]", "angle_deg: [0, 60, 30]", 20,
@@ -149,8 +147,7 @@ TEST(Config, EachBadInputNamesFileLineAndKey) {
         {"k: 0.05", "k: -1", 26, "water.forward_scatter.k"},
         {"G: [0.3, 0.1, 0.1]", "G: [0.5, 0.1, 0.1]", 26, "water.forward_scatter.G"},
         {"{G: [0.3, 0.1, 0.1], k: 0.05}", "maybe", 26, "water.forward_scatter"},
-        {"{G: [0.3, 0.1, 0.1], k: 0.05}", "{G: [0.3, 0.1, 0.1]}", 26,
-         "water.forward_scatter.k"},
+        {"{G: [0.3, 0.1, 0.1], k: 0.05}", "{G: [0.3, 0.1, 0.1]}", 26, "water.forward_scatter.k"},
         {"  name: mine", "  name: mine\n  preset: jerlov:XX", 23, "water.preset"},
         {"  name: mine", "  name: mine\n  preset: deep:murky", 23, "water.preset"},
         {"  name: mine", "  name: mine\n  preset: petzold", 23, "water.preset"},
@@ -213,9 +210,10 @@ TEST(Config, PresetAndOverrides) {
     EXPECT_NEAR(s.water->b.g, ib.b.g / ib.c.g, 1e-15);
     EXPECT_EQ(s.water->phase.kind, PhaseKind::Isotropic);
 
-    s = parse_setup("water:\n  preset: jerlov:3C\n  scattering: [0.1, 0.1, 0.1]\n"
-                    "  forward_scatter: on\n",
-                    "w.yaml");
+    s = parse_setup(
+        "water:\n  preset: jerlov:3C\n  scattering: [0.1, 0.1, 0.1]\n"
+        "  forward_scatter: on\n",
+        "w.yaml");
     Water expect = jerlov_water("3C");
     expect.b = Rgb(0.1);
     const ForwardScatter fs = default_forward_scatter(expect);
@@ -361,11 +359,11 @@ TEST(Config, SetupToYamlRoundTrips) {
     expect_same(s, parse_setup(yaml, "round.yaml"));
 
     // A preset water with default forward scatter, odd names and values.
-    deepsea::Setup t = parse_setup(
-        kValid.substr(0, kValid.find("water:")) +
-            "water:\n  preset: jerlov:5C\n  name: \"odd: \\\"name\\\"\"\n"
-            "  phase: {petzold: turbid}\n  forward_scatter: on\n",
-        "cfg.yaml");
+    deepsea::Setup t =
+        parse_setup(kValid.substr(0, kValid.find("water:")) +
+                        "water:\n  preset: jerlov:5C\n  name: \"odd: \\\"name\\\"\"\n"
+                        "  phase: {petzold: turbid}\n  forward_scatter: on\n",
+                    "cfg.yaml");
     t.rig->name = "";
     t.camera->cx = 0.1 + 0.2;
     t.rig->lights[0].name = "a # b";

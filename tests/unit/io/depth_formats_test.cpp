@@ -23,8 +23,8 @@ using test::write_bytes;
 class DepthFormats : public test::TempFolderTest {};
 
 std::string npy(const std::string& descr, const std::string& shape, const std::string& data) {
-    std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape +
-                         ", }";
+    std::string header =
+        "{'descr': '" + descr + "', 'fortran_order': False, 'shape': " + shape + ", }";
     while ((10 + header.size() + 1) % 64 != 0) header += ' ';
     header += '\n';
     const auto n = std::uint16_t(header.size());

@@ -1,5 +1,6 @@
 #include "deepsea/io/image_io.h"
 
+#include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -13,8 +14,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
 #include "io_fixtures.h"
@@ -31,8 +30,7 @@ class ImageIo : public test::TempFolderTest {};
 
 Image ramp(int w, int h, int c) {
     Image img(w, h, c);
-    for (std::size_t i = 0; i < img.data.size(); ++i)
-        img.data[i] = float(i % 97) / 96.0f;
+    for (std::size_t i = 0; i < img.data.size(); ++i) img.data[i] = float(i % 97) / 96.0f;
     return img;
 }
 
@@ -112,8 +110,7 @@ TEST_F(ImageIo, Png16RoundTripWithinQuantisation) {
     write_color(path("a.png"), img, 16);
     const Image back = read_color(path("a.png"));
     for (std::size_t i = 0; i < img.data.size(); ++i)
-        EXPECT_NEAR(linear_to_srgb(back.data[i]), linear_to_srgb(img.data[i]),
-                    0.5 / 65535 + 2e-6);
+        EXPECT_NEAR(linear_to_srgb(back.data[i]), linear_to_srgb(img.data[i]), 0.5 / 65535 + 2e-6);
 }
 
 TEST_F(ImageIo, ColourIsClampedAndGreyExpanded) {
@@ -154,8 +151,7 @@ TEST_F(ImageIo, ExrLayersRoundTripExactly) {
     for (auto& v : rgb.data) v = u(rng);
     for (auto& v : depth.data) v = u(rng);
     depth.data[3] = std::numeric_limits<float>::infinity();
-    write_exr_layers(path("l.exr"),
-                     {{"final", &rgb, {"R", "G", "B"}}, {"depth", &depth, {"Z"}}});
+    write_exr_layers(path("l.exr"), {{"final", &rgb, {"R", "G", "B"}}, {"depth", &depth, {"Z"}}});
     EXPECT_EQ(read_exr_layer(path("l.exr"), "final", {"R", "G", "B"}).data, rgb.data);
     EXPECT_EQ(read_exr_layer(path("l.exr"), "depth", {"Z"}).data, depth.data);
     EXPECT_THROW(read_exr_layer(path("l.exr"), "normal", {"X"}), InputError);
@@ -165,9 +161,9 @@ TEST_F(ImageIo, ExrLayersRoundTripExactly) {
 
 TEST_F(ImageIo, ExrLayersOfDifferentSizesAreAnInputError) {
     Image a(4, 4, 3), b(4, 5, 1);
-    EXPECT_THROW(write_exr_layers(path("l.exr"), {{"final", &a, {"R", "G", "B"}},
-                                                  {"depth", &b, {"Z"}}}),
-                 InputError);
+    EXPECT_THROW(
+        write_exr_layers(path("l.exr"), {{"final", &a, {"R", "G", "B"}}, {"depth", &b, {"Z"}}}),
+        InputError);
     EXPECT_TRUE(listing().empty());
 }
 

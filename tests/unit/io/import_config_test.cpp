@@ -1,13 +1,12 @@
 #include "deepsea/io/import_config.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
@@ -20,17 +19,17 @@ namespace fs = std::filesystem;
 
 // A DeepSeaRenderer config as their test set ships it (keys deepsea ignores included).
 const std::string kAuthors =
-    "scale_factor: 10.0\n"                                                               // 1
-    "image_width_height: [800, 800]\n"                                                   // 2
+    "scale_factor: 10.0\n"                                                              // 1
+    "image_width_height: [800, 800]\n"                                                  // 2
     "camera_intrinsic_matrix: [600.0, 0.0, 400.0, 0.0, 600.0, 400.0, 0.0, 0.0, 1.0]\n"  // 3
-    "water_attenuation_RGB: [0.37, 0.044, 0.035]\n"                                      // 4
-    "vsf_type: 1\n"                                                                      // 5
-    "light_spectrum_RGB: [0.25, 0.35, 0.4]\n"                                            // 6
-    "light_RID_type: 1\n"                                                                // 7
-    "num_lights: 2\n"                                                                    // 8
-    "light_positions_XYZ: [[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0]]\n"                         // 9
-    "light_orientations_RollPitchYaw: [[0.0, 0.536, 0.0], [0.0, -0.536, 0.0]]\n"         // 10
-    "refine_depth: false\n";                                                             // 11
+    "water_attenuation_RGB: [0.37, 0.044, 0.035]\n"                                     // 4
+    "vsf_type: 1\n"                                                                     // 5
+    "light_spectrum_RGB: [0.25, 0.35, 0.4]\n"                                           // 6
+    "light_RID_type: 1\n"                                                               // 7
+    "num_lights: 2\n"                                                                   // 8
+    "light_positions_XYZ: [[-0.5, 0.0, 0.0], [0.5, 0.0, 0.0]]\n"                        // 9
+    "light_orientations_RollPitchYaw: [[0.0, 0.536, 0.0], [0.0, -0.536, 0.0]]\n"        // 10
+    "refine_depth: false\n";                                                            // 11
 
 class ImportConfig : public ::testing::Test {
 protected:

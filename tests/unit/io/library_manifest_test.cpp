@@ -1,12 +1,11 @@
 #include "deepsea/io/library_manifest.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
 
@@ -61,8 +60,9 @@ TEST_F(Manifest, ExpandsSortedUniqueCombinations) {
     EXPECT_EQ(*m.bake.z_max, "6");
     EXPECT_EQ(*m.bake.depth_scheme, "sqrt");
     EXPECT_EQ(*m.bake.tolerance, 0.01);
-    const LibraryManifest plain = parse("cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\n"
-                                        "waters: [jerlov:II, deep:clear]\nbake:\n");
+    const LibraryManifest plain = parse(
+        "cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\n"
+        "waters: [jerlov:II, deep:clear]\nbake:\n");
     ASSERT_EQ(plain.entries.size(), 2u);
     EXPECT_EQ(plain.entries[0].name, "cam__a__deep-clear.vdb");
     EXPECT_FALSE(plain.bake.xy_step || plain.bake.z_max || plain.bake.tolerance);
@@ -91,9 +91,10 @@ TEST_F(Manifest, ErrorsNameFileLineAndKey) {
         << preset;
     // Same stem twice: both would write one asset.
     std::ofstream((m_dir / "jerlov-IB.yaml").string()) << "# placeholder\n";
-    EXPECT_NE(error("cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\nwaters: [jerlov:IB, jerlov-IB.yaml]\n")
-                  .find("two entries would both write cam__a__jerlov-IB.vdb"),
-              std::string::npos);
+    EXPECT_NE(
+        error("cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\nwaters: [jerlov:IB, jerlov-IB.yaml]\n")
+            .find("two entries would both write cam__a__jerlov-IB.vdb"),
+        std::string::npos);
 }
 
 TEST_F(Manifest, LoadResolvesPathsAgainstTheManifestsFolder) {

@@ -2,13 +2,12 @@
 // is reported. The camera / rig / water schema on top of it is config_test.cpp.
 #include "yaml_reader.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
 #include "deepsea/optics/schema.h"
@@ -32,13 +31,13 @@ bool starts_with(const std::string& s, const std::string& prefix) {
 }
 
 const std::string kText =
-    "a:\n"            // 1
-    "  x: 1.5\n"      // 2
-    "  n: 3\n"        // 3
-    "  s: \"7\"\n"    // 4
-    "  v: [1, 2]\n"   // 5
-    "  on: true\n"    // 6
-    "b: [4, x]\n";    // 7
+    "a:\n"           // 1
+    "  x: 1.5\n"     // 2
+    "  n: 3\n"       // 3
+    "  s: \"7\"\n"   // 4
+    "  v: [1, 2]\n"  // 5
+    "  on: true\n"   // 6
+    "b: [4, x]\n";   // 7
 
 TEST(YamlReader, TypedGettersNameFileLineAndKey) {
     const Document doc(kText, "f.yaml");
@@ -52,8 +51,8 @@ TEST(YamlReader, TypedGettersNameFileLineAndKey) {
     // A quoted number is a string: strict files do not coerce it.
     EXPECT_TRUE(starts_with(error_of([&] { doc.number(a.need("s")); }), "f.yaml:4: a.s: "));
     EXPECT_TRUE(starts_with(error_of([&] { doc.vec3(a.need("v")); }), "f.yaml:5: a.v: "));
-    EXPECT_TRUE(starts_with(error_of([&] { doc.numbers(top.need("b"), 2, ""); }),
-                            "f.yaml:7: b[1]: "));
+    EXPECT_TRUE(
+        starts_with(error_of([&] { doc.numbers(top.need("b"), 2, ""); }), "f.yaml:7: b[1]: "));
     EXPECT_TRUE(starts_with(error_of([&] { doc.list(a.need("x")); }), "f.yaml:2: a.x: "));
 }
 
@@ -88,10 +87,10 @@ TEST(YamlReader, SyntaxErrorsAndEmptyDocuments) {
 
 TEST(YamlReader, SchemaErrorsAreReportedAtTheLineOfTheirKey) {
     const std::string text =
-        "rig:\n"                                   // 1
-        "  lights:\n"                              // 2
-        "    - intensity: [1, 2, 3]\n"             // 3
-        "      rid: {table: {value: [1, 2]}}\n";   // 4
+        "rig:\n"                                  // 1
+        "  lights:\n"                             // 2
+        "    - intensity: [1, 2, 3]\n"            // 3
+        "      rid: {table: {value: [1, 2]}}\n";  // 4
     const Document doc(text, "r.yaml");
     const MapView top(doc, doc.root(), std::nullopt);
     const MapView rig(doc, top.need("rig"), std::nullopt);
@@ -100,18 +99,17 @@ TEST(YamlReader, SchemaErrorsAreReportedAtTheLineOfTheirKey) {
     const MapView rid(doc, light.need("rid"), std::nullopt);
     const MapView table(doc, rid.need("table"), std::nullopt);
     doc.list(table.need("value"));
-    auto at = [&](const char* key) {
-        return error_of([&] { doc.fail(SchemaError(key, "bad")); });
-    };
-    EXPECT_EQ(at("rig.lights[0].rid.table.value[1]"), "r.yaml:4: rig.lights[0].rid.table.value[1]: bad");
+    auto at = [&](const char* key) { return error_of([&] { doc.fail(SchemaError(key, "bad")); }); };
+    EXPECT_EQ(at("rig.lights[0].rid.table.value[1]"),
+              "r.yaml:4: rig.lights[0].rid.table.value[1]: bad");
     // Not read (a default or derived value): the nearest enclosing value that was.
     EXPECT_EQ(at("rig.lights[0].cutoff_deg"), "r.yaml:3: rig.lights[0].cutoff_deg: bad");
     EXPECT_EQ(at("water.scattering"), "r.yaml:1: water.scattering: bad");
 }
 
 TEST(YamlReader, FilesThatCannotBeReadAreIoErrors) {
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("deepsea-yaml-" + std::to_string(::getpid()));
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("deepsea-yaml-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     EXPECT_THROW(Document::load((dir / "none.yaml").string()), IoError);
     EXPECT_THROW(Document::load(dir.string()), IoError);

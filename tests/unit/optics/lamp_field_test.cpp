@@ -49,12 +49,13 @@ TEST(LampField, TableGivesTheScatteredIrradianceOfARotatedLampAnywhere) {
                          normalize(lamp.position - P)}) {
         const Vec3 p = P - lamp.position;
         double e[3];
-        lamp_field_irradiance(LampFieldView<double>(f), dot(p, ex), dot(p, ey), dot(p, lamp.direction),
-                                      dot(n, ex), dot(n, ey), dot(n, lamp.direction), e[0], e[1], e[2]);
+        lamp_field_irradiance(LampFieldView<double>(f), dot(p, ex), dot(p, ey),
+                              dot(p, lamp.direction), dot(n, ex), dot(n, ey),
+                              dot(n, lamp.direction), e[0], e[1], e[2]);
         float ef[3];
         lamp_field_irradiance(LampFieldView<float>(f), float(dot(p, ex)), float(dot(p, ey)),
-                                     float(dot(p, lamp.direction)), float(dot(n, ex)),
-                                     float(dot(n, ey)), float(dot(n, lamp.direction)), ef[0], ef[1], ef[2]);
+                              float(dot(p, lamp.direction)), float(dot(n, ex)), float(dot(n, ey)),
+                              float(dot(n, lamp.direction)), ef[0], ef[1], ef[2]);
         double sum[3] = {}, sum2 = 0.0;
         const int samples = 100000;
         for (int i = 0; i < samples; ++i) {
@@ -85,9 +86,11 @@ TEST(LampField, NoScatteredLightBeyondTheTable) {
     s.samples = 16;
     const LampField f = bake_lamp_field(lamp, hg_water(), s);
     double e[3];
-    lamp_field_irradiance(LampFieldView<double>(f), 0.0, 0.0, 2.5, 0.0, 0.0, -1.0, e[0], e[1], e[2]);
+    lamp_field_irradiance(LampFieldView<double>(f), 0.0, 0.0, 2.5, 0.0, 0.0, -1.0, e[0], e[1],
+                          e[2]);
     EXPECT_EQ(e[0] + e[1] + e[2], 0.0);
-    lamp_field_irradiance(LampFieldView<double>(f), 0.0, 0.0, 1.5, 0.0, 0.0, -1.0, e[0], e[1], e[2]);
+    lamp_field_irradiance(LampFieldView<double>(f), 0.0, 0.0, 1.5, 0.0, 0.0, -1.0, e[0], e[1],
+                          e[2]);
     EXPECT_GT(e[1], 0.0);
 }
 

@@ -31,9 +31,8 @@ Moments moments(const Phase& p, int n) {
 }  // namespace
 
 TEST(PhaseSampling, SamplesHaveThePhaseFunctionsMeanCosine) {
-    for (PhaseKind k : {PhaseKind::Isotropic, PhaseKind::HenyeyGreenstein,
-                        PhaseKind::PetzoldClear, PhaseKind::PetzoldCoastal,
-                        PhaseKind::PetzoldTurbid}) {
+    for (PhaseKind k : {PhaseKind::Isotropic, PhaseKind::HenyeyGreenstein, PhaseKind::PetzoldClear,
+                        PhaseKind::PetzoldCoastal, PhaseKind::PetzoldTurbid}) {
         const Phase p{k, 0.9};
         const Moments m = moments(p, 400000);
         EXPECT_NEAR(m.w, 1.0, 2e-3) << to_string(k);

@@ -29,9 +29,8 @@ double integrate(const Phase& p, bool times_cos) {
 }  // namespace
 
 TEST(Phase, EveryKindIntegratesToOne) {
-    for (PhaseKind k : {PhaseKind::Isotropic, PhaseKind::HenyeyGreenstein,
-                        PhaseKind::PetzoldClear, PhaseKind::PetzoldCoastal,
-                        PhaseKind::PetzoldTurbid}) {
+    for (PhaseKind k : {PhaseKind::Isotropic, PhaseKind::HenyeyGreenstein, PhaseKind::PetzoldClear,
+                        PhaseKind::PetzoldCoastal, PhaseKind::PetzoldTurbid}) {
         Phase p{k, 0.8};
         EXPECT_NEAR(integrate(p, false), 1.0, 1e-5) << to_string(k);
     }
@@ -56,8 +55,8 @@ TEST(Phase, PetzoldKeepsTheShapeOfTheTable) {
 }
 
 TEST(Phase, PetzoldIsStronglyForward) {
-    for (PhaseKind k : {PhaseKind::PetzoldClear, PhaseKind::PetzoldCoastal,
-                        PhaseKind::PetzoldTurbid}) {
+    for (PhaseKind k :
+         {PhaseKind::PetzoldClear, PhaseKind::PetzoldCoastal, PhaseKind::PetzoldTurbid}) {
         Phase p{k};
         EXPECT_GT(p.mean_cosine(), 0.85) << to_string(k);
         EXPECT_LT(p.mean_cosine(), 0.97) << to_string(k);

@@ -98,7 +98,8 @@ TEST(SphericalHarmonics, ScatteredIrradianceOfOrderTwoMatchesDirectIntegration) 
     for (const Vec3 n : {to_lamp, normalize(cross(to_lamp, Vec3(0, 1, 0))), -to_lamp}) {
         const double e_sh = sh_irradiance(L, n.x, n.y, n.z);
         const double e_mc = n.x == to_lamp.x ? e_face : direct(n);
-        EXPECT_NEAR(e_sh / e_face, e_mc / e_face, 0.07) << "normal " << n.x << " " << n.y << " " << n.z;
+        EXPECT_NEAR(e_sh / e_face, e_mc / e_face, 0.07)
+            << "normal " << n.x << " " << n.y << " " << n.z;
     }
 }
 

@@ -1,3 +1,5 @@
+#include "deepsea/optics/water_presets.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
@@ -5,7 +7,6 @@
 #include "deepsea/core/error.h"
 #include "deepsea/optics/deep_ocean.h"
 #include "deepsea/optics/jerlov.h"
-#include "deepsea/optics/water_presets.h"
 
 namespace deepsea {
 namespace {

@@ -146,9 +146,9 @@ TEST(Compositor, FarAndSentinelDepthsAreFiniteAndBounded) {
     for (const Image* img : {&out.final, &out.direct, &out.forward, &out.backscatter}) {
         for (float x : img->data) ASSERT_TRUE(std::isfinite(x));
     }
-    EXPECT_EQ(out.depth.at(1, 0), 0.0f);         // 1e10: open water
-    EXPECT_EQ(out.depth.at(3, 0), 5e5f);         // a surface, however far
-    EXPECT_EQ(out.direct.at(3, 1, 1), 0.0f);     // exp(-c 5e5 m) underflows
+    EXPECT_EQ(out.depth.at(1, 0), 0.0f);      // 1e10: open water
+    EXPECT_EQ(out.depth.at(3, 0), 5e5f);      // a surface, however far
+    EXPECT_EQ(out.direct.at(3, 1, 1), 0.0f);  // exp(-c 5e5 m) underflows
 }
 
 TEST(Compositor, FinalOnlyGivesTheSameImageWithoutTheOtherLayers) {
@@ -161,8 +161,8 @@ TEST(Compositor, FinalOnlyGivesTheSameImageWithoutTheOtherLayers) {
     comp.composite(out, Frame{f.scene.rgb, f.scene.depth}, LayerSet::Final);
     EXPECT_EQ(out.final.data, all.final.data);
     EXPECT_EQ(out.direct.data, all.direct.data);
-    for (const Image* img : {&out.forward, &out.backscatter, &out.transmission, &out.depth,
-                             &out.normal}) {
+    for (const Image* img :
+         {&out.forward, &out.backscatter, &out.transmission, &out.depth, &out.normal}) {
         EXPECT_TRUE(img->empty());
     }
     comp.composite(out, Frame{f.scene.rgb, f.scene.depth});  // and back to all layers

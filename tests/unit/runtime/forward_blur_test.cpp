@@ -2,13 +2,13 @@
 // over in-image pixels), an impulse spreads with the requested variance at every level
 // (full resolution and downsampled), unblurred pixels stay 0, and the scale applies.
 
+#include "deepsea/runtime/forward_blur.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <vector>
-
-#include "deepsea/runtime/forward_blur.h"
 
 namespace deepsea {
 namespace {

@@ -1,11 +1,10 @@
 #include "deepsea/runtime/frame_jobs.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "deepsea/core/error.h"
 

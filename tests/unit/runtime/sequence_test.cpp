@@ -1,10 +1,10 @@
 #include "deepsea/runtime/sequence.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
