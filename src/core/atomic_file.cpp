@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "deepsea/core/error.h"
 
@@ -54,6 +55,15 @@ void write_atomically(const std::string& path,
         cleanup();
         throw IoError(path + ": cannot rename the temporary file: " + ec.message());
     }
+}
+
+void write_text_atomically(const std::string& path, const std::string& text) {
+    write_atomically(path, [&](const std::string& tmp) {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text;
+        f.close();
+        if (!f) throw IoError("cannot write " + path);
+    });
 }
 
 }  // namespace deepsea

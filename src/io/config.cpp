@@ -389,13 +389,7 @@ std::string setup_to_yaml(const Setup& s) {
 }
 
 void write_setup(const std::string& path, const Setup& setup, const std::string& comment) {
-    const std::string text = comment + setup_to_yaml(setup);
-    write_atomically(path, [&](const std::string& tmp) {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text;
-        f.close();
-        if (!f) throw IoError("cannot write " + path);
-    });
+    write_text_atomically(path, comment + setup_to_yaml(setup));
 }
 
 }  // namespace deepsea

@@ -152,13 +152,7 @@ std::string import_config(const std::string& path) {
 }
 
 void import_config(const std::string& path, const std::string& output) {
-    const std::string text = import_config(path);
-    write_atomically(output, [&](const std::string& tmp) {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text;
-        f.close();
-        if (!f) throw IoError("cannot write " + output);
-    });
+    write_text_atomically(output, import_config(path));
 }
 
 }  // namespace deepsea

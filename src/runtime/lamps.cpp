@@ -62,38 +62,32 @@ void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restr
     }
 }
 
-/// Adds one lamp's scattered light (its baked field, per unit intensity) to the planar row.
+/// Adds one lamp's scattered light (its baked field, per unit intensity) to the planar row
+/// (er, eg, eb); surface points (x, y, z) with normals (nx, ny, nz), open water where z == 0.
 DEEPSEA_CLONES
-void add_scattered(const Light& L, const LampField& field, const RowGeometry& g,
-                   float* __restrict e) {
-    const int n = g.n;
+void add_scattered(const Light& L, const LampField& field, int n, const float* __restrict x,
+                   const float* __restrict y, const float* __restrict z, const float* __restrict nx,
+                   const float* __restrict ny, const float* __restrict nz, float* __restrict er,
+                   float* __restrict eg, float* __restrict eb) {
     Vec3 ex, ey;
     lamp_frame(L.direction, ex, ey);
     const LampFieldView<float> f(field);
-    const float lx = float(L.position.x), ly = float(L.position.y), lz = float(L.position.z);
-    const float xx = float(ex.x), xy = float(ex.y), xz = float(ex.z);
-    const float yx = float(ey.x), yy = float(ey.y), yz = float(ey.z);
-    const float ax = float(L.direction.x), ay = float(L.direction.y), az = float(L.direction.z);
+    const Vec3T<float> o{float(L.position.x), float(L.position.y), float(L.position.z)};
+    const Vec3T<float> fx{float(ex.x), float(ex.y), float(ex.z)};
+    const Vec3T<float> fy{float(ey.x), float(ey.y), float(ey.z)};
+    const Vec3T<float> fz{float(L.direction.x), float(L.direction.y), float(L.direction.z)};
     const float ir = float(L.intensity.r), ig = float(L.intensity.g), ib = float(L.intensity.b);
-    float* __restrict er = e;
-    float* __restrict eg = e + n;
-    float* __restrict eb = e + 2 * n;
-    const float* __restrict px = g.x;
-    const float* __restrict py = g.y;
-    const float* __restrict pz = g.z;
-    const float* __restrict nx = g.nx;
-    const float* __restrict ny = g.ny;
-    const float* __restrict nz = g.nz;
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
         // into the lamp frame: the equation is optics' (lamp_field.h)
-        const float qx = px[u] - lx, qy = py[u] - ly, qz = pz[u] - lz;
+        const float qx = x[u] - o.x, qy = y[u] - o.y, qz = z[u] - o.z;
         float sr, sg, sb;
-        lamp_field_irradiance(f, xx * qx + xy * qy + xz * qz, yx * qx + yy * qy + yz * qz,
-                              ax * qx + ay * qy + az * qz, xx * nx[u] + xy * ny[u] + xz * nz[u],
-                              yx * nx[u] + yy * ny[u] + yz * nz[u],
-                              ax * nx[u] + ay * ny[u] + az * nz[u], sr, sg, sb);
-        const float surf = pz[u] > 0.0f ? 1.0f : 0.0f;
+        lamp_field_irradiance(f, fx.x * qx + fx.y * qy + fx.z * qz,
+                              fy.x * qx + fy.y * qy + fy.z * qz, fz.x * qx + fz.y * qy + fz.z * qz,
+                              fx.x * nx[u] + fx.y * ny[u] + fx.z * nz[u],
+                              fy.x * nx[u] + fy.y * ny[u] + fy.z * nz[u],
+                              fz.x * nx[u] + fz.y * ny[u] + fz.z * nz[u], sr, sg, sb);
+        const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
         er[u] += surf * ir * sr;
         eg[u] += surf * ig * sg;
         eb[u] += surf * ib * sb;
@@ -122,7 +116,8 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
         }
     }
     for (std::size_t l = 0; l < m_scattered.size(); ++l) {
-        add_scattered(m_rig.lights[l], m_scattered[l], g, out);
+        add_scattered(m_rig.lights[l], m_scattered[l], n, g.x, g.y, g.z, g.nx, g.ny, g.nz, out,
+                      out + n, out + 2 * n);
     }
 }
 

@@ -15,6 +15,10 @@ namespace deepsea {
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& tmp)>& write);
 
+/// write_atomically for a text file: `text` as it is (binary mode). IoError naming `path` when
+/// the stream fails (disk full).
+void write_text_atomically(const std::string& path, const std::string& text);
+
 /// Throws IoError naming `path` unless its folder exists and is writable.
 void require_writable_folder(const std::string& path);
 
