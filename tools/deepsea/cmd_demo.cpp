@@ -26,11 +26,13 @@ struct DemoArgs {
     std::string config = std::string(DEEPSEA_SOURCE_DIR) + "/volumes/demo.yaml";
     int frames = 8;
     std::uint64_t seed = 1;
+    std::string scattering = "multiple";
 };
 
 /// The asset for the demo setup: reuse `path` if its inputs are unchanged, else bake it.
-Asset demo_asset(const Setup& setup, const std::string& path) {
+Asset demo_asset(const Setup& setup, const std::string& path, Scattering scattering) {
     BakeSettings settings;
+    settings.scattering = scattering;
     if (fs::exists(path)) {
         try {
             const std::string want =
@@ -93,7 +95,8 @@ void run(const DemoArgs& a) {
     std::printf("scene: %d frames in %s\n", a.frames, input.c_str());
 
     // 2. the asset, 3. the sequence
-    const Asset asset = demo_asset(setup, (out / "demo.vdb").string());
+    const Asset asset =
+        demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering));
     SequenceOptions opt;
     Progress bar("render", a.frames);
     opt.progress = [&](int done, int) { bar.update(done); };
@@ -129,6 +132,9 @@ void setup_demo(CLI::App& sub) {
     sub.add_option("--config", a->config, "setup YAML (camera, rig, water)");
     sub.add_option("--frames", a->frames, "frames to generate and render");
     sub.add_option("--seed", a->seed, "seafloor seed");
+    sub.add_option("--scattering", a->scattering,
+                   "the asset's water light: multiple (all orders) or single (the paper's model)")
+        ->capture_default_str();
     sub.callback([a] { run(*a); });
 }
 

@@ -110,6 +110,10 @@ void run(const InfoArgs& a) {
             "%.2f %% of the total\n",
             h.paths, h.stride, static_cast<unsigned long long>(h.seed), 100.0 * h.fraction,
             100.0 * h.rel_std_error);
+        std::printf(
+            "           scattered lamp light at surfaces: %zu lamp table(s), %d directions "
+            "per node, standard error %.2f %% (facing the lamp, mean over nodes)\n",
+            b.rig.lights.size(), h.lamp_samples, 100.0 * h.lamp_rel_std_error);
     } else {
         std::printf("scattering single (the paper's model, exact)\n");
     }
