@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <utility>
 
 #include "deepsea/optics/backscatter.h"
@@ -60,6 +61,8 @@ TEST(MultipleScattering, ConservesEnergyInWaterThatOnlyScatters) {
         const auto [flux, se] = scattered_flux(tr, R, 60000, rng);
         EXPECT_LT(se / expected, max_se) << to_string(p.kind);
         EXPECT_NEAR(flux / expected, 1.0, 4.0 * se / expected) << to_string(p.kind);
+        std::printf("%-18s scattered flux / P (1 - exp(-b R)) = %.4f +- %.4f\n", to_string(p.kind),
+                    flux / expected, se / expected);
     }
 }
 

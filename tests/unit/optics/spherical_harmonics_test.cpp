@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "deepsea/core/random.h"
 #include "deepsea/optics/multiple_scattering.h"
@@ -98,6 +99,8 @@ TEST(SphericalHarmonics, ScatteredIrradianceOfOrderTwoMatchesDirectIntegration) 
     for (const Vec3 n : {to_lamp, normalize(cross(to_lamp, Vec3(0, 1, 0))), -to_lamp}) {
         const double e_sh = sh_irradiance(L, n.x, n.y, n.z);
         const double e_mc = n.x == to_lamp.x ? e_face : direct(n);
+        std::printf("normal . to_lamp %+.2f: E_sh / E_face %.4f, E_direct / E_face %.4f\n",
+                    dot(n, to_lamp), e_sh / e_face, e_mc / e_face);
         EXPECT_NEAR(e_sh / e_face, e_mc / e_face, 0.07)
             << "normal " << n.x << " " << n.y << " " << n.z;
     }
