@@ -52,6 +52,7 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     const bool all = set == LayerSet::All;
     const bool forward = m_water.forward.enabled;
     if (m_d2.width != W || m_d2.height != H) m_d2 = Image(W, H, 1);
+    if (forward && (m_surface.width != W || m_surface.height != H)) m_surface = Image(W, H, 3);
     if (int(m_rx.size()) != W) {
         m_rx.resize(W);
         for (int u = 0; u < W; ++u) m_rx[u] = float((u - cam.cx) / cam.fx);
@@ -112,7 +113,7 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
 
         const float* J = f.rgb.row(v);
         kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, c,
-                           dst.direct.row(v), m_d2.row(v));
+                           dst.direct.row(v), m_d2.row(v), forward ? m_surface.row(v) : nullptr);
         // final starts as B; the second pass adds D + F.
         float* B = dst.final.row(v);
         kernels::interleave(W, s.b.data(), B);
@@ -127,8 +128,10 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
         std::copy(s.z.begin(), s.z.begin() + W, dst.depth.row(v));
     });
 
-    // Forward scatter blurs D by sigma = sigma_per_m * d2 pixels; d2 is 0 for open water.
-    if (forward) m_blur.prepare(dst.direct, m_d2, float(sigma_per_m));
+    // Forward scatter blurs the surface radiance (not D: w(d2) carries the path to the camera,
+    // D's own exp(-c d2) would attenuate it twice) by sigma = sigma_per_m * d2 pixels; d2 is 0
+    // for open water.
+    if (forward) m_blur.prepare(m_surface, m_d2, float(sigma_per_m));
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
                         float(m_water.forward.G.b)};
     tbb::parallel_for(0, H, [&](int v) {

@@ -15,7 +15,8 @@ namespace deepsea::kernels {
 DEEPSEA_CLONES
 void shade_row(int n, const float* __restrict x, const float* __restrict y,
                const float* __restrict z, const float* __restrict e, const float* __restrict J,
-               const float c[3], float* __restrict D, float* __restrict d2out) {
+               const float c[3], float* __restrict D, float* __restrict d2out,
+               float* __restrict L) {
     const float cr = c[0], cg = c[1], cb = c[2];
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
@@ -25,6 +26,14 @@ void shade_row(int n, const float* __restrict x, const float* __restrict y,
         D[3 * u] = surf * direct_signal(J[3 * u], e[u], cr, d2);
         D[3 * u + 1] = surf * direct_signal(J[3 * u + 1], e[n + u], cg, d2);
         D[3 * u + 2] = surf * direct_signal(J[3 * u + 2], e[2 * n + u], cb, d2);
+    }
+    if (!L) return;
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
+        L[3 * u] = surf * direct_signal(J[3 * u], e[u], cr, 0.0f);
+        L[3 * u + 1] = surf * direct_signal(J[3 * u + 1], e[n + u], cg, 0.0f);
+        L[3 * u + 2] = surf * direct_signal(J[3 * u + 2], e[2 * n + u], cb, 0.0f);
     }
 }
 

@@ -6,9 +6,10 @@
 namespace deepsea::kernels {
 
 /// Per pixel of a row: d2 = |P| (0 for open water, where P = 0), D = J/pi * E * exp(-c d2)
-/// (0 for open water). E is planar RGB irradiance; J, D interleaved RGB; d2 out.
+/// (0 for open water). E is planar RGB irradiance; J, D interleaved RGB; d2 out. If L is not
+/// null it receives the surface radiance J/pi * E (interleaved), what forward scatter blurs.
 void shade_row(int n, const float* x, const float* y, const float* z, const float* e_planar,
-               const float* J, const float c[3], float* D, float* d2);
+               const float* J, const float c[3], float* D, float* d2, float* L = nullptr);
 
 }  // namespace deepsea::kernels
 

@@ -47,10 +47,11 @@ Rgb get(const Image& img, int u, int v) {
     return {p[0], p[1], p[2]};
 }
 
-/// Exact forward scatter: every pixel gathers the direct signal with its own Gaussian
-/// (sigma from its own distance), truncated at 4 sigma and normalised over in-image pixels.
+/// Exact forward scatter: every pixel gathers the surface radiance (the direct signal before
+/// the path to the camera: w(d) carries that path) with its own Gaussian (sigma from its own
+/// distance), truncated at 4 sigma and normalised over in-image pixels.
 void forward_scatter_exact(const Camera& cam, const Water& water, const Image& zdepth,
-                           Layers& out) {
+                           const Image& surface, Layers& out) {
     const ForwardScatter& fs = water.forward;
     tbb::parallel_for(0, cam.height, [&](int v) {
         std::vector<double> g;
@@ -64,7 +65,7 @@ void forward_scatter_exact(const Camera& cam, const Water& water, const Image& z
                                           max_forward_sigma_px(cam.width, cam.height));
             Rgb blurred;
             if (sigma < 0.25) {
-                blurred = get(out.direct, u, v);
+                blurred = get(surface, u, v);
             } else {
                 const int r = int(std::ceil(4.0 * sigma));
                 g.resize(2 * r + 1);
@@ -74,7 +75,7 @@ void forward_scatter_exact(const Camera& cam, const Water& water, const Image& z
                     const double gy = g[y - v + r];
                     for (int x = std::max(0, u - r); x <= std::min(cam.width - 1, u + r); ++x) {
                         const double k = gy * g[x - u + r];
-                        blurred += get(out.direct, x, y) * k;
+                        blurred += get(surface, x, y) * k;
                         wsum += k;
                     }
                 }
@@ -93,6 +94,8 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
     Layers out;
     out.resize(cam.width, cam.height);
     const double z_open = open_water_depth(water, opt);
+    // Surface radiance J/pi E: what the forward blur spreads.
+    Image surface(cam.width, cam.height, 3);
 
     auto body = [&] {
         tbb::parallel_for(0, cam.height, [&](int v) {
@@ -104,7 +107,9 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
                     const Vec3 P = r * z;
                     const Vec3 n = surface_normal(cam, zdepth, u, v);
                     const double d2 = length(P);
-                    put(out.direct, u, v, direct_radiance(rig, water, P, n, get(rgb, u, v)));
+                    const Rgb L = surface_radiance(rig, water, P, n, get(rgb, u, v));
+                    put(surface, u, v, L);
+                    put(out.direct, u, v, L * transmission(water.c, d2));
                     put(out.transmission, u, v, transmission(water.c, d2));
                     put(out.normal, u, v, {n.x, n.y, n.z});
                     out.depth.at(u, v) = float(z);
@@ -117,7 +122,7 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
                 }
             }
         });
-        if (water.forward.enabled) forward_scatter_exact(cam, water, zdepth, out);
+        if (water.forward.enabled) forward_scatter_exact(cam, water, zdepth, surface, out);
     };
     in_arena(par.threads, body);
     for (std::size_t i = 0; i < out.final.data.size(); ++i) {

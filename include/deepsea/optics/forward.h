@@ -1,6 +1,8 @@
 #pragma once
 /// \file Jaffe-McGlamery forward scatter terms (docs/model.md, "Forward scatter"):
-/// F = w(d2) * (G_sigma(d2) * D), the blur done by the renderer, these two factors here.
+/// F = w(d2) * (G_sigma(d2) * L_s), L_s = J/pi E the surface radiance before the path to the
+/// camera (w carries that path: blurring D would attenuate twice); the blur is done by the
+/// renderer, these two factors here.
 
 #include <cmath>
 

@@ -34,6 +34,7 @@ private:
     ForwardBlur m_blur;
     std::vector<float> m_rx;  ///< (u - cx) / fx per column
     Image m_d2;               ///< camera-to-surface distance per pixel, metres (0 for open water)
+    Image m_surface;  ///< surface radiance J/pi E (forward scatter on): what the blur spreads
 };
 
 }  // namespace deepsea

@@ -215,3 +215,35 @@ TEST(AssetBackscatter, ResamplesTheSameViewAtAnotherResolution) {
 }
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+TEST(Compositor, ForwardScatterIsAttenuatedOnce) {
+    // A flat, uniformly grey plane facing the camera at 3 m in Jerlov 3C water. Light scattered
+    // within the small forward cone is not lost from the image: direct + forward decay together
+    // as exp(-G d), G = c - f b, so F / D = w / T = exp((c - G) d) - 1 at the image centre (the
+    // lamp light varies slowly there against the blur). Blurring D, which already carries
+    // exp(-c d), gave 0.15 here instead of about 1.6.
+    const Camera cam = testing::small_camera();
+    Water water = jerlov_water("3C");
+    water.forward = default_forward_scatter(water);
+    water.forward.enabled = true;
+    const double d = 3.0;
+    Frame frame{Image(cam.width, cam.height, 3, 0.5f), Image(cam.width, cam.height, 1, float(d))};
+    const Asset asset = bake(cam, testing::two_lamps(), water, BakeSettings{});
+    const AnalyticLamps lamps(testing::two_lamps(), water);
+    const AssetBackscatter backscatter(asset, cam);
+    Compositor comp(cam, water, lamps, backscatter);
+    Layers out;
+    comp.composite(out, frame);
+    const int u = cam.width / 2, v = cam.height / 2;
+    const double d2 = length(cam.ray(u, v) * d);
+    for (int c = 0; c < 3; ++c) {
+        const double expect = std::exp((water.c[c] - water.forward.G[c]) * d2) - 1.0;
+        const double got = out.forward.at(u, v, c) / out.direct.at(u, v, c);
+        std::printf("channel %d: F / D = %.3f, exp((c - G) d) - 1 = %.3f\n", c, got, expect);
+        EXPECT_NEAR(got, expect, 0.03 * expect);
+    }
+}
+
+}  // namespace deepsea
