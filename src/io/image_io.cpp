@@ -160,7 +160,7 @@ int depth_channel(const std::string& path, const std::vector<std::string>& names
         if (l == "z" || l == "depth" || l == "depth.z") found = i, ++count;
     }
     if (count == 1) return found;
-    throw InputError(path + " has channels " + join(names) + ": choose one with --depth-channel");
+    throw InputError(path + " has channels " + join(names) + ": name the depth channel to use");
 }
 
 bool is_linear_extension(const std::string& ext) {

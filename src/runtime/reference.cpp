@@ -97,34 +97,39 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
     // Surface radiance J/pi E: what the forward blur spreads.
     Image surface(cam.width, cam.height, 3);
 
-    auto body = [&] {
-        tbb::parallel_for(0, cam.height, [&](int v) {
-            for (int u = 0; u < cam.width; ++u) {
-                const Vec3 r = cam.ray(u, v);
-                const Vec3 dir = normalize(r);
-                const double z = zdepth.at(u, v);
-                if (has_surface(z)) {
-                    const Vec3 P = r * z;
-                    const Vec3 n = surface_normal(cam, zdepth, u, v);
-                    const double d2 = length(P);
-                    const Rgb L = surface_radiance(rig, water, P, n, get(rgb, u, v));
-                    put(surface, u, v, L);
-                    put(out.direct, u, v, L * transmission(water.c, d2));
-                    put(out.transmission, u, v, transmission(water.c, d2));
-                    put(out.normal, u, v, {n.x, n.y, n.z});
-                    out.depth.at(u, v) = float(z);
-                    put(out.backscatter, u, v,
-                        backscatter_integral(rig, water, dir, 0.0, d2, opt.quadrature).value);
-                } else {
-                    const double t = z_open * length(r);
-                    put(out.backscatter, u, v,
-                        backscatter_integral(rig, water, dir, 0.0, t, opt.quadrature).value);
+    // Rows in parallel; progress (and cancelling) per row.
+    parallel_for(
+        std::size_t(cam.height),
+        [&](std::size_t begin, std::size_t end) {
+            for (int v = int(begin); v < int(end); ++v) {
+                for (int u = 0; u < cam.width; ++u) {
+                    const Vec3 r = cam.ray(u, v);
+                    const Vec3 dir = normalize(r);
+                    const double z = zdepth.at(u, v);
+                    if (has_surface(z)) {
+                        const Vec3 P = r * z;
+                        const Vec3 n = surface_normal(cam, zdepth, u, v);
+                        const double d2 = length(P);
+                        const Rgb L = surface_radiance(rig, water, P, n, get(rgb, u, v));
+                        put(surface, u, v, L);
+                        put(out.direct, u, v, L * transmission(water.c, d2));
+                        put(out.transmission, u, v, transmission(water.c, d2));
+                        put(out.normal, u, v, {n.x, n.y, n.z});
+                        out.depth.at(u, v) = float(z);
+                        put(out.backscatter, u, v,
+                            backscatter_integral(rig, water, dir, 0.0, d2, opt.quadrature).value);
+                    } else {
+                        const double t = z_open * length(r);
+                        put(out.backscatter, u, v,
+                            backscatter_integral(rig, water, dir, 0.0, t, opt.quadrature).value);
+                    }
                 }
             }
-        });
-        if (water.forward.enabled) forward_scatter_exact(cam, water, zdepth, surface, out);
-    };
-    in_arena(par.threads, body);
+        },
+        par.or_grain(1));
+    if (water.forward.enabled) {
+        in_arena(par.threads, [&] { forward_scatter_exact(cam, water, zdepth, surface, out); });
+    }
     for (std::size_t i = 0; i < out.final.data.size(); ++i) {
         out.final.data[i] = out.direct.data[i] + out.forward.data[i] + out.backscatter.data[i];
     }

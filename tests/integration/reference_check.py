@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Independent NumPy implementation of DESIGN.md section 2 (direct signal and single-scattering
+"""Independent NumPy implementation of docs/model.md (direct signal and single-scattering
 backscatter) for planar scenes, compared with `deepsea reference`.
 
 It shares no code with the C++ library: its own ray set-up, analytic plane normal, Gaussian RID,

@@ -1,5 +1,5 @@
 #pragma once
-/// \file Exact single-scattering backscatter along a viewing ray (DESIGN.md section 2).
+/// \file Exact single-scattering backscatter along a viewing ray (docs/model.md, "Backscatter").
 /// t is the path length from the camera along the unit viewing direction; the integral
 /// runs in t (dt = dz / cos(phi)), never with the paper's dz * cos(phi) weight.
 

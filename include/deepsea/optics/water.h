@@ -8,7 +8,7 @@
 
 namespace deepsea {
 
-/// Jaffe-McGlamery forward scatter (DESIGN.md section 2): F = w(d) * (G_sigma(d) * D),
+/// Jaffe-McGlamery forward scatter (docs/model.md): F = w(d) * (G_sigma(d) * L_s),
 /// w(d) = exp(-G d) - exp(-c d), blur sigma in pixels = fx * k * d.
 struct ForwardScatter {
     bool enabled = false;

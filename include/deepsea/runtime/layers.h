@@ -1,5 +1,6 @@
 #pragma once
-/// \file The decomposition every renderer produces (DESIGN.md section 4), in linear radiance.
+/// \file The decomposition every renderer produces (docs/model.md, "Image"; docs/runtime.md), in
+/// linear radiance.
 
 #include <string>
 

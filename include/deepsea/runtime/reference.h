@@ -25,7 +25,7 @@ double open_water_depth(const Water& water, const ReferenceOptions& opt);
 /// Renders direct, forward, backscatter, transmission, depth and normal layers exactly.
 /// rgb: linear albedo, 3 channels; zdepth: planar depth in metres, 1 channel, same size as rgb
 /// and as the camera (InputError otherwise). Non-finite or <= 0 depth is open water.
-/// Runs on par.threads workers; par.progress is not called yet (the rows run as one task).
+/// Runs on par.threads workers; par.progress is called per image row (false cancels).
 Layers render_reference(const Camera& camera, const Rig& rig, const Water& water, const Image& rgb,
                         const Image& zdepth, const ReferenceOptions& opt = {},
                         const Parallel& par = {});

@@ -1,5 +1,5 @@
 #pragma once
-/// \file The compositor's two light sources, behind small interfaces (DESIGN.md section 2):
+/// \file The compositor's two light sources, behind small interfaces (docs/architecture.md):
 /// "how much lamp light reaches this surface point" and "how much water light is added along
 /// this ray". Analytic lamps and the baked backscatter asset implement them today; baked
 /// multiple-scattering fields can replace either without touching the compositor.

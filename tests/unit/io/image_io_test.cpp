@@ -191,7 +191,7 @@ TEST_F(ImageIo, SeveralDepthChannelsNeedAChoice) {
         FAIL() << "expected InputError";
     } catch (const InputError& e) {
         const std::string msg = e.what();
-        EXPECT_NE(msg.find("rgb.exr has channels R, G, B: choose one with --depth-channel"),
+        EXPECT_NE(msg.find("rgb.exr has channels R, G, B: name the depth channel to use"),
                   std::string::npos)
             << msg;
     }

@@ -1,4 +1,4 @@
-// "No allocation per frame after the first" (DESIGN.md section 4), counted: this test binary
+// "No allocation per frame after the first" (docs/runtime.md), counted: this test binary
 // replaces the global operator new with one that counts calls, then composites frames of one
 // size: on one thread none after the first allocates; on all threads only each worker's first
 // rows do.
