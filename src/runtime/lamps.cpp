@@ -4,11 +4,13 @@
 
 #include "deepsea/runtime/lamps.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "clones.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/lamp.h"
+#include "deepsea/optics/normals.h"
 
 namespace deepsea {
 
@@ -62,39 +64,140 @@ void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restr
     }
 }
 
-/// Adds one lamp's scattered light (its baked field, per unit intensity) to the planar row
-/// (er, eg, eb); surface points (x, y, z) with normals (nx, ny, nz), open water where z == 0.
+/// Pixels between the points where the scattered light's coefficients are computed: the
+/// field varies on the scale of its table (5 degrees, 15 % in distance): interpolating over
+/// 8 px stays within 1 % of the exact value (measured 0.6 %; 16 px: 1.4 %), at an eighth of the
+/// table lookups (AnalyticLamps.InterpolatedScatteredLightMatchesExactOnSmoothSurfaces).
+constexpr int kScatterStep = 8;
+
+/// Adds one lamp's scattered light, as quadratic-form coefficients (camera frame, times the
+/// lamp's intensity), at K points (x, y, z) to the planes C[(c * kQuadraticCount + i) * K + k].
 DEEPSEA_CLONES
-void add_scattered(const Light& L, const LampField& field, int n, const float* __restrict x,
-                   const float* __restrict y, const float* __restrict z, const float* __restrict nx,
-                   const float* __restrict ny, const float* __restrict nz, float* __restrict er,
-                   float* __restrict eg, float* __restrict eb) {
+void add_scattered_coefficients(const Light& L, const LampField& field, int K,
+                                const float* __restrict x, const float* __restrict y,
+                                const float* __restrict z, float* __restrict tmp,
+                                float* __restrict C) {
     Vec3 ex, ey;
     lamp_frame(L.direction, ex, ey);
     const LampFieldView<float> f(field);
-    const Vec3T<float> o{float(L.position.x), float(L.position.y), float(L.position.z)};
-    const Vec3T<float> fx{float(ex.x), float(ex.y), float(ex.z)};
-    const Vec3T<float> fy{float(ey.x), float(ey.y), float(ey.z)};
-    const Vec3T<float> fz{float(L.direction.x), float(L.direction.y), float(L.direction.z)};
-    const float ir = float(L.intensity.r), ig = float(L.intensity.g), ib = float(L.intensity.b);
+    const float ox = float(L.position.x), oy = float(L.position.y), oz = float(L.position.z);
+    const float exx = float(ex.x), exy = float(ex.y), exz = float(ex.z);
+    const float eyx = float(ey.x), eyy = float(ey.y), eyz = float(ey.z);
+    const float ax = float(L.direction.x), ay = float(L.direction.y), az = float(L.direction.z);
 #pragma omp simd
-    for (int u = 0; u < n; ++u) {
+    for (int k = 0; k < K; ++k) {
         // into the lamp frame: the equation is optics' (lamp_field.h)
-        const float qx = x[u] - o.x, qy = y[u] - o.y, qz = z[u] - o.z;
-        float sr, sg, sb;
-        lamp_field_irradiance(f, fx.x * qx + fx.y * qy + fx.z * qz,
-                              fy.x * qx + fy.y * qy + fy.z * qz, fz.x * qx + fz.y * qy + fz.z * qz,
-                              fx.x * nx[u] + fx.y * ny[u] + fx.z * nz[u],
-                              fy.x * nx[u] + fy.y * ny[u] + fy.z * nz[u],
-                              fz.x * nx[u] + fz.y * ny[u] + fz.z * nz[u], sr, sg, sb);
-        const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
-        er[u] += surf * ir * sr;
-        eg[u] += surf * ig * sg;
-        eb[u] += surf * ib * sb;
+        const float qx = x[k] - ox, qy = y[k] - oy, qz = z[k] - oz;
+        lamp_field_quadratic(f, exx, exy, exz, eyx, eyy, eyz, ax, ay, az,
+                             exx * qx + exy * qy + exz * qz, eyx * qx + eyy * qy + eyz * qz,
+                             ax * qx + ay * qy + az * qz, tmp + k, K);
+    }
+    for (int c = 0; c < 3; ++c) {
+        const float I = float(L.intensity[c]);
+        float* __restrict dst = C + c * kQuadraticCount * K;
+        const float* __restrict src = tmp + c * kQuadraticCount * K;
+#pragma omp simd
+        for (int i = 0; i < kQuadraticCount * K; ++i) dst[i] += I * src[i];
+    }
+}
+
+/// Adds the coefficients' irradiance to a planar row of n pixels, the coefficients (planes of K
+/// points, every kScatterStep pixels and the last) linear between points: E(n) = the quadratic
+/// form at the pixel's normal. Pixels whose depth is not on the surface of both neighbouring
+/// points (or open water) are skipped and flagged: the caller evaluates them exactly.
+DEEPSEA_CLONES
+void add_interpolated(int n, int K, const float* C, const float* __restrict z,
+                      const float* __restrict nx, const float* __restrict ny,
+                      const float* __restrict nz, float* __restrict er, float* __restrict eg,
+                      float* __restrict eb, unsigned char* __restrict flag) {
+    for (int k = 0; k + 1 < K || (K == 1 && k == 0); ++k) {
+        const int u0 = k * kScatterStep, ub = std::min(u0 + kScatterStep, n - 1);
+        const int u1 = k + 2 >= K ? n : ub;  // the last segment includes the last pixel
+        const int k1 = K == 1 ? k : k + 1;
+        float c0[3 * kQuadraticCount], dc[3 * kQuadraticCount];
+        for (int i = 0; i < 3 * kQuadraticCount; ++i) {
+            c0[i] = C[i * K + k];
+            dc[i] = C[i * K + k1] - c0[i];
+        }
+        const float za = z[u0], zb = z[ub];
+        const float inv = ub > u0 ? 1.0f / float(ub - u0) : 0.0f;
+#pragma omp simd
+        for (int u = u0; u < u1; ++u) {
+            const float zu = z[u];
+            const bool same =
+                zu > 0.0f && za > 0.0f && zb > 0.0f && same_surface(za, zu) && same_surface(zb, zu);
+            flag[u] = zu > 0.0f && !same ? 1 : 0;
+            const float w = float(u - u0) * inv;
+            const float x = nx[u], y = ny[u], zz = nz[u];
+            const float m[kQuadraticCount] = {
+                1.0f, x, y, zz, x * x, y * y, zz * zz, 2.0f * x * y, 2.0f * x * zz, 2.0f * y * zz};
+            float E[3];
+#pragma GCC unroll 3
+            for (int c = 0; c < 3; ++c) {
+                E[c] = 0.0f;
+#pragma GCC unroll 10
+                for (int i = 0; i < kQuadraticCount; ++i) {
+                    E[c] += (c0[c * kQuadraticCount + i] + w * dc[c * kQuadraticCount + i]) * m[i];
+                }
+            }
+            er[u] += same && E[0] > 0.0f ? E[0] : 0.0f;
+            eg[u] += same && E[1] > 0.0f ? E[1] : 0.0f;
+            eb[u] += same && E[2] > 0.0f ? E[2] : 0.0f;
+        }
     }
 }
 
 }  // namespace
+
+void AnalyticLamps::add_scattered(const RowGeometry& g, float* out) const {
+    const int n = g.n;
+    if (n < 1) return;
+    // Points every kScatterStep pixels and the last one.
+    const int K = (n - 1 + kScatterStep - 1) / kScatterStep + 1;
+    thread_local std::vector<float> px, py, pz, tmp, C;
+    thread_local std::vector<unsigned char> flag;
+    px.resize(K);
+    py.resize(K);
+    pz.resize(K);
+    for (int k = 0; k < K; ++k) {
+        const int u = std::min(k * kScatterStep, n - 1);
+        px[k] = g.x[u];
+        py[k] = g.y[u];
+        pz[k] = g.z[u];
+    }
+    tmp.resize(3 * kQuadraticCount * std::size_t(K));
+    C.assign(3 * kQuadraticCount * std::size_t(K), 0.0f);
+    flag.resize(n);
+    for (std::size_t l = 0; l < m_scattered.size(); ++l) {
+        add_scattered_coefficients(m_rig.lights[l], m_scattered[l], K, px.data(), py.data(),
+                                   pz.data(), tmp.data(), C.data());
+    }
+    add_interpolated(n, K, C.data(), g.z, g.nx, g.ny, g.nz, out, out + n, out + 2 * n, flag.data());
+    // Pixels across a depth edge from a coefficient point: the same sum of the lamps'
+    // quadratic forms, at the pixel itself.
+    for (int u = 0; u < n; ++u) {
+        if (!flag[u]) continue;
+        const Vec3 P(g.x[u], g.y[u], g.z[u]);
+        double q[3 * kQuadraticCount] = {}, ql[3 * kQuadraticCount];
+        for (std::size_t l = 0; l < m_scattered.size(); ++l) {
+            const Light& L = m_rig.lights[l];
+            Vec3 ex, ey;
+            lamp_frame(L.direction, ex, ey);
+            const Vec3 p = P - L.position;
+            const Vec3& a = L.direction;
+            lamp_field_quadratic(LampFieldView<double>(m_scattered[l]), ex.x, ex.y, ex.z, ey.x,
+                                 ey.y, ey.z, a.x, a.y, a.z, dot(p, ex), dot(p, ey), dot(p, a), ql,
+                                 1);
+            for (int i = 0; i < 3 * kQuadraticCount; ++i)
+                q[i] += L.intensity[i / kQuadraticCount] * ql[i];
+        }
+        for (int c = 0; c < 3; ++c) {
+            const double e = quadratic_irradiance(q + c * kQuadraticCount, 1, double(g.nx[u]),
+                                                  double(g.ny[u]), double(g.nz[u]));
+            out[c * n + u] += float(e > 0.0 ? e : 0.0);
+        }
+    }
+}
 
 void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
     const int n = g.n;
@@ -115,10 +218,7 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
             }
         }
     }
-    for (std::size_t l = 0; l < m_scattered.size(); ++l) {
-        add_scattered(m_rig.lights[l], m_scattered[l], n, g.x, g.y, g.z, g.nx, g.ny, g.nz, out,
-                      out + n, out + 2 * n);
-    }
+    if (!m_scattered.empty()) add_scattered(g, out);
 }
 
 }  // namespace deepsea

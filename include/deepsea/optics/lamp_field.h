@@ -66,26 +66,35 @@ struct LampFieldView {
           r_max(T(f.r_max)) {}
 };
 
-/// Scattered irradiance (per unit on-axis intensity, per channel) onto a Lambertian surface at
-/// point p with unit normal n, both in the lamp frame, into (er, eg, eb). Bilinear in (log r,
-/// theta) between nodes; zero beyond r_max. The one home of this equation: the baker's checks
-/// (double) and the runtime's rows (float, vectorised) call it.
+/// Coefficients per channel of the irradiance as a function of the surface normal n:
+/// E(n) = k + b . n + n^T Q n (the order-2 SH irradiance written as a quadratic form), in the
+/// order k, bx, by, bz, Qxx, Qyy, Qzz, Qxy, Qxz, Qyz.
+inline constexpr int kQuadraticCount = 10;
+
+/// The scattered irradiance of one lamp at point p (lamp frame: p . ex, p . ey, p . a) as a
+/// function of the normal, per unit on-axis intensity: out[(c * kQuadraticCount + i) * stride]
+/// for channel c and coefficient i, expressed in the frame whose axes ex, ey, a (the lamp's
+/// frame vectors) are given in (the camera frame for the runtime; (1,0,0), (0,1,0), (0,0,1) for
+/// the lamp frame itself). Bilinear in (log r, theta) between table nodes; zero beyond r_max.
+/// The one home of this equation: lamp_field_irradiance evaluates it for one normal, the
+/// runtime's rows (float, vectorised, `stride` apart so that a row of points writes planes)
+/// interpolate it between points of a row.
 template <typename T>
-inline void lamp_field_irradiance(const LampFieldView<T>& f, T px, T py, T pz, T nx, T ny, T nz,
-                                  T& er, T& eg, T& eb) {
+#if defined(__GNUC__)
+__attribute__((always_inline))  // inside the runtime's `omp simd` loops: must inline to vectorise
+#endif
+inline void lamp_field_quadratic(const LampFieldView<T>& f, T exx, T exy, T exz, T eyx, T eyy,
+                                 T eyz, T ax, T ay, T az, T px, T py, T pz, T* out, int stride) {
     using std::atan2;
     using std::log;
     using std::sqrt;
     const T rho = sqrt(px * px + py * py);
     const T r = sqrt(rho * rho + pz * pz);
-    // Rotate the normal about the axis into the node half-plane (azimuth of p to 0).
+    // The node half-plane's axes: radial e_r = ca ex + sa ey, azimuthal e_phi, and a.
     const T inv_rho = rho > T(0) ? T(1) / rho : T(0);
     const T ca = rho > T(0) ? px * inv_rho : T(1), sa = py * inv_rho;
-    const T mx = ca * nx + sa * ny, my = -sa * nx + ca * ny;
-    T Y[kShCount];
-    sh_basis(mx, my, nz, Y);
-#pragma GCC unroll 9
-    for (int m = 0; m < kShCount; ++m) Y[m] *= sh_cosine_factor<T>(m);
+    const T rx = ca * exx + sa * eyx, ry = ca * exy + sa * eyy, rz = ca * exz + sa * eyz;
+    const T fx = -sa * exx + ca * eyx, fy = -sa * exy + ca * eyy, fz = -sa * exz + ca * eyz;
     T fi = (log(r > T(1e-30) ? r : T(1e-30)) - f.log_r0) * f.inv_log_step;
     fi = fi < T(0) ? T(0) : (fi > T(f.nr - 1) ? T(f.nr - 1) : fi);
     T fj = atan2(rho, pz) * f.theta_scale;
@@ -93,27 +102,78 @@ inline void lamp_field_irradiance(const LampFieldView<T>& f, T px, T py, T pz, T
     const int i0 = int(fi) < f.nr - 1 ? int(fi) : f.nr - 2;
     const int j0 = int(fj) < f.ntheta - 1 ? int(fj) : f.ntheta - 2;
     const T wi = fi - T(i0), wj = fj - T(j0);
-    const T w[4] = {(T(1) - wi) * (T(1) - wj), (T(1) - wi) * wj, wi * (T(1) - wj), wi * wj};
+    const T inside = r > f.r_max ? T(0) : T(1);
+    const T w[4] = {inside * (T(1) - wi) * (T(1) - wj), inside * (T(1) - wi) * wj,
+                    inside * wi * (T(1) - wj), inside * wi * wj};
     const int node[4] = {i0 * f.ntheta + j0, i0 * f.ntheta + j0 + 1, (i0 + 1) * f.ntheta + j0,
                          (i0 + 1) * f.ntheta + j0 + 1};
-    T acc0 = T(0), acc1 = T(0), acc2 = T(0);
-    // Fully unrolled, so that the caller's `omp simd` row loop has no inner control flow.
-#pragma GCC unroll 4
-    for (int q = 0; q < 4; ++q) {
-        const int base = node[q] * (kShCount * 3);  // int offsets: gathers vectorise
+    // SH basis constants times the clamped cosine's A_l (sh_basis, sh_cosine_factor).
+    const T c0 = T(3.141592653589793 * 0.282094791773878);
+    const T c1 = T(2.094395102393195 * 0.488602511902920);
+    const T c2 = T(0.785398163397448 * 1.092548430592079);
+    const T c6 = T(0.785398163397448 * 0.315391565252520);
+    const T c8 = T(0.785398163397448 * 0.546274215296040);
+#pragma GCC unroll 3
+    for (int c = 0; c < 3; ++c) {
+        T L[kShCount];
 #pragma GCC unroll 9
         for (int m = 0; m < kShCount; ++m) {
-            const T a = w[q] * Y[m];
-            acc0 += a * T(f.sh[base + 3 * m]);
-            acc1 += a * T(f.sh[base + 3 * m + 1]);
-            acc2 += a * T(f.sh[base + 3 * m + 2]);
+            // int offsets: gathers vectorise; fully unrolled: no control flow in the row loop
+            L[m] = w[0] * T(f.sh[node[0] * (kShCount * 3) + 3 * m + c]) +
+                   w[1] * T(f.sh[node[1] * (kShCount * 3) + 3 * m + c]) +
+                   w[2] * T(f.sh[node[2] * (kShCount * 3) + 3 * m + c]) +
+                   w[3] * T(f.sh[node[3] * (kShCount * 3) + 3 * m + c]);
         }
+        // In the half-plane frame (x = e_r, y = e_phi, z = a): E = k + b . m + m^T Q m.
+        const T k = c0 * L[0] - c6 * L[6];
+        const T bx = c1 * L[3], by = c1 * L[1], bz = c1 * L[2];
+        const T qxx = c8 * L[8], qyy = -c8 * L[8], qzz = T(3) * c6 * L[6];
+        const T qxy = T(0.5) * c2 * L[4], qyz = T(0.5) * c2 * L[5], qxz = T(0.5) * c2 * L[7];
+        // Into the output frame: b' = R b, Q' = R Q R^T with R's columns e_r, e_phi, a.
+        T* o = out + c * kQuadraticCount * stride;
+        o[0] = k;
+        o[1 * stride] = rx * bx + fx * by + ax * bz;
+        o[2 * stride] = ry * bx + fy * by + ay * bz;
+        o[3 * stride] = rz * bx + fz * by + az * bz;
+        // (R Q) rows, then times R^T columns
+        const T ax0 = rx * qxx + fx * qxy + ax * qxz, ax1 = rx * qxy + fx * qyy + ax * qyz,
+                ax2 = rx * qxz + fx * qyz + ax * qzz;
+        const T ay0 = ry * qxx + fy * qxy + ay * qxz, ay1 = ry * qxy + fy * qyy + ay * qyz,
+                ay2 = ry * qxz + fy * qyz + ay * qzz;
+        const T az0 = rz * qxx + fz * qxy + az * qxz, az1 = rz * qxy + fz * qyy + az * qyz,
+                az2 = rz * qxz + fz * qyz + az * qzz;
+        o[4 * stride] = ax0 * rx + ax1 * fx + ax2 * ax;
+        o[5 * stride] = ay0 * ry + ay1 * fy + ay2 * ay;
+        o[6 * stride] = az0 * rz + az1 * fz + az2 * az;
+        o[7 * stride] = ax0 * ry + ax1 * fy + ax2 * ay;
+        o[8 * stride] = ax0 * rz + ax1 * fz + ax2 * az;
+        o[9 * stride] = ay0 * rz + ay1 * fz + ay2 * az;
     }
-    // Order-2 ringing can dip below 0 facing away from the light.
-    const T inside = r > f.r_max ? T(0) : T(1);
-    er = inside * (acc0 > T(0) ? acc0 : T(0));
-    eg = inside * (acc1 > T(0) ? acc1 : T(0));
-    eb = inside * (acc2 > T(0) ? acc2 : T(0));
+}
+
+/// E(n) from one channel's quadratic-form coefficients q[i * stride] (kQuadraticCount), for a
+/// unit normal n.
+template <typename T>
+inline T quadratic_irradiance(const T* q, int stride, T nx, T ny, T nz) {
+    return q[0] + q[stride] * nx + q[2 * stride] * ny + q[3 * stride] * nz +
+           q[4 * stride] * nx * nx + q[5 * stride] * ny * ny + q[6 * stride] * nz * nz +
+           T(2) * (q[7 * stride] * nx * ny + q[8 * stride] * nx * nz + q[9 * stride] * ny * nz);
+}
+
+/// Scattered irradiance (per unit on-axis intensity, per channel) onto a Lambertian surface at
+/// point p with unit normal n, both in the lamp frame, into (er, eg, eb): lamp_field_quadratic
+/// evaluated at n, clamped at 0 (order-2 ringing can dip below 0 facing away from the light).
+template <typename T>
+inline void lamp_field_irradiance(const LampFieldView<T>& f, T px, T py, T pz, T nx, T ny, T nz,
+                                  T& er, T& eg, T& eb) {
+    T q[3 * kQuadraticCount];
+    lamp_field_quadratic(f, T(1), T(0), T(0), T(0), T(1), T(0), T(0), T(0), T(1), px, py, pz, q, 1);
+    const T e[3] = {quadratic_irradiance(q, 1, nx, ny, nz),
+                    quadratic_irradiance(q + kQuadraticCount, 1, nx, ny, nz),
+                    quadratic_irradiance(q + 2 * kQuadraticCount, 1, nx, ny, nz)};
+    er = e[0] > T(0) ? e[0] : T(0);
+    eg = e[1] > T(0) ? e[1] : T(0);
+    eb = e[2] > T(0) ? e[2] : T(0);
 }
 
 }  // namespace deepsea

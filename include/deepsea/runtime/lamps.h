@@ -21,6 +21,9 @@ public:
     void irradiance_row(const RowGeometry& row, float* out_rgb_planar) const override;
 
 private:
+    /// Adds each lamp's scattered light to a row (multiple-scattering assets).
+    void add_scattered(const RowGeometry& row, float* out_rgb_planar) const;
+
     Rig m_rig;
     Water m_water;
     std::vector<LampField> m_scattered;

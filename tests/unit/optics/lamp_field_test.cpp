@@ -95,3 +95,45 @@ TEST(LampField, NoScatteredLightBeyondTheTable) {
 }
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+TEST(LampField, QuadraticFormInAnyFrameIsTheSameIrradiance) {
+    // The form written in the camera frame (axes of a tilted lamp given in camera coordinates)
+    // and evaluated at a camera-frame normal equals the lamp-frame evaluation at the same
+    // normal expressed in the lamp frame: the rotation of b and Q is right.
+    Light lamp;
+    lamp.direction = normalize(Vec3(0.4, -0.3, 0.85));
+    LampFieldSettings s;
+    s.nr = 8;
+    s.ntheta = 9;
+    s.r0 = 0.1;
+    s.r_max = 8.0;
+    s.samples = 64;
+    const LampField f = bake_lamp_field(lamp, hg_water(), s);
+    Vec3 ex, ey;
+    lamp_frame(lamp.direction, ex, ey);
+    const Vec3& a = lamp.direction;
+    Rng rng(11);
+    for (int t = 0; t < 50; ++t) {
+        const Vec3 p =
+            rotate_about(Vec3(0, 0, 1), 1.0 - 2.0 * rng.uniform(), 2.0 * M_PI * rng.uniform()) *
+            (0.2 + 5.0 * rng.uniform());
+        const Vec3 n =
+            rotate_about(Vec3(0, 0, 1), 1.0 - 2.0 * rng.uniform(), 2.0 * M_PI * rng.uniform());
+        const double lp[3] = {dot(p, ex), dot(p, ey), dot(p, a)};
+        double qc[3 * kQuadraticCount], ql[3 * kQuadraticCount];
+        lamp_field_quadratic(LampFieldView<double>(f), ex.x, ex.y, ex.z, ey.x, ey.y, ey.z, a.x, a.y,
+                             a.z, lp[0], lp[1], lp[2], qc, 1);
+        lamp_field_quadratic(LampFieldView<double>(f), 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0,
+                             lp[0], lp[1], lp[2], ql, 1);
+        for (int c = 0; c < 3; ++c) {
+            const double cam = quadratic_irradiance(qc + c * kQuadraticCount, 1, n.x, n.y, n.z);
+            const double loc = quadratic_irradiance(ql + c * kQuadraticCount, 1, dot(n, ex),
+                                                    dot(n, ey), dot(n, a));
+            EXPECT_NEAR(cam, loc, 1e-9 * (std::fabs(loc) + 1e-12));
+        }
+    }
+}
+
+}  // namespace deepsea
