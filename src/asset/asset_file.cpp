@@ -259,7 +259,9 @@ constexpr const char* kMetaFieldError = "deepsea:rel_std_error";
 /// voxels would frame a box metres wide around nothing in Blender).
 vdb::GridBase::Ptr lamp_field_to_grid(const LampField& f, std::size_t l) {
     std::vector<vdb::Vec3s> stored(f.sh.size() / 3);
-    std::memcpy(stored.data(), f.sh.data(), f.sh.size() * sizeof(float));
+    for (std::size_t n = 0; n < stored.size(); ++n) {
+        stored[n] = vdb::Vec3s(f.sh[3 * n], f.sh[3 * n + 1], f.sh[3 * n + 2]);
+    }
     const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(f.nr - 1, f.ntheta - 1, kShCount - 1));
     auto grid = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
     // Layout: (i, j, m) with m fastest, as LampField::sh: OpenVDB's z-y-x dense layout.
@@ -310,7 +312,9 @@ LampField lamp_field_from_file(vdb::io::File& file, const std::string& path, std
     vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, dense_data.data());
     vdb::tools::copyToDense(*grid, dense);
     f.sh.resize(dense_data.size() * 3);
-    std::memcpy(f.sh.data(), dense_data.data(), f.sh.size() * sizeof(float));
+    for (std::size_t n = 0; n < dense_data.size(); ++n) {
+        for (int c = 0; c < 3; ++c) f.sh[3 * n + c] = dense_data[n][c];
+    }
     if (hex(checksum(f.sh.data(), f.sh.size())) != sum) {
         throw AssetError(path + ": truncated or damaged asset (grid " + name +
                          " checksum mismatch)");

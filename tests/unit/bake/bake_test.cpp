@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
@@ -309,4 +310,62 @@ TEST(BakeAccuracy, SmallAssetIsAccurateAndDeterministic) {
 }
 
 }  // namespace
+}  // namespace deepsea
+
+namespace deepsea {
+
+TEST_F(BakeFile, MultipleScatteringRoundTripAndDamage) {
+    // A multiple-scattering asset: more light than single scattering at every column, the
+    // record of how it was made, one lamp table per lamp (equal ones shared), all read back.
+    BakeSettings s = small_settings();
+    const Asset single = bake(kCam, two_lamps(), jerlov_water("3C"), s);
+    s.scattering = Scattering::Multiple;
+    s.higher_orders.paths = 512;
+    s.higher_orders.lamp_samples = 32;
+    const Asset a = bake(kCam, two_lamps(), jerlov_water("3C"), s);
+    EXPECT_EQ(a.info.scattering, Scattering::Multiple);
+    EXPECT_NE(a.info.input_hash, single.info.input_hash);
+    EXPECT_GT(a.info.higher_orders.fraction, 0.1);  // 3C: far more than single scattering
+    EXPECT_GT(a.info.higher_orders.rel_std_error, 0.0);
+    const Lattice& l = a.lattice();
+    for (int i = 0; i < l.ni; ++i)
+        for (int j = 0; j < l.nj; ++j)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_GT(a.at(i, j, l.slabs())[c], single.at(i, j, l.slabs())[c]);
+    ASSERT_EQ(a.lamp_fields.size(), 2u);
+    EXPECT_EQ(a.lamp_fields[0].sh, a.lamp_fields[1].sh);  // same profile: one bake
+
+    write_asset(path("m.vdb"), a);
+    const Asset b = load_asset(path("m.vdb"));
+    EXPECT_EQ(b.info.scattering, Scattering::Multiple);
+    EXPECT_EQ(b.info.higher_orders.paths, 512);
+    EXPECT_EQ(b.info.higher_orders.lamp_samples, 32);
+    EXPECT_EQ(b.info.input_hash, a.info.input_hash);
+    ASSERT_EQ(b.lamp_fields.size(), 2u);
+    for (std::size_t f = 0; f < 2; ++f) {
+        EXPECT_EQ(b.lamp_fields[f].sh, a.lamp_fields[f].sh);  // full float: exact
+        EXPECT_EQ(b.lamp_fields[f].nr, a.lamp_fields[f].nr);
+        EXPECT_DOUBLE_EQ(b.lamp_fields[f].r_max, a.lamp_fields[f].r_max);
+    }
+
+    // A changed byte in the middle of the file: never a crash; if the loader notices (it reads
+    // every grid it uses and checks their checksums), an AssetError.
+    const auto size = fs::file_size(path("m.vdb"));
+    {
+        std::fstream f(path("m.vdb"), std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(std::streamoff(size / 2));
+        char ch = 0;
+        f.read(&ch, 1);
+        f.seekp(std::streamoff(size / 2));
+        ch = char(ch ^ 0x5a);
+        f.write(&ch, 1);
+    }
+    try {
+        (void)load_asset(path("m.vdb"));
+    } catch (const AssetError&) {
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "not an AssetError: " << e.what();
+    }
+}
+
 }  // namespace deepsea
