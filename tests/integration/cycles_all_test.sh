@@ -4,14 +4,10 @@
 # coastal water, empty and with a tilted Lambertian plane), 16 Cycles seeds each. Asserted: the
 # backscatter of the empty scenes and the surface signal (deepsea's direct layer, Cycles'
 # (DiffDir + DiffInd) * DiffCol) of the plane scenes, image sums within max(5 %, 3 SE) and
-# 12x12-px bins within max(10 %, 5 SE); the plane scenes' backscatter and final images are
+# the image's quadrants within max(10 %, 5 SE) where Cycles resolves 10 %; the plane scenes' backscatter and final images are
 # printed only (docs/validation-cycles.md, "All orders").
 # Skipped (77) where Blender or Debian's python3 with numpy and OpenImageIO is absent.
 set -euo pipefail
 ds=$1 work=$2 src=$3
-command -v blender >/dev/null || { echo "SKIP: blender is not installed"; exit 77; }
-py=/usr/bin/python3
-[[ -x $py ]] && $py -c 'import numpy, OpenImageIO' 2>/dev/null || {
-  echo "SKIP: $py with numpy and OpenImageIO is not available"; exit 77; }
-rm -rf "$work"; mkdir -p "$work"
+source "$src/tests/integration/cycles_lib.sh"
 $py "$src/tests/integration/cycles_check.py" "$ds" "$work" --orders all

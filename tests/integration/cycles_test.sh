@@ -6,9 +6,5 @@
 # Skipped (77) where Blender or Debian's python3 with numpy and OpenImageIO is absent.
 set -euo pipefail
 ds=$1 work=$2 src=$3
-command -v blender >/dev/null || { echo "SKIP: blender is not installed"; exit 77; }
-py=/usr/bin/python3
-[[ -x $py ]] && $py -c 'import numpy, OpenImageIO' 2>/dev/null || {
-  echo "SKIP: $py with numpy and OpenImageIO is not available"; exit 77; }
-rm -rf "$work"; mkdir -p "$work"
+source "$src/tests/integration/cycles_lib.sh"
 $py "$src/tests/integration/cycles_check.py" "$ds" "$work" --orders single
