@@ -83,8 +83,9 @@ template <typename T>
 #if defined(__GNUC__)
 __attribute__((always_inline))  // inside the runtime's `omp simd` loops: must inline to vectorise
 #endif
-inline void lamp_field_quadratic(const LampFieldView<T>& f, T exx, T exy, T exz, T eyx, T eyy,
-                                 T eyz, T ax, T ay, T az, T px, T py, T pz, T* out, int stride) {
+inline void
+lamp_field_quadratic(const LampFieldView<T>& f, T exx, T exy, T exz, T eyx, T eyy, T eyz, T ax,
+                     T ay, T az, T px, T py, T pz, T* out, int stride) {
     using std::atan2;
     using std::log;
     using std::sqrt;
