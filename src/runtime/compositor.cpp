@@ -63,6 +63,7 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     const double sigma_per_m = forward_sigma_px(m_water.forward, cam.fx, 1.0);
     const Image& depth = f.depth;
 
+    m_lamps.begin_frame(cam, depth);
     tbb::parallel_for(0, H, [&](int v) {
         RowScratch& s = scratch.local();
         s.fit(W);

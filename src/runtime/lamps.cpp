@@ -4,6 +4,8 @@
 
 #include "deepsea/runtime/lamps.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -64,11 +66,16 @@ void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restr
     }
 }
 
-/// Pixels between the points where the scattered light's coefficients are computed: the
-/// field varies on the scale of its table (5 degrees, 15 % in distance): interpolating over
-/// 8 px stays within 1 % of the exact value (measured 0.6 %; 16 px: 1.4 %), at an eighth of the
-/// table lookups (AnalyticLamps.InterpolatedScatteredLightMatchesExactOnSmoothSurfaces).
-constexpr int kScatterStep = 8;
+/// Spacing of the points where the scattered light's coefficients are computed, as an angle
+/// seen from the camera (radians): 8 px at fx = 600. The field varies on the scale of its table
+/// (5 degrees, 15 % in distance): interpolating over that stays within 1 % of the exact value
+/// (measured 0.6 %; twice the spacing 1.4 %), at 1/64 of the table lookups on a frame's grid
+/// (AnalyticLamps.InterpolatedScatteredLightMatchesExactOnSmoothSurfaces,
+/// Compositor.ScatteredLampLightOnTheFrameGridMatchesExact).
+constexpr double kScatterAngle = 8.0 / 600.0;
+
+/// Points every `step` pixels along a row (no frame grid, and rows of another size).
+constexpr int kRowStep = 8;
 
 /// Adds one lamp's scattered light, as quadratic-form coefficients (camera frame, times the
 /// lamp's intensity), at K points (x, y, z) to the planes C[(c * kQuadraticCount + i) * K + k].
@@ -102,16 +109,18 @@ void add_scattered_coefficients(const Light& L, const LampField& field, int K,
 }
 
 /// Adds the coefficients' irradiance to a planar row of n pixels, the coefficients (planes of K
-/// points, every kScatterStep pixels and the last) linear between points: E(n) = the quadratic
-/// form at the pixel's normal. Pixels whose depth is not on the surface of both neighbouring
-/// points (or open water) are skipped and flagged: the caller evaluates them exactly.
+/// points, every `step` pixels and the last) linear between points: E(n) = the quadratic
+/// form at the pixel's normal. The points' depths are z0 (and z1, the grid row below, where
+/// the row's coefficients were interpolated between grid rows): pixels not on the surface of
+/// every point they are interpolated from (or open water) are skipped and flagged, and the
+/// caller evaluates them exactly.
 DEEPSEA_CLONES
-void add_interpolated(int n, int K, const float* C, const float* __restrict z,
-                      const float* __restrict nx, const float* __restrict ny,
-                      const float* __restrict nz, float* __restrict er, float* __restrict eg,
-                      float* __restrict eb, unsigned char* __restrict flag) {
+void add_interpolated(int n, int K, int step, const float* C, const float* z0, const float* z1,
+                      const float* __restrict z, const float* __restrict nx,
+                      const float* __restrict ny, const float* __restrict nz, float* __restrict er,
+                      float* __restrict eg, float* __restrict eb, unsigned char* __restrict flag) {
     for (int k = 0; k + 1 < K || (K == 1 && k == 0); ++k) {
-        const int u0 = k * kScatterStep, ub = std::min(u0 + kScatterStep, n - 1);
+        const int u0 = k * step, ub = std::min(u0 + step, n - 1);
         const int u1 = k + 2 >= K ? n : ub;  // the last segment includes the last pixel
         const int k1 = K == 1 ? k : k + 1;
         float c0[3 * kQuadraticCount], dc[3 * kQuadraticCount];
@@ -119,13 +128,14 @@ void add_interpolated(int n, int K, const float* C, const float* __restrict z,
             c0[i] = C[i * K + k];
             dc[i] = C[i * K + k1] - c0[i];
         }
-        const float za = z[u0], zb = z[ub];
+        const float za = z0[k], zb = z0[k1], zc = z1[k], zd = z1[k1];
         const float inv = ub > u0 ? 1.0f / float(ub - u0) : 0.0f;
 #pragma omp simd
         for (int u = u0; u < u1; ++u) {
             const float zu = z[u];
-            const bool same =
-                zu > 0.0f && za > 0.0f && zb > 0.0f && same_surface(za, zu) && same_surface(zb, zu);
+            const bool same = zu > 0.0f && za > 0.0f && zb > 0.0f && zc > 0.0f && zd > 0.0f &&
+                              same_surface(za, zu) && same_surface(zb, zu) &&
+                              same_surface(zc, zu) && same_surface(zd, zu);
             flag[u] = zu > 0.0f && !same ? 1 : 0;
             const float w = float(u - u0) * inv;
             const float x = nx[u], y = ny[u], zz = nz[u];
@@ -149,30 +159,89 @@ void add_interpolated(int n, int K, const float* C, const float* __restrict z,
 
 }  // namespace
 
+namespace {
+
+/// Coefficient points along n pixels: every `step` pixels and the last one.
+int scatter_points(int n, int step) { return (n - 1 + step - 1) / step + 1; }
+
+}  // namespace
+
+void AnalyticLamps::begin_frame(const Camera& cam, const Image& zdepth) const {
+    if (m_scattered.empty()) return;
+    const int W = zdepth.width, H = zdepth.height;
+    m_width = W;
+    m_height = H;
+    m_step = std::clamp(int(cam.fx * kScatterAngle), 1, 64);
+    m_kx = scatter_points(W, m_step);
+    m_ky = scatter_points(H, m_step);
+    m_grid.resize(std::size_t(m_ky) * 3 * kQuadraticCount * m_kx);
+    m_grid_z.resize(std::size_t(m_ky) * m_kx);
+    tbb::parallel_for(0, m_ky, [&](int j) {
+        const int v = std::min(j * m_step, H - 1);
+        thread_local std::vector<float> px, py, tmp;
+        px.resize(m_kx);
+        py.resize(m_kx);
+        tmp.resize(3 * kQuadraticCount * std::size_t(m_kx));
+        float* pz = m_grid_z.data() + std::size_t(j) * m_kx;
+        for (int i = 0; i < m_kx; ++i) {
+            const int u = std::min(i * m_step, W - 1);
+            const float z = zdepth.at(u, v);
+            pz[i] = has_surface(z) ? z : 0.0f;  // as the compositor's rows see it
+            px[i] = float((u - cam.cx) / cam.fx) * pz[i];
+            py[i] = float((v - cam.cy) / cam.fy) * pz[i];
+        }
+        float* C = m_grid.data() + std::size_t(j) * 3 * kQuadraticCount * m_kx;
+        std::fill(C, C + 3 * kQuadraticCount * m_kx, 0.0f);
+        for (std::size_t l = 0; l < m_scattered.size(); ++l) {
+            add_scattered_coefficients(m_rig.lights[l], m_scattered[l], m_kx, px.data(), py.data(),
+                                       pz, tmp.data(), C);
+        }
+    });
+}
+
 void AnalyticLamps::add_scattered(const RowGeometry& g, float* out) const {
     const int n = g.n;
     if (n < 1) return;
-    // Points every kScatterStep pixels and the last one.
-    const int K = (n - 1 + kScatterStep - 1) / kScatterStep + 1;
+    const bool grid = m_width == n && m_ky > 0 && g.v >= 0 && g.v < m_height;
+    const int step = grid ? m_step : kRowStep;
+    const int K = scatter_points(n, step);
+    const std::size_t planes = 3 * kQuadraticCount * std::size_t(K);
     thread_local std::vector<float> px, py, pz, tmp, C;
     thread_local std::vector<unsigned char> flag;
-    px.resize(K);
-    py.resize(K);
-    pz.resize(K);
-    for (int k = 0; k < K; ++k) {
-        const int u = std::min(k * kScatterStep, n - 1);
-        px[k] = g.x[u];
-        py[k] = g.y[u];
-        pz[k] = g.z[u];
-    }
-    tmp.resize(3 * kQuadraticCount * std::size_t(K));
-    C.assign(3 * kQuadraticCount * std::size_t(K), 0.0f);
+    C.resize(planes);
     flag.resize(n);
-    for (std::size_t l = 0; l < m_scattered.size(); ++l) {
-        add_scattered_coefficients(m_rig.lights[l], m_scattered[l], K, px.data(), py.data(),
-                                   pz.data(), tmp.data(), C.data());
+    const float *z0, *z1;
+    if (grid) {
+        // The frame's grid: this row's coefficients between the grid rows around it.
+        const int j0 = std::min(g.v / step, m_ky - 1), j1 = std::min(j0 + 1, m_ky - 1);
+        const int v0 = std::min(j0 * step, m_height - 1), v1 = std::min(j1 * step, m_height - 1);
+        const float wv = v1 > v0 ? float(g.v - v0) / float(v1 - v0) : 0.0f;
+        const float* a = m_grid.data() + std::size_t(j0) * planes;
+        const float* b = m_grid.data() + std::size_t(j1) * planes;
+        for (std::size_t i = 0; i < planes; ++i) C[i] = a[i] + wv * (b[i] - a[i]);
+        z0 = m_grid_z.data() + std::size_t(j0) * K;
+        z1 = wv > 0.0f ? m_grid_z.data() + std::size_t(j1) * K : z0;
+    } else {
+        // No grid for rows of this size: points on the row itself.
+        px.resize(K);
+        py.resize(K);
+        pz.resize(K);
+        for (int k = 0; k < K; ++k) {
+            const int u = std::min(k * step, n - 1);
+            px[k] = g.x[u];
+            py[k] = g.y[u];
+            pz[k] = g.z[u];
+        }
+        tmp.resize(planes);
+        std::fill(C.begin(), C.end(), 0.0f);
+        for (std::size_t l = 0; l < m_scattered.size(); ++l) {
+            add_scattered_coefficients(m_rig.lights[l], m_scattered[l], K, px.data(), py.data(),
+                                       pz.data(), tmp.data(), C.data());
+        }
+        z0 = z1 = pz.data();
     }
-    add_interpolated(n, K, C.data(), g.z, g.nx, g.ny, g.nz, out, out + n, out + 2 * n, flag.data());
+    add_interpolated(n, K, step, C.data(), z0, z1, g.z, g.nx, g.ny, g.nz, out, out + n, out + 2 * n,
+                     flag.data());
     // Pixels across a depth edge from a coefficient point: the same sum of the lamps'
     // quadratic forms, at the pixel itself.
     for (int u = 0; u < n; ++u) {

@@ -19,6 +19,10 @@ class AnalyticLamps final : public IrradianceSource {
 public:
     AnalyticLamps(const Rig& rig, const Water& water, std::vector<LampField> scattered = {});
     void irradiance_row(const RowGeometry& row, float* out_rgb_planar) const override;
+    /// With lamp fields: the scattered light's coefficients on a grid of pixels (every
+    /// 0.76 degrees seen from the camera: 8 px at fx = 600), which the frame's rows interpolate.
+    /// Rows of another size, or without a begin_frame, compute their own points.
+    void begin_frame(const Camera& camera, const Image& zdepth) const override;
 
 private:
     /// Adds each lamp's scattered light to a row (multiple-scattering assets).
@@ -27,6 +31,10 @@ private:
     Rig m_rig;
     Water m_water;
     std::vector<LampField> m_scattered;
+    // The frame's coefficient grid (begin_frame): planes [(j * 30 + q) * m_kx + i] and the
+    // planar depth at each point [j * m_kx + i] (0: open water).
+    mutable std::vector<float> m_grid, m_grid_z;
+    mutable int m_kx = 0, m_ky = 0, m_width = 0, m_height = 0, m_step = 1;
 };
 
 }  // namespace deepsea

@@ -4,6 +4,9 @@
 /// this ray". Analytic lamps and the baked backscatter asset implement them today; baked
 /// multiple-scattering fields can replace either without touching the compositor.
 
+#include "deepsea/core/image.h"
+#include "deepsea/optics/camera.h"
+
 namespace deepsea {
 
 /// One image row's surface geometry in structure-of-arrays form (camera frame, metres).
@@ -24,6 +27,10 @@ class IrradianceSource {
 public:
     virtual ~IrradianceSource() = default;
     virtual void irradiance_row(const RowGeometry& row, float* out_rgb_planar) const = 0;
+    /// Called by the compositor once per frame before its rows, with the frame's camera and
+    /// planar depth (open water where has_surface says so): a source may share work between
+    /// rows here. One frame at a time per source. The default does nothing.
+    virtual void begin_frame(const Camera& camera, const Image& zdepth) const {}
 };
 
 /// Water light added along pixel rays up to planar depth z (z_max for open water), radiance

@@ -3,10 +3,12 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "deepsea/core/image.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/jerlov.h"
+#include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/water.h"
 
@@ -76,6 +78,58 @@ inline bool near_edge(const Image& depth, int u, int v) {
         }
     }
     return false;
+}
+
+/// A lamp table on the default grid filled with a smooth field (decaying with distance,
+/// brighter along the axis, coming mostly from the lamp; symmetric on the axis as a real
+/// field is): for tests of interpolation, where a Monte Carlo table's node noise would measure
+/// the table instead.
+inline LampField smooth_lamp_field() {
+    LampField smooth;
+    smooth.nr = 40;
+    smooth.ntheta = 37;
+    smooth.r0 = 0.02;
+    smooth.r_max = 15.0;
+    smooth.sh.resize(smooth.size());
+    for (int i = 0; i < smooth.nr; ++i) {
+        const double r =
+            smooth.r0 * std::pow(smooth.r_max / smooth.r0, double(i) / (smooth.nr - 1));
+        for (int j = 0; j < smooth.ntheta; ++j) {
+            const double th = M_PI * j / (smooth.ntheta - 1);
+            const double base = std::exp(-0.6 * r) / (0.2 + r) * (1.2 + std::cos(th));
+            // light arriving from the lamp's side: -x (toward the axis) and -z (from the
+            // lamp); on the axis only the terms symmetric about it (m = 0) survive, as a real
+            // field's must: m = +-1 terms go as sin(theta), m = +-2 as sin^2(theta)
+            const double st = std::sin(th);
+            const double coef[kShCount] = {1.0, 0.0,      -0.5 * std::cos(th), -0.5 * st, 0.0, 0.0,
+                                           0.2, 0.1 * st, 0.05 * st * st};
+            for (int m = 0; m < kShCount; ++m)
+                for (int c = 0; c < 3; ++c)
+                    smooth.sh[((i * smooth.ntheta + j) * kShCount + m) * 3 + c] =
+                        float(base * coef[m] * (1.0 - 0.1 * c));
+        }
+    }
+    return smooth;
+}
+
+/// The rows' definition of the lamps' scattered light at P with normal N, channel c: each
+/// lamp's quadratic form (optics' lamp_field_quadratic, camera frame) times its intensity,
+/// summed, evaluated at N, clamped at 0. In double.
+inline double exact_scattered(const Rig& rig, const std::vector<LampField>& fields, const Vec3& P,
+                              const Vec3& N, int c) {
+    double q[3 * kQuadraticCount] = {}, ql[3 * kQuadraticCount];
+    for (std::size_t l = 0; l < rig.lights.size(); ++l) {
+        const Light& L = rig.lights[l];
+        Vec3 ex, ey;
+        lamp_frame(L.direction, ex, ey);
+        const Vec3 p = P - L.position;
+        const Vec3& a = L.direction;
+        lamp_field_quadratic(LampFieldView<double>(fields[l]), ex.x, ex.y, ex.z, ey.x, ey.y, ey.z,
+                             a.x, a.y, a.z, dot(p, ex), dot(p, ey), dot(p, a), ql, 1);
+        for (int i = 0; i < 3 * kQuadraticCount; ++i)
+            q[i] += L.intensity[i / kQuadraticCount] * ql[i];
+    }
+    return std::max(0.0, quadratic_irradiance(q + c * kQuadraticCount, 1, N.x, N.y, N.z));
 }
 
 }  // namespace deepsea::testing
