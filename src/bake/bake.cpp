@@ -12,8 +12,6 @@ namespace deepsea {
 
 namespace {
 
-double min_channel(const Rgb& x) { return std::min({x.r, x.g, x.b}); }
-
 /// par for one stage of a bake: the stage's `done` is reported as offset + done of `total`,
 /// so that the stages fill one progress bar.
 /// A stage's items may weigh more than one column each (`weight`).
@@ -58,7 +56,7 @@ void validate(const BakeSettings& s) {
 }
 
 double far_path_length(const Water& water, double tolerance) {
-    const double c_min = min_channel(water.c);
+    const double c_min = water.c.min();
     if (!(c_min > 0.0)) return 1e4;
     return std::min(std::log(1e4 / tolerance) / (2.0 * c_min), 1e4);
 }

@@ -9,8 +9,6 @@ namespace deepsea {
 
 namespace {
 
-double min_channel(const Rgb& x) { return std::min({x.r, x.g, x.b}); }
-
 /// Below this throughput (relative to a path's start) Russian roulette decides.
 constexpr double kRoulette = 0.1;
 
@@ -18,7 +16,7 @@ constexpr double kRoulette = 0.1;
 
 Transport::Transport(const Rig& rig, const Water& water)
     : m_rig(rig), m_water(water), m_sampler(water.phase) {
-    m_c_min = std::max(min_channel(water.c), 1e-6);
+    m_c_min = std::max(water.c.min(), 1e-6);
     m_far = std::log(1e6) / m_c_min;
     double w = 0.0;
     m_theta_p = std::clamp(std::acos(m_sampler.sample_cos(0.5, w)), 1e-3, M_PI);
@@ -153,7 +151,7 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
     // First scattering at path length s along the viewing ray, stratified, from a truncated
     // exponential (rate a) over [0, T]: most water light comes from near the camera.
     const double T = t.back();
-    const double a = 0.5 * min_channel(w.c);
+    const double a = 0.5 * w.c.min();
     const double norm = a * T > 1e-9 ? -std::expm1(-a * T) : 0.0;
     std::vector<Rgb> s1(nk), s2(nk);
     for (int i = 0; i < mc.paths; ++i) {

@@ -242,28 +242,20 @@ void AnalyticLamps::add_scattered(const RowGeometry& g, float* out) const {
     }
     add_interpolated(n, K, step, C.data(), z0, z1, g.z, g.nx, g.ny, g.nz, out, out + n, out + 2 * n,
                      flag.data());
-    // Pixels across a depth edge from a coefficient point: the same sum of the lamps'
-    // quadratic forms, at the pixel itself.
+    // Pixels across a depth edge from a coefficient point: the same coefficients, computed at
+    // the pixel itself (one point).
+    float q[3 * kQuadraticCount], qtmp[3 * kQuadraticCount];
     for (int u = 0; u < n; ++u) {
         if (!flag[u]) continue;
-        const Vec3 P(g.x[u], g.y[u], g.z[u]);
-        double q[3 * kQuadraticCount] = {}, ql[3 * kQuadraticCount];
+        std::fill(q, q + 3 * kQuadraticCount, 0.0f);
         for (std::size_t l = 0; l < m_scattered.size(); ++l) {
-            const Light& L = m_rig.lights[l];
-            Vec3 ex, ey;
-            lamp_frame(L.direction, ex, ey);
-            const Vec3 p = P - L.position;
-            const Vec3& a = L.direction;
-            lamp_field_quadratic(LampFieldView<double>(m_scattered[l]), ex.x, ex.y, ex.z, ey.x,
-                                 ey.y, ey.z, a.x, a.y, a.z, dot(p, ex), dot(p, ey), dot(p, a), ql,
-                                 1);
-            for (int i = 0; i < 3 * kQuadraticCount; ++i)
-                q[i] += L.intensity[i / kQuadraticCount] * ql[i];
+            add_scattered_coefficients(m_rig.lights[l], m_scattered[l], 1, g.x + u, g.y + u,
+                                       g.z + u, qtmp, q);
         }
         for (int c = 0; c < 3; ++c) {
-            const double e = quadratic_irradiance(q + c * kQuadraticCount, 1, double(g.nx[u]),
-                                                  double(g.ny[u]), double(g.nz[u]));
-            out[c * n + u] += float(e > 0.0 ? e : 0.0);
+            const float e =
+                quadratic_irradiance(q + c * kQuadraticCount, 1, g.nx[u], g.ny[u], g.nz[u]);
+            out[c * n + u] += e > 0.0f ? e : 0.0f;
         }
     }
 }

@@ -112,8 +112,9 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
                         const double d2 = length(P);
                         const Rgb L = surface_radiance(rig, water, P, n, get(rgb, u, v));
                         put(surface, u, v, L);
-                        put(out.direct, u, v, L * transmission(water.c, d2));
-                        put(out.transmission, u, v, transmission(water.c, d2));
+                        const Rgb T = transmission(water.c, d2);
+                        put(out.direct, u, v, L * T);
+                        put(out.transmission, u, v, T);
                         put(out.normal, u, v, {n.x, n.y, n.z});
                         out.depth.at(u, v) = float(z);
                         put(out.backscatter, u, v,

@@ -60,6 +60,7 @@ struct Rgb {
         return *this;
     }
     constexpr double max() const { return r > g ? (r > b ? r : b) : (g > b ? g : b); }
+    constexpr double min() const { return r < g ? (r < b ? r : b) : (g < b ? g : b); }
 };
 
 inline constexpr Rgb operator*(double s, const Rgb& v) { return v * s; }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "../temp_folder.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
 #include "deepsea/optics/jerlov.h"
@@ -31,18 +32,10 @@ const std::string kAuthors =
     "light_orientations_RollPitchYaw: [[0.0, 0.536, 0.0], [0.0, -0.536, 0.0]]\n"        // 10
     "refine_depth: false\n";                                                            // 11
 
-class ImportConfig : public ::testing::Test {
+class ImportConfig : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        m_dir = fs::temp_directory_path() /
-                ("deepsea-import-" + std::to_string(::getpid()) + "-" + info->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
     std::string file(const std::string& text) {
-        const std::string p = (m_dir / "cfg.yaml").string();
+        const std::string p = (dir_ / "cfg.yaml").string();
         std::ofstream(p) << text;
         return p;
     }
@@ -60,7 +53,6 @@ protected:
         EXPECT_NE(p, std::string::npos) << from;
         return p == std::string::npos ? text : text.replace(p, from.size(), to);
     }
-    fs::path m_dir;
 };
 
 TEST_F(ImportConfig, AuthorsConfigBecomesTheirSetup) {
@@ -95,7 +87,7 @@ TEST_F(ImportConfig, OtherWatersAndPhases) {
 }
 
 TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
-    const std::string f = (m_dir / "cfg.yaml").string();
+    const std::string f = (dir_ / "cfg.yaml").string();
     auto starts = [&](const std::string& text, const std::string& want) {
         const std::string got = error(text);
         EXPECT_EQ(got.rfind(f + want, 0), 0u) << "got: " << got << "\nwant: " << f + want;
@@ -114,26 +106,26 @@ TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
     const std::string zero_fx = error(replaced(kAuthors, "[600.0, 0.0, 400.0", "[0.0, 0.0, 400.0"));
     EXPECT_NE(zero_fx.find("(converted)"), std::string::npos) << zero_fx;
     EXPECT_NE(zero_fx.find("camera.fx: must be > 0"), std::string::npos) << zero_fx;
-    EXPECT_THROW(import_config((m_dir / "none.yaml").string()), IoError);
+    EXPECT_THROW(import_config((dir_ / "none.yaml").string()), IoError);
 }
 
 TEST_F(ImportConfig, WritesAtomically) {
     const std::string in = file(kAuthors);
-    const std::string out = (m_dir / "out.yaml").string();
+    const std::string out = (dir_ / "out.yaml").string();
     import_config(in, out);
     std::ifstream is(out);
     const std::string written((std::istreambuf_iterator<char>(is)), {});
     EXPECT_EQ(written, import_config(in));
     // A failed conversion leaves nothing behind, not even a temporary.
-    const std::string bad_out = (m_dir / "bad.yaml").string();
+    const std::string bad_out = (dir_ / "bad.yaml").string();
     std::ofstream(in) << "camera: {width: 3}\n";
     EXPECT_THROW(import_config(in, bad_out), ConfigError);
     EXPECT_FALSE(fs::exists(bad_out));
     int files = 0;
-    for (const auto& e : fs::directory_iterator(m_dir)) files += e.is_regular_file();
+    for (const auto& e : fs::directory_iterator(dir_)) files += e.is_regular_file();
     EXPECT_EQ(files, 2);  // cfg.yaml, out.yaml
     std::ofstream(in) << kAuthors;
-    EXPECT_THROW(import_config(in, (m_dir / "no/such/dir/x.yaml").string()), IoError);
+    EXPECT_THROW(import_config(in, (dir_ / "no/such/dir/x.yaml").string()), IoError);
 }
 
 }  // namespace
