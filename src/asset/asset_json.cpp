@@ -41,7 +41,11 @@ json rig_json(const Rig& rig) {
 
 json water_json(const Water& w) {
     json fs = "off";
-    if (w.forward.enabled) fs = {{"G", rgb_json(w.forward.G)}, {"k", w.forward.k}};
+    if (w.forward.enabled && w.forward.model == ForwardModel::PhaseFunction) {
+        fs = "phase_function";
+    } else if (w.forward.enabled) {
+        fs = {{"G", rgb_json(w.forward.G)}, {"k", w.forward.k}};
+    }
     json phase = to_string(w.phase.kind);
     if (w.phase.kind == PhaseKind::HenyeyGreenstein) {
         phase = {{"henyey_greenstein", {{"g", w.phase.g}}}};
@@ -210,8 +214,10 @@ Water parse_water(const json& j) {
         w.forward.enabled = true;
         w.forward.G = rgb(fs, "G", "water.forward_scatter");
         w.forward.k = num(fs, "k", "water.forward_scatter");
+    } else if (fs.is_string() && fs.get<std::string>() == "phase_function") {
+        w.forward = phase_function_forward_scatter();
     } else if (!(fs.is_string() && fs.get<std::string>() == "off")) {
-        fail("water.forward_scatter", "neither 'off' nor {G, k}");
+        fail("water.forward_scatter", "neither 'off', 'phase_function' nor {G, k}");
     }
     return w;
 }

@@ -126,7 +126,8 @@ Rig parse_rig(const Document& doc, const Field& f) {
 //   phase            -      isotropic | {petzold: clear|coastal|turbid}
 //                           | {henyey_greenstein: {g: (-1, 1)}} the preset's, else petzold clear
 //   forward_scatter  -      off | on | {G: [r, g, b] 1/m, 0 <= G <= c; k: rad/m >= 0}    off
-//                           (on: default_forward_scatter of the final c, b and phase)
+//                           (on: the point spread of the phase function, optics/forward_psf.h;
+//                            {G, k}: Jaffe-McGlamery as in the paper)
 
 Phase parse_phase(const Document& doc, const Field& f) {
     Phase p;
@@ -205,7 +206,7 @@ Water parse_water(const Document& doc, const Field& f) {
             if (s == "off" || s == "false") {
                 w.forward = ForwardScatter{};
             } else if (s == "on" || s == "true") {
-                w.forward = default_forward_scatter(w);
+                w.forward = phase_function_forward_scatter();
             } else {
                 doc.fail(*fw, "expected off, on or {G: [r, g, b], k: ..}, got '" + s + "'");
             }
@@ -379,7 +380,9 @@ std::string setup_to_yaml(const Setup& s) {
                 o << "{petzold: turbid}\n";
                 break;
         }
-        if (w.forward.enabled)
+        if (w.forward.enabled && w.forward.model == ForwardModel::PhaseFunction)
+            o << "  forward_scatter: on\n";
+        else if (w.forward.enabled)
             o << "  forward_scatter: {G: " << triple(w.forward.G.r, w.forward.G.g, w.forward.G.b)
               << ", k: " << fmt(w.forward.k) << "}\n";
         else

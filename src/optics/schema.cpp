@@ -104,7 +104,7 @@ void validate(const Water& w) {
                                   ")");
     if (w.phase.kind == PhaseKind::HenyeyGreenstein && !(w.phase.g > -1.0 && w.phase.g < 1.0))
         throw SchemaError("water.phase.henyey_greenstein.g", "must be in (-1, 1)");
-    if (!w.forward.enabled) return;
+    if (!w.forward.enabled || w.forward.model == ForwardModel::PhaseFunction) return;
     require_non_negative(w.forward.G, "water.forward_scatter.G");
     for (int i = 0; i < 3; ++i)
         if (w.forward.G[i] > w.c[i])

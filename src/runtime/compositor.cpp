@@ -31,7 +31,11 @@ struct RowScratch {
 
 Compositor::Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
                        const BackscatterSource& backscatter)
-    : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter) {}
+    : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter) {
+    if (water.forward.enabled && water.forward.model == ForwardModel::PhaseFunction) {
+        m_psf_blur.emplace(ForwardPsf(water, camera.fx, camera.width, camera.height));
+    }
+}
 
 void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     const Camera& cam = m_camera;
@@ -132,7 +136,12 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     // Forward scatter blurs the surface radiance (not D: w(d2) carries the path to the camera,
     // D's own exp(-c d2) would attenuate it twice) by sigma = sigma_per_m * d2 pixels; d2 is 0
     // for open water.
-    if (forward) m_blur.prepare(m_surface, m_d2, float(sigma_per_m));
+    const bool psf = forward && m_psf_blur;
+    if (psf) {
+        m_psf_blur->prepare(m_surface, m_d2);
+    } else if (forward) {
+        m_blur.prepare(m_surface, m_d2, float(sigma_per_m));
+    }
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
                         float(m_water.forward.G.b)};
     tbb::parallel_for(0, H, [&](int v) {
@@ -140,11 +149,15 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
         thread_local std::vector<float> row;
         row.resize(9 * std::size_t(W));
         float* blurred = row.data();
-        if (forward) m_blur.blend_row(v, m_d2.row(v), blurred);
+        if (psf) {
+            m_psf_blur->row(v, blurred);
+        } else if (forward) {
+            m_blur.blend_row(v, m_d2.row(v), blurred);
+        }
         float* T = all ? dst.transmission.row(v) : blurred + 3 * W;
         float* F = all ? dst.forward.row(v) : blurred + 6 * W;
-        kernels::finish_row(W, m_d2.row(v), c, G, forward ? blurred : nullptr, dst.direct.row(v), T,
-                            F, dst.final.row(v));
+        kernels::finish_row(W, m_d2.row(v), c, psf ? nullptr : G, forward ? blurred : nullptr,
+                            dst.direct.row(v), T, F, dst.final.row(v));
     });
 }
 

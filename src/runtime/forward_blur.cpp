@@ -7,6 +7,7 @@
 
 #include "clones.h"
 #include "deepsea/optics/forward.h"
+#include "gaussian_planes.h"
 #include "kernels.h"
 
 namespace deepsea {
@@ -14,86 +15,6 @@ namespace deepsea {
 namespace {
 
 constexpr double kLevelRatio = 1.4142135623730951;  // sqrt(2)
-
-/// Normalisation of a zero-padded 1-D convolution: w[x] = 1 / (sum of the taps that fall
-/// inside), for n pixels.
-void inside_weights(int n, const std::vector<float>& g, int r, std::vector<float>& w) {
-    w.resize(n);
-    for (int x = 0; x < n; ++x) {
-        double s = 0.0;
-        for (int k = std::max(-r, -x); k <= std::min(r, n - 1 - x); ++k) s += g[k + r];
-        w[x] = float(1.0 / s);
-    }
-}
-
-/// dst[x] = sum_k g[k] src[x + k] over a row padded with r zeros on each side.
-DEEPSEA_CLONES
-void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
-                  const float* __restrict g, int r) {
-    for (int x = 0; x < n; ++x) dst[x] = 0.0f;
-    for (int k = 0; k <= 2 * r; ++k) {
-        const float gk = g[k];
-        const float* s = padded + k;
-#pragma omp simd
-        for (int x = 0; x < n; ++x) dst[x] += gk * s[x];
-    }
-}
-
-/// Three colour planes of one resolution, read with strides: the interleaved input image
-/// (level 0, no planar copy) or a planar pyramid level.
-struct Source {
-    const float* data = nullptr;
-    int w = 0, h = 0;
-    std::size_t channel = 0, pixel = 1, row = 0;  ///< strides in floats
-    const float* at(int c, int y) const { return data + c * channel + std::size_t(y) * row; }
-    float operator()(int c, int x, int y) const { return at(c, y)[x * pixel]; }
-};
-
-Source interleaved(const Image& in) {
-    return {in.data.data(), in.width, in.height, 1, 3, std::size_t(3) * in.width};
-}
-
-Source planar(const float* data, int w, int h) {
-    return {data, w, h, std::size_t(w) * h, 1, std::size_t(w)};
-}
-
-/// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to
-/// planar dst. g, nx, ny (kernel, row and column normalisation) and tmp (horizontal pass) are
-/// the caller's, kept between frames so that nothing is allocated once they have grown.
-void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
-                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp) {
-    const int w = src.w, h = src.h;
-    const int r = std::max(1, int(std::ceil(3.0 * sigma)));
-    g.resize(2 * r + 1);
-    for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
-    inside_weights(w, g, r, nx);
-    inside_weights(h, g, r, ny);
-    const std::size_t plane = std::size_t(w) * h;
-    tmp.resize(3 * plane);
-    tbb::parallel_for(0, 3 * h, [&](int prow) {
-        const int c = prow / h, y = prow % h;
-        thread_local std::vector<float> padded;
-        padded.assign(w + 2 * r, 0.0f);
-        const float* in = src.at(c, y);
-        for (int x = 0; x < w; ++x) padded[r + x] = in[x * src.pixel];
-        float* dst = tmp.data() + std::size_t(prow) * w;
-        convolve_row(padded.data(), dst, w, g.data(), r);
-        for (int x = 0; x < w; ++x) dst[x] *= nx[x];
-    });
-    tbb::parallel_for(0, 3 * h, [&](int prow) {
-        const int p = prow / h, y = prow % h;
-        float* dst = dst_planes + p * plane + std::size_t(y) * w;
-        std::fill(dst, dst + w, 0.0f);
-        const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
-        for (int k = k0; k <= k1; ++k) {
-            const float gk = g[k + r] * ny[y];
-            const float* in = tmp.data() + p * plane + std::size_t(y + k) * w;
-#pragma omp simd
-            for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
-        }
-    });
-}
-
 /// Weight of one blur level per pixel (sigma = scale * s, at most cap): a hat in sigma that is 1 at
 /// the level's sigma s and 0 at its neighbours' (inv_lo, inv_hi: 1 / distance to them; 0 for an end
 /// level, which keeps weight 1 beyond itself). Returns whether any pixel of the row uses the level.
@@ -120,25 +41,6 @@ void add_weighted(int n, const float* __restrict w, const float* __restrict src,
     for (int u = 0; u < n; ++u) acc[u] += w[u] * src[u];
 }
 
-DEEPSEA_CLONES
-void lerp_rows(int n, const float* __restrict a, const float* __restrict b, float t,
-               float* __restrict dst) {
-#pragma omp simd
-    for (int x = 0; x < n; ++x) dst[x] = a[x] + t * (b[x] - a[x]);
-}
-
-/// acc[u] += w[u] * (bilinear sample of the low-resolution row at x0[u] .. x1[u]).
-DEEPSEA_CLONES
-void add_upsampled(int n, const float* __restrict w, const float* __restrict row,
-                   const int* __restrict x0, const int* __restrict x1, const float* __restrict ax,
-                   float* __restrict acc) {
-#pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        const float a = row[x0[u]], b = row[x1[u]];
-        acc[u] += w[u] * (a + ax[u] * (b - a));
-    }
-}
-
 }  // namespace
 
 void ForwardBlur::build_level(const Image& in, Level& L) {
@@ -147,9 +49,9 @@ void ForwardBlur::build_level(const Image& in, Level& L) {
     while (L.sigma / (1 << (lvl + 1)) >= 1.0 && lvl + 1 < int(m_pyramid.size())) ++lvl;
     const int f = 1 << lvl;
     L.factor = f;
-    const Source src = lvl == 0
-                           ? interleaved(in)
-                           : planar(m_pyramid[lvl].data.data(), m_pyramid[lvl].w, m_pyramid[lvl].h);
+    const planes::Source src =
+        lvl == 0 ? planes::interleaved(in)
+                 : planes::planar(m_pyramid[lvl].data.data(), m_pyramid[lvl].w, m_pyramid[lvl].h);
     L.blurred.w = src.w;
     L.blurred.h = src.h;
     L.blurred.data.resize(3 * std::size_t(src.w) * src.h);
@@ -157,7 +59,7 @@ void ForwardBlur::build_level(const Image& in, Level& L) {
     // (f^2 - 1)/12 + f^2/12 px^2; the level's Gaussian supplies the rest of the variance.
     const double spent = f > 1 ? (2.0 * f * f - 1.0) / 12.0 : 0.0;
     const double rest = std::sqrt(std::max(L.sigma * L.sigma - spent, 0.09)) / f;
-    blur_planes(src, L.blurred.data.data(), rest, m_kernel, m_norm_x, m_norm_y, m_tmp);
+    planes::blur_planes(src, L.blurred.data.data(), rest, m_kernel, m_norm_x, m_norm_y, m_tmp);
     // Horizontal bilinear taps, kept while the frame width and the factor stay the same.
     const int W = in.width;
     if (f > 1 && (L.taps_width != W || L.taps_factor != f)) {
@@ -223,7 +125,8 @@ void ForwardBlur::prepare(const Image& in, const Image& s_img, float scale) {
     m_pyramid.resize(depth);
     for (int l = 1; l < depth; ++l) {
         const Planes& prev = m_pyramid[l - 1];
-        const Source a = l == 1 ? interleaved(in) : planar(prev.data.data(), prev.w, prev.h);
+        const planes::Source a =
+            l == 1 ? planes::interleaved(in) : planes::planar(prev.data.data(), prev.w, prev.h);
         Planes& b = m_pyramid[l];
         b.w = (a.w + 1) / 2;
         b.h = (a.h + 1) / 2;
@@ -276,8 +179,8 @@ void ForwardBlur::blend_row(int v, const float* s_row, float* out_rgb) const {
             const int y0 = std::clamp(int(std::floor(fy)), 0, P.h - 1);
             const int y1 = std::min(y0 + 1, P.h - 1);
             const float ay = std::clamp(fy - y0, 0.0f, 1.0f);
-            lerp_rows(P.w, q + std::size_t(y0) * P.w, q + std::size_t(y1) * P.w, ay, tmp);
-            add_upsampled(W, wgt, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
+            planes::lerp_rows(P.w, q + std::size_t(y0) * P.w, q + std::size_t(y1) * P.w, ay, tmp);
+            planes::add_upsampled(W, wgt, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
         }
     }
     kernels::interleave(W, acc, out_rgb);

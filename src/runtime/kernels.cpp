@@ -61,6 +61,22 @@ void finish_row(int n, const float* __restrict d2, const float c[3], const float
         }
         return;
     }
+    if (!G) {  // blurred is F itself (the phase-function point spread weighs before blurring)
+#pragma omp simd
+        for (int u = 0; u < n; ++u) {
+            const float d = d2[u];
+            const float surf = d > 0.0f ? 1.0f : 0.0f;
+            T[3 * u] = surf * transmission(c0, d);
+            T[3 * u + 1] = surf * transmission(c1, d);
+            T[3 * u + 2] = surf * transmission(c2, d);
+        }
+#pragma omp simd
+        for (int i = 0; i < 3 * n; ++i) {
+            F[i] = blurred[i];
+            final[i] += D[i] + F[i];
+        }
+        return;
+    }
     const float g0 = G[0], g1 = G[1], g2 = G[2];
 #pragma omp simd
     for (int u = 0; u < n; ++u) {

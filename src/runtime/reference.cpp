@@ -10,6 +10,7 @@
 #include "deepsea/core/parallel.h"
 #include "deepsea/optics/direct.h"
 #include "deepsea/optics/forward.h"
+#include "deepsea/optics/forward_psf.h"
 #include "deepsea/optics/normals.h"
 #include "deepsea/optics/transmission.h"
 
@@ -86,6 +87,67 @@ void forward_scatter_exact(const Camera& cam, const Water& water, const Image& z
     });
 }
 
+/// One separable pass of a Gaussian of sigma pixels along rows (step 1) or columns, in place
+/// over 3 interleaved channels, truncated at 4 sigma and normalised over in-image pixels.
+void gaussian_pass(std::vector<double>& img, int W, int H, double sigma, bool along_rows) {
+    const int n = along_rows ? W : H, lines = along_rows ? H : W;
+    const int r = std::min(int(std::ceil(4.0 * sigma)), n);
+    std::vector<double> g(2 * r + 1);
+    for (int i = -r; i <= r; ++i) g[i + r] = std::exp(-0.5 * i * i / (sigma * sigma));
+    tbb::parallel_for(0, lines, [&](int line) {
+        const auto at = [&](int i) -> double* {
+            return img.data() +
+                   3 * (along_rows ? std::size_t(line) * W + i : std::size_t(i) * W + line);
+        };
+        std::vector<double> out(3 * std::size_t(n), 0.0);
+        for (int i = 0; i < n; ++i) {
+            double wsum = 0.0, acc[3] = {0.0, 0.0, 0.0};
+            for (int k = std::max(0, i - r); k <= std::min(n - 1, i + r); ++k) {
+                const double w = g[k - i + r];
+                const double* p = at(k);
+                for (int c = 0; c < 3; ++c) acc[c] += w * p[c];
+                wsum += w;
+            }
+            for (int c = 0; c < 3; ++c) out[3 * i + c] = acc[c] / wsum;
+        }
+        for (int i = 0; i < n; ++i) {
+            for (int c = 0; c < 3; ++c) at(i)[c] = out[3 * i + c];
+        }
+    });
+}
+
+/// Exact forward scatter from the phase function (optics/forward_psf.h): for every scale j,
+/// the surface radiance weighted by that scale's exact share W_j(d) (double, every order),
+/// blurred by the scale's Gaussian at full resolution, separable, truncated at 4 sigma and
+/// normalised over in-image pixels; summed over the scales.
+void forward_psf_exact(const Camera& cam, const Water& water, const Image& zdepth,
+                       const Image& surface, Layers& out) {
+    const int W = cam.width, H = cam.height;
+    const ForwardPsf psf(water, cam.fx, W, H);
+    std::vector<double> d(std::size_t(W) * H, 0.0), F(3 * d.size(), 0.0), src(F.size());
+    for (int v = 0; v < H; ++v) {
+        for (int u = 0; u < W; ++u) {
+            const double z = zdepth.at(u, v);
+            if (has_surface(z)) d[std::size_t(v) * W + u] = length(cam.point(u, v, z));
+        }
+    }
+    for (int j = 0; j < psf.scales(); ++j) {
+        tbb::parallel_for(0, H, [&](int v) {
+            for (int u = 0; u < W; ++u) {
+                const std::size_t i = std::size_t(v) * W + u;
+                const Rgb x = d[i] > 0.0 ? psf.weight(j, d[i]) * get(surface, u, v) : Rgb{};
+                for (int c = 0; c < 3; ++c) src[3 * i + c] = x[c];
+            }
+        });
+        if (psf.sigma_px(j) > 0.0) {
+            gaussian_pass(src, W, H, psf.sigma_px(j), true);
+            gaussian_pass(src, W, H, psf.sigma_px(j), false);
+        }
+        for (std::size_t i = 0; i < F.size(); ++i) F[i] += src[i];
+    }
+    for (std::size_t i = 0; i < F.size(); ++i) out.forward.data[i] = float(F[i]);
+}
+
 }  // namespace
 
 Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, const Image& rgb,
@@ -129,7 +191,13 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
         },
         par.or_grain(1));
     if (water.forward.enabled) {
-        in_arena(par.threads, [&] { forward_scatter_exact(cam, water, zdepth, surface, out); });
+        in_arena(par.threads, [&] {
+            if (water.forward.model == ForwardModel::PhaseFunction) {
+                forward_psf_exact(cam, water, zdepth, surface, out);
+            } else {
+                forward_scatter_exact(cam, water, zdepth, surface, out);
+            }
+        });
     }
     for (std::size_t i = 0; i < out.final.data.size(); ++i) {
         out.final.data[i] = out.direct.data[i] + out.forward.data[i] + out.backscatter.data[i];

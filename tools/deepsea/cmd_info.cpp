@@ -91,7 +91,9 @@ void run(const InfoArgs& a) {
     std::printf("water      %s: c (%g, %g, %g) 1/m, b (%g, %g, %g) 1/m, phase %s", w.name.c_str(),
                 w.c.r, w.c.g, w.c.b, w.b.r, w.b.g, w.b.b, to_string(w.phase.kind));
     if (w.phase.kind == PhaseKind::HenyeyGreenstein) std::printf(" g=%g", w.phase.g);
-    if (w.forward.enabled) {
+    if (w.forward.enabled && w.forward.model == ForwardModel::PhaseFunction) {
+        std::printf(", forward scatter from the phase function");
+    } else if (w.forward.enabled) {
         std::printf(", forward scatter G (%g, %g, %g) k %g rad/m", w.forward.G.r, w.forward.G.g,
                     w.forward.G.b, w.forward.k);
     } else {

@@ -8,12 +8,17 @@
 
 namespace deepsea {
 
-/// Jaffe-McGlamery forward scatter (docs/model.md): F = w(d) * (G_sigma(d) * L_s),
-/// w(d) = exp(-G d) - exp(-c d), blur sigma in pixels = fx * k * d.
+/// How forward scatter (docs/model.md) is modelled: the point spread derived from the phase
+/// function (`forward_scatter: on`; optics/forward_psf.h), or Jaffe-McGlamery's as in the
+/// paper, F = w(d) * (G_sigma(d) * L_s), w(d) = exp(-G d) - exp(-c d), blur sigma in pixels
+/// = fx * k * d (`forward_scatter: {G, k}`).
+enum class ForwardModel { PhaseFunction, JaffeMcGlamery };
+
 struct ForwardScatter {
     bool enabled = false;
     Rgb G;           ///< 1/m per channel, G <= c
     double k = 0.0;  ///< rad/m, angular spread growth of the forward-scattered light
+    ForwardModel model = ForwardModel::JaffeMcGlamery;  ///< G and k are for JaffeMcGlamery
 };
 
 struct Water {
@@ -27,8 +32,17 @@ struct Water {
     Rgb beta(double cos_psi) const { return b * phase(cos_psi); }
 };
 
-/// Forward-scatter parameters derived from the water when the config says `on` without
-/// values: see docs/model.md for the derivation.
+/// Jaffe-McGlamery parameters G and k estimated from the water's phase function (a 5 degree
+/// cone heuristic, docs/model.md); `forward_scatter: on` now uses the phase-function point
+/// spread instead.
 ForwardScatter default_forward_scatter(const Water& water);
+
+/// The phase-function point spread (what `forward_scatter: on` means).
+inline ForwardScatter phase_function_forward_scatter() {
+    ForwardScatter fs;
+    fs.enabled = true;
+    fs.model = ForwardModel::PhaseFunction;
+    return fs;
+}
 
 }  // namespace deepsea

@@ -2,6 +2,7 @@
 /// \file The runtime compositor: RGB-D frame in, deep-sea layers out (docs/runtime.md).
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "deepsea/core/frame.h"
@@ -9,6 +10,7 @@
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/water.h"
 #include "deepsea/runtime/forward_blur.h"
+#include "deepsea/runtime/forward_psf_blur.h"
 #include "deepsea/runtime/layers.h"
 #include "deepsea/runtime/sources.h"
 
@@ -31,9 +33,10 @@ private:
     Water m_water;
     const IrradianceSource& m_lamps;
     const BackscatterSource& m_backscatter;
-    ForwardBlur m_blur;
-    std::vector<float> m_rx;  ///< (u - cx) / fx per column
-    Image m_d2;               ///< camera-to-surface distance per pixel, metres (0 for open water)
+    ForwardBlur m_blur;                        ///< Jaffe-McGlamery forward scatter
+    std::optional<ForwardPsfBlur> m_psf_blur;  ///< forward scatter from the phase function
+    std::vector<float> m_rx;                   ///< (u - cx) / fx per column
+    Image m_d2;       ///< camera-to-surface distance per pixel, metres (0 for open water)
     Image m_surface;  ///< surface radiance J/pi E (forward scatter on): what the blur spreads
 };
 

@@ -214,12 +214,14 @@ TEST(Config, PresetAndOverrides) {
         "water:\n  preset: jerlov:3C\n  scattering: [0.1, 0.1, 0.1]\n"
         "  forward_scatter: on\n",
         "w.yaml");
-    Water expect = jerlov_water("3C");
-    expect.b = Rgb(0.1);
-    const ForwardScatter fs = default_forward_scatter(expect);
-    EXPECT_TRUE(s.water->forward.enabled);
-    EXPECT_EQ(s.water->forward.G.r, fs.G.r);
-    EXPECT_EQ(s.water->forward.k, fs.k);
+    EXPECT_TRUE(s.water->forward.enabled);  // on: the phase function's point spread
+    EXPECT_EQ(s.water->forward.model, ForwardModel::PhaseFunction);
+    s = parse_setup(
+        "water:\n  preset: jerlov:3C\n  forward_scatter: {G: [0.3, 0.2, 0.2], k: 0.01}\n",
+        "w.yaml");
+    EXPECT_EQ(s.water->forward.model, ForwardModel::JaffeMcGlamery);  // as in the paper
+    EXPECT_EQ(s.water->forward.G.g, 0.2);
+    EXPECT_EQ(s.water->forward.k, 0.01);
 
     // The deep-ocean presets resolve like the Jerlov ones.
     s = parse_setup("water:\n  preset: deep:nepheloid\n", "w.yaml");

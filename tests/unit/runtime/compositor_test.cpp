@@ -9,6 +9,7 @@
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
+#include "deepsea/optics/forward_psf.h"
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/lamps.h"
 #include "deepsea/runtime/reference.h"
@@ -21,12 +22,12 @@ namespace {
 struct Fixture {
     Camera cam = testing::small_camera();
     Rig rig = testing::two_lamps();
-    Water water = testing::ib_with_forward();
+    Water water;
     testing::PlaneScene scene = testing::plane_scene(cam);
     Asset asset;
     Layers ref;
 
-    Fixture() {
+    explicit Fixture(Water w) : water(std::move(w)) {
         BakeSettings s;
         s.step = 4;  // about the default step of an 800 px image, scaled to 120 px
         asset = bake(cam, rig, water, s);
@@ -50,8 +51,19 @@ struct Fixture {
     }
 };
 
+/// Jerlov IB with Jaffe-McGlamery forward scatter (the paper's).
 const Fixture& fixture() {
-    static const Fixture f;
+    static const Fixture f(testing::ib_with_forward());
+    return f;
+}
+
+/// Jerlov IB with forward scatter from the phase function.
+const Fixture& fixture_psf() {
+    static const Fixture f([] {
+        Water w = jerlov_water("IB");
+        w.forward = phase_function_forward_scatter();
+        return w;
+    }());
     return f;
 }
 
@@ -124,6 +136,23 @@ TEST(Compositor, ForwardScatterCloseToExactGather) {
     EXPECT_LE(s.mean, 0.03);
     const Stats fin = compare(out.final, f.ref.final, mask, 1e-9);
     EXPECT_LE(fin.mean, 0.01);
+}
+
+TEST(Compositor, PhaseFunctionForwardScatterCloseToExactBlur) {
+    // The runtime weighs into box-downsampled images and blurs there; the reference blurs each
+    // scale's exactly weighted image at full resolution.
+    const Fixture& f = fixture_psf();
+    const Layers out = f.composite();
+    const Stats s = compare(out.forward, f.ref.forward, f.scene.depth, 1e-9);
+    std::printf("forward vs exact blur: mean %.2e max %.2e\n", s.mean, s.max);
+    EXPECT_LE(s.mean, 0.03);
+    EXPECT_LE(s.max, 0.15);
+    const Stats fin = compare(out.final, f.ref.final, f.scene.depth, 1e-9);
+    EXPECT_LE(fin.mean, 0.01);
+    // Light from the surfaces reaches the open-water pixels beside them too.
+    const int u = f.cam.width - 1, v = f.cam.height - 1;
+    EXPECT_GT(out.forward.at(u, v, 1), 0.0f);
+    EXPECT_EQ(out.direct.at(u, v, 1), 0.0f);
 }
 
 TEST(Compositor, FarAndSentinelDepthsAreFiniteAndBounded) {

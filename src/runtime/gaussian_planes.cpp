@@ -1,0 +1,100 @@
+#include "gaussian_planes.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "clones.h"
+
+namespace deepsea::planes {
+
+namespace {
+
+/// Normalisation of a zero-padded 1-D convolution: w[x] = 1 / (sum of the taps that fall
+/// inside), for n pixels.
+void inside_weights(int n, const std::vector<float>& g, int r, std::vector<float>& w) {
+    w.resize(n);
+    for (int x = 0; x < n; ++x) {
+        double s = 0.0;
+        for (int k = std::max(-r, -x); k <= std::min(r, n - 1 - x); ++k) s += g[k + r];
+        w[x] = float(1.0 / s);
+    }
+}
+
+/// dst[x] = sum_k g[k] src[x + k] over a row padded with r zeros on each side.
+DEEPSEA_CLONES
+void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
+                  const float* __restrict g, int r) {
+    for (int x = 0; x < n; ++x) dst[x] = 0.0f;
+    for (int k = 0; k <= 2 * r; ++k) {
+        const float gk = g[k];
+        const float* s = padded + k;
+#pragma omp simd
+        for (int x = 0; x < n; ++x) dst[x] += gk * s[x];
+    }
+}
+
+}  // namespace
+
+Source interleaved(const Image& in) {
+    return {in.data.data(), in.width, in.height, 1, 3, std::size_t(3) * in.width};
+}
+
+Source planar(const float* data, int w, int h) {
+    return {data, w, h, std::size_t(w) * h, 1, std::size_t(w)};
+}
+
+void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
+                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp) {
+    const int w = src.w, h = src.h;
+    const int r = std::max(1, int(std::ceil(3.0 * sigma)));
+    g.resize(2 * r + 1);
+    for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
+    inside_weights(w, g, r, nx);
+    inside_weights(h, g, r, ny);
+    const std::size_t plane = std::size_t(w) * h;
+    tmp.resize(3 * plane);
+    tbb::parallel_for(0, 3 * h, [&](int prow) {
+        const int c = prow / h, y = prow % h;
+        thread_local std::vector<float> padded;
+        padded.assign(w + 2 * r, 0.0f);
+        const float* in = src.at(c, y);
+        for (int x = 0; x < w; ++x) padded[r + x] = in[x * src.pixel];
+        float* dst = tmp.data() + std::size_t(prow) * w;
+        convolve_row(padded.data(), dst, w, g.data(), r);
+        for (int x = 0; x < w; ++x) dst[x] *= nx[x];
+    });
+    tbb::parallel_for(0, 3 * h, [&](int prow) {
+        const int p = prow / h, y = prow % h;
+        float* dst = dst_planes + p * plane + std::size_t(y) * w;
+        std::fill(dst, dst + w, 0.0f);
+        const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
+        for (int k = k0; k <= k1; ++k) {
+            const float gk = g[k + r] * ny[y];
+            const float* in = tmp.data() + p * plane + std::size_t(y + k) * w;
+#pragma omp simd
+            for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
+        }
+    });
+}
+
+DEEPSEA_CLONES
+void lerp_rows(int n, const float* __restrict a, const float* __restrict b, float t,
+               float* __restrict dst) {
+#pragma omp simd
+    for (int x = 0; x < n; ++x) dst[x] = a[x] + t * (b[x] - a[x]);
+}
+
+DEEPSEA_CLONES
+void add_upsampled(int n, const float* __restrict w, const float* __restrict row,
+                   const int* __restrict x0, const int* __restrict x1, const float* __restrict ax,
+                   float* __restrict acc) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const float a = row[x0[u]], b = row[x1[u]];
+        acc[u] += w[u] * (a + ax[u] * (b - a));
+    }
+}
+
+}  // namespace deepsea::planes

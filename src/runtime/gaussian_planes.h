@@ -1,0 +1,39 @@
+#pragma once
+// Internal to the runtime: three colour planes of one resolution and the separable Gaussian
+// blur, row interpolation and upsampling the forward-scatter blurs share.
+
+#include <cstddef>
+#include <vector>
+
+#include "deepsea/core/image.h"
+
+namespace deepsea::planes {
+
+/// Three colour planes of one resolution, read with strides: an interleaved image (no planar
+/// copy) or planar data.
+struct Source {
+    const float* data = nullptr;
+    int w = 0, h = 0;
+    std::size_t channel = 0, pixel = 1, row = 0;  ///< strides in floats
+    const float* at(int c, int y) const { return data + c * channel + std::size_t(y) * row; }
+    float operator()(int c, int x, int y) const { return at(c, y)[x * pixel]; }
+};
+
+Source interleaved(const Image& in);
+Source planar(const float* data, int w, int h);
+
+/// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to
+/// planar dst, normalised over in-image pixels. g, nx, ny (kernel, row and column
+/// normalisation) and tmp (horizontal pass) are the caller's, kept between frames so that
+/// nothing is allocated once they have grown.
+void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
+                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp);
+
+/// dst = a + t (b - a), n floats.
+void lerp_rows(int n, const float* a, const float* b, float t, float* dst);
+
+/// acc[u] += w[u] * (bilinear sample of the low-resolution row at x0[u] .. x1[u]).
+void add_upsampled(int n, const float* w, const float* row, const int* x0, const int* x1,
+                   const float* ax, float* acc);
+
+}  // namespace deepsea::planes
