@@ -7,9 +7,14 @@ tools/cycles/render_scene.py builds a Cycles scene from, so the two cannot drift
 renders each scene with several seeds (mean and standard error per pixel, bin and sum); deepsea
 renders it exactly (`deepsea reference`, single scattering only) and through a baked asset
 (`deepsea bake` + `deepsea render`). Compared per channel: image sums and 4x4-pixel bins of
-  backscatter  Cycles VolumeDir + VolumeInd          deepsea backscatter layer
-  surface      Cycles (DiffDir + DiffInd) * DiffCol  deepsea direct layer (forward scatter off)
+  backscatter  Cycles VolumeDir + VolumeInd          deepsea backscatter (+ forward) layer
+  surface      Cycles (DiffDir + DiffInd) * DiffCol  deepsea direct layer
   final        Cycles Combined                       deepsea final layer
+Single scattering runs with forward scatter off (the paper's model, whose camera-side light
+Cycles' volume_bounces = 0 has as well but deepsea's reference leaves out); all orders with
+forward scatter on (the phase function's point spread): the plane's light scattered in the
+water on its way to the camera is Cycles' VolumeInd, so deepsea's forward layer is compared
+with the backscatter.
 A sum fails when |deepsea - Cycles| exceeds max(SUM_TOL * |Cycles|, K_SE standard errors), a
 bin when it exceeds max(BIN_TOL * |Cycles|, K_SE_BIN standard errors) (bins dimmer than 1 % of
 the brightest are held to the brightest's allowance); a failing comparison writes a difference
@@ -96,17 +101,13 @@ B_PERTURB = 1.01
 
 
 def asserted_layers(scene, orders):
-    """Single scattering: every layer. All orders: the backscatter of the empty scenes (the baked
-    water light itself) and the surface signal of the plane scenes. Cycles' surface signal
-    (DiffDir + DiffInd) * DiffCol is the plane's own light (unscattered and scattered lamp
-    light, every order, times J/pi) attenuated along the camera ray, which is deepsea's direct
-    layer (forward scatter off). The plane's light that the water scatters on its way to the
-    camera (the forward-scattered image and the plane's glow in the water) is filed by Cycles
-    under VolumeInd, with the water's own light; deepsea does not model it yet, so the plane
-    scenes' backscatter and final images are printed, not asserted."""
-    if orders == "single":
-        return ("backscatter", "surface", "final")
-    return ("surface",) if SCENES[scene]["plane"] else ("backscatter",)
+    """Every layer of every scene. Cycles' surface signal (DiffDir + DiffInd) * DiffCol is the
+    plane's own light (unscattered and scattered lamp light, every order, times J/pi)
+    attenuated along the camera ray: deepsea's direct layer. The plane's light that the water
+    scatters on its way to the camera is filed by Cycles under VolumeInd, with the water's own
+    light: deepsea's forward layer joins the backscatter (all orders; forward scatter is off
+    for single scattering)."""
+    return ("backscatter", "surface", "final") if SCENES[scene]["plane"] else ("backscatter",)
 
 
 def samples_for(name, orders, override):
@@ -139,7 +140,7 @@ def fmt(v):
     return "[" + ", ".join(repr(float(x)) for x in v) + "]"
 
 
-def setup_yaml(name, b_scale=1.0):
+def setup_yaml(name, b_scale=1.0, forward=False):
     s = SCENES[name]
     w = WATERS[s["water"]]
     c = CAMERA
@@ -155,7 +156,7 @@ def setup_yaml(name, b_scale=1.0):
             f"  attenuation: {fmt(w['c'])}",
             f"  scattering: {fmt([b_scale * x for x in w['b']])}",
             f"  phase: {{henyey_greenstein: {{g: {w['g']!r}}}}}",
-            "  forward_scatter: off"]
+            f"  forward_scatter: {'on' if forward else 'off'}"]
     return "\n".join(out) + "\n"
 
 
@@ -212,8 +213,8 @@ def cycles_layers(path):
 
 def deepsea_layers(path):
     ch = read_channels(path)
-    return dict(backscatter=rgb(ch, "backscatter"),
-                surface=rgb(ch, "direct") + rgb(ch, "forward"),
+    return dict(backscatter=rgb(ch, "backscatter") + rgb(ch, "forward"),
+                surface=rgb(ch, "direct"),
                 final=rgb(ch, "final"))
 
 
@@ -424,7 +425,7 @@ def main():
         d = os.path.join(work, s)
         os.makedirs(d, exist_ok=True)
         with open(os.path.join(d, "setup.yaml"), "w") as f:
-            f.write(setup_yaml(s))
+            f.write(setup_yaml(s, forward=orders == "all"))
         rgb_img, z = plane_images(s)
         write_exr(os.path.join(d, "rgb.exr"), rgb_img, ("R", "G", "B"))
         write_exr(os.path.join(d, "depth.exr"), z[..., None], ("Z",))
