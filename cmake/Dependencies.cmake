@@ -14,8 +14,15 @@ list(FILTER _oiio_inc EXCLUDE REGEX "opencv")
 set_target_properties(OpenImageIO::OpenImageIO PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_oiio_inc}")
 
 # OpenVDB ships no CMake config on Debian, only a Find module (which needs boost-iostreams).
-list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB /usr/lib/cmake/OpenVDB)
+# That module sets BUILD_SHARED_LIBS ON in the caller's scope (for Boost's sake); our libraries'
+# kind is our own choice (BUILD_SHARED_LIBS in the top-level CMakeLists.txt), so put it back.
+# deepseaConfig.cmake looks in the same places.
+set(DEEPSEA_OPENVDB_MODULE_PATH
+  /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB /usr/lib/cmake/OpenVDB)
+list(APPEND CMAKE_MODULE_PATH ${DEEPSEA_OPENVDB_MODULE_PATH})
+set(_deepsea_shared ${BUILD_SHARED_LIBS})
 find_package(OpenVDB REQUIRED)
+set(BUILD_SHARED_LIBS ${_deepsea_shared})
 
 if(DEEPSEA_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)

@@ -32,6 +32,56 @@ Vec3 axis_from_rpy(double roll, double pitch, double yaw) {
             b.z};
 }
 
+/// Their pinhole: fx, fy, cx, cy in pixels.
+struct Intrinsics {
+    double fx, fy, cx, cy;
+    bool from_fov;  ///< given as a field of view
+};
+
+/// camera_intrinsic_matrix is either K = [fx 0 cx; 0 fy cy; 0 0 1], row by row, or one number
+/// (a one-element list in their files; a bare number is taken too): the horizontal field of
+/// view in radians, for which their renderer sets f = width / 2 / tan(fov / 2) and puts the
+/// principal point at (width / 2, height / 2).
+Intrinsics read_intrinsics(const Document& doc, const Field& f, int width, int height) {
+    std::vector<double> k;
+    if (f.node.IsScalar()) {
+        k.push_back(doc.number(f));
+    } else {
+        const std::size_t n = doc.list(f).size();
+        if (n != 1 && n != 9)
+            doc.fail(f,
+                     "expected a list of 9 numbers (K row by row) or 1 (the horizontal "
+                     "field of view in radians), got " +
+                         std::to_string(n));
+        k = doc.numbers(f, n, "");
+    }
+    if (k.size() == 9) return {k[0], k[4], k[2], k[5], false};
+    const double fov = k[0];
+    if (!(fov > 0.0 && fov < M_PI))
+        doc.fail(f, "field of view must be in (0, pi) radians, got " + yaml::fmt(fov));
+    const double focal = width / 2.0 / std::tan(fov / 2.0);
+    return {focal, focal, width / 2.0, height / 2.0, true};
+}
+
+/// The Kd triplets their configs name for Jerlov water types (testset_bomb's comment), which
+/// deepsea maps to its measured presets of the same type.
+struct KdWater {
+    const char* type;
+    double r, g, b;
+};
+constexpr KdWater kTheirKd[] = {{"IB", 0.37, 0.044, 0.035}, {"II", 0.4, 0.071, 0.06}};
+
+/// The Jerlov type whose Kd triplet `kd` matches within 5 % per channel, or nullptr.
+const KdWater* jerlov_from_kd(const std::vector<double>& kd) {
+    for (const KdWater& w : kTheirKd) {
+        const double want[3] = {w.r, w.g, w.b};
+        bool match = true;
+        for (int c = 0; c < 3; ++c) match = match && std::fabs(kd[c] - want[c]) <= 0.05 * want[c];
+        if (match) return &w;
+    }
+    return nullptr;
+}
+
 /// `count` rows of n numbers each (one per lamp).
 std::vector<std::vector<double>> rows(const Document& doc, const Field& f, int count,
                                       std::size_t n) {
@@ -50,11 +100,11 @@ std::string convert(const Document& doc) {
     if (!doc.root().node.IsMap() || !doc.root().node["camera_intrinsic_matrix"])
         doc.fail(doc.root(), "not a DeepSeaRenderer config (no camera_intrinsic_matrix)");
     const MapView m(doc, doc.root(), std::nullopt);
-    const auto K = doc.numbers(m.need("camera_intrinsic_matrix"), 9, "");
     const auto wh = doc.list(m.need("image_width_height"));
     if (wh.size() != 2)
         doc.fail(m.need("image_width_height"), "expected a list of 2 integers [width, height]");
     const int width = doc.integer(wh[0]), height = doc.integer(wh[1]);
+    const Intrinsics K = read_intrinsics(doc, m.need("camera_intrinsic_matrix"), width, height);
     const Field& nf = m.need("num_lights");
     const int n = doc.integer(nf);
     if (n < 1) doc.fail(nf, "must be >= 1");
@@ -70,10 +120,16 @@ std::string convert(const Document& doc) {
     y.precision(9);
     y << "# Converted by `deepsea import-config` from " << fs::path(doc.file()).filename().string()
       << " (DeepSeaRenderer, Song et al.).\n\n";
-    y << "# camera_intrinsic_matrix [fx 0 cx; 0 fy cy; 0 0 1] and image_width_height; both\n"
-         "# renderers put pixel centres at integer coordinates.\n";
-    y << "camera:\n  width: " << width << "\n  height: " << height << "\n  fx: " << K[0]
-      << "\n  fy: " << K[4] << "\n  cx: " << K[2] << "\n  cy: " << K[5] << "\n\n";
+    if (K.from_fov) {
+        y << "# camera_intrinsic_matrix [fov] is their horizontal field of view (radians):\n"
+             "# f = width / 2 / tan(fov / 2), principal point (width / 2, height / 2) as their\n"
+             "# renderer sets it; both renderers put pixel centres at integer coordinates.\n";
+    } else {
+        y << "# camera_intrinsic_matrix [fx 0 cx; 0 fy cy; 0 0 1] and image_width_height; both\n"
+             "# renderers put pixel centres at integer coordinates.\n";
+    }
+    y << "camera:\n  width: " << width << "\n  height: " << height << "\n  fx: " << K.fx
+      << "\n  fy: " << K.fy << "\n  cx: " << K.cx << "\n  cy: " << K.cy << "\n\n";
     y << "# light_positions_XYZ are camera-frame metres as in deepsea. Directions: +z (the\n"
          "# optical axis) rotated by light_orientations_RollPitchYaw (about x, then y, then z).\n"
          "# light_spectrum_RGB (relative) becomes the intensity in W/sr; their scale_factor is an\n"
@@ -94,15 +150,15 @@ std::string convert(const Document& doc) {
         y << "      rid: {gaussian: {sigma_deg: 35}}\n";
     }
     y << "\n";
-    const bool ib = std::fabs(kd[0] - 0.37) <= 0.05 * 0.37 &&
-                    std::fabs(kd[1] - 0.044) <= 0.05 * 0.044 &&
-                    std::fabs(kd[2] - 0.035) <= 0.05 * 0.035;
     y << "water:\n";
-    if (ib) {
+    if (const KdWater* w = jerlov_from_kd(kd)) {
+        const std::string type = w->type;
         y << "  # water_attenuation_RGB (" << kd[0] << ", " << kd[1] << ", " << kd[2]
-          << ") are Jerlov IB's *diffuse* Kd (Jerlov 1976),\n"
-             "  # not the beam attenuation c that light paths need: use the measured IB preset.\n";
-        y << "  name: jerlov-IB\n  preset: jerlov:IB\n";
+          << ") are Jerlov " << type
+          << "'s *diffuse* Kd (Jerlov 1976),\n"
+             "  # not the beam attenuation c that light paths need: use the measured "
+          << type << " preset.\n";
+        y << "  name: jerlov-" << type << "\n  preset: jerlov:" << type << "\n";
     } else {
         y << "  # water_attenuation_RGB taken as the beam attenuation c. If these are diffuse Kd\n"
              "  # values (as the authors' examples are), c is larger and this water too clear.\n";
@@ -121,7 +177,11 @@ std::string convert(const Document& doc) {
             y << "  phase: {petzold: turbid}\n";
             break;
         case 4:
-            y << "  phase: {henyey_greenstein: {g: 0.9}}  # their H-G option; g not in the file\n";
+            // Their H-G is (1 - g^2) / (4 pi (1 + g^2 + 2 g cos psi)^1.5) with g = -0.3 and psi
+            // the scattering angle: the standard form (- 2 g cos psi) with g = +0.3.
+            y << "  # their Henyey-Greenstein: g = -0.3 in their code's sign convention\n"
+                 "  # (1 + g^2 + 2 g cos psi), which is g = +0.3 in the standard one\n";
+            y << "  phase: {henyey_greenstein: {g: 0.3}}\n";
             break;
         default:
             doc.fail(vf, "expected 1, 2, 3 or 4");

@@ -10,8 +10,23 @@
 
 namespace deepsea::cli {
 
+CLI::Option* add_threads(CLI::App& sub, int& threads) {
+    const CLI::Validator non_negative(
+        [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const long v = std::strtol(text.c_str(), &end, 10);
+            if (text.empty() || *end != '\0' || v < 0 || v > 1 << 20)
+                return "must be an integer >= 0 (0: all cores), got '" + text + "'";
+            return "";
+        },
+        "");
+    return sub.add_option("--threads", threads, "worker threads (0: all cores)")
+        ->check(non_negative);
+}
+
 void SetupFlags::add_to(CLI::App& sub, bool camera_required) {
-    sub.add_option("--config", configs, "YAML file(s) with camera, rig and/or water sections");
+    sub.add_option("--config", configs, "YAML file(s) with camera, rig and/or water sections")
+        ->default_str("");
     sub.add_option("--camera", camera, "YAML file with a camera section");
     sub.add_option("--rig", rig, "YAML file with a rig section");
     sub.add_option("--water", water,
@@ -53,8 +68,7 @@ void BakeFlags::add_to(CLI::App& sub) {
     sub.add_option("--z-max", z_max, "planar depth of the last sample in metres, or 'auto'");
     sub.add_option("--tolerance", settings.tolerance,
                    "auto z-max: remaining backscatter / total beyond it");
-    sub.add_option("--threads", threads, "worker threads (0: all cores)")
-        ->check(CLI::NonNegativeNumber);
+    add_threads(sub, threads);
     sub.add_option("--scattering", scattering,
                    "single (the paper's model, exact) | multiple (all orders, Monte Carlo)");
     sub.add_option("--paths", settings.higher_orders.paths,
@@ -66,9 +80,9 @@ void BakeFlags::add_to(CLI::App& sub) {
 
 BakeSettings BakeFlags::resolve() const {
     BakeSettings s = settings;
-    if (!scheme.empty()) s.scheme = parse_depth_scheme(scheme);
+    s.scheme = parse_depth_scheme(scheme);
     s.scattering = parse_scattering(scattering);
-    if (z_max == "auto" || z_max.empty()) {
+    if (z_max == "auto") {
         s.z_max = 0.0;
     } else {
         char* end = nullptr;

@@ -12,6 +12,10 @@
 
 namespace deepsea::cli {
 
+/// --threads: worker threads, 0 (the default) for all cores; "must be an integer >= 0"
+/// otherwise. Every command that computes adds it through here.
+CLI::Option* add_threads(CLI::App& sub, int& threads);
+
 /// --config (repeatable), --camera, --rig, --water (file or preset).
 struct SetupFlags {
     std::vector<std::string> configs;
@@ -34,8 +38,8 @@ struct DepthFlags {
 /// --xy-step, --depth-samples, --depth-scheme, --z-max, --tolerance, --threads.
 struct BakeFlags {
     BakeSettings settings;
-    std::string scheme;  ///< empty: the default
-    std::string z_max;   ///< empty or "auto": auto
+    std::string scheme = to_string(BakeSettings{}.scheme);
+    std::string z_max = "auto";  ///< or a depth in metres
     std::string scattering = "single";
     int threads = 0;  ///< how to run, not what to bake: not part of the settings
     void add_to(CLI::App& sub);

@@ -143,8 +143,7 @@ void setup_bake_library(CLI::App& sub) {
     sub.add_option("--shard-count", a->shard_count, "shards when JOB_COMPLETION_INDEX is used");
     sub.add_flag("--force", a->force, "bake even if an asset is up to date");
     sub.add_flag("--dry-run", a->dry_run, "list what would be baked");
-    sub.add_option("--threads", a->threads, "worker threads (0: all cores)")
-        ->check(CLI::NonNegativeNumber);
+    add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }
 

@@ -227,7 +227,7 @@ void run(const BenchArgs& a) {
 void setup_bench(CLI::App& sub) {
     auto a = std::make_shared<BenchArgs>();
     sub.add_option("--repeats", a->repeats, "timed runs per case (median reported)");
-    sub.add_option("--threads", a->threads, "worker threads (0: all cores)");
+    add_threads(sub, a->threads);
     sub.add_option("--config", a->config, "setup YAML (camera, rig, water)");
     sub.add_flag("--no-forward", a->no_forward, "time without forward scatter");
     sub.add_option("--scattering", a->scattering,

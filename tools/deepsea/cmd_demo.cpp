@@ -9,6 +9,7 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/runtime/contact_sheet.h"
 #include "deepsea/runtime/exposure.h"
@@ -27,10 +28,11 @@ struct DemoArgs {
     int frames = 8;
     std::uint64_t seed = 1;
     std::string scattering = "multiple";
+    int threads = 0;
 };
 
 /// The asset for the demo setup: reuse `path` if its inputs are unchanged, else bake it.
-Asset demo_asset(const Setup& setup, const std::string& path, Scattering scattering) {
+Asset demo_asset(const Setup& setup, const std::string& path, Scattering scattering, int threads) {
     BakeSettings settings;
     settings.scattering = scattering;
     if (fs::exists(path)) {
@@ -46,12 +48,12 @@ Asset demo_asset(const Setup& setup, const std::string& path, Scattering scatter
         }
     }
     Progress bar("bake", 1);
-    Asset a =
-        bake(*setup.camera, *setup.rig, *setup.water, settings, {0, 0, [&](long done, long total) {
-                                                                     bar.set_total(total);
-                                                                     bar.update(done);
-                                                                     return true;
-                                                                 }});
+    Asset a = bake(*setup.camera, *setup.rig, *setup.water, settings,
+                   {threads, 0, [&](long done, long total) {
+                        bar.set_total(total);
+                        bar.update(done);
+                        return true;
+                    }});
     bar.finish();
     write_asset(path, a);
     std::printf("asset: baked %s\n", path.c_str());
@@ -80,7 +82,7 @@ void run(const DemoArgs& a) {
     for (int i = 0; i < a.frames; ++i) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d", i + 1);
-        const Frame f = render_flight_frame(flight, i);
+        const Frame f = render_flight_frame(flight, i, {a.threads});
         FrameJob j;
         j.rgb = (input / (std::string(name) + ".png")).string();
         j.depth = (input / (std::string(name) + "_depth.exr")).string();
@@ -96,11 +98,12 @@ void run(const DemoArgs& a) {
 
     // 2. the asset, 3. the sequence
     const Asset asset =
-        demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering));
+        demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering), a.threads);
     SequenceOptions opt;
     Progress bar("render", a.frames);
     opt.progress = [&](int done, int) { bar.update(done); };
-    const SequenceResult r = render_sequence(asset, jobs, opt);
+    SequenceResult r;
+    in_arena(a.threads, [&] { r = render_sequence(asset, jobs, opt); });
     bar.finish();
     for (const auto& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
     std::printf("render: %d frames in %.2f s -> %s\n", r.written, r.seconds, frames.c_str());
@@ -133,8 +136,8 @@ void setup_demo(CLI::App& sub) {
     sub.add_option("--frames", a->frames, "frames to generate and render");
     sub.add_option("--seed", a->seed, "seafloor seed");
     sub.add_option("--scattering", a->scattering,
-                   "the asset's water light: multiple (all orders) or single (the paper's model)")
-        ->capture_default_str();
+                   "the asset's water light: multiple (all orders) or single (the paper's model)");
+    add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }
 

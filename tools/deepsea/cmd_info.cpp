@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <string>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 
 namespace deepsea::cli {
 
@@ -34,11 +36,13 @@ std::string json_string(const std::string& text) {
 struct InfoArgs {
     std::string path;
     bool json = false;
+    int threads = 0;
 };
 
 void run(const InfoArgs& a) {
     const AssetFileSummary s = read_asset_summary(a.path);
-    const Asset asset = load_asset(a.path);  // also checks the voxel data
+    Asset asset;
+    in_arena(a.threads, [&] { asset = load_asset(a.path); });  // also checks the voxel data
     const BakeInfo& b = s.info;
     const Lattice& l = b.lattice;
     // Backscatter at z_max over all columns: the range the runtime can return.
@@ -134,6 +138,7 @@ void setup_info(CLI::App& sub) {
     auto a = std::make_shared<InfoArgs>();
     sub.add_option("asset", a->path, "asset file (.vdb)")->required();
     sub.add_flag("--json", a->json, "print JSON for scripts");
+    add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }
 

@@ -69,8 +69,7 @@ void setup_reference(CLI::App& sub) {
         ->check(CLI::NonNegativeNumber);
     sub.add_option("--rel-tol", a->rel_tol, "relative tolerance of the backscatter quadrature")
         ->check(CLI::PositiveNumber);
-    sub.add_option("--threads", a->threads, "worker threads (0: all cores)")
-        ->check(CLI::NonNegativeNumber);
+    add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }
 

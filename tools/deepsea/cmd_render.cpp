@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/runtime/sequence.h"
 
 namespace deepsea::cli {
@@ -17,6 +18,7 @@ struct RenderArgs {
     std::string asset, rgb, depth_path, output, layers, exposure = "auto", camera;
     bool resume = false, no_forward = false;
     int bits = 8;
+    int threads = 0;
 };
 
 int run(const RenderArgs& a) {
@@ -39,7 +41,8 @@ int run(const RenderArgs& a) {
     const Asset asset = load_asset(a.asset);
     Progress bar("render", long(jobs.size()));
     opt.progress = [&](int done, int) { bar.update(done); };
-    const SequenceResult r = render_sequence(asset, jobs, opt);
+    SequenceResult r;
+    in_arena(a.threads, [&] { r = render_sequence(asset, jobs, opt); });
     bar.finish();
     // One frame that failed: its error is the one line (main prints it), no summary.
     if (jobs.size() == 1 && !r.errors.empty()) throw FramesFailed(r.errors.front());
@@ -74,6 +77,7 @@ void setup_render(CLI::App& sub) {
     sub.add_option("--bits", a->bits, "PNG bit depth")->check(CLI::IsMember({8, 16}));
     sub.add_flag("--resume", a->resume, "skip frames whose outputs exist");
     sub.add_flag("--no-forward", a->no_forward, "leave forward scatter out");
+    add_threads(sub, a->threads);
     sub.callback([a] {
         const int rc = run(*a);
         if (rc != 0) throw FramesFailed("some frames failed (listed above)");

@@ -100,24 +100,29 @@ void run(SceneArgs a) {
 void setup_scene(CLI::App& sub) {
     auto a = std::make_shared<SceneArgs>();
     sub.add_option("--out", a->out, "output directory (created if missing)")->required();
-    sub.add_option("--frames", a->frames, "number of frames (default 8)");
+    sub.add_option("--frames", a->frames, "number of frames");
     auto* cam = sub.add_option("--camera", a->camera_file, "YAML file with a camera section");
-    sub.add_option("--width", a->width, "image width in pixels (default 800)")->excludes(cam);
-    sub.add_option("--height", a->height, "image height in pixels (default 800)")->excludes(cam);
-    sub.add_option("--fx", a->fx, "focal length in pixels (default 0.75 * width)")->excludes(cam);
-    sub.add_option("--fy", a->fy, "focal length in pixels (default fx)")->excludes(cam);
-    sub.add_option("--cx", a->cx, "principal point in pixels (default width / 2)")->excludes(cam);
-    sub.add_option("--cy", a->cy, "principal point in pixels (default height / 2)")->excludes(cam);
-    sub.add_option("--altitude", a->flight.altitude, "metres above the mean seafloor (default 3)");
-    sub.add_option("--speed", a->flight.speed, "metres flown per frame along +x (default 0.25)");
-    sub.add_option("--pitch", a->flight.pitch_deg,
-                   "degrees from straight down, > 0 looks ahead (default 0)");
-    sub.add_option("--seed", a->flight.seed, "seafloor seed: same seed, same frames (default 1)");
-    sub.add_option("--relief", a->flight.relief,
-                   "height scale of the relief, 0 = flat (default 1)");
+    sub.add_option("--width", a->width, "image width in pixels")->excludes(cam);
+    sub.add_option("--height", a->height, "image height in pixels")->excludes(cam);
+    // Defaults that follow from other options: --help shows the rule.
+    sub.add_option("--fx", a->fx, "focal length in pixels")
+        ->default_str("0.75*width")
+        ->excludes(cam);
+    sub.add_option("--fy", a->fy, "focal length in pixels")->default_str("fx")->excludes(cam);
+    sub.add_option("--cx", a->cx, "principal point in pixels")
+        ->default_str("width/2")
+        ->excludes(cam);
+    sub.add_option("--cy", a->cy, "principal point in pixels")
+        ->default_str("height/2")
+        ->excludes(cam);
+    sub.add_option("--altitude", a->flight.altitude, "metres above the mean seafloor");
+    sub.add_option("--speed", a->flight.speed, "metres flown per frame along +x");
+    sub.add_option("--pitch", a->flight.pitch_deg, "degrees from straight down, > 0 looks ahead");
+    sub.add_option("--seed", a->flight.seed, "seafloor seed: same seed, same frames");
+    sub.add_option("--relief", a->flight.relief, "height scale of the relief, 0 = flat");
     sub.add_option("--max-range", a->flight.max_range,
-                   "metres along a ray beyond which depth is 0 (default 50)");
-    sub.add_option("--threads", a->threads, "worker threads (0: all cores)");
+                   "metres along a ray beyond which depth is 0");
+    add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }
 

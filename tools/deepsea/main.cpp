@@ -1,9 +1,11 @@
 // deepsea: one CLI, a table of subcommands (commands.h). main parses, dispatches, and maps
-// deepsea::Error to one line on stderr and a non-zero exit code.
+// deepsea::Error to one line on stderr and a non-zero exit code; usage errors (an unknown
+// command or option, a missing or bad value) are one line and exit code 2, as config errors.
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "commands.h"
 #include "deepsea/core/error.h"
@@ -13,7 +15,9 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("deepsea ") + DEEPSEA_VERSION);
     app.require_subcommand(1);
     // A repeated option takes its last value, as in most Unix tools (scripts append overrides).
+    // --help shows every option's default. Both apply to the subcommands added below.
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    app.option_defaults()->always_capture_default();
     for (const auto& cmd : deepsea::cli::kCommands) {
         CLI::App* sub = app.add_subcommand(cmd.name, cmd.help);
         cmd.setup(*sub);
@@ -27,9 +31,18 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        // one line, like every other error
-        std::fprintf(stderr, "deepsea: error: %s (see --help)\n", e.what());
-        return e.get_exit_code();
+        // One line, like every other error, and the exit code of a config error (CLI11's own
+        // codes, 104-109, mean nothing to a caller).
+        std::string what = e.what();
+        std::string help = "deepsea --help";
+        if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+            what = std::string("unknown command '") + argv[1] + "'";
+        } else if (!app.get_subcommands().empty()) {
+            help = "deepsea " + app.get_subcommands().front()->get_name() + " --help";
+        }
+        std::fprintf(stderr, "deepsea: error: %s (see %s)\n", deepsea::one_line(what, 1000).c_str(),
+                     help.c_str());
+        return 2;  // ConfigError's code
     } catch (const deepsea::Error& e) {
         std::fprintf(stderr, "deepsea: error: %s\n", deepsea::one_line(e.what(), 1000).c_str());
         return e.exit_code();

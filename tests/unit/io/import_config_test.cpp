@@ -82,8 +82,42 @@ TEST_F(ImportConfig, OtherWatersAndPhases) {
     text = replaced(text, "vsf_type: 1", "vsf_type: 4");
     const deepsea::Setup s = parse_setup(import_config(file(text)), "converted.yaml");
     EXPECT_EQ(s.water->c.g, 0.2);
+    // Their type 4 evaluates 1 + g^2 + 2 g cos(psi) with g = -0.3: forward-peaked, which is
+    // g = +0.3 in the standard convention that deepsea (and Cycles, pbrt) use.
     EXPECT_EQ(s.water->phase.kind, PhaseKind::HenyeyGreenstein);
-    EXPECT_EQ(s.water->phase.g, 0.9);
+    EXPECT_EQ(s.water->phase.g, 0.3);
+}
+
+TEST_F(ImportConfig, TheirJerlovTypeIIKdBecomesThePreset) {
+    // testset_bomb's config names Jerlov II as Kd (0.4, 0.071, 0.06), as IB is (0.37, ...).
+    const std::string text = replaced(kAuthors, "[0.37, 0.044, 0.035]", "[0.4, 0.071, 0.06]");
+    const std::string yaml = import_config(file(text));
+    EXPECT_NE(yaml.find("preset: jerlov:II\n"), std::string::npos) << yaml;
+    const deepsea::Setup s = parse_setup(yaml, "converted.yaml");
+    EXPECT_EQ(s.water->c.r, jerlov_water("II").c.r);
+    EXPECT_EQ(s.water->b.b, jerlov_water("II").b.b);
+    EXPECT_EQ(s.water->name, "jerlov-II");
+    // Their vsf_type still chooses the phase function.
+    EXPECT_EQ(s.water->phase.kind, PhaseKind::PetzoldClear);
+}
+
+TEST_F(ImportConfig, FieldOfViewFormOfTheIntrinsics) {
+    // One number: their horizontal field of view in radians, f = width / 2 / tan(fov / 2),
+    // principal point at (width / 2, height / 2). A one-element list is their form; a bare
+    // number means the same.
+    const std::string wide = replaced(kAuthors, "[800, 800]", "[640, 480]");
+    for (const char* form : {"[1.2]", "1.2"}) {
+        const std::string text =
+            replaced(wide, "[600.0, 0.0, 400.0, 0.0, 600.0, 400.0, 0.0, 0.0, 1.0]", form);
+        const deepsea::Setup s = parse_setup(import_config(file(text)), "converted.yaml");
+        const double f = 320.0 / std::tan(0.6);
+        EXPECT_NEAR(s.camera->fx, f, 1e-6 * f) << form;
+        EXPECT_EQ(s.camera->fy, s.camera->fx) << form;
+        EXPECT_EQ(s.camera->cx, 320.0) << form;
+        EXPECT_EQ(s.camera->cy, 240.0) << form;
+        EXPECT_EQ(s.camera->width, 640) << form;
+        EXPECT_EQ(s.camera->height, 480) << form;
+    }
 }
 
 TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
@@ -94,7 +128,13 @@ TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
     };
     starts("camera: {width: 3}\n", ":1: (top level): not a DeepSeaRenderer config");
     starts(replaced(kAuthors, "600.0, 400.0, 0.0, 0.0, 1.0]", "600.0]"),
-           ":3: camera_intrinsic_matrix: expected a list of 9 numbers");
+           ":3: camera_intrinsic_matrix: expected a list of 9 numbers (K row by row) or 1 (the "
+           "horizontal field of view in radians), got 5");
+    // A field of view is in radians, less than pi: 80 is degrees.
+    starts(replaced(kAuthors, "[600.0, 0.0, 400.0, 0.0, 600.0, 400.0, 0.0, 0.0, 1.0]", "[80]"),
+           ":3: camera_intrinsic_matrix: field of view must be in (0, pi) radians, got 80");
+    starts(replaced(kAuthors, "[600.0, 0.0, 400.0, 0.0, 600.0, 400.0, 0.0, 0.0, 1.0]", "0"),
+           ":3: camera_intrinsic_matrix: field of view must be in (0, pi) radians, got 0");
     starts(replaced(kAuthors, "num_lights: 2", "num_lights: 3"),
            ":9: light_positions_XYZ: expected 3 entries");
     starts(replaced(kAuthors, "num_lights: 2", "num_lights: 0"), ":8: num_lights: must be >= 1");

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# `cmake --install` into a scratch prefix installs the binary, every public header, the layer
+# libraries, the CMake package, the pkg-config file and the Blender script; the installed
+# binary runs and names nothing in the build tree (no RPATH/RUNPATH into it, every library it
+# loads resolved outside it).
+set -euo pipefail
+cmake=$1 build=$2 prefix=$3 src=$4 version=$5
+rm -rf "$prefix"
+"$cmake" --install "$build" --prefix "$prefix" >/dev/null
+fail() { echo "FAIL: $*"; exit 1; }
+
+[[ -x $prefix/bin/deepsea ]] || fail "no bin/deepsea"
+libdir=$(dirname "$(find "$prefix" -name deepseaConfig.cmake)")/../..
+for layer in core optics asset io scene bake runtime; do
+  ls "$libdir"/libdeepsea_$layer.* >/dev/null 2>&1 || fail "no libdeepsea_$layer in $libdir"
+done
+for f in cmake/deepsea/deepseaConfig.cmake cmake/deepsea/deepseaConfigVersion.cmake \
+         cmake/deepsea/deepseaTargets.cmake pkgconfig/deepsea.pc; do
+  [[ -f $libdir/$f ]] || fail "no $f"
+done
+[[ -f $prefix/share/deepsea/blender/open_asset.py ]] || fail "no Blender script"
+(cd "$src/include" && find deepsea -name '*.h' | sort) >"$prefix/want.txt"
+(cd "$prefix/include" && find deepsea -name '*.h' | sort) >"$prefix/got.txt"
+cmp -s "$prefix/want.txt" "$prefix/got.txt" || { diff "$prefix/want.txt" "$prefix/got.txt"; fail "headers differ"; }
+echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers, 7 libraries, CMake package, pkg-config, Blender script"
+
+# Nothing from the build tree: no run path into it, no library loaded from it.
+build_abs=$(cd "$build" && pwd -P)
+for f in "$prefix/bin/deepsea" "$libdir"/libdeepsea_*.so; do
+  [[ -e $f ]] || continue
+  if readelf -d "$f" | grep -E 'R(UN)?PATH' | grep -q -- "$build_abs"; then
+    readelf -d "$f" | grep -E 'R(UN)?PATH'; fail "$f has a run path into the build tree"
+  fi
+  ldd "$f" >"$prefix/ldd.txt"
+  if grep -q "not found" "$prefix/ldd.txt" || grep -q -- "$build_abs" "$prefix/ldd.txt"; then
+    cat "$prefix/ldd.txt"; fail "$f loads a library that is missing or in the build tree"
+  fi
+done
+echo "ok run paths: $(readelf -d "$prefix/bin/deepsea" | grep -E -c 'R(UN)?PATH') in bin/deepsea, none into $build_abs"
+
+[[ $("$prefix/bin/deepsea" --version) == "deepsea $version" ]] || fail "--version"
+"$prefix/bin/deepsea" import-config --help >/dev/null
+echo "package install: OK"
