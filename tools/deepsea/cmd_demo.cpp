@@ -99,7 +99,10 @@ void run(const DemoArgs& a) {
         demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering));
     SequenceOptions opt;
     Progress bar("render", a.frames);
-    opt.progress = [&](int done, int) { bar.update(done); };
+    opt.progress = [&](long done, long) {
+        bar.update(done);
+        return true;
+    };
     const SequenceResult r = render_sequence(asset, jobs, opt);
     bar.finish();
     for (const auto& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
