@@ -10,6 +10,8 @@
 
 namespace deepsea {
 
+namespace fs = std::filesystem;
+
 namespace {
 
 class FolderLockTest : public test::TempFolderTest {};
