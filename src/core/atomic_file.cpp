@@ -25,15 +25,49 @@ void require_writable_folder(const std::string& path) {
     }
 }
 
+namespace {
+
+constexpr const char* kTmpTag = ".tmp-";
+
+/// The temporary for `target`: hidden, unique per process and call, and keeps the extension
+/// for format-by-name writers. parse_temporary_name reads it back.
+fs::path temporary_for(const fs::path& target, unsigned serial) {
+    return target.parent_path() /
+           ("." + target.stem().string() + kTmpTag + std::to_string(::getpid()) + "-" +
+            std::to_string(serial) + target.extension().string());
+}
+
+bool all_digits(const std::string& s) {
+    return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+}
+
+}  // namespace
+
+std::optional<TemporaryName> parse_temporary_name(const std::string& file_name) {
+    // .<stem>.tmp-<pid>-<serial><extension>; the stem may itself hold ".tmp-".
+    if (file_name.size() < 2 || file_name[0] != '.') return std::nullopt;
+    const std::size_t tag = file_name.rfind(kTmpTag);
+    if (tag == std::string::npos || tag < 1) return std::nullopt;
+    const std::string rest = file_name.substr(tag + std::strlen(kTmpTag));
+    const std::size_t dash = rest.find('-');
+    if (dash == std::string::npos) return std::nullopt;
+    const std::string pid = rest.substr(0, dash);
+    std::string serial = rest.substr(dash + 1), ext;
+    const std::size_t dot = serial.find('.');
+    if (dot != std::string::npos) {
+        ext = serial.substr(dot);
+        serial.resize(dot);
+    }
+    if (!all_digits(pid) || !all_digits(serial) || pid.size() > 9) return std::nullopt;
+    return TemporaryName{file_name.substr(1, tag - 1) + ext, std::stol(pid)};
+}
+
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& tmp)>& write) {
     require_writable_folder(path);
     static std::atomic<unsigned> serial{0};
     const fs::path target(path);
-    // Hidden, unique per process and call, and keeps the extension for format-by-name writers.
-    const fs::path tmp = target.parent_path() /
-                         ("." + target.stem().string() + ".tmp-" + std::to_string(::getpid()) +
-                          "-" + std::to_string(serial++) + target.extension().string());
+    const fs::path tmp = temporary_for(target, serial++);
     const auto cleanup = [&] {
         std::error_code rm;
         fs::remove(tmp, rm);

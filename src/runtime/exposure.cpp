@@ -22,21 +22,43 @@ Exposure parse_exposure(const std::string& text) {
     return e;
 }
 
+namespace {
+
+/// The value that at most `fraction` of `values` exceed (0 for none).
+double upper_quantile(std::vector<float>& values, double fraction) {
+    if (values.empty()) return 0.0;
+    const std::size_t over = std::size_t(fraction * double(values.size()));
+    const std::size_t n = values.size() - 1 - std::min(over, values.size() - 1);
+    std::nth_element(values.begin(), values.begin() + n, values.end());
+    return values[n];
+}
+
+}  // namespace
+
 double exposure_factor(const Exposure& e, const Image& radiance) {
     if (!e.automatic) return e.factor;
     // Rec. 709 luminance; the percentile ignores a few specular or near-lamp outliers.
-    std::vector<float> lum;
-    lum.reserve(std::size_t(radiance.width) * radiance.height);
+    const std::size_t n = std::size_t(radiance.width) * radiance.height;
+    std::vector<float> lum, channel[3];
+    lum.reserve(n);
+    for (auto& c : channel) c.reserve(n);
     for (std::size_t i = 0; i + 2 < radiance.data.size(); i += radiance.channels) {
-        const float y = 0.2126f * radiance.data[i] + 0.7152f * radiance.data[i + 1] +
-                        0.0722f * radiance.data[i + 2];
-        if (std::isfinite(y)) lum.push_back(y);
+        const float r = radiance.data[i], g = radiance.data[i + 1], b = radiance.data[i + 2];
+        const float y = 0.2126f * r + 0.7152f * g + 0.0722f * b;
+        if (!std::isfinite(y)) continue;
+        lum.push_back(y);
+        channel[0].push_back(r);
+        channel[1].push_back(g);
+        channel[2].push_back(b);
     }
-    if (lum.empty()) return 1.0;
-    const std::size_t n = std::min(lum.size() - 1, std::size_t(e.percentile * (lum.size() - 1)));
-    std::nth_element(lum.begin(), lum.begin() + n, lum.end());
-    const double p = lum[n];
-    return p > 0.0 ? e.target / p : 1.0;
+    const double p = upper_quantile(lum, 1.0 - e.percentile);
+    if (!(p > 0.0)) return 1.0;
+    double factor = e.target / p;
+    for (auto& c : channel) {
+        const double q = upper_quantile(c, e.max_clipped);
+        if (q > 0.0) factor = std::min(factor, 1.0 / q);
+    }
+    return factor;
 }
 
 Image apply_exposure(const Image& radiance, double factor) {

@@ -25,15 +25,17 @@ void Layers::resize(int width, int height, LayerSet set) {
     fit(normal, 3);
 }
 
-void write_layers(const std::string& path, const Layers& l) {
+void write_layers(const std::string& path, const Layers& l, const ImageMetadata& meta) {
     const std::vector<std::string> rgb{"R", "G", "B"};
-    write_exr_layers(path, {{"final", &l.final, rgb},
-                            {"direct", &l.direct, rgb},
-                            {"forward", &l.forward, rgb},
-                            {"backscatter", &l.backscatter, rgb},
-                            {"transmission", &l.transmission, rgb},
-                            {"depth", &l.depth, {"Z"}},
-                            {"normal", &l.normal, {"X", "Y", "Z"}}});
+    write_exr_layers(path,
+                     {{"final", &l.final, rgb},
+                      {"direct", &l.direct, rgb},
+                      {"forward", &l.forward, rgb},
+                      {"backscatter", &l.backscatter, rgb},
+                      {"transmission", &l.transmission, rgb},
+                      {"depth", &l.depth, {"Z"}},
+                      {"normal", &l.normal, {"X", "Y", "Z"}}},
+                     meta);
 }
 
 }  // namespace deepsea

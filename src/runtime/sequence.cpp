@@ -3,8 +3,10 @@
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -13,8 +15,11 @@
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/sequence_manifest.h"
 
 namespace deepsea {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -27,18 +32,103 @@ struct Slot {
     Image final;    ///< the final layer, for the exposed image
 };
 
+/// An output that a finished write left: non-empty and decoding fully. A kill never leaves a
+/// partial file under the final name (writes are atomic), but a 0-byte or damaged file may
+/// come from elsewhere; such a frame is rendered again.
+bool complete(const std::string& path, bool layers) {
+    if (path.empty()) return true;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec) || fs::file_size(path, ec) == 0 || ec) return false;
+    try {
+        if (layers) {
+            (void)read_exr_layer(path, "final", {"R", "G", "B"});
+        } else {
+            (void)read_color(path);
+        }
+        return true;
+    } catch (const Error&) {
+        return false;
+    }
+}
+
 bool done_already(const FrameJob& j) {
-    namespace fs = std::filesystem;
-    return (j.output.empty() || fs::exists(j.output)) && (j.layers.empty() || fs::exists(j.layers));
+    return complete(j.output, false) && complete(j.layers, true);
+}
+
+std::string absolute(const std::string& pattern) {
+    return pattern.empty() ? pattern : fs::absolute(pattern).lexically_normal().string();
+}
+
+SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jobs,
+                             const SequenceOptions& opt) {
+    SequenceManifest m;
+    m.deepsea_version = opt.version;
+    m.asset_hash = asset.info.input_hash;
+    m.rgb = absolute(opt.rgb_pattern);
+    m.depth = absolute(opt.depth_pattern);
+    m.camera = opt.camera.width > 0 ? opt.camera : asset.info.camera;
+    m.auto_exposure = opt.exposure.automatic;
+    m.percentile = opt.exposure.percentile;
+    m.target = opt.exposure.target;
+    m.max_clipped = opt.exposure.max_clipped;
+    m.exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
+    m.image = !jobs.empty() && !jobs.front().output.empty();
+    m.bits = opt.bits;
+    m.layers = !jobs.empty() && !jobs.front().layers.empty();
+    m.forward = opt.forward;
+    m.depth_kind = opt.depth_kind == DepthKind::Range ? "range" : "z";
+    m.depth_channel = opt.depth_read.channel;
+    m.depth_scale = opt.depth_read.scale;
+    m.frames_total = int(jobs.size());
+    return m;
 }
 
 }  // namespace
 
+ImageMetadata output_metadata(const Asset& asset, double exposure, const std::string& version) {
+    char factor[32];
+    std::snprintf(factor, sizeof factor, "%.17g", exposure);
+    ImageMetadata meta{{"deepsea:exposure", factor}, {"deepsea:asset_hash", asset.info.input_hash}};
+    if (!version.empty()) meta.emplace_back("deepsea:version", version);
+    return meta;
+}
+
 SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
                                const SequenceOptions& opt) {
     SequenceResult result;
+    result.total = int(jobs.size());
     const auto t0 = std::chrono::steady_clock::now();
     if (jobs.empty()) return result;
+
+    // The manifests: refuse another sequence's folder, or a resume with other settings; keep
+    // the exposure the folder's frames were made with.
+    SequenceManifest record = manifest_of(asset, jobs, opt);
+    bool recorded = false;  // the manifests hold an exposure: frames may be written
+    for (const std::string& path : opt.manifests) {
+        if (!fs::exists(path)) continue;
+        const SequenceManifest folder = read_manifest(path);
+        if (!opt.resume) {
+            check_same_inputs(folder, record, path);
+            continue;
+        }
+        check_resumable(folder, record, path);
+        if (folder.exposure > 0.0 && !recorded) {
+            record.exposure = folder.exposure;
+            record.exposure_frame = folder.exposure_frame;
+            recorded = true;
+        }
+    }
+    if (opt.resume && !opt.manifests.empty() && !recorded) {
+        for (const FrameJob& j : jobs) {
+            for (const std::string& out : {j.output, j.layers}) {
+                if (!out.empty() && fs::exists(out)) {
+                    throw InputError(out + ": cannot resume: no " + std::string(kManifestName) +
+                                     " records the exposure of the frames there; render "
+                                     "without --resume to start again");
+                }
+            }
+        }
+    }
 
     Water water = asset.info.water;
     if (!opt.forward) water.forward.enabled = false;
@@ -47,20 +137,26 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     std::unique_ptr<Compositor> compositor;
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy
     Camera camera;
-    double exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
+    double exposure = record.exposure;
+    ImageMetadata meta;
 
     // A few slots in flight: one being read, one composited, one or two being written.
     constexpr int kTokens = 4;
     std::vector<Slot> slots(kTokens);
     int next = 0, done = 0;
-    std::mutex errors_mutex;
+    std::mutex mutex;  // result, record and the manifest files
+    std::atomic<bool> stop{opt.progress && !opt.progress(0, int(jobs.size()))};
+    const auto write_manifests = [&] {
+        record.frames_done = result.written + result.skipped;
+        for (const std::string& path : opt.manifests) write_manifest(path, record);
+    };
 
     tbb::parallel_pipeline(
         kTokens,
         tbb::make_filter<void, Slot*>(
             tbb::filter_mode::serial_in_order,
             [&](tbb::flow_control& fc) -> Slot* {
-                if (next >= int(jobs.size())) {
+                if (next >= int(jobs.size()) || stop) {
                     fc.stop();
                     return nullptr;
                 }
@@ -96,11 +192,24 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         Layers& out = all ? s->layers : shared;
                         compositor->composite(out, s->frame, all ? LayerSet::All : LayerSet::Final);
                         s->final = out.final;
-                        if (exposure == 0.0) exposure = exposure_factor(opt.exposure, s->final);
+                        if (exposure == 0.0) {
+                            exposure = exposure_factor(opt.exposure, s->final);
+                            record.exposure_frame = jobs[s->index].rgb;
+                        }
                     } catch (const AssetError&) {
                         throw;  // the asset does not fit these frames: stop everything
                     } catch (const Error& e) {
                         s->error = jobs[s->index].rgb + ": " + e.what();
+                    }
+                    if (s->error.empty() && meta.empty()) {
+                        meta = output_metadata(asset, exposure, opt.version);
+                        // Before the first output: a kill from here on leaves manifests that
+                        // hold the exposure of every frame written. A manifest that cannot be
+                        // written stops everything.
+                        std::lock_guard<std::mutex> lock(mutex);
+                        record.exposure = exposure;
+                        write_manifests();
+                        recorded = true;
                     }
                     return s;
                 }) &
@@ -108,26 +217,30 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 const FrameJob& job = jobs[s->index];
                 if (!s->skip && s->error.empty()) {
                     try {
-                        if (!job.layers.empty()) write_layers(job.layers, s->layers);
+                        if (!job.layers.empty()) write_layers(job.layers, s->layers, meta);
                         if (!job.output.empty()) {
-                            write_color(job.output, apply_exposure(s->final, exposure), opt.bits);
+                            write_color(job.output, apply_exposure(s->final, exposure), opt.bits,
+                                        meta);
                         }
                     } catch (const Error& e) {
                         s->error = e.what();
                     }
                 }
-                std::lock_guard<std::mutex> lock(errors_mutex);
+                std::lock_guard<std::mutex> lock(mutex);
                 if (s->skip) {
                     ++result.skipped;
                 } else if (s->error.empty()) {
                     ++result.written;
+                    write_manifests();
                 } else {
                     result.errors.push_back(s->error);
                 }
                 ++done;
-                if (opt.progress) opt.progress(done, int(jobs.size()));
+                if (opt.progress && !opt.progress(done, int(jobs.size()))) stop = true;
             }));
 
+    if (recorded) write_manifests();
+    result.interrupted = done < int(jobs.size());
     result.exposure = exposure;
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return result;

@@ -101,7 +101,10 @@ void run(const DemoArgs& a) {
         demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering), a.threads);
     SequenceOptions opt;
     Progress bar("render", a.frames);
-    opt.progress = [&](int done, int) { bar.update(done); };
+    opt.progress = [&](long done, long) {
+        bar.update(done);
+        return true;
+    };
     SequenceResult r;
     in_arena(a.threads, [&] { r = render_sequence(asset, jobs, opt); });
     bar.finish();

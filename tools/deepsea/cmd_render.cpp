@@ -1,12 +1,15 @@
 // deepsea render: composite one frame or a whole sequence with a baked asset.
 
+#include <csignal>
 #include <cstdio>
+#include <optional>
 
 #include "cli_util.h"
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
+#include "deepsea/runtime/output_folders.h"
 #include "deepsea/runtime/sequence.h"
 
 namespace deepsea::cli {
@@ -21,10 +24,35 @@ struct RenderArgs {
     int threads = 0;
 };
 
-int run(const RenderArgs& a) {
-    if (a.output.empty() && a.layers.empty()) {
-        throw ConfigError("nothing to write: give -o and/or --layers");
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void on_stop_signal(int sig) { g_signal = sig; }
+
+/// SIGINT and SIGTERM ask the sequence to stop after the frames in flight, so that only
+/// complete outputs remain; a second signal of the same kind ends the process at once.
+class StopOnSignals {
+public:
+    StopOnSignals() {
+        struct sigaction sa {};
+        sa.sa_handler = on_stop_signal;
+        sa.sa_flags = SA_RESETHAND;
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGINT, &sa, &m_int);
+        sigaction(SIGTERM, &sa, &m_term);
     }
+    ~StopOnSignals() {
+        sigaction(SIGINT, &m_int, nullptr);
+        sigaction(SIGTERM, &m_term, nullptr);
+    }
+    StopOnSignals(const StopOnSignals&) = delete;
+    StopOnSignals& operator=(const StopOnSignals&) = delete;
+
+private:
+    struct sigaction m_int {
+    }, m_term{};
+};
+
+void run(const RenderArgs& a) {
     SequenceOptions opt;
     opt.exposure = parse_exposure(a.exposure);
     opt.depth_read = a.depth.read_options();
@@ -32,30 +60,58 @@ int run(const RenderArgs& a) {
     opt.resume = a.resume;
     opt.forward = !a.no_forward;
     opt.bits = a.bits;
+    opt.version = DEEPSEA_VERSION;
     if (!a.camera.empty()) {
         Setup s = load_setup({a.camera});
         if (!s.camera) throw ConfigError(a.camera + ": no camera section");
         opt.camera = *s.camera;
     }
-    const std::vector<FrameJob> jobs = frame_jobs({a.rgb, a.depth_path, a.output, a.layers});
+    // Everything that can be checked without rendering is checked before the asset is loaded
+    // and before any folder is made.
+    const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers};
+    const std::vector<FrameJob> jobs = frame_jobs(files);
     const Asset asset = load_asset(a.asset);
+    std::optional<OutputFolders> folders;
+    if (files.sequence()) {
+        folders.emplace(files, jobs);
+        opt.manifests = folders->manifests();
+        opt.rgb_pattern = a.rgb;
+        opt.depth_pattern = a.depth_path;
+    }
     Progress bar("render", long(jobs.size()));
-    opt.progress = [&](int done, int) { bar.update(done); };
+    opt.progress = [&](long done, long) {
+        bar.update(done);
+        return g_signal == 0;
+    };
     SequenceResult r;
-    in_arena(a.threads, [&] { r = render_sequence(asset, jobs, opt); });
+    {
+        const StopOnSignals stop;
+        in_arena(a.threads, [&] { r = render_sequence(asset, jobs, opt); });
+    }
     bar.finish();
     // One frame that failed: its error is the one line (main prints it), no summary.
     if (jobs.size() == 1 && !r.errors.empty()) throw FramesFailed(r.errors.front());
     for (const std::string& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
+    if (folders && folders->stale_removed() > 0) {
+        std::printf("removed %d stale temporary file(s) of an interrupted run\n",
+                    folders->stale_removed());
+    }
     std::printf("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n",
                 r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
-    if (jobs.size() == 1 && r.errors.empty() && r.written == 1) {
+    if (r.interrupted) {
+        const int left = r.total - r.written - r.skipped - int(r.errors.size());
+        throw Cancelled("stopped by signal " + std::to_string(int(g_signal)) + " with " +
+                        std::to_string(left) + " of " + std::to_string(r.total) +
+                        " frame(s) not rendered; every output written is complete; run the "
+                        "same command with --resume to finish");
+    }
+    if (jobs.size() == 1 && r.written == 1) {
         if (!a.output.empty()) std::printf("wrote %s\n", a.output.c_str());
         if (!a.layers.empty()) std::printf("wrote %s\n", a.layers.c_str());
     } else if (!a.output.empty() && r.written > 0) {
         std::printf("wrote frames to %s\n", a.output.c_str());
     }
-    return r.errors.empty() ? 0 : 6;
+    if (!r.errors.empty()) throw FramesFailed("some frames failed (listed above)");
 }
 
 }  // namespace
@@ -68,20 +124,21 @@ void setup_render(CLI::App& sub) {
     sub.add_option("--rgb", a->rgb, "colour image, or a quoted glob such as 'dir/*.png'")
         ->required();
     sub.add_option("--depth", a->depth_path,
-                   "depth image, or a quoted glob such as 'dir/*_depth.exr'")
+                   "depth image, or a quoted glob such as 'dir/*_depth.exr' (frames pair by "
+                   "file name or frame number)")
         ->required();
     sub.add_option("-o,--output", a->output, "exposed image; a folder for a sequence");
     sub.add_option("--layers", a->layers, "multi-layer EXR; a folder for a sequence");
-    sub.add_option("--exposure", a->exposure, "'auto' (first frame's, then kept) or a factor");
+    sub.add_option("--exposure", a->exposure,
+                   "'auto' (first frame's, then kept, in the sequence manifest) or a factor");
     sub.add_option("--camera", a->camera, "YAML with the frames' camera (default: the asset's)");
     sub.add_option("--bits", a->bits, "PNG bit depth")->check(CLI::IsMember({8, 16}));
-    sub.add_flag("--resume", a->resume, "skip frames whose outputs exist");
+    sub.add_flag("--resume", a->resume,
+                 "continue a sequence: skip frames whose outputs are complete, keep the "
+                 "exposure of deepsea-sequence.json, refuse other settings");
     sub.add_flag("--no-forward", a->no_forward, "leave forward scatter out");
     add_threads(sub, a->threads);
-    sub.callback([a] {
-        const int rc = run(*a);
-        if (rc != 0) throw FramesFailed("some frames failed (listed above)");
-    });
+    sub.callback([a] { run(*a); });
 }
 
 }  // namespace deepsea::cli

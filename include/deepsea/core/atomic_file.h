@@ -2,6 +2,7 @@
 /// \file Write-then-rename: no reader ever sees a half-written output.
 
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace deepsea {
@@ -21,5 +22,13 @@ void write_text_atomically(const std::string& path, const std::string& text);
 
 /// Throws IoError naming `path` unless its folder exists and is writable.
 void require_writable_folder(const std::string& path);
+
+/// If `file_name` (a name, no folder) is one of write_atomically's temporaries, the name of
+/// the file it was to become and the id of the process that wrote it; nullopt otherwise.
+struct TemporaryName {
+    std::string target;  ///< file name the temporary would have been renamed to
+    long pid = 0;        ///< process that wrote it
+};
+std::optional<TemporaryName> parse_temporary_name(const std::string& file_name);
 
 }  // namespace deepsea

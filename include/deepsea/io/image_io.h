@@ -4,6 +4,7 @@
 /// behind.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "deepsea/core/image.h"
@@ -31,10 +32,23 @@ struct DepthReadOptions {
 /// first). .npy: dtype <f4, <f8 or <u2 (times scale), shape (H, W) or (H, W, 1).
 Image read_depth(const std::string& path, const DepthReadOptions& opt = {});
 
+/// Text attributes stored with an image: PNG text chunks, EXR header string attributes
+/// (name, value), e.g. {"deepsea:exposure", "1.25"}.
+using ImageMetadata = std::vector<std::pair<std::string, std::string>>;
+
+/// True if OpenImageIO can write an image with the extension of `path`.
+bool has_image_writer(const std::string& path);
+
+/// Throws IoError naming `path` unless has_image_writer: the check a command makes before any
+/// work.
+void require_image_writer(const std::string& path);
+
 /// Writes linear RGB: PNG/JPEG/TIFF are sRGB-encoded at `bits` (8 or 16; JPEG is always 8);
 /// EXR and other float formats keep linear values (half float). Values are clamped to [0, 1]
-/// before encoding. Atomic (temporary file + rename). Throws IoError.
-void write_color(const std::string& path, const Image& linear_rgb, int bits = 8);
+/// before encoding. `meta` goes into the file's header. Atomic (temporary file + rename).
+/// Throws IoError.
+void write_color(const std::string& path, const Image& linear_rgb, int bits = 8,
+                 const ImageMetadata& meta = {});
 
 /// Writes a one-channel depth map as a float EXR with channel "Z". Atomic.
 void write_depth_exr(const std::string& path, const Image& depth);
@@ -47,8 +61,9 @@ struct ExrLayer {
 };
 
 /// Writes float EXR with all layers (channels "final.R", ..., "depth.Z"), ZIP-compressed.
-/// Atomic. Throws IoError.
-void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& layers);
+/// `meta` goes into the header. Atomic. Throws IoError.
+void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& layers,
+                      const ImageMetadata& meta = {});
 
 /// Reads one layer of a multi-layer EXR written by write_exr_layers (for tests and tools);
 /// an empty `layer` reads channels by their plain names. Throws InputError for a missing

@@ -1,6 +1,7 @@
 #pragma once
 /// \file Which frames a render reads and where each one's outputs go: one frame, or every
-/// colour / depth pair of two glob patterns. The one place that finds and pairs frame files.
+/// colour / depth pair of two glob patterns. The one place that finds, pairs and checks frame
+/// files, before any work and without creating anything.
 
 #include <string>
 #include <vector>
@@ -10,7 +11,7 @@ namespace deepsea {
 /// One frame's files: inputs and where its outputs go (an empty path is not written).
 struct FrameJob {
     std::string rgb, depth;
-    std::string output;  ///< exposed image (PNG/JPEG/EXR)
+    std::string output;  ///< exposed image (PNG/JPEG/TIFF/EXR)
     std::string layers;  ///< multi-layer EXR
 };
 
@@ -19,19 +20,31 @@ struct FrameJob {
 struct FrameFiles {
     std::string rgb, depth;
     std::string output, layers;
+    /// A sequence: the colour input is a pattern (then outputs are folders).
+    bool sequence() const;
 };
 
 /// True if `path` holds a glob character (*, ? or [).
 bool is_pattern(const std::string& path);
 
-/// One job if rgb is a plain file (then depth must be one too, ConfigError otherwise); for a
-/// pattern, the pairs of pair_frames with outputs <output>/<colour stem>.png and
-/// <layers>/<colour stem>.exr, the folders created (IoError if they cannot be).
+/// The jobs of a render, checked before anything is read, composited or created:
+/// - one frame (rgb a plain file): depth must be one too (ConfigError); -o needs an extension
+///   OpenImageIO writes and --layers `.exr` (ConfigError), their folders must exist and be
+///   writable (IoError);
+/// - a sequence: the pairs of pair_frames, outputs <output>/<colour stem>.png and
+///   <layers>/<colour stem>.exr; -o and --layers must be folders or creatable as such
+///   (ConfigError for an existing file or an image file name, IoError for an unwritable
+///   place), never a folder that holds inputs;
+/// - always: something to write, no output the same file as an input or as another output
+///   (ConfigError naming both).
 std::vector<FrameJob> frame_jobs(const FrameFiles& files);
 
-/// Pairs colour and depth files by position: both lists sorted, files in both lists dropped
-/// from the colour list; InputError when the counts differ or a list is empty (naming the
-/// patterns).
+/// Pairs colour and depth files by frame identity. A file's frame key is its stem less the
+/// fixed text around the wildcards of its pattern's file name ('*_depth.exr': the stem less
+/// "_depth"), or else the last number in its stem (0001 = 1): the first of these that pairs
+/// every file is used. Files caught by both patterns are dropped from the colour list. Jobs in
+/// colour-file order. InputError, before any work, for an empty list, two files of one list
+/// with the same key, or files without a partner (listing them).
 std::vector<FrameJob> pair_frames(std::vector<std::string> rgb, std::vector<std::string> depth,
                                   const std::string& rgb_pattern, const std::string& depth_pattern);
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "deepsea/core/image.h"
+#include "deepsea/io/image_io.h"
 
 namespace deepsea {
 
@@ -27,8 +28,8 @@ struct Layers {
     void resize(int width, int height, LayerSet set = LayerSet::All);
 };
 
-/// Writes all layers to one multi-layer EXR (channels final.R, ..., depth.Z, normal.X).
-/// Atomic. Throws IoError.
-void write_layers(const std::string& path, const Layers& layers);
+/// Writes all layers to one multi-layer EXR (channels final.R, ..., depth.Z, normal.X), with
+/// `meta` in its header. Atomic. Throws IoError.
+void write_layers(const std::string& path, const Layers& layers, const ImageMetadata& meta = {});
 
 }  // namespace deepsea

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "deepsea/asset/asset.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/runtime/exposure.h"
@@ -17,27 +18,46 @@ namespace deepsea {
 struct SequenceOptions {
     DepthReadOptions depth_read;
     DepthKind depth_kind = DepthKind::Z;
-    Exposure exposure;    ///< auto: chosen on the first frame, then kept (no flicker)
+    Exposure exposure;    ///< auto: chosen on the first frame composited, then kept (no flicker)
     bool forward = true;  ///< forward scatter, if the asset's water defines it
-    bool resume = false;  ///< skip frames whose `output` (or `layers`) already exists
-    int bits = 8;         ///< PNG bit depth
+    /// Skip frames whose outputs are complete (non-empty and decoding fully); with manifests,
+    /// continue the sequence they record (its exposure) or refuse (check_resumable).
+    bool resume = false;
+    int bits = 8;  ///< PNG bit depth
     /// The frames' camera; unset (width 0): the asset's camera, resampled to the frame size.
     Camera camera;
-    /// Called after each frame, in order: (frames done, total).
-    std::function<void(int, int)> progress;
+    /// Called with (0, total) first and after each frame, in order, with (frames done, total);
+    /// false stops the sequence once the frames in flight are finished (SequenceResult::
+    /// interrupted).
+    Progress progress;
+    /// deepsea's version: recorded in the manifest and in every output's metadata.
+    std::string version;
+    /// A sequence into folders: the manifest path in each output folder (OutputFolders::
+    /// manifests) and the input patterns it records. Empty: no manifest (one frame, tools).
+    std::vector<std::string> manifests;
+    std::string rgb_pattern, depth_pattern;
 };
 
 struct SequenceResult {
-    int written = 0;
-    int skipped = 0;                  ///< --resume
+    int total = 0;                    ///< jobs given
+    int written = 0;                  ///< frames rendered and written by this run
+    int skipped = 0;                  ///< --resume: frames whose outputs were complete
     std::vector<std::string> errors;  ///< one line per failed frame
+    bool interrupted = false;         ///< progress said stop before every frame was done
     double seconds = 0.0;
-    double exposure = 0.0;  ///< the factor used
+    double exposure = 0.0;  ///< the factor used (0 if no frame was composited or kept)
 };
 
+/// The metadata every output of a render carries: deepsea:exposure (the factor, %.17g),
+/// deepsea:asset_hash and, if known, deepsea:version.
+ImageMetadata output_metadata(const Asset& asset, double exposure, const std::string& version);
+
 /// Renders every job; a frame that cannot be read or written is reported in `errors` and
-/// skipped, the rest are written. Throws only for problems that stop every frame (e.g. the
-/// asset does not fit the frames' camera).
+/// skipped, the rest are written. With manifests, reads them first (check_same_inputs, and
+/// check_resumable with --resume, whose exposure it keeps), writes them once the exposure is
+/// known, before the first output, and after every frame. Throws only for problems that stop
+/// every frame: the asset does not fit the frames' camera, a manifest refuses the run, or
+/// --resume finds frames but no manifest to take their exposure from.
 SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
                                const SequenceOptions& opt);
 

@@ -1,6 +1,7 @@
 #include "deepsea/core/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -83,6 +84,28 @@ TEST_F(AtomicFile, RenameOntoAFolderFailsAndCleansUp) {
     EXPECT_THROW(write_atomically(path("busy.txt"), [](const std::string& tmp) { put(tmp, "x"); }),
                  IoError);
     EXPECT_EQ(listing(), std::vector<std::string>{"busy.txt"});
+}
+
+}  // namespace deepsea
+
+namespace deepsea {
+
+TEST_F(AtomicFile, TemporaryNamesAreRecognisedWithTheirTargetAndWriter) {
+    for (const std::string name : {"frame_0001.png", "a.b.exr", "noext", "deepsea-sequence.json"}) {
+        std::string tmp_name;
+        write_atomically(path(name), [&](const std::string& tmp) {
+            tmp_name = fs::path(tmp).filename();
+            put(tmp, "x");
+        });
+        const auto parsed = parse_temporary_name(tmp_name);
+        ASSERT_TRUE(parsed) << tmp_name;
+        EXPECT_EQ(parsed->target, name);
+        EXPECT_EQ(parsed->pid, long(::getpid()));
+    }
+    for (const std::string name : {"frame_0001.png", ".hidden.png", ".a.tmp-x-1.png",
+                                   ".a.tmp-12.png", ".tmp-1-2.png", ".a.tmp-1-2x.png"}) {
+        EXPECT_FALSE(parse_temporary_name(name)) << name;
+    }
 }
 
 }  // namespace deepsea

@@ -8,6 +8,7 @@
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
+#include "deepsea/runtime/sequence_manifest.h"
 #include "runtime_fixtures.h"
 
 namespace deepsea {
@@ -91,6 +92,50 @@ TEST(Sequence, AssetForAnotherCameraStopsEverything) {
     opt.camera = testing::small_camera();
     opt.camera.fx *= 1.5;
     EXPECT_THROW(render_sequence(d.asset, d.jobs, opt), AssetError);
+}
+
+TEST(Sequence, ManifestKeepsTheExposureForResume) {
+    SequenceDir d("manifest");
+    SequenceOptions opt;
+    opt.manifests = {(d.dir / "out" / kManifestName).string()};
+    opt.rgb_pattern = (d.dir / "*.png").string();
+    opt.depth_pattern = (d.dir / "*_depth.exr").string();
+    opt.version = "test";
+    const SequenceResult first = render_sequence(d.asset, d.jobs, opt);
+    ASSERT_EQ(first.written, 3);
+    SequenceManifest m = read_manifest(opt.manifests[0]);
+    EXPECT_EQ(m.exposure, first.exposure);
+    EXPECT_EQ(m.frames_done, 3);
+    // The folder's exposure wins over what the frame composited first would give.
+    m.exposure = 2.0 * first.exposure;
+    write_manifest(opt.manifests[0], m);
+    fs::remove(d.jobs[2].output);
+    opt.resume = true;
+    const SequenceResult again = render_sequence(d.asset, d.jobs, opt);
+    EXPECT_EQ(again.written, 1);
+    EXPECT_EQ(again.skipped, 2);
+    EXPECT_EQ(again.exposure, 2.0 * first.exposure);
+    // Another asset: refused before any frame is touched.
+    Asset other = d.asset;
+    other.info.input_hash = "fnv1a64:0000000000000000";
+    fs::remove(d.jobs[0].output);
+    EXPECT_THROW(render_sequence(other, d.jobs, opt), ConfigError);
+    EXPECT_FALSE(fs::exists(d.jobs[0].output));
+}
+
+TEST(Sequence, ProgressSayingStopEndsAfterTheFramesInFlight) {
+    SequenceDir d("stop", 6);
+    SequenceOptions opt;
+    opt.progress = [](long done, long) { return done < 1; };
+    const SequenceResult r = render_sequence(d.asset, d.jobs, opt);
+    EXPECT_TRUE(r.interrupted);
+    EXPECT_GE(r.written, 1);
+    EXPECT_LT(r.written, 6);
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(fs::exists(d.jobs[i].output), i < r.written) << i;
+    opt.progress = [](long, long) { return false; };  // stopped before it starts
+    const SequenceResult none = render_sequence(d.asset, d.jobs, opt);
+    EXPECT_TRUE(none.interrupted);
+    EXPECT_EQ(none.written, 0);
 }
 
 }  // namespace deepsea

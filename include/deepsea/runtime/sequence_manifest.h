@@ -1,0 +1,60 @@
+#pragma once
+/// \file The manifest a sequence render keeps beside its frames (docs/sequences.md): what
+/// made them (asset, camera, settings, deepsea version), the exposure they share and how many
+/// are done, so that `--resume` continues the same sequence or refuses.
+
+#include <string>
+
+#include "deepsea/optics/camera.h"
+
+namespace deepsea {
+
+/// The manifest's file name in each output folder.
+inline constexpr const char* kManifestName = "deepsea-sequence.json";
+
+/// One sequence's record. JSON keys in docs/sequences.md.
+struct SequenceManifest {
+    static constexpr int kFormat = 1;  ///< version of this JSON layout
+    std::string deepsea_version;
+    std::string asset_hash;  ///< the asset's input hash (BakeInfo::input_hash)
+    std::string rgb, depth;  ///< input patterns, absolute
+    Camera camera;           ///< the frames' camera as given (--camera), or the asset's
+    bool auto_exposure = true;
+    double percentile = 0, target = 0, max_clipped = 0;  ///< auto exposure's settings
+    double exposure = 0;         ///< the factor every frame uses; 0 until chosen
+    std::string exposure_frame;  ///< auto: the colour file it was chosen on
+    bool image = false;          ///< exposed PNGs are written (-o)
+    int bits = 8;                ///< their bit depth
+    bool layers = false;         ///< all-layer EXRs are written (--layers)
+    bool forward = true;         ///< forward scatter on
+    std::string depth_kind = "z", depth_channel;
+    double depth_scale = 0.001;
+    int frames_total = 0;
+    int frames_done = 0;  ///< frames whose outputs were complete at the last update
+};
+
+/// The manifest as pretty-printed JSON (doubles round-trip exactly).
+std::string manifest_to_json(const SequenceManifest& m);
+
+/// Parses manifest_to_json's text; InputError "<path>: <key>: <problem>" for malformed JSON, a
+/// missing key, a wrong type or an unknown format.
+SequenceManifest manifest_from_json(const std::string& json, const std::string& path);
+
+/// Reads a manifest file (IoError if unreadable, InputError as manifest_from_json).
+SequenceManifest read_manifest(const std::string& path);
+
+/// Writes it atomically.
+void write_manifest(const std::string& path, const SequenceManifest& m);
+
+/// ConfigError naming `path` unless `run` reads the same inputs as the folder's manifest:
+/// frames of another sequence are never overwritten.
+void check_same_inputs(const SequenceManifest& folder, const SequenceManifest& run,
+                       const std::string& path);
+
+/// ConfigError naming `path` and the first difference unless `run` would render frames
+/// identical to the folder's: same deepsea version, asset, camera, exposure rule, outputs and
+/// settings (the exposure factor itself is kept from the folder).
+void check_resumable(const SequenceManifest& folder, const SequenceManifest& run,
+                     const std::string& path);
+
+}  // namespace deepsea

@@ -1,0 +1,71 @@
+#include "deepsea/runtime/output_folders.h"
+
+#include <signal.h>
+
+#include <cerrno>
+#include <filesystem>
+#include <set>
+
+#include "deepsea/core/atomic_file.h"
+#include "deepsea/core/error.h"
+#include "deepsea/runtime/sequence_manifest.h"
+
+namespace deepsea {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool process_alive(long pid) { return ::kill(pid_t(pid), 0) == 0 || errno == EPERM; }
+
+}  // namespace
+
+OutputFolders::OutputFolders(const FrameFiles& files, const std::vector<FrameJob>& jobs) {
+    for (const std::string& dir : {files.output, files.layers}) {
+        if (dir.empty()) continue;
+        std::error_code ec;
+        if (!m_folders.empty() && fs::equivalent(m_folders.front(), dir, ec)) continue;
+        const bool existed = fs::exists(dir, ec);
+        fs::create_directories(dir, ec);
+        if (ec || !fs::is_directory(dir)) {
+            throw IoError(dir + ": cannot create the output folder" +
+                          (ec ? ": " + ec.message() : std::string()));
+        }
+        if (!existed) m_created.push_back(dir);
+        m_folders.push_back(dir);
+        m_locks.push_back(std::make_unique<FolderLock>(dir));
+    }
+    // Only names this sequence writes, and only from writers that are gone: holding the lock,
+    // no other render writes here; a live process's temporary is never touched.
+    std::set<std::string> ours{kManifestName};
+    for (const FrameJob& j : jobs) {
+        for (const std::string& out : {j.output, j.layers}) {
+            if (!out.empty()) ours.insert(fs::path(out).filename().string());
+        }
+    }
+    for (const std::string& dir : m_folders) {
+        for (const auto& entry : fs::directory_iterator(dir)) {
+            const auto tmp = parse_temporary_name(entry.path().filename().string());
+            if (!tmp || !ours.count(tmp->target) || process_alive(tmp->pid)) continue;
+            std::error_code ec;
+            if (fs::remove(entry.path(), ec)) ++m_stale_removed;
+        }
+    }
+}
+
+OutputFolders::~OutputFolders() {
+    m_locks.clear();
+    for (const std::string& dir : m_created) {
+        std::error_code ec;
+        if (fs::is_empty(dir, ec)) fs::remove(dir, ec);
+    }
+}
+
+std::vector<std::string> OutputFolders::manifests() const {
+    std::vector<std::string> out;
+    for (const std::string& dir : m_folders)
+        out.push_back((fs::path(dir) / kManifestName).string());
+    return out;
+}
+
+}  // namespace deepsea

@@ -1,0 +1,172 @@
+#include "deepsea/runtime/sequence_manifest.h"
+
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "deepsea/core/atomic_file.h"
+#include "deepsea/core/error.h"
+
+namespace deepsea {
+
+using nlohmann::json;
+
+std::string manifest_to_json(const SequenceManifest& m) {
+    json j;
+    j["format"] = SequenceManifest::kFormat;
+    j["deepsea_version"] = m.deepsea_version;
+    j["asset_hash"] = m.asset_hash;
+    j["inputs"] = {{"rgb", m.rgb}, {"depth", m.depth}};
+    j["camera"] = {{"width", m.camera.width}, {"height", m.camera.height}, {"fx", m.camera.fx},
+                   {"fy", m.camera.fy},       {"cx", m.camera.cx},         {"cy", m.camera.cy}};
+    j["exposure"] = {{"mode", m.auto_exposure ? "auto" : "fixed"},
+                     {"factor", m.exposure},
+                     {"chosen_on", m.exposure_frame},
+                     {"percentile", m.percentile},
+                     {"target", m.target},
+                     {"max_clipped", m.max_clipped}};
+    j["outputs"] = {{"image", m.image ? "png" : "none"},
+                    {"bits", m.bits},
+                    {"layers", m.layers ? "all" : "none"}};
+    j["settings"] = {{"forward", m.forward},
+                     {"depth_kind", m.depth_kind},
+                     {"depth_channel", m.depth_channel},
+                     {"depth_scale", m.depth_scale}};
+    j["frames"] = {{"total", m.frames_total}, {"done", m.frames_done}};
+    return j.dump(2) + "\n";
+}
+
+namespace {
+
+/// j[a][b] as T, InputError naming the file and the key otherwise.
+template <class T>
+T get(const json& j, const std::string& path, const char* a, const char* b = nullptr) {
+    const std::string key = b ? std::string(a) + "." + b : std::string(a);
+    const json* v = &j;
+    for (const char* k : {a, b}) {
+        if (!k) break;
+        if (!v->is_object() || !v->contains(k)) throw InputError(path + ": " + key + ": missing");
+        v = &(*v)[k];
+    }
+    try {
+        return v->get<T>();
+    } catch (const json::exception&) {
+        throw InputError(path + ": " + key + ": wrong type (" + v->type_name() + ")");
+    }
+}
+
+}  // namespace
+
+SequenceManifest manifest_from_json(const std::string& text, const std::string& path) {
+    json j;
+    try {
+        j = json::parse(text);
+    } catch (const json::exception& e) {
+        throw InputError(path + ": not a deepsea sequence manifest: " + one_line(e.what()));
+    }
+    if (get<int>(j, path, "format") != SequenceManifest::kFormat) {
+        throw InputError(path + ": format " + std::to_string(get<int>(j, path, "format")) +
+                         " is not known to this deepsea (it reads format " +
+                         std::to_string(SequenceManifest::kFormat) + ")");
+    }
+    SequenceManifest m;
+    m.deepsea_version = get<std::string>(j, path, "deepsea_version");
+    m.asset_hash = get<std::string>(j, path, "asset_hash");
+    m.rgb = get<std::string>(j, path, "inputs", "rgb");
+    m.depth = get<std::string>(j, path, "inputs", "depth");
+    m.camera.width = get<int>(j, path, "camera", "width");
+    m.camera.height = get<int>(j, path, "camera", "height");
+    m.camera.fx = get<double>(j, path, "camera", "fx");
+    m.camera.fy = get<double>(j, path, "camera", "fy");
+    m.camera.cx = get<double>(j, path, "camera", "cx");
+    m.camera.cy = get<double>(j, path, "camera", "cy");
+    const std::string mode = get<std::string>(j, path, "exposure", "mode");
+    if (mode != "auto" && mode != "fixed")
+        throw InputError(path + ": exposure.mode: expected auto or fixed, got '" + mode + "'");
+    m.auto_exposure = mode == "auto";
+    m.exposure = get<double>(j, path, "exposure", "factor");
+    if (!(m.exposure >= 0.0)) throw InputError(path + ": exposure.factor: must be >= 0");
+    m.exposure_frame = get<std::string>(j, path, "exposure", "chosen_on");
+    m.percentile = get<double>(j, path, "exposure", "percentile");
+    m.target = get<double>(j, path, "exposure", "target");
+    m.max_clipped = get<double>(j, path, "exposure", "max_clipped");
+    m.image = get<std::string>(j, path, "outputs", "image") != "none";
+    m.bits = get<int>(j, path, "outputs", "bits");
+    m.layers = get<std::string>(j, path, "outputs", "layers") != "none";
+    m.forward = get<bool>(j, path, "settings", "forward");
+    m.depth_kind = get<std::string>(j, path, "settings", "depth_kind");
+    m.depth_channel = get<std::string>(j, path, "settings", "depth_channel");
+    m.depth_scale = get<double>(j, path, "settings", "depth_scale");
+    m.frames_total = get<int>(j, path, "frames", "total");
+    m.frames_done = get<int>(j, path, "frames", "done");
+    return m;
+}
+
+SequenceManifest read_manifest(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw IoError(path + ": cannot read the sequence manifest");
+    const std::string text{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+    return manifest_from_json(text, path);
+}
+
+void write_manifest(const std::string& path, const SequenceManifest& m) {
+    write_text_atomically(path, manifest_to_json(m));
+}
+
+void check_same_inputs(const SequenceManifest& folder, const SequenceManifest& run,
+                       const std::string& path) {
+    if (folder.rgb != run.rgb || folder.depth != run.depth) {
+        throw ConfigError(path + ": this folder holds the frames of '" + folder.rgb + "' and '" +
+                          folder.depth + "', not of '" + run.rgb + "' and '" + run.depth +
+                          "'; render into another folder");
+    }
+}
+
+void check_resumable(const SequenceManifest& folder, const SequenceManifest& run,
+                     const std::string& path) {
+    check_same_inputs(folder, run, path);
+    const auto differ = [&](const std::string& what, const std::string& then,
+                            const std::string& now) {
+        throw ConfigError(path + ": cannot resume: " + what + " was " + then + ", now " + now +
+                          " (render without --resume to start again)");
+    };
+    const auto num = [](double v) {
+        std::ostringstream s;
+        s.precision(17);
+        s << v;
+        return s.str();
+    };
+    if (folder.deepsea_version != run.deepsea_version)
+        differ("the deepsea version", folder.deepsea_version, run.deepsea_version);
+    if (folder.asset_hash != run.asset_hash) differ("the asset", folder.asset_hash, run.asset_hash);
+    if (!(folder.camera == run.camera))
+        differ("the camera", describe(folder.camera), describe(run.camera));
+    if (folder.auto_exposure != run.auto_exposure)
+        differ("the exposure", folder.auto_exposure ? "auto" : "fixed",
+               run.auto_exposure ? "auto" : "fixed");
+    if (!folder.auto_exposure && folder.exposure != run.exposure)
+        differ("the exposure", num(folder.exposure), num(run.exposure));
+    if (folder.auto_exposure &&
+        (folder.percentile != run.percentile || folder.target != run.target ||
+         folder.max_clipped != run.max_clipped))
+        differ("the auto exposure rule", num(folder.percentile) + "/" + num(folder.target),
+               num(run.percentile) + "/" + num(run.target));
+    if (folder.image != run.image)
+        differ("-o", folder.image ? "given" : "not given", run.image ? "given" : "not given");
+    if (folder.image && folder.bits != run.bits)
+        differ("--bits", std::to_string(folder.bits), std::to_string(run.bits));
+    if (folder.layers != run.layers)
+        differ("--layers", folder.layers ? "given" : "not given",
+               run.layers ? "given" : "not given");
+    if (folder.forward != run.forward)
+        differ("forward scatter", folder.forward ? "on" : "off", run.forward ? "on" : "off");
+    if (folder.depth_kind != run.depth_kind)
+        differ("--depth-kind", folder.depth_kind, run.depth_kind);
+    if (folder.depth_channel != run.depth_channel)
+        differ("--depth-channel", "'" + folder.depth_channel + "'", "'" + run.depth_channel + "'");
+    if (folder.depth_scale != run.depth_scale)
+        differ("--depth-scale", num(folder.depth_scale), num(run.depth_scale));
+}
+
+}  // namespace deepsea

@@ -1,0 +1,127 @@
+#include "deepsea/runtime/sequence_manifest.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "../temp_folder.h"
+#include "deepsea/core/error.h"
+
+namespace deepsea {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class ManifestTest : public test::TempFolderTest {};
+
+SequenceManifest example() {
+    SequenceManifest m;
+    m.deepsea_version = "0.1.0";
+    m.asset_hash = "fnv1a64:0123456789abcdef";
+    m.rgb = "/data/in/*.png";
+    m.depth = "/data/in/*_depth.exr";
+    m.camera = {320, 240, 240.0, 240.0, 159.5, 119.5};
+    m.percentile = 0.995;
+    m.target = 0.85;
+    m.max_clipped = 0.005;
+    m.exposure = 160.08450200258105;
+    m.exposure_frame = "/data/in/frame_0001.png";
+    m.image = true;
+    m.layers = true;
+    m.frames_total = 10;
+    m.frames_done = 4;
+    return m;
+}
+
+/// The message of the ConfigError check_resumable throws, empty if none.
+std::string refusal(const SequenceManifest& folder, const SequenceManifest& run) {
+    try {
+        check_resumable(folder, run, "out/deepsea-sequence.json");
+    } catch (const ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_F(ManifestTest, RoundTripsExactlyThroughTheFile) {
+    const SequenceManifest m = example();
+    write_manifest(path("m.json"), m);
+    const SequenceManifest r = read_manifest(path("m.json"));
+    EXPECT_EQ(r.exposure, m.exposure);  // bit for bit: a resumed frame must match
+    EXPECT_EQ(r.camera, m.camera);
+    EXPECT_EQ(r.asset_hash, m.asset_hash);
+    EXPECT_EQ(r.exposure_frame, m.exposure_frame);
+    EXPECT_EQ(r.frames_done, 4);
+    EXPECT_EQ(r.frames_total, 10);
+    EXPECT_TRUE(r.image && r.layers && r.auto_exposure && r.forward);
+    EXPECT_EQ(manifest_to_json(r), manifest_to_json(m));
+    EXPECT_EQ(listing().size(), 1u);  // no temporary left beside it
+}
+
+TEST_F(ManifestTest, DamagedManifestsNameTheFileAndKey) {
+    const auto message = [&](const std::string& text) {
+        std::ofstream(path("m.json")) << text;
+        try {
+            read_manifest(path("m.json"));
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(message("{not json").find("m.json: not a deepsea sequence manifest"),
+              std::string::npos);
+    std::string text = manifest_to_json(example());
+    EXPECT_NE(
+        message(text.replace(text.find("\"format\": 1"), 11, "\"format\": 9")).find("format 9"),
+        std::string::npos);
+    text = manifest_to_json(example());
+    EXPECT_NE(message(text.replace(text.find("\"asset_hash\""), 12, "\"asset_hush\""))
+                  .find("m.json: asset_hash: missing"),
+              std::string::npos);
+    text = manifest_to_json(example());
+    const std::size_t at = text.find("\"width\": 320");
+    EXPECT_NE(message(text.replace(at, 12, "\"width\": \"x\"")).find("camera.width: wrong type"),
+              std::string::npos);
+    EXPECT_THROW(read_manifest(path("absent.json")), IoError);
+}
+
+TEST(Manifest, ResumeRefusesEverySettingThatChangesTheFrames) {
+    const SequenceManifest folder = example();
+    SequenceManifest run = folder;
+    run.exposure = 0;  // an auto run has not chosen yet: the folder's factor is kept
+    run.frames_done = 0;
+    EXPECT_EQ(refusal(folder, run), "");
+    const auto changed = [&](auto edit) {
+        SequenceManifest r = run;
+        edit(r);
+        return refusal(folder, r);
+    };
+    EXPECT_NE(changed([](auto& r) { r.asset_hash = "fnv1a64:ffff"; }).find("the asset was"),
+              std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.deepsea_version = "0.2.0"; }).find("version"),
+              std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.camera.fx = 250; }).find("camera"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.auto_exposure = false; }).find("exposure"),
+              std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.target = 0.5; }).find("auto exposure"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.layers = false; }).find("--layers"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.bits = 16; }).find("--bits"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.forward = false; }).find("forward"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.depth_scale = 0.0001; }).find("--depth-scale"),
+              std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.rgb = "/other/*.png"; }).find("holds the frames of"),
+              std::string::npos);
+    SequenceManifest fixed = folder;
+    fixed.auto_exposure = false;
+    SequenceManifest fixed_run = fixed;
+    fixed_run.exposure = 2.0;
+    EXPECT_NE(refusal(fixed, fixed_run).find("the exposure was"), std::string::npos);
+    // Only the frame count and which frame chose the exposure may differ.
+    run.frames_total = 12;
+    EXPECT_EQ(refusal(folder, run), "");
+}
+
+}  // namespace deepsea
