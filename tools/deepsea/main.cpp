@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <new>
 
 #include "commands.h"
 #include "deepsea/core/error.h"
@@ -30,6 +31,12 @@ int main(int argc, char** argv) {
         // one line, like every other error
         std::fprintf(stderr, "deepsea: error: %s (see --help)\n", e.what());
         return e.get_exit_code();
+    } catch (const std::bad_alloc&) {
+        // Inputs are size-checked before allocation; this is the last line of defence.
+        std::fprintf(stderr,
+                     "deepsea: error: out of memory (the inputs or settings need more memory "
+                     "than this machine has)\n");
+        return 1;
     } catch (const deepsea::Error& e) {
         std::fprintf(stderr, "deepsea: error: %s\n", deepsea::one_line(e.what(), 1000).c_str());
         return e.exit_code();
