@@ -118,7 +118,10 @@ IntegrityRecord seal_asset_bytes(std::string& bytes) {
 IntegrityRecord verify_asset_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError("cannot open asset " + path + ": " + std::strerror(errno));
-    std::string head(kIntegrityWindow, '\0');
+    in.seekg(0, std::ios::end);
+    const auto length = std::uint64_t(std::max<std::streamoff>(in.tellg(), 0));
+    in.seekg(0);
+    std::string head(std::size_t(std::min<std::uint64_t>(length, kIntegrityWindow)), '\0');
     in.read(head.data(), std::streamsize(head.size()));
     head.resize(std::size_t(in.gcount()));
     if (in.bad()) throw IoError("cannot read asset " + path + ": " + std::strerror(errno));
@@ -148,8 +151,8 @@ IntegrityRecord verify_asset_file(const std::string& path) {
     blank(first, d);
     sha.add(first.data(), first.size());
     std::uint64_t have = first.size();
-    std::string chunk(1 << 20, '\0');
-    while (in) {
+    std::string chunk(length > head.size() ? std::size_t(1) << 20 : 0, '\0');
+    while (in && !chunk.empty()) {
         in.read(chunk.data(), std::streamsize(chunk.size()));
         const auto n = std::size_t(in.gcount());
         sha.add(chunk.data(), n);
