@@ -7,6 +7,7 @@ find_package(OpenImageIO CONFIG REQUIRED)
 find_package(yaml-cpp CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(nlohmann_json CONFIG REQUIRED)
+find_package(OpenSSL REQUIRED COMPONENTS Crypto)  # SHA-256 of asset files (libssl-dev)
 
 # Debian's OpenImageIO config names /usr/include/opencv4 even when OpenCV is not installed.
 get_target_property(_oiio_inc OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)

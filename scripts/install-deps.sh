@@ -4,7 +4,7 @@ set -euo pipefail
 pkgs=(build-essential cmake pkg-config
       libopenvdb-dev libboost-iostreams-dev libblosc-dev libtbb-dev
       libopenexr-dev libopenimageio-dev openimageio-tools
-      libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+      libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libssl-dev
       libgtest-dev libbenchmark-dev)
 if [[ "${1:-}" == "--tests" ]]; then
   pkgs+=(blender python3-numpy python3-openimageio python3-openvdb clang-format)

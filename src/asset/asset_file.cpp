@@ -9,15 +9,16 @@
 #include <openvdb/tools/Dense.h>
 
 #include <algorithm>
-#include <cerrno>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
+#include <sstream>
 
+#include "deepsea/asset/asset_integrity.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
@@ -121,50 +122,19 @@ bool get_meta(const vdb::MetaMap& meta, const char* name, T& out) {
     return true;
 }
 
-// The file's own size, recorded in its metadata after writing (a fixed-width placeholder is
-// patched in place), so that a truncated asset is recognised before OpenVDB reads it: OpenVDB
-// itself can take a garbage string length from a cut-off file and allocate gigabytes.
-constexpr const char* kMetaBytes = "deepsea:bytes";
-constexpr const char* kBytesPlaceholder = "bytes=0000000000000000";  // 16 decimal digits
-
-/// Offset of the placeholder's digits in the first 1 MB of a file, or -1.
-long find_bytes_field(const std::string& path, std::string* digits = nullptr) {
-    std::ifstream in(path, std::ios::binary);
-    std::string head(1 << 20, '\0');
-    in.read(head.data(), std::streamsize(head.size()));
-    head.resize(std::size_t(in.gcount()));
-    const std::string key = std::string(kMetaBytes);
-    const std::size_t k = head.find(key);
-    if (k == std::string::npos) return -1;
-    const std::size_t b = head.find("bytes=", k + key.size());
-    if (b == std::string::npos || b > k + key.size() + 64 || b + 6 + 16 > head.size()) return -1;
-    if (digits) *digits = head.substr(b + 6, 16);
-    return long(b + 6);
-}
-
-void record_file_size(const std::string& path) {
-    const long at = find_bytes_field(path);
-    if (at < 0) throw IoError("cannot find the deepsea:bytes field just written");
-    char digits[17];
-    std::snprintf(digits, sizeof digits, "%016llu",
-                  static_cast<unsigned long long>(fs::file_size(path)));
-    std::fstream f(path, std::ios::binary | std::ios::in | std::ios::out);
-    f.seekp(at);
-    f.write(digits, 16);
-    if (!f) throw IoError("cannot record the file size");
-}
-
-/// AssetError if the file records a size and is not that long.
-void check_complete(const std::string& path) {
-    std::string digits;
-    if (find_bytes_field(path, &digits) < 0) return;  // not ours, or older: OpenVDB decides
-    const unsigned long long want = std::strtoull(digits.c_str(), nullptr, 10);
-    const unsigned long long have = fs::file_size(path);
-    if (want != have) {
-        throw AssetError(path + ": truncated or damaged asset (" + std::to_string(have) +
-                         " bytes, written as " + std::to_string(want) + ")");
+/// OpenVDB's archive writer, made to write into memory: io::File writes to a path and does not
+/// check the stream, so a full disk used to leave a short file and no error. In memory the
+/// bytes are complete, are sealed with their integrity record, and are then written and read
+/// back with every step checked.
+class MemoryArchive : public vdb::io::Archive {
+public:
+    std::string bytes(const vdb::GridPtrVec& grids, const vdb::MetaMap& meta) const {
+        std::ostringstream os(std::ios::binary);
+        Archive::write(os, grids, /*seekable=*/true, meta);
+        if (!os) throw AssetError("OpenVDB could not serialise the asset");
+        return std::move(os).str();
     }
-}
+};
 
 /// An open file and its deepsea metadata (file-level first, else the backscatter grid's,
 /// which survives when Houdini re-saves the grid).
@@ -174,14 +144,13 @@ struct OpenAsset {
     int format = 0;
     BakeInfo info;
     double value_scale = 1.0;
+    IntegrityRecord record;
 
     explicit OpenAsset(const std::string& path) : file(path) {
         init_openvdb();
-        {
-            std::ifstream probe(path, std::ios::binary);
-            if (!probe) throw IoError("cannot open asset " + path + ": " + std::strerror(errno));
-        }
-        check_complete(path);
+        // Every byte is checked before OpenVDB parses any: its decoders trust lengths in the
+        // file (a changed byte can make them overflow a buffer or allocate gigabytes).
+        record = verify_asset_file(path);
         try {
             file.open(/*delayLoad=*/false);  // no memory map: a truncated file cannot SIGBUS
         } catch (const std::exception& e) {
@@ -330,6 +299,12 @@ LampField lamp_field_from_file(vdb::io::File& file, const std::string& path, std
 void require_writable(const std::string& path) {
     if (fs::path(path).filename().empty())
         throw IoError("cannot write " + path + ": not a file name");
+    std::string ext = fs::path(path).extension().string();
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext != ".vdb") {
+        throw IoError("cannot write " + path + ": an asset is an OpenVDB file, its name must end " +
+                      "in .vdb");
+    }
     require_writable_folder(path);
     std::error_code ec;
     if (fs::is_directory(path, ec)) throw IoError("cannot write " + path + ": it is a directory");
@@ -342,7 +317,7 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
         throw AssetError("write_asset: " + std::to_string(asset.values.size()) +
                          " values do not fill the lattice");
     }
-    require_writable_folder(path);  // fail before the work of building the grids
+    require_writable(path);  // fail before the work of building the grids
     init_openvdb();
 
     // The stored values: optionally scaled by a power of two (exact) and rounded to half, so
@@ -422,23 +397,36 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     }
     grids.push_back(grid);
     meta.insertMeta("creator", vdb::StringMetadata("deepsea bake"));
-    meta.insertMeta(kMetaBytes, vdb::StringMetadata(kBytesPlaceholder));
+    meta.insertMeta(kMetaIntegrity, vdb::StringMetadata(integrity_placeholder()));
+
+    MemoryArchive archive;
+    archive.setCompression(vdb::io::Archive::hasBloscCompression()
+                               ? vdb::io::COMPRESS_BLOSC | vdb::io::COMPRESS_ACTIVE_MASK
+                               : vdb::io::COMPRESS_ZIP | vdb::io::COMPRESS_ACTIVE_MASK);
+    std::string bytes;
+    try {
+        bytes = archive.bytes(grids, meta);
+    } catch (const AssetError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw AssetError("cannot serialise asset " + path + ": " + one_line(e.what()));
+    }
+    const IntegrityRecord sealed = seal_asset_bytes(bytes);
 
     // A missing folder or a failed rename is reported by write_atomically, naming the path.
+    // What reaches the disk is read back and compared before the rename: a full disk, or a
+    // device that loses a write, is an error and leaves no file.
     write_atomically(path, [&](const std::string& tmp) {
+        write_fully(tmp, bytes, path);
+        IntegrityRecord back;
         try {
-            vdb::io::File file(tmp);
-            file.setCompression(vdb::io::Archive::hasBloscCompression()
-                                    ? vdb::io::COMPRESS_BLOSC | vdb::io::COMPRESS_ACTIVE_MASK
-                                    : vdb::io::COMPRESS_ZIP | vdb::io::COMPRESS_ACTIVE_MASK);
-            file.write(grids, meta);
-            file.close();
-            std::error_code ec;
-            if (fs::file_size(tmp, ec) == 0 || ec) throw IoError("nothing was written");
-            record_file_size(tmp);
-        } catch (const std::exception& e) {
-            throw IoError("cannot write asset " + path + ": " + one_line(e.what()));
+            back = verify_asset_file(tmp);
+        } catch (const Error& e) {
+            throw IoError(path + ": the file read back is not the one written (" +
+                          one_line(e.what()) + ")");
         }
+        if (back.size != sealed.size || back.sha256 != sealed.sha256)
+            throw IoError(path + ": the file read back is not the one written");
     });
 }
 
@@ -499,6 +487,7 @@ AssetFileSummary read_asset_summary(const std::string& path) {
     s.format = f.format;
     s.info = f.info;
     s.value_scale = f.value_scale;
+    s.sha256 = f.record.sha256;
     get_meta(f.meta, kMetaPreviewVoxel, s.preview_voxel_size);
     get_meta(f.meta, kMetaPreviewScale, s.preview_density_scale);
     try {

@@ -133,6 +133,16 @@ bool Lattice::operator==(const Lattice& o) const {
            (scheme != DepthScheme::Log || z0 == o.z0) && z == o.z;
 }
 
+void check_lattice_size(long long ni, long long nj, long long nk) {
+    const long double points = (long double)ni * nj * nk;
+    if (points > kMaxLatticePoints) {
+        throw ConfigError("lattice of " + std::to_string(ni) + " x " + std::to_string(nj) +
+                          " columns x " + std::to_string(nk) + " depth samples is larger than " +
+                          "the limit of " + std::to_string(kMaxLatticePoints / 1000000) +
+                          " million points (use a larger xy step or fewer depth samples)");
+    }
+}
+
 Lattice make_lattice(const Camera& camera, int step, DepthScheme scheme,
                      std::vector<double> z_samples, double z0) {
     if (step < 1) throw ConfigError("xy step must be >= 1 pixel, got " + std::to_string(step));
@@ -148,6 +158,8 @@ Lattice make_lattice(const Camera& camera, int step, DepthScheme scheme,
                               ")");
         }
     }
+    check_lattice_size(lattice_count(camera.width, step), lattice_count(camera.height, step),
+                       (long long)z_samples.size());
     Lattice l;
     l.step = step;
     l.ni = lattice_count(camera.width, step);

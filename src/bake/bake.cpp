@@ -32,9 +32,13 @@ constexpr long kMonteCarloColumnWeight = 32;
 }  // namespace
 
 void validate(const BakeSettings& s) {
-    if (s.step < 1) throw ConfigError("xy_step must be >= 1 pixel, got " + std::to_string(s.step));
-    if (s.depth_samples < 2) {
-        throw ConfigError("depth_samples must be >= 2, got " + std::to_string(s.depth_samples));
+    if (s.step < 1 || s.step > kMaxXyStep) {
+        throw ConfigError("xy_step must be in [1, " + std::to_string(kMaxXyStep) +
+                          "] pixels, got " + std::to_string(s.step));
+    }
+    if (s.depth_samples < 2 || s.depth_samples > kMaxDepthSamples) {
+        throw ConfigError("depth_samples must be in [2, " + std::to_string(kMaxDepthSamples) +
+                          "], got " + std::to_string(s.depth_samples));
     }
     if (s.z_max < 0.0 || !std::isfinite(s.z_max)) {
         throw ConfigError("z_max must be > 0 metres or auto, got " + std::to_string(s.z_max));
@@ -50,9 +54,7 @@ void validate(const BakeSettings& s) {
     if (s.scheme == DepthScheme::Log && !(s.z0 > 0.0)) {
         throw ConfigError("log depth scheme: z0 must be > 0 metres, got " + std::to_string(s.z0));
     }
-    if (!(s.quadrature.rel_tol > 0.0) || s.quadrature.max_depth < 1) {
-        throw ConfigError("quadrature tolerance must be > 0");
-    }
+    validate(s.quadrature);
 }
 
 double far_path_length(const Water& water, double tolerance) {
@@ -142,6 +144,8 @@ BakeInfo bake_request(const Camera& cam, const Rig& rig, const Water& water,
 Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
            const Parallel& par) {
     validate(s);
+    check_lattice_size(lattice_count(cam.width, s.step), lattice_count(cam.height, s.step),
+                       s.depth_samples + 1);  // before the z_max search, not after it
     if (rig.lights.empty())
         throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
     const bool automatic = s.z_max == 0.0;

@@ -1,5 +1,6 @@
 #include "deepsea/core/atomic_file.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -92,12 +93,55 @@ void write_atomically(const std::string& path,
 }
 
 void write_text_atomically(const std::string& path, const std::string& text) {
-    write_atomically(path, [&](const std::string& tmp) {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text;
-        f.close();
-        if (!f) throw IoError("cannot write " + path);
-    });
+    write_atomically(path, [&](const std::string& tmp) { write_fully(tmp, text, path); });
+}
+
+void write_fully(const std::string& file, std::string_view bytes, const std::string& name) {
+    const auto fail = [&](const char* what) {
+        throw IoError(name + ": " + what + ": " + std::strerror(errno));
+    };
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) fail("cannot create");
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            if (n == 0) errno = ENOSPC;  // no progress: the device took nothing
+            const int err = errno;
+            ::close(fd);
+            errno = err;
+            fail("write failed");
+        }
+        done += std::size_t(n);
+    }
+    // Delayed allocation (and network file systems) can report a full disk only here.
+    if (::fsync(fd) != 0 && errno != EINVAL && errno != EROFS) {
+        const int err = errno;
+        ::close(fd);
+        errno = err;
+        fail("write failed");
+    }
+    if (::close(fd) != 0) fail("write failed");
+}
+
+void require_distinct(const std::string& output,
+                      const std::vector<std::pair<std::string, std::string>>& others) {
+    std::error_code ec;
+    const bool exists = fs::exists(output, ec);
+    const fs::path canonical = fs::weakly_canonical(output, ec);
+    for (const auto& [other, what] : others) {
+        if (other.empty()) continue;
+        std::error_code e2;
+        // An existing file: the same inode, through links and relative paths alike; two files
+        // still to be written: the same place.
+        const bool same = exists ? fs::equivalent(output, other, e2)
+                                 : !ec && fs::weakly_canonical(other, e2) == canonical && !e2;
+        if (same) {
+            throw IoError(output + ": is the same file as " + what + " " + other +
+                          " (choose another output)");
+        }
+    }
 }
 
 }  // namespace deepsea

@@ -3,6 +3,7 @@
 #include "deepsea/io/depth_formats.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -55,8 +56,9 @@ Image read_pfm(const std::string& path) {
     } catch (const std::exception&) {
         io_fail(path, "bad PFM header");
     }
-    if (w <= 0 || h <= 0 || scale == 0.0) io_fail(path, "bad PFM header");
+    if (w <= 0 || h <= 0 || scale == 0.0 || !std::isfinite(scale)) io_fail(path, "bad PFM header");
     const int nch = magic == "PF" ? 3 : 1;
+    check_image_size(w, h, nch, path);
     Image img(w, h, nch);
     const bool little = scale < 0.0;
     std::vector<unsigned char> row(std::size_t(w) * nch * 4);
@@ -123,6 +125,7 @@ Image read_npy(const std::string& path, double scale) {
     } else {
         io_fail(path, "unsupported .npy version " + std::to_string(major));
     }
+    if (hlen > (1u << 20)) io_fail(path, "implausible .npy header length " + std::to_string(hlen));
     std::string header(hlen, '\0');
     if (!is.read(header.data(), hlen)) io_fail(path, "truncated .npy header");
 
@@ -154,6 +157,7 @@ Image read_npy(const std::string& path, double scale) {
     if (!(shape.size() == 2 || (shape.size() == 3 && shape[2] == 1)) || shape[0] <= 0 ||
         shape[1] <= 0)
         throw InputError(path + ": .npy depth must have shape (H, W) or (H, W, 1)");
+    check_image_size(shape[1], shape[0], 1, path);
     const bool col_major = fortran.find("True") != std::string::npos;
     const int h = int(shape[0]), w = int(shape[1]);
     std::vector<unsigned char> raw(std::size_t(w) * h * bytes);

@@ -97,6 +97,10 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
     const QuietCodecs quiet;
     auto in = OIIO::ImageInput::open(path, &config);
     if (!in) io_fail(path, OIIO::geterror());
+    // The header's size, before any pixel is allocated: a 76-byte PNG can claim 20000x20000.
+    const auto& spec = in->spec();
+    check_image_size(spec.width, spec.height, spec.nchannels, path);
+    if (spec.depth > 1) io_fail(path, "a volume image (depth " + std::to_string(spec.depth) + ")");
     return in;
 }
 
@@ -345,6 +349,22 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
     if (nch == 3) spec.channelnames = {"R", "G", "B"};
     add_metadata(spec, meta);
     write_image(path, spec, data);
+}
+
+void require_writable_image(const std::string& path, bool exr_only) {
+    const std::string ext = extension(path);
+    static const char* known[] = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr", ".hdr"};
+    const bool ok = exr_only
+                        ? ext == ".exr"
+                        : std::find(std::begin(known), std::end(known), ext) != std::end(known);
+    if (!ok) {
+        io_fail(path, ext.empty() ? std::string("no file extension to choose the format by")
+                                  : "cannot write '" + ext + "' files (use " +
+                                        (exr_only ? ".exr" : ".png, .jpg, .tif or .exr") + ")");
+    }
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) io_fail(path, "is a folder");
+    require_writable_folder(path);
 }
 
 void write_depth_exr(const std::string& path, const Image& depth) {

@@ -212,6 +212,7 @@ std::string import_config(const std::string& path) {
 }
 
 void import_config(const std::string& path, const std::string& output) {
+    require_distinct(output, {{path, "the input"}});
     write_text_atomically(output, import_config(path));
 }
 

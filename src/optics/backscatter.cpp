@@ -2,10 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 
+#include "deepsea/core/error.h"
 #include "quadrature.h"
 
 namespace deepsea {
+
+void validate(const Quadrature& q) {
+    if (!(q.rel_tol >= kMinRelTol && q.rel_tol <= kMaxRelTol)) {
+        std::ostringstream os;
+        os << "quadrature rel_tol must be in [" << kMinRelTol << ", " << kMaxRelTol << "], got "
+           << q.rel_tol;
+        throw ConfigError(os.str());
+    }
+    if (!(q.abs_tol >= 0.0) || q.max_depth < 1 || q.max_depth > kMaxQuadratureDepth) {
+        throw ConfigError("quadrature: abs_tol must be >= 0 and max_depth in [1, " +
+                          std::to_string(kMaxQuadratureDepth) + "]");
+    }
+}
 
 Rgb lamp_in_scatter(const Light& L, const Water& water, const Vec3& X, const Vec3& out,
                     double* d1_out) {

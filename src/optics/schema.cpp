@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include "deepsea/core/image.h"
+
 namespace deepsea {
 
 namespace {
@@ -57,6 +59,14 @@ void validate(const Camera& c) {
         throw SchemaError("camera.width", "must be > 0, got " + std::to_string(c.width));
     if (c.height <= 0)
         throw SchemaError("camera.height", "must be > 0, got " + std::to_string(c.height));
+    if (c.width > kMaxImageSide || c.height > kMaxImageSide ||
+        (long double)c.width * c.height > kMaxImagePixels) {
+        throw SchemaError("camera.width", std::to_string(c.width) + "x" + std::to_string(c.height) +
+                                              " is larger than deepsea's limit of " +
+                                              std::to_string(kMaxImagePixels / 1000000) +
+                                              " megapixels (at most " +
+                                              std::to_string(kMaxImageSide) + " on a side)");
+    }
     if (!(c.fx > 0.0) || !std::isfinite(c.fx))
         throw SchemaError("camera.fx", "must be > 0, got " + fmt(c.fx));
     if (!(c.fy > 0.0) || !std::isfinite(c.fy))

@@ -153,6 +153,7 @@ void forward_psf_exact(const Camera& cam, const Water& water, const Image& zdept
 Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, const Image& rgb,
                         const Image& zdepth, const ReferenceOptions& opt, const Parallel& par) {
     check_inputs(cam, rgb, zdepth);
+    validate(opt.quadrature);
     Layers out;
     out.resize(cam.width, cam.height);
     const double z_open = open_water_depth(water, opt);

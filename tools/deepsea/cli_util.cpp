@@ -47,6 +47,15 @@ Setup SetupFlags::load() const {
     return setup;
 }
 
+std::vector<std::pair<std::string, std::string>> SetupFlags::inputs() const {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const std::string& c : configs) out.emplace_back(c, "the input --config");
+    out.emplace_back(camera, "the input --camera");
+    out.emplace_back(rig, "the input --rig");
+    if (water.find(':') == std::string::npos) out.emplace_back(water, "the input --water");
+    return out;
+}
+
 void DepthFlags::add_to(CLI::App& sub) {
     sub.add_option("--depth-channel", channel,
                    "channel of the depth file to use (Z, Y, R, depth, ...)");

@@ -23,6 +23,9 @@ struct SetupFlags {
     void add_to(CLI::App& sub, bool camera_required = true);
     /// Loads all files; throws ConfigError if a section is missing.
     Setup load() const;
+    /// The config files given (a water preset is no file), each with its flag, for
+    /// require_distinct: no output may replace them.
+    std::vector<std::pair<std::string, std::string>> inputs() const;
 };
 
 /// --depth-channel, --depth-scale, --depth-kind.

@@ -9,6 +9,7 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/accuracy.h"
 #include "deepsea/bake/bake.h"
+#include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 
 namespace deepsea::cli {
@@ -25,9 +26,10 @@ struct BakeArgs {
 
 void run(const BakeArgs& a) {
     BakeSettings settings = a.bake.resolve();
+    require_writable(a.output);  // fail before a long bake, not after
+    require_distinct(a.output, a.setup.inputs());
     Setup setup = a.setup.load();
     require_complete(setup, "deepsea bake");
-    require_writable(a.output);  // fail before a long bake, not after
     Progress bar("bake", 1);
     const auto t0 = std::chrono::steady_clock::now();
     const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings,

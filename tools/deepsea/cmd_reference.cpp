@@ -4,6 +4,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/runtime/exposure.h"
@@ -27,6 +28,21 @@ void run(const ReferenceArgs& a) {
         throw ConfigError("nothing to write: give --layers out.exr and/or -o out.png");
     }
     const Exposure exposure = parse_exposure(a.exposure);
+    ReferenceOptions opt;
+    opt.quadrature.rel_tol = a.rel_tol;
+    opt.open_water_z = a.z_max;
+    validate(opt.quadrature);  // a tolerance without a work bound is refused before reading
+    // Outputs replace neither an input nor each other.
+    auto others = a.setup.inputs();
+    others.emplace_back(a.rgb, "the input --rgb");
+    others.emplace_back(a.depth_path, "the input --depth");
+    for (const std::string* out : {&a.output, &a.layers}) {
+        if (!out->empty()) require_distinct(*out, others);
+    }
+    if (!a.output.empty() && !a.layers.empty())
+        require_distinct(a.layers, {{a.output, "the -o output"}});
+    if (!a.output.empty()) require_writable_image(a.output);
+    if (!a.layers.empty()) require_writable_image(a.layers, /*exr_only=*/true);
     Setup setup = a.setup.load();
     require_complete(setup, "deepsea reference");
     const Image rgb = read_color(a.rgb);
@@ -34,9 +50,6 @@ void run(const ReferenceArgs& a) {
     require_same_size(rgb, depth, a.rgb + " and " + a.depth_path);
     to_planar_depth(*setup.camera, depth, a.depth.depth_kind());
 
-    ReferenceOptions opt;
-    opt.quadrature.rel_tol = a.rel_tol;
-    opt.open_water_z = a.z_max;
     const Layers layers =
         render_reference(*setup.camera, *setup.rig, *setup.water, rgb, depth, opt, {a.threads});
     if (!a.layers.empty()) {

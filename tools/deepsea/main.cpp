@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "commands.h"
@@ -43,6 +44,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "deepsea: error: %s (see %s)\n", deepsea::one_line(what, 1000).c_str(),
                      help.c_str());
         return 2;  // ConfigError's code
+    } catch (const std::bad_alloc&) {
+        // Inputs are size-checked before allocation; this is the last line of defence.
+        std::fprintf(stderr,
+                     "deepsea: error: out of memory (the inputs or settings need more memory "
+                     "than this machine has)\n");
+        return 1;
     } catch (const deepsea::Error& e) {
         std::fprintf(stderr, "deepsea: error: %s\n", deepsea::one_line(e.what(), 1000).c_str());
         return e.exit_code();

@@ -56,6 +56,7 @@ struct GridSummary {
 /// What `deepsea info` shows besides the values.
 struct AssetFileSummary {
     std::uintmax_t file_bytes = 0;
+    std::string sha256;  ///< of the whole file, as verified (asset_integrity.h)
     int format = 0;
     BakeInfo info;
     double value_scale = 1.0;          ///< stored backscatter = radiance * value_scale
@@ -77,8 +78,9 @@ std::vector<Vec3> index_to_world(const std::string& path, const std::string& gri
 /// looking down -z. A camera-frame (OpenCV) point maps to (x, -y, -z).
 inline Vec3 camera_to_world(const Vec3& p) { return {p.x, -p.y, -p.z}; }
 
-/// Throws IoError unless `path` can be created or replaced: its directory exists and is
-/// writable. write_asset checks this itself; call it before a long bake to fail early.
+/// Throws IoError unless `path` can be created or replaced: it ends in `.vdb` (an asset under
+/// another name, say x.exr, would only mislead), its directory exists and is writable, and it
+/// is not a folder. write_asset checks this itself; call it before a long bake to fail early.
 void require_writable(const std::string& path);
 
 }  // namespace deepsea

@@ -98,8 +98,17 @@ struct Lattice {
     bool operator==(const Lattice& o) const;
 };
 
+/// Largest lattice deepsea bakes or loads: columns x rows x depth samples (each point holds
+/// RGB, so 50 million points are 0.6 GB of floats).
+inline constexpr long long kMaxLatticePoints = 50'000'000;
+
+/// ConfigError unless ni x nj x nk points are within kMaxLatticePoints (checked before any
+/// allocation or work, by make_lattice and by the baker before its z_max search).
+void check_lattice_size(long long ni, long long nj, long long nk);
+
 /// The lattice of `camera` for a given step and depth samples (throws ConfigError for
-/// step < 1, fewer than 2 samples, or samples that do not start at 0 and ascend).
+/// step < 1, fewer than 2 samples, samples that do not start at 0 and ascend, or a lattice
+/// larger than kMaxLatticePoints).
 Lattice make_lattice(const Camera& camera, int step, DepthScheme scheme,
                      std::vector<double> z_samples, double z0 = kDefaultLogZ0);
 

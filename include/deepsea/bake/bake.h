@@ -19,10 +19,15 @@ namespace deepsea {
 /// would bake different values.
 inline constexpr const char* kBakerVersion = "deepsea-bake/1";
 
+/// Work bounds, checked before any work: a step beyond this only moves columns off the image,
+/// and more depth samples than this buy no accuracy (docs/asset-format.md, "Limits").
+inline constexpr int kMaxXyStep = 4096;
+inline constexpr int kMaxDepthSamples = 4096;
+
 /// Defaults chosen by measurement (docs/asset-format.md, "Choosing the defaults").
 struct BakeSettings {
-    int step = 16;           ///< pixels between lattice columns, >= 1
-    int depth_samples = 64;  ///< K slabs (K + 1 samples per column), >= 2
+    int step = 16;           ///< pixels between lattice columns, 1 .. kMaxXyStep
+    int depth_samples = 64;  ///< K slabs (K + 1 samples per column), 2 .. kMaxDepthSamples
     DepthScheme scheme = DepthScheme::Log;
     double z0 = kDefaultLogZ0;  ///< Log scheme's depth scale, metres
     double z_max = 0.0;         ///< planar depth of the last sample, metres; 0: auto
@@ -32,8 +37,10 @@ struct BakeSettings {
     HigherOrderSettings higher_orders;           ///< Multiple only
 };
 
-/// Throws ConfigError naming the setting unless the settings can be baked (step >= 1,
-/// K >= 2, z_max > 0 or auto, 0 < tolerance < 0.5, z0 > 0).
+/// Throws ConfigError naming the setting unless the settings can be baked (step in
+/// [1, kMaxXyStep], K in [2, kMaxDepthSamples], z_max > 0 or auto, 0 < tolerance < 0.5, z0 > 0,
+/// the quadrature within its bounds). The lattice size (kMaxLatticePoints) needs the camera:
+/// bake() checks it first thing.
 void validate(const BakeSettings& settings);
 
 /// The BakeInfo a bake with these inputs would record, without baking (for an auto z_max the

@@ -4,6 +4,9 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 namespace deepsea {
 
@@ -16,9 +19,21 @@ namespace deepsea {
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& tmp)>& write);
 
-/// write_atomically for a text file: `text` as it is (binary mode). IoError naming `path` when
-/// the stream fails (disk full).
+/// write_atomically for a text file: `text` as it is (binary mode), written by write_fully.
 void write_text_atomically(const std::string& path, const std::string& text);
+
+/// Creates or truncates `file` and writes all of `bytes`, checking every write, fsync and
+/// close: a full disk or a failing device is an IoError naming `name` (the user's path, when
+/// `file` is a temporary) and the system's reason, never a silently short file.
+void write_fully(const std::string& file, std::string_view bytes, const std::string& name);
+
+/// Throws IoError naming both unless `output` is a different file from each of `others`: an
+/// output must never replace what the command reads, nor another of its outputs. An existing
+/// output is compared by inode (links and relative paths alike), one still to be written by
+/// its canonical path. `others` pairs each path with what it is ("the input --rgb", "the
+/// --layers output"); empty paths are skipped.
+void require_distinct(const std::string& output,
+                      const std::vector<std::pair<std::string, std::string>>& others);
 
 /// Throws IoError naming `path` unless its folder exists and is writable.
 void require_writable_folder(const std::string& path);

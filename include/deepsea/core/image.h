@@ -7,6 +7,18 @@
 
 namespace deepsea {
 
+/// Largest image deepsea reads, renders or configures: 100 million pixels (10000 x 10000, or
+/// 12 x a 4K frame), at most kMaxImageSide on a side and kMaxImageChannels channels. A file
+/// header claiming more is refused before anything is allocated.
+inline constexpr long long kMaxImagePixels = 100'000'000;
+inline constexpr long long kMaxImageSide = 100'000;
+inline constexpr int kMaxImageChannels = 64;
+
+/// InputError "`what`: ..." unless width x height (x channels) is a size deepsea accepts: both
+/// sides >= 1 and within the limits above. `what` names the file (or setting).
+void check_image_size(long long width, long long height, long long channels,
+                      const std::string& what);
+
 /// A width x height image of `channels` interleaved floats per pixel, rows top to bottom.
 /// Colour is linear RGB; depth is one channel in metres.
 struct Image {

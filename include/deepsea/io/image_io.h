@@ -50,6 +50,11 @@ void require_image_writer(const std::string& path);
 void write_color(const std::string& path, const Image& linear_rgb, int bits = 8,
                  const ImageMetadata& meta = {});
 
+/// Throws IoError naming `path` unless an image can be written there: an extension deepsea
+/// writes (`exr_only`: .exr, for layers; else .png, .jpg, .jpeg, .tif, .tiff, .exr, .hdr), an
+/// existing writable folder, not a folder itself. Call it before the work, not after.
+void require_writable_image(const std::string& path, bool exr_only = false);
+
 /// Writes a one-channel depth map as a float EXR with channel "Z". Atomic.
 void write_depth_exr(const std::string& path, const Image& depth);
 

@@ -30,6 +30,18 @@ struct Quadrature {
     int max_depth = 40;      ///< bisection levels
 };
 
+/// Smallest relative tolerance accepted: below it double precision cannot converge and the
+/// adaptive bisection only spends time (every level doubles the work).
+inline constexpr double kMinRelTol = 1e-12;
+/// Largest: above it the integral is not worth the name.
+inline constexpr double kMaxRelTol = 0.1;
+/// Deepest bisection accepted (the work per integral grows as 2^max_depth in the worst case).
+inline constexpr int kMaxQuadratureDepth = 60;
+
+/// ConfigError unless rel_tol is in [kMinRelTol, kMaxRelTol], abs_tol >= 0 and max_depth in
+/// [1, kMaxQuadratureDepth]: every user of the quadrature checks this before it starts.
+void validate(const Quadrature& q);
+
 /// Result of one integral: value and the quadrature's own error estimate (per channel).
 struct Integral {
     Rgb value;

@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
+#include "deepsea/asset/asset_integrity.h"
 #include "deepsea/core/error.h"
 #include "test_assets.h"
 
@@ -37,6 +39,13 @@ protected:
     void write_bytes(const std::string& p, const std::vector<char>& b, std::size_t n) const {
         std::ofstream f(p, std::ios::binary);
         f.write(b.data(), std::streamsize(n));
+    }
+    /// Writes edited bytes with a fresh integrity record: what the edit broke, not the hash,
+    /// must then be what the loader refuses.
+    void write_sealed(const std::string& p, const std::vector<char>& b) const {
+        std::string s(b.begin(), b.end());
+        seal_asset_bytes(s);
+        write_bytes(p, std::vector<char>(s.begin(), s.end()), s.size());
     }
     bool has_temp_files() const {
         for (const auto& e : fs::directory_iterator(m_dir)) {
@@ -200,10 +209,10 @@ TEST_F(AssetFile, NewerFormatIsAssetError) {
     std::vector<char> bytes = read_bytes(path("a.vdb"));
     std::vector<char> same = bytes;
     ASSERT_EQ(patch_format(same, kAssetFormat), 2);  // file and grid metadata
-    write_bytes(path("same.vdb"), same, same.size());
+    write_sealed(path("same.vdb"), same);
     EXPECT_NO_THROW(load_asset(path("same.vdb")));  // the patch itself is harmless
     patch_format(bytes, 999);
-    write_bytes(path("new.vdb"), bytes, bytes.size());
+    write_sealed(path("new.vdb"), bytes);
     try {
         load_asset(path("new.vdb"));
         FAIL() << "no AssetError";
@@ -220,8 +229,83 @@ TEST_F(AssetFile, VdbWithoutDeepseaMetadataIsAssetError) {
         if (std::memcmp(&bytes[pos], key.data(), key.size()) == 0)
             bytes[pos + key.size() - 1] = 'X';
     }
-    write_bytes(path("plain.vdb"), bytes, bytes.size());
+    write_sealed(path("plain.vdb"), bytes);
     EXPECT_THROW(load_asset(path("plain.vdb")), AssetError);
+}
+
+/// The AssetError message of loading `p`, or "" when it loads.
+std::string load_error(const std::string& p) {
+    try {
+        load_asset(p);
+    } catch (const AssetError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST_F(AssetFile, EveryChangedByteIsRefusedBeforeOpenVdbParses) {
+    // Every byte of a whole file, flipped one at a time: each is refused by the integrity
+    // check with one line naming the file (before, some made OpenVDB's Blosc reader overflow
+    // the heap or allocate gigabytes).
+    WriteOptions opt;
+    opt.preview = false;
+    write_asset(path("a.vdb"), smooth_asset(), opt);
+    const std::vector<char> good = read_bytes(path("a.vdb"));
+    ASSERT_GT(good.size(), 1000u);
+    int refused = 0;
+    for (std::size_t i = 0; i < good.size(); ++i) {
+        std::vector<char> bad = good;
+        bad[i] = char(bad[i] ^ 0x01);
+        // A new name each time: ext4 flushes a file truncated and rewritten in place on close.
+        const std::string p = path("b" + std::to_string(i) + ".vdb");
+        write_bytes(p, bad, bad.size());
+        const std::string why = load_error(p);
+        EXPECT_NE(why.find(p + ": "), std::string::npos) << "byte " << i << ": " << why;
+        EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+        refused += !why.empty();
+        fs::remove(p);
+    }
+    EXPECT_EQ(refused, int(good.size()));
+}
+
+TEST_F(AssetFile, IntegrityRecordCoversTheMetadata) {
+    write_asset(path("a.vdb"), smooth_asset());
+    std::vector<char> bytes = read_bytes(path("a.vdb"));
+    const std::string key = "\"attenuation\":[";
+    auto it = std::search(bytes.begin(), bytes.end(), key.begin(), key.end());
+    ASSERT_NE(it, bytes.end());
+    it[key.size()] = '9';  // a plausible value, edited: only the hash notices
+    write_bytes(path("e.vdb"), bytes, bytes.size());
+    EXPECT_NE(load_error(path("e.vdb")).find("SHA-256"), std::string::npos);
+    EXPECT_THROW(read_asset_summary(path("e.vdb")), AssetError);
+}
+
+TEST_F(AssetFile, AssetWithoutIntegrityRecordAsksForARebake) {
+    write_asset(path("a.vdb"), smooth_asset());
+    std::vector<char> bytes = read_bytes(path("a.vdb"));
+    const std::string key = kMetaIntegrity;
+    auto it = std::search(bytes.begin(), bytes.end(), key.begin(), key.end());
+    ASSERT_NE(it, bytes.end());
+    it[key.size() - 1] = 'X';  // as an older deepsea wrote it: no deepsea:integrity
+    write_bytes(path("old.vdb"), bytes, bytes.size());
+    EXPECT_NE(load_error(path("old.vdb")).find("re-bake"), std::string::npos);
+}
+
+TEST_F(AssetFile, SummaryReportsTheVerifiedHash) {
+    write_asset(path("a.vdb"), smooth_asset());
+    const AssetFileSummary s = read_asset_summary(path("a.vdb"));
+    EXPECT_EQ(s.sha256.size(), 64u);
+    EXPECT_EQ(s.sha256, verify_asset_file(path("a.vdb")).sha256);
+    EXPECT_EQ(verify_asset_file(path("a.vdb")).size, fs::file_size(path("a.vdb")));
+}
+
+TEST_F(AssetFile, OtherExtensionsThanVdbAreRefused) {
+    for (const char* name : {"a.exr", "a", "a.vdb.tmp"}) {
+        EXPECT_THROW(require_writable(path(name)), IoError) << name;
+        EXPECT_THROW(write_asset(path(name), smooth_asset()), IoError) << name;
+        EXPECT_FALSE(fs::exists(path(name))) << name;
+    }
+    EXPECT_NO_THROW(require_writable(path("A.VDB")));
 }
 
 TEST_F(AssetFile, UnwritableTargetsAreIoErrorsAndLeaveNoFiles) {

@@ -86,6 +86,45 @@ TEST_F(AtomicFile, RenameOntoAFolderFailsAndCleansUp) {
     EXPECT_EQ(listing(), std::vector<std::string>{"busy.txt"});
 }
 
+TEST_F(AtomicFile, AFullDeviceIsAnIoErrorNamingTheFile) {
+    // /dev/full answers every write with ENOSPC, as a full disk does.
+    if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    try {
+        write_fully("/dev/full", std::string(100000, 'x'), "out.vdb");
+        FAIL() << "no IoError";
+    } catch (const IoError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("out.vdb: write failed: ", 0), 0u) << e.what();
+        EXPECT_NE(std::string(e.what()).find("No space left"), std::string::npos) << e.what();
+    }
+}
+
+TEST_F(AtomicFile, WriteFullyWritesEveryByte) {
+    std::string bytes(3 << 20, '\0');
+    for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = char(i * 2654435761u >> 24);
+    write_fully(path("b.bin"), bytes, "b.bin");
+    EXPECT_EQ(get(path("b.bin")), bytes);
+}
+
+TEST_F(AtomicFile, OutputsMayNotBeTheirInputs) {
+    put(path("in.yaml"), "camera: {}\n");
+    fs::create_symlink(path("in.yaml"), path("link.yaml"));
+    const std::vector<std::pair<std::string, std::string>> in{{path("in.yaml"), "the input"}};
+    EXPECT_THROW(require_distinct(path("in.yaml"), in), IoError);
+    EXPECT_THROW(require_distinct(path("link.yaml"), in), IoError);  // through a link
+    EXPECT_THROW(require_distinct(path("./in.yaml"), in), IoError);
+    EXPECT_NO_THROW(require_distinct(path("out.yaml"), in));
+    EXPECT_NO_THROW(require_distinct(path("in.yaml"), {{"", "nothing"}}));
+    // Two outputs still to be written, at the same place under two spellings.
+    EXPECT_THROW(require_distinct(path("x.exr"), {{path("sub/../x.exr"), "the -o output"}}),
+                 IoError);
+    try {
+        require_distinct(path("in.yaml"), in);
+    } catch (const IoError& e) {
+        EXPECT_EQ(std::string(e.what()), path("in.yaml") + ": is the same file as the input " +
+                                             path("in.yaml") + " (choose another output)");
+    }
+}
+
 }  // namespace deepsea
 
 namespace deepsea {

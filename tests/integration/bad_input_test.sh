@@ -1,0 +1,200 @@
+#!/usr/bin/env bash
+# The bad-input matrix (issue 10): hostile inputs for bake, info, reference, import-config,
+# bake-library and the image/depth readers, each driven through the real binary. Every case
+# must exit non-zero with exactly one line on stderr naming the file or setting, and leave no
+# output (nor a temporary) behind. Prints the count at the end.
+set -euo pipefail
+ds=$1 work=$2 src=$3
+rm -rf "$work"; mkdir -p "$work"
+source "$(dirname "$0")/cli_lib.sh"
+v=$src/volumes
+edit=$(dirname "$0")/edit_asset.py
+cases=0
+# bad NAME NEEDLE CMD...: expect_fail, the line contains NEEDLE, no res.* or temporary left.
+bad() {
+  local name=$1 needle=$2; shift 2
+  expect_fail "$name" "$@"
+  grep -qF -- "$needle" "$work/err.txt" || { echo "FAIL $name: no '$needle' in the line"; exit 1; }
+  expect_absent "$work"/res.*
+  if ls -a "$work" | grep -q '\.tmp-'; then echo "FAIL $name: temporary left"; exit 1; fi
+  cases=$((cases + 1))
+}
+cam=$v/cameras/small-320.yaml rig=$v/rigs/authors-testset.yaml
+small=(--camera "$cam" --rig "$rig" --water jerlov:IB --xy-step 32 --depth-samples 8)
+
+# inputs: one good asset and frame, and files derived from them
+"$ds" bake "${small[@]}" -o "$work/a.vdb" >/dev/null
+echo "camera: {width: 32, height: 24, fx: 24.0, fy: 24.0, cx: 15.5, cy: 11.5}" > "$work/cam.yaml"
+"$ds" scene --out "$work/f" --frames 1 --camera "$work/cam.yaml" >/dev/null
+rgb=$work/f/frame_0001.png depth=$work/f/frame_0001_depth.exr
+ref=(reference --camera "$work/cam.yaml" --rig "$rig" --water jerlov:IB)
+
+# --- assets (info, and render reads them the same way) ---
+bad "asset: missing" "none.vdb" "$ds" info "$work/none.vdb"
+: > "$work/empty.vdb"
+bad "asset: empty" "empty.vdb: not an OpenVDB file" "$ds" info "$work/empty.vdb"
+echo "not a vdb" > "$work/text.vdb"
+bad "asset: text renamed .vdb" "text.vdb: not an OpenVDB file" "$ds" info "$work/text.vdb"
+cp "$rgb" "$work/png.vdb"
+bad "asset: PNG renamed .vdb" "png.vdb: not an OpenVDB file" "$ds" info "$work/png.vdb"
+size=$(stat -c %s "$work/a.vdb")
+for n in 8 2000 $((size / 2)) $((size - 1)); do
+  head -c "$n" "$work/a.vdb" > "$work/cut.vdb"
+  bad "asset: truncated to $n bytes" "cut.vdb: " "$ds" info "$work/cut.vdb"
+done
+# one flipped byte: in the header, the metadata, the grid descriptors, the data, the end
+for off in 3 40 700 1400 3000 $((size / 3)) $((size / 2)) $((size - 200)) $((size - 1)); do
+  python3 "$edit" "$work/a.vdb" "$work/flip.vdb" "flip:$off"
+  bad "asset: byte $off changed" "flip.vdb: " "$ds" info "$work/flip.vdb"
+done
+python3 "$edit" "$work/a.vdb" "$work/legacy.vdb" legacy
+bad "asset: no integrity record (older deepsea)" "re-bake" "$ds" info "$work/legacy.vdb"
+# edited and re-sealed: what the edit broke is found after the hash
+python3 "$edit" "$work/a.vdb" "$work/same.vdb" reseal
+"$ds" info "$work/same.vdb" >/dev/null  # the re-sealing itself is harmless
+for e in no-backscatter:"no backscatter grid" bad-json:"not valid JSON" \
+         negative-attenuation:"water.attenuation" zero-lamps:"rig.lights"; do
+  python3 "$edit" "$work/a.vdb" "$work/ed.vdb" "${e%%:*}"
+  bad "asset: ${e%%:*}, re-sealed" "${e#*:}" "$ds" info "$work/ed.vdb"
+done
+
+# --- bake: settings, outputs ---
+bad "bake: xy step 1000000" "xy_step must be in [1, 4096]" "$ds" bake "${small[@]}" \
+  --xy-step 1000000 -o "$work/res.vdb"
+bad "bake: depth samples 2e9" "depth_samples must be in [2, 4096]" "$ds" bake "${small[@]}" \
+  --depth-samples 2000000000 -o "$work/res.vdb"
+bad "bake: lattice too large" "larger than the limit of 50 million" "$ds" bake "${small[@]}" \
+  --xy-step 1 --depth-samples 1000 -o "$work/res.vdb"
+bad "bake: -o x.exr" "must end in .vdb" "$ds" bake "${small[@]}" -o "$work/res.exr"
+bad "bake: -o without extension" "must end in .vdb" "$ds" bake "${small[@]}" -o "$work/out"
+bad "bake: -o missing folder" "does not exist" "$ds" bake "${small[@]}" -o "$work/no/out.vdb"
+mkdir -p "$work/dir.vdb"
+bad "bake: -o is a folder" "dir.vdb: it is a directory" "$ds" bake "${small[@]}" -o "$work/dir.vdb"
+cp "$cam" "$work/setup.vdb"
+bad "bake: -o equal to --camera" "is the same file as the input --camera" "$ds" bake \
+  --camera "$work/setup.vdb" --rig "$rig" --water jerlov:IB -o "$work/setup.vdb"
+cmp -s "$cam" "$work/setup.vdb" || { echo "FAIL: the input was changed"; exit 1; }
+printf 'camera:\n  width: 32\n  heigth: 24\n' > "$work/typo.yaml"
+bad "bake: misspelt key" "typo.yaml:3" "$ds" bake --camera "$work/typo.yaml" --rig "$rig" \
+  --water jerlov:IB -o "$work/res.vdb"
+printf 'camera: {width: wide, height: 24, fx: 1, fy: 1, cx: 0, cy: 0}\n' > "$work/type.yaml"
+bad "bake: wrong type" "type.yaml:1" "$ds" bake --camera "$work/type.yaml" --rig "$rig" \
+  --water jerlov:IB -o "$work/res.vdb"
+printf 'camera: {width: 200000, height: 200000, fx: 1, fy: 1, cx: 0, cy: 0}\n' > "$work/huge.yaml"
+bad "bake: 200000^2 camera" "megapixels" "$ds" bake --camera "$work/huge.yaml" --rig "$rig" \
+  --water jerlov:IB -o "$work/res.vdb"
+printf 'water: {name: w, attenuation: [-1, 0.2, 0.2], scattering: [0.1, 0.1, 0.1], phase: isotropic}\n' \
+  > "$work/negwater.yaml"
+bad "bake: negative attenuation" "negwater.yaml" "$ds" bake --camera "$cam" --rig "$rig" \
+  --water "$work/negwater.yaml" -o "$work/res.vdb"
+printf 'rig:\n  lights: []\n' > "$work/nolamps.yaml"
+bad "bake: zero lamps" "nolamps.yaml" "$ds" bake --camera "$cam" --rig "$work/nolamps.yaml" \
+  --water jerlov:IB -o "$work/res.vdb"
+mkdir -p "$work/ro" && chmod 555 "$work/ro"
+if [[ ! -w "$work/ro" ]] || [[ $(id -u) -ne 0 ]]; then
+  bad "bake: unwritable folder" "ro/out.vdb" "$ds" bake "${small[@]}" -o "$work/ro/out.vdb"
+fi
+
+# --- reference: quadrature, outputs, images and depths ---
+bad "reference: --rel-tol 1e-300" "rel_tol must be in" "$ds" "${ref[@]}" --rgb "$rgb" \
+  --depth "$depth" --rel-tol 1e-300 -o "$work/res.png"
+cp "$rgb" "$work/in.png"
+bad "reference: -o equal to --rgb" "is the same file as the input --rgb" "$ds" "${ref[@]}" \
+  --rgb "$work/in.png" --depth "$depth" -o "$work/in.png"
+cmp -s "$rgb" "$work/in.png" || { echo "FAIL: --rgb was changed"; exit 1; }
+bad "reference: -o equal to --layers" "is the same file as the -o output" "$ds" "${ref[@]}" \
+  --rgb "$rgb" --depth "$depth" -o "$work/res.exr" --layers "$work/res.exr"
+bad "reference: -o unknown extension" "cannot write '.xyz'" "$ds" "${ref[@]}" --rgb "$rgb" \
+  --depth "$depth" -o "$work/res.xyz"
+bad "reference: --layers not .exr" "res.png" "$ds" "${ref[@]}" --rgb "$rgb" --depth "$depth" \
+  --layers "$work/res.png"
+: > "$work/empty.png"
+bad "image: empty" "empty.png" "$ds" "${ref[@]}" --rgb "$work/empty.png" --depth "$depth" \
+  -o "$work/res.png"
+head -c 300 "$rgb" > "$work/cut.png"
+bad "image: truncated PNG" "cut.png" "$ds" "${ref[@]}" --rgb "$work/cut.png" --depth "$depth" \
+  -o "$work/res.png"
+cp "$rgb" "$work/png.exr"
+bad "depth: PNG renamed .exr" "png.exr" "$ds" "${ref[@]}" --rgb "$rgb" --depth "$work/png.exr" \
+  -o "$work/res.png"
+bad "image: missing" "none.png" "$ds" "${ref[@]}" --rgb "$work/none.png" --depth "$depth" \
+  -o "$work/res.png"
+# headers claiming 20000^2 and 100000^2 pixels: refused from the header, at once
+python3 - "$work" <<'PY'
+import struct, sys, zlib
+w = sys.argv[1]
+def png(path, width, height, data=b""):
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    chunk = lambda t, d: struct.pack(">I", len(d)) + t + d + struct.pack(">I", zlib.crc32(t + d))
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) +
+                           chunk(b"IDAT", zlib.compress(data)) + chunk(b"IEND", b""))
+def npy(path, h, wd):
+    hdr = "{'descr': '<f4', 'fortran_order': False, 'shape': (%d, %d), }" % (h, wd)
+    hdr += " " * (63 - len(hdr) % 64) + "\n"
+    open(path, "wb").write(b"\x93NUMPY\x01\x00" + struct.pack("<H", len(hdr)) + hdr.encode())
+for side in (20000, 100000):
+    png(f"{w}/big{side}.png", side, side)
+    npy(f"{w}/big{side}.npy", side, side)
+    open(f"{w}/big{side}.pfm", "wb").write(b"Pf\n%d %d\n-1.0\n" % (side, side))
+png(f"{w}/one.png", 1, 1, b"\0\x80\x80\x80")  # a valid 1x1 grey image
+PY
+for side in 20000 100000; do
+  for f in png npy pfm; do
+    if [[ $f == png ]]; then args=(--rgb "$work/big$side.png" --depth "$depth")
+    else args=(--rgb "$rgb" --depth "$work/big$side.$f"); fi
+    t0=$SECONDS
+    bad "header claiming ${side}x$side ($f)" "big$side.$f: image size ${side}x$side" \
+      "$ds" "${ref[@]}" "${args[@]}" -o "$work/res.png"
+    (( SECONDS - t0 < 5 )) || { echo "FAIL: ${side}^2 $f took $((SECONDS - t0)) s"; exit 1; }
+  done
+done
+bad "image: 1x1 against a 32x24 depth" "sizes differ" "$ds" "${ref[@]}" --rgb "$work/one.png" \
+  --depth "$depth" -o "$work/res.png"
+printf 'Pf\n32 24\n-1.0\n' > "$work/short.pfm"
+bad "depth: PFM without raster" "short.pfm: truncated PFM raster" "$ds" "${ref[@]}" \
+  --rgb "$rgb" --depth "$work/short.pfm" -o "$work/res.png"
+bad "depth: 8-bit PNG" "8 bits" "$ds" "${ref[@]}" --rgb "$rgb" --depth "$rgb" --depth-channel R -o "$work/res.png"
+
+# --- import-config ---
+printf 'bogus: 1\n' > "$work/dsr.yaml"
+bad "import-config: unknown key" "dsr.yaml" "$ds" import-config "$work/dsr.yaml" \
+  -o "$work/res.yaml"
+bad "import-config: missing" "none.yaml" "$ds" import-config "$work/none.yaml" -o "$work/res.yaml"
+cfg="$src/../shared/data/rgbd/seafloor-descent/deepsearenderer_config.yaml"
+if [[ -f $cfg ]]; then
+  cp "$cfg" "$work/dsr-good.yaml"
+  cp "$cfg" "$work/keep.yaml"
+  bad "import-config: -o equal to its input" "is the same file as the input" "$ds" \
+    import-config "$work/dsr-good.yaml" -o "$work/dsr-good.yaml"
+  cmp -s "$work/keep.yaml" "$work/dsr-good.yaml" || { echo "FAIL: input changed"; exit 1; }
+fi
+
+# --- bake-library ---
+printf 'cameras: [%s]\nrigs: [%s]\nwaters: [jerlov:IB]\nbake: {xy_step: 1000000}\n' \
+  "$cam" "$rig" > "$work/lib.yaml"
+bad "bake-library: xy_step out of range" "lib.yaml: bake: xy_step" "$ds" bake-library \
+  "$work/lib.yaml" --out "$work/res.lib"
+printf 'cameras: [%s]\nrigs: [%s]\nwaters: [jerlov:IB]\nbake: {xy_stepp: 8}\n' \
+  "$cam" "$rig" > "$work/lib2.yaml"
+bad "bake-library: misspelt key" "lib2.yaml:4" "$ds" bake-library "$work/lib2.yaml" \
+  --out "$work/res.lib"
+
+# --- a full disk: a 1 MB tmpfs (root only) ---
+full=$work/full
+mkdir -p "$full"
+if mount -t tmpfs -o size=1m tmpfs "$full" 2>/dev/null; then
+  trap 'umount "$full" 2>/dev/null || true' EXIT
+  set +e
+  "$ds" bake "${small[@]}" -o "$full/a.vdb" >"$work/out.txt" 2>"$work/err.txt"
+  rc=$?
+  set -e
+  [[ $rc -ne 0 && $(wc -l <"$work/err.txt") -eq 1 ]] || { echo "FAIL full disk: rc $rc"; cat "$work/err.txt"; exit 1; }
+  grep -q "No space left on device" "$work/err.txt" || { echo "FAIL full disk"; cat "$work/err.txt"; exit 1; }
+  [[ -z $(ls -A "$full") ]] || { echo "FAIL full disk: left $(ls -A "$full")"; exit 1; }
+  echo "ok full disk (exit $rc): $(cat "$work/err.txt")"
+  cases=$((cases + 1))
+  umount "$full"; trap - EXIT
+else
+  echo "note: cannot mount a tmpfs here (not root?): the full-disk case is skipped"
+fi
+echo "bad input: $cases hostile inputs, each one clean line, no output left"
