@@ -80,6 +80,12 @@ SCENES = {f"{w}-{p}": dict(water=w, plane=(p == "plane"))
 # Tolerances (docs/validation-cycles.md has the measured numbers behind them).
 K_SE = 3.0                                   # standard errors
 SUM_TOL = {"single": 0.003, "all": 0.05}     # relative, image sums per channel
+# All orders, the plane scenes' water light (backscatter + forward): the plane's light that
+# scatters towards the camera comes partly from the plane beyond the frame, which the frame does
+# not show; deepsea continues the frame's edges (docs/model.md, "Forward scatter"). Taking no
+# light from beyond instead gives -8 % in clear water against edge continuation's +6.5 % (seeds
+# 1-16), so this layer is held to 10 %. The final image, which it is part of, keeps 5 %.
+SUM_TOL_PLANE_WATER_LIGHT = 0.10
 K_SE_BIN = 5.0   # ~2600 bin comparisons with heavy-tailed noise: 3 SE is exceeded by chance
 BIN_TOL = {"single": 0.05, "all": 0.10}      # relative, bins per channel
 BIN = (4, 4)  # bin width, height in pixels
@@ -475,8 +481,11 @@ def main():
         for layer in layers:
             ref = stats([c[layer] for c in cyc])
             asserted = layer in asserted_layers(s, orders)
+            tol = sum_tol
+            if orders == "all" and SCENES[s]["plane"] and layer == "backscatter":
+                tol = max(sum_tol, SUM_TOL_PLANE_WATER_LIGHT)
             for meth, lay in methods[s].items():
-                r = compare(ref, lay[layer], sum_tol, bin_tol, orders)
+                r = compare(ref, lay[layer], tol, bin_tol, orders)
                 for k, c in enumerate(r["channels"]):
                     flag = "" if (c["ok"] and c["bin_bad"] == 0) else "  FAIL"
                     if not asserted:
