@@ -125,7 +125,7 @@ namespace {
 /// The lattice and Monte Carlo spacing of one bake attempt: what the settings give, with the
 /// automatic ones resolved.
 struct Resolved {
-    int step = 0, depth_samples = 0, stride = 0;
+    int step = 0, depth_samples = 0;
 };
 
 Resolved resolve(const Camera& cam, const Rig& rig, const BakeSettings& s) {
@@ -235,8 +235,15 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
         const long total = (s.z_max == 0.0 ? 2 * columns : columns) + mc_weight;
         asset = bake_single(cam, rig, water, s, r, par, total);
         if (!s.check) break;
-        // The check's test pixels are not on the bar: about a tenth of the columns' work.
-        LatticeCheck check = check_lattice(asset, Parallel{par.threads});
+        // The check's test pixels are not counted on the bar (it waits at the end of the
+        // columns), but it still asks the callback, so that a cancel stops the check too.
+        Parallel check_par{par.threads};
+        if (par.progress) {
+            check_par.progress = [&par, done = total - mc_weight, total](long, long) {
+                return par.progress(done, total);
+            };
+        }
+        LatticeCheck check = check_lattice(asset, check_par);
         check.refinements = attempt;
         asset.info.check = check;
         if (meets_bar(check) || attempt == s.max_refinements) break;
@@ -253,7 +260,7 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
                             std::to_string(asset.info.lattice.slabs()) + ") misses the bar: mean " +
                             percent(check.mean_rel) + ", max " + percent(check.max_rel) + " (bar " +
                             percent(kBarMeanRel) + " / " + percent(kBarMaxRel) +
-                            "); give a finer --xy-step or --depth-samples");
+                            "); give a finer xy_step or depth_samples");
     }
     if (s.scattering == Scattering::Multiple) {
         const Lattice& l = asset.info.lattice;
