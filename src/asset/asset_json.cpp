@@ -64,16 +64,20 @@ json quadrature_json(const Quadrature& q) {
 /// What the user asked for: the hash covers exactly these plus camera, rig and water.
 json settings_json(const BakeInfo& info) {
     const Lattice& l = info.lattice;
-    json s = {{"step", l.step},
+    // Automatic choices hash as "auto": the request, not what the check refined it to.
+    json s = {{"step", info.step_auto ? json("auto") : json(l.step)},
               {"depth_scheme", to_string(l.scheme)},
-              {"depth_samples", l.slabs()},
+              {"depth_samples", info.depth_samples_auto ? json("auto") : json(l.slabs())},
               {"quadrature", quadrature_json(info.quadrature)}};
+    // Without the check an automatic lattice is never refined: another request.
+    if ((info.step_auto || info.depth_samples_auto) && !info.check.done) s["check"] = "off";
     if (l.scheme == DepthScheme::Log) s["z0"] = l.z0;
     // Single-scattering assets hash as before this setting existed.
     if (info.scattering == Scattering::Multiple) {
         s["scattering"] = to_string(info.scattering);
         s["paths"] = info.higher_orders.paths;
-        s["stride"] = info.higher_orders.stride;
+        s["stride"] =
+            info.higher_orders.stride_auto ? json("auto") : json(info.higher_orders.stride);
         s["seed"] = info.higher_orders.seed;
         s["lamp_samples"] = info.higher_orders.lamp_samples;
     }
@@ -239,6 +243,8 @@ std::string bake_info_to_json(const BakeInfo& info, int indent) {
                     {"depth_samples", l.slabs()},
                     {"z_max", l.z_max()},
                     {"z_max_auto", info.z_max_auto},
+                    {"step_auto", info.step_auto},
+                    {"depth_samples_auto", info.depth_samples_auto},
                     {"tolerance", info.tolerance},
                     {"z", l.z}};
     if (l.scheme == DepthScheme::Log) lattice["z0"] = l.z0;
@@ -256,11 +262,22 @@ std::string bake_info_to_json(const BakeInfo& info, int indent) {
         j["multiple_scattering"] = {{"method", "monte carlo, orders >= 2"},
                                     {"paths", h.paths},
                                     {"stride", h.stride},
+                                    {"stride_auto", h.stride_auto},
                                     {"seed", h.seed},
                                     {"rel_std_error", h.rel_std_error},
                                     {"fraction", h.fraction},
                                     {"lamp_samples", h.lamp_samples},
                                     {"lamp_rel_std_error", h.lamp_rel_std_error}};
+    }
+    if (info.check.done) {
+        const LatticeCheck& c = info.check;
+        j["check"] = {{"mean_rel", c.mean_rel},
+                      {"max_rel", c.max_rel},
+                      {"max_pixel", {c.max_u, c.max_v}},
+                      {"columns_mean_rel", c.columns_mean_rel},
+                      {"columns_max_rel", c.columns_max_rel},
+                      {"pixels", c.pixels},
+                      {"refinements", c.refinements}};
     }
     return j.dump(indent);
 }
@@ -292,6 +309,12 @@ BakeInfo bake_info_from_json(const std::string& text) {
     const json& lj = get(j, "lattice", "(top)");
     info.z_max_auto = get(lj, "z_max_auto", "lattice").is_boolean() && lj["z_max_auto"].get<bool>();
     info.tolerance = num(lj, "tolerance", "lattice");
+    // Assets from before the automatic lattice have neither flag: their lattice was given.
+    const auto flag = [](const json& o, const char* key) {
+        return o.contains(key) && o[key].is_boolean() && o[key].get<bool>();
+    };
+    info.step_auto = flag(lj, "step_auto");
+    info.depth_samples_auto = flag(lj, "depth_samples_auto");
     const DepthScheme scheme = [&] {
         try {
             return parse_depth_scheme(str(lj, "depth_scheme", "lattice"));
@@ -329,6 +352,7 @@ BakeInfo bake_info_from_json(const std::string& text) {
         HigherOrderSettings& h = info.higher_orders;
         h.paths = integer(m, "paths", "multiple_scattering");
         h.stride = integer(m, "stride", "multiple_scattering");
+        h.stride_auto = flag(m, "stride_auto");
         const json& seed = get(m, "seed", "multiple_scattering");
         if (!seed.is_number_unsigned()) fail("multiple_scattering.seed", "not an unsigned integer");
         h.seed = seed.get<std::uint64_t>();
@@ -338,6 +362,24 @@ BakeInfo bake_info_from_json(const std::string& text) {
         h.lamp_rel_std_error = num(m, "lamp_rel_std_error", "multiple_scattering");
         if (h.paths < 1 || h.stride < 1 || h.lamp_samples < 1) {
             fail("multiple_scattering", "paths, stride and lamp_samples must be >= 1");
+        }
+    }
+    if (j.contains("check")) {
+        const json& cj = j["check"];
+        LatticeCheck& c = info.check;
+        c.done = true;
+        c.mean_rel = num(cj, "mean_rel", "check");
+        c.max_rel = num(cj, "max_rel", "check");
+        const std::vector<double> at = numbers(get(cj, "max_pixel", "check"), "check.max_pixel");
+        if (at.size() != 2) fail("check.max_pixel", "not two numbers");
+        c.max_u = int(at[0]);
+        c.max_v = int(at[1]);
+        c.columns_mean_rel = num(cj, "columns_mean_rel", "check");
+        c.columns_max_rel = num(cj, "columns_max_rel", "check");
+        c.pixels = integer(cj, "pixels", "check");
+        c.refinements = integer(cj, "refinements", "check");
+        if (!(c.mean_rel >= 0.0 && c.max_rel >= c.mean_rel && c.pixels >= 1)) {
+            fail("check", "errors must be >= 0 (max >= mean) over >= 1 pixel");
         }
     }
     return info;

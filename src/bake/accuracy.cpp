@@ -64,8 +64,8 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
     }
     const std::size_t R = rows.size();
 
-    const std::vector<int> us = test_coords(cam.width, opt.stride);
-    const std::vector<int> vs = test_coords(cam.height, opt.stride);
+    const std::vector<int> us = opt.us.empty() ? test_coords(cam.width, opt.stride) : opt.us;
+    const std::vector<int> vs = opt.vs.empty() ? test_coords(cam.height, opt.stride) : opt.vs;
     // Per test pixel and row: the error; reduced in a fixed order afterwards.
     std::vector<double> err(us.size() * vs.size() * R, 0.0);
 
@@ -119,6 +119,64 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
         row.mean_rel = sum / double(row.pixels);
     }
     return rows;
+}
+
+namespace {
+
+/// Every m-th of n lattice nodes (pixel i * step), or the centre of every m-th cell between
+/// them (i * step + step / 2), within the image of `pixels` pixels.
+std::vector<int> lattice_coords(int n, int step, int m, bool centres, int pixels) {
+    std::vector<int> out;
+    for (int i = 0; i < (centres ? n - 1 : n); i += m) {
+        const int x = i * step + (centres ? step / 2 : 0);
+        if (x < pixels) out.push_back(x);
+    }
+    if (out.empty()) out.push_back(0);
+    return out;
+}
+
+}  // namespace
+
+LatticeCheck check_lattice(const Asset& asset, const Parallel& par) {
+    const Lattice& l = asset.lattice();
+    const Camera& cam = asset.info.camera;
+    const long cells = long(std::max(1, l.ni - 1)) * std::max(1, l.nj - 1);
+    const int m = std::max(1, int(std::floor(std::sqrt(double(cells) / kCheckCells))));
+    AccuracyOptions opt;
+    // The bake's own integrator at <= 1e-6: 1e-4 of the bar, so the reference is not what errs.
+    opt.quadrature = asset.info.quadrature;
+    opt.quadrature.rel_tol = std::min(opt.quadrature.rel_tol, 1e-6);
+    const auto worst = [](const std::vector<AccuracyRow>& rows, double& mean, double& max, int* u,
+                          int* v) {
+        for (const AccuracyRow& r : rows) {
+            mean = std::max(mean, r.mean_rel);
+            if (r.max_rel > max) {
+                max = r.max_rel;
+                if (u) *u = r.max_u, *v = r.max_v;
+            }
+        }
+    };
+    LatticeCheck check;
+    check.done = true;
+    // Cell centres: xy and depth interpolation together.
+    opt.us = lattice_coords(l.ni, l.step, m, true, cam.width);
+    opt.vs = lattice_coords(l.nj, l.step, m, true, cam.height);
+    const auto centre_rows = evaluate_asset_accuracy(asset, opt, par);
+    // Lattice columns: depth interpolation alone.
+    opt.us = lattice_coords(l.ni, l.step, 2 * m, false, cam.width);
+    opt.vs = lattice_coords(l.nj, l.step, 2 * m, false, cam.height);
+    const auto column_rows = evaluate_asset_accuracy(asset, opt, par);
+    worst(column_rows, check.columns_mean_rel, check.columns_max_rel, nullptr, nullptr);
+    worst(centre_rows, check.mean_rel, check.max_rel, &check.max_u, &check.max_v);
+    check.mean_rel = std::max(check.mean_rel, check.columns_mean_rel);
+    if (check.columns_max_rel > check.max_rel) {
+        check.max_rel = check.columns_max_rel;
+        for (const AccuracyRow& r : column_rows) {
+            if (r.max_rel == check.max_rel) check.max_u = r.max_u, check.max_v = r.max_v;
+        }
+    }
+    check.pixels = centre_rows.front().pixels + column_rows.front().pixels;
+    return check;
 }
 
 }  // namespace deepsea

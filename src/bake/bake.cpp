@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "deepsea/asset/asset_json.h"
+#include "deepsea/bake/accuracy.h"
 #include "deepsea/bake/higher_orders.h"
+#include "deepsea/bake/lattice_rule.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 
@@ -32,14 +36,21 @@ constexpr long kMonteCarloColumnWeight = 32;
 }  // namespace
 
 void validate(const BakeSettings& s) {
-    if (s.step < 1 || s.step > kMaxXyStep) {
+    if (s.step < 0 || s.step > kMaxXyStep) {
         throw ConfigError("xy_step must be in [1, " + std::to_string(kMaxXyStep) +
-                          "] pixels, got " + std::to_string(s.step));
+                          "] pixels (or auto), got " + std::to_string(s.step));
     }
-    if (s.depth_samples < 2 || s.depth_samples > kMaxDepthSamples) {
+    if (s.depth_samples > kMaxDepthSamples) {
         throw ConfigError("depth_samples must be in [2, " + std::to_string(kMaxDepthSamples) +
-                          "], got " + std::to_string(s.depth_samples));
+                          "] (or auto), got " + std::to_string(s.depth_samples));
     }
+    if (s.depth_samples != 0 && s.depth_samples < 2) {
+        throw ConfigError("depth_samples must be >= 2 (or auto), got " +
+                          std::to_string(s.depth_samples));
+    }
+    if (s.max_refinements < 0) throw ConfigError("max_refinements must be >= 0");
+    if (s.strict && !s.check)
+        throw ConfigError("a strict check needs the check: not with --no-check");
     if (s.z_max < 0.0 || !std::isfinite(s.z_max)) {
         throw ConfigError("z_max must be > 0 metres or auto, got " + std::to_string(s.z_max));
     }
@@ -47,7 +58,7 @@ void validate(const BakeSettings& s) {
         throw ConfigError("tolerance must be in (0, 0.5), got " + std::to_string(s.tolerance));
     }
     if (s.scattering == Scattering::Multiple &&
-        (s.higher_orders.paths < 1 || s.higher_orders.stride < 1 ||
+        (s.higher_orders.paths < 1 || s.higher_orders.stride < 0 ||
          s.higher_orders.lamp_samples < 1)) {
         throw ConfigError("multiple scattering: paths, stride and lamp samples must be >= 1");
     }
@@ -114,60 +125,66 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
 
 namespace {
 
+/// The lattice and Monte Carlo spacing of one bake attempt: what the settings give, with the
+/// automatic ones resolved.
+struct Resolved {
+    int step = 0, depth_samples = 0;
+};
+
+Resolved resolve(const Camera& cam, const Rig& rig, const BakeSettings& s) {
+    Resolved r;
+    r.step = s.step > 0 ? s.step : auto_step(cam, rig);
+    r.depth_samples = s.depth_samples > 0 ? s.depth_samples : kDefaultDepthSamples;
+    return r;
+}
+
+int mc_stride(const BakeSettings& s, int step) {
+    return s.higher_orders.stride > 0 ? s.higher_orders.stride
+                                      : std::max(1, kMonteCarloSpacing / step);
+}
+
 /// Everything but the values: shared by bake() and bake_request() so their hashes agree.
 BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
-                   double z_max) {
+                   const Resolved& r, double z_max) {
     BakeInfo info;
     info.camera = cam;
     info.rig = rig;
     info.water = water;
-    info.lattice = make_lattice(cam, s.step, s.scheme,
-                                depth_samples(s.scheme, s.depth_samples, z_max, s.z0), s.z0);
+    info.lattice = make_lattice(cam, r.step, s.scheme,
+                                depth_samples(s.scheme, r.depth_samples, z_max, s.z0), s.z0);
     info.z_max_auto = s.z_max == 0.0;
+    info.step_auto = s.step == 0;
+    info.depth_samples_auto = s.depth_samples == 0;
     info.tolerance = info.z_max_auto ? s.tolerance : 0.0;
     info.quadrature = s.quadrature;
     info.scattering = s.scattering;
-    if (s.scattering == Scattering::Multiple) info.higher_orders = s.higher_orders;
+    if (s.scattering == Scattering::Multiple) {
+        info.higher_orders = s.higher_orders;
+        info.higher_orders.stride_auto = s.higher_orders.stride == 0;
+        info.higher_orders.stride = mc_stride(s, r.step);
+    }
+    info.check.done = s.check;  // the request; bake() fills in what it measured
     info.baker_version = kBakerVersion;
     info.input_hash = input_hash(info);
     return info;
 }
 
-}  // namespace
-
-BakeInfo bake_request(const Camera& cam, const Rig& rig, const Water& water,
-                      const BakeSettings& s) {
-    validate(s);
-    return make_info(cam, rig, water, s, s.z_max == 0.0 ? 1.0 : s.z_max);
-}
-
-Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
-           const Parallel& par) {
-    validate(s);
-    check_lattice_size(lattice_count(cam.width, s.step), lattice_count(cam.height, s.step),
-                       s.depth_samples + 1);  // before the z_max search, not after it
-    if (rig.lights.empty())
-        throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
+/// The exact single-scattering part of one attempt: z_max (searched if auto) and every
+/// lattice column. `columns` and `total` place it on the progress bar.
+Asset bake_single(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
+                  const Resolved& r, const Parallel& par, long total) {
+    // before the z_max search, not after it
+    check_lattice_size(lattice_count(cam.width, r.step), lattice_count(cam.height, r.step),
+                       r.depth_samples + 1);
     const bool automatic = s.z_max == 0.0;
-    // The auto z_max search visits the same columns as the bake: the first half of the bar.
-    const long columns = long(lattice_count(cam.width, s.step)) * lattice_count(cam.height, s.step);
-    const long mc_weight =
-        s.scattering == Scattering::Multiple
-            ? kMonteCarloColumnWeight * higher_order_columns(lattice_count(cam.width, s.step),
-                                                             lattice_count(cam.height, s.step),
-                                                             s.higher_orders.stride)
-            : 0;
-    const long total = (automatic ? 2 * columns : columns) + mc_weight;
-    const double z_max = automatic ? auto_z_max(cam, rig, water, s.step, s.tolerance, s.quadrature,
+    const long columns = long(lattice_count(cam.width, r.step)) * lattice_count(cam.height, r.step);
+    const double z_max = automatic ? auto_z_max(cam, rig, water, r.step, s.tolerance, s.quadrature,
                                                 stage(par, 0, total))
                                    : s.z_max;
-
     Asset asset;
-    asset.info = make_info(cam, rig, water, s, z_max);
-    const BakeInfo& info = asset.info;
+    asset.info = make_info(cam, rig, water, s, r, z_max);
     asset.allocate();
-
-    const Lattice& l = info.lattice;
+    const Lattice& l = asset.info.lattice;
     // Column n = i * nj + j owns values[n * nk * 3 ...]: fixed slots, any thread count.
     parallel_for(
         std::size_t(l.columns()),
@@ -187,8 +204,70 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
                 }
             }
         },
-        stage(par, total - mc_weight - columns, total).or_grain(16));
+        stage(par, automatic ? columns : 0, total).or_grain(16));
+    return asset;
+}
+
+std::string percent(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g %%", 100.0 * x);
+    return buf;
+}
+
+}  // namespace
+
+BakeInfo bake_request(const Camera& cam, const Rig& rig, const Water& water,
+                      const BakeSettings& s) {
+    validate(s);
+    return make_info(cam, rig, water, s, resolve(cam, rig, s), s.z_max == 0.0 ? 1.0 : s.z_max);
+}
+
+Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
+           const Parallel& par) {
+    validate(s);
+    if (rig.lights.empty())
+        throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
+    Resolved r = resolve(cam, rig, s);
+    Asset asset;
+    for (int attempt = 0;; ++attempt) {
+        // The bar: the auto z_max search visits the same columns as the bake (first half), then
+        // the Monte Carlo columns, weighted by their cost.
+        const int ni = lattice_count(cam.width, r.step), nj = lattice_count(cam.height, r.step);
+        const long columns = long(ni) * nj;
+        const long mc_weight =
+            s.scattering == Scattering::Multiple
+                ? kMonteCarloColumnWeight * higher_order_columns(ni, nj, mc_stride(s, r.step))
+                : 0;
+        const long total = (s.z_max == 0.0 ? 2 * columns : columns) + mc_weight;
+        asset = bake_single(cam, rig, water, s, r, par, total);
+        if (!s.check) break;
+        // The check is not on the bar (it keeps its progress strictly increasing and counting
+        // columns): a few hundred test pixels, under a second; a cancel waits for it.
+        LatticeCheck check = check_lattice(asset, Parallel{par.threads});
+        check.refinements = attempt;
+        asset.info.check = check;
+        if (meets_bar(check) || attempt == s.max_refinements) break;
+        const Refinement next =
+            refine(check, r.step, r.depth_samples, s.step == 0, s.depth_samples == 0);
+        if (!next.changed()) break;
+        if (next.step > 0) r.step = next.step;
+        if (next.depth_samples > 0) r.depth_samples = next.depth_samples;
+    }
+    const LatticeCheck& check = asset.info.check;
+    if (s.strict && !meets_bar(check)) {
+        throw AccuracyError("bake check: the lattice (step " +
+                            std::to_string(asset.info.lattice.step) + " px, K " +
+                            std::to_string(asset.info.lattice.slabs()) + ") misses the bar: mean " +
+                            percent(check.mean_rel) + ", max " + percent(check.max_rel) + " (bar " +
+                            percent(kBarMeanRel) + " / " + percent(kBarMaxRel) +
+                            "); give a finer xy_step or depth_samples");
+    }
     if (s.scattering == Scattering::Multiple) {
+        const Lattice& l = asset.info.lattice;
+        const long columns = long(l.ni) * l.nj;
+        const long mc_weight = kMonteCarloColumnWeight *
+                               higher_order_columns(l.ni, l.nj, asset.info.higher_orders.stride);
+        const long total = (s.z_max == 0.0 ? 2 * columns : columns) + mc_weight;
         add_higher_orders(asset, stage(par, total - mc_weight, total, kMonteCarloColumnWeight));
         add_lamp_fields(asset, Parallel{par.threads});
     }

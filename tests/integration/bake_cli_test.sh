@@ -16,6 +16,25 @@ small=(--camera "$v/cameras/small-320.yaml" --rig "$v/rigs/authors-testset.yaml"
 
 # bad input: exit code, exactly one line on stderr, no output file
 source "$(dirname "$0")/cli_lib.sh"
+
+# the bake's own check: recorded, shown by info (text and JSON); an explicit step wins; a coarse
+# lattice that misses the bar is a loud warning, and an error with --strict-check (exit 7, no
+# file); --no-check records none
+"$ds" info "$work/a.vdb" | grep -q "^lattice    .* step 32 px; 9 depth samples (log)"
+"$ds" info "$work/a.vdb" | grep -Eq "^check      mean [0-9.]+ %, max [0-9.]+ % at pixel"
+"$ds" info "$work/a.vdb" --json | /usr/bin/python3 -c \
+  'import json,sys; c=json.load(sys.stdin)["bake"]["check"]; assert c["pixels"]>0 and c["max_rel"]>=c["mean_rel"]>0, c'
+"$ds" bake "${small[@]}" --xy-step 160 -o "$work/coarse.vdb" 2>"$work/warn.txt" >/dev/null
+grep -q "^warning: .*MISSES the bar" "$work/warn.txt"
+"$ds" info "$work/coarse.vdb" | grep -q "step 160 px;"
+expect_fail "strict check misses the bar" "$ds" bake "${small[@]}" --xy-step 160 --strict-check \
+  -o "$work/bad-strict.vdb"
+grep -q "misses the bar" "$work/err.txt"
+set +e; "$ds" bake "${small[@]}" --xy-step 160 --strict-check -o "$work/bad-strict.vdb" 2>/dev/null
+rc=$?; set -e
+[[ $rc -eq 7 ]] || { echo "FAIL strict check: exit $rc, expected 7"; exit 1; }
+"$ds" bake "${small[@]}" --no-check -o "$work/nocheck.vdb" >/dev/null
+"$ds" info "$work/nocheck.vdb" | grep -q "^check      not checked"
 expect_fail "K < 2" "$ds" bake "${small[@]}" --depth-samples 1 -o "$work/bad1.vdb"
 expect_fail "z_max <= 0" "$ds" bake "${small[@]}" --z-max -1 -o "$work/bad2.vdb"
 expect_fail "unknown preset" "$ds" bake --camera "$v/cameras/small-320.yaml" \

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "deepsea/bake/lattice_rule.h"
 #include "deepsea/core/error.h"
 
 namespace deepsea::cli {
@@ -71,8 +72,15 @@ DepthKind DepthFlags::depth_kind() const {
 }
 
 void BakeFlags::add_to(CLI::App& sub) {
-    sub.add_option("--xy-step", settings.step, "pixels between lattice columns");
-    sub.add_option("--depth-samples", settings.depth_samples, "K: depth slabs per column");
+    sub.add_option("--xy-step", settings.step,
+                   "pixels between lattice columns (default 0: auto, from the lamps' angular "
+                   "detail, refined by the check)");
+    sub.add_option("--depth-samples", settings.depth_samples,
+                   "K: depth slabs per column (default 0: auto, 64, refined by the check)");
+    sub.add_flag("--no-check", no_check,
+                 "skip the bake's own accuracy check on a sample of pixels (and its refinement)");
+    sub.add_flag("--strict-check", settings.strict,
+                 "fail (exit 7, nothing written) if the bake's check misses the accuracy bar");
     sub.add_option("--depth-scheme", scheme, "uniform | taylor | sqrt | log");
     sub.add_option("--z-max", z_max, "planar depth of the last sample in metres, or 'auto'");
     sub.add_option("--tolerance", settings.tolerance,
@@ -83,7 +91,8 @@ void BakeFlags::add_to(CLI::App& sub) {
     sub.add_option("--paths", settings.higher_orders.paths,
                    "multiple scattering: Monte Carlo paths per computed column");
     sub.add_option("--ms-stride", settings.higher_orders.stride,
-                   "multiple scattering: computed on every n-th lattice column and row");
+                   "multiple scattering: computed on every n-th lattice column and row "
+                   "(default 0: auto, columns about 64 px apart)");
     sub.add_option("--seed", settings.higher_orders.seed, "multiple scattering: random seed");
 }
 
@@ -91,7 +100,8 @@ BakeSettings BakeFlags::resolve() const {
     BakeSettings s = settings;
     s.scheme = parse_depth_scheme(scheme);
     s.scattering = parse_scattering(scattering);
-    if (z_max == "auto") {
+    s.check = !no_check;
+    if (z_max == "auto" || z_max.empty()) {
         s.z_max = 0.0;
     } else {
         char* end = nullptr;
@@ -104,6 +114,23 @@ BakeSettings BakeFlags::resolve() const {
     }
     validate(s);
     return s;
+}
+
+std::string describe_check(const BakeInfo& info) {
+    const LatticeCheck& c = info.check;
+    if (!c.done) return "not checked (baked with --no-check)";
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "mean %.3f %%, max %.3f %% at pixel (%d, %d) (depth interpolation alone: mean "
+                  "%.3f %%, max %.3f %%) on %ld test pixels; %s the bar (%.2f %% / %.0f %%)",
+                  100.0 * c.mean_rel, 100.0 * c.max_rel, c.max_u, c.max_v,
+                  100.0 * c.columns_mean_rel, 100.0 * c.columns_max_rel, c.pixels,
+                  meets_bar(c) ? "meets" : "MISSES", 100.0 * kBarMeanRel, 100.0 * kBarMaxRel);
+    std::string out = buf;
+    if (c.refinements > 0) {
+        out += "; lattice refined " + std::to_string(c.refinements) + " time(s)";
+    }
+    return out;
 }
 
 static double now_s() {

@@ -38,13 +38,15 @@ struct DepthFlags {
     DepthKind depth_kind() const;
 };
 
-/// --xy-step, --depth-samples, --depth-scheme, --z-max, --tolerance, --threads.
+/// --xy-step, --depth-samples, --depth-scheme, --z-max, --tolerance, --threads, --no-check,
+/// --strict-check, and the multiple-scattering flags.
 struct BakeFlags {
     BakeSettings settings;
     std::string scheme = to_string(BakeSettings{}.scheme);
     std::string z_max = "auto";  ///< or a depth in metres
     std::string scattering = "single";
-    int threads = 0;  ///< how to run, not what to bake: not part of the settings
+    bool no_check = false;  ///< --no-check
+    int threads = 0;        ///< how to run, not what to bake: not part of the settings
     void add_to(CLI::App& sub);
     /// Settings with the flags applied; ConfigError for a bad value.
     BakeSettings resolve() const;
@@ -53,6 +55,10 @@ struct BakeFlags {
         return {threads, 0, std::move(progress)};
     }
 };
+
+/// One line on an asset's own accuracy check (BakeInfo::check) for bake and info: the
+/// errors, where the worst pixel is, how many pixels, refinements, and whether it meets the bar.
+std::string describe_check(const BakeInfo& info);
 
 /// A one-line progress bar on stderr when it is a terminal; silent otherwise.
 class Progress {

@@ -104,8 +104,10 @@ void run(const InfoArgs& a) {
         std::printf(", forward scatter off");
     }
     std::printf(
-        "\nlattice    %d x %d columns, step %d px; %d depth samples (%s), z 0 .. %.3f m%s\n", l.ni,
-        l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(), b.z_max_auto ? " (auto)" : "");
+        "\nlattice    %d x %d columns, step %d px%s; %d depth samples%s (%s), z 0 .. %.3f m%s\n",
+        l.ni, l.nj, l.step, b.step_auto ? " (auto)" : "", l.nk(),
+        b.depth_samples_auto ? " (auto)" : "", to_string(l.scheme), l.z_max(),
+        b.z_max_auto ? " (auto)" : "");
     std::printf("values     backscatter at z_max: R %.4g..%.4g, G %.4g..%.4g, B %.4g..%.4g\n", lo.r,
                 hi.r, lo.g, hi.g, lo.b, hi.b);
     if (b.scattering == Scattering::Multiple) {
@@ -123,6 +125,7 @@ void run(const InfoArgs& a) {
     } else {
         std::printf("scattering single (the paper's model, exact)\n");
     }
+    std::printf("check      %s\n", describe_check(b).c_str());
     std::printf("bake       tolerance %g, quadrature rel %g, %s, inputs %s\n", b.tolerance,
                 b.quadrature.rel_tol, b.baker_version.c_str(), b.input_hash.c_str());
     for (const GridSummary& g : s.grids) {

@@ -35,12 +35,27 @@ struct HigherOrderSettings {
     int paths = 65536;              ///< Monte Carlo paths per computed column, >= 1
     int stride = 4;                 ///< computed on every stride-th lattice column and row (and the
                                     ///< last), bilinear in between: this light is smooth in angle
+    bool stride_auto = false;       ///< stride chosen as kMonteCarloSpacing / step (bake.h)
     std::uint64_t seed = 1;         ///< base seed; results depend on it, never on the threads
     int lamp_samples = 4096;        ///< directions per node of each lamp's scattered-light table
     double rel_std_error = 0;       ///< measured: mean over computed columns and channels of the
                                     ///< standard error at z_max / the all-order total
     double fraction = 0;            ///< measured: mean share of orders >= 2 in the total at z_max
     double lamp_rel_std_error = 0;  ///< measured: lamp tables' mean LampField::rel_std_error
+};
+
+/// What the bake's own accuracy check measured (bake/accuracy.h, check_lattice): the lookup
+/// against exact per-pixel single-scattering integration on a sample of pixels, before the
+/// values are stored (half storage adds its own floor, docs/asset-format.md).
+struct LatticeCheck {
+    bool done = false;            ///< false: baked with --no-check (or before the check existed)
+    double mean_rel = 0.0;        ///< mean over the test pixels, worst scene
+    double max_rel = 0.0;         ///< worst test pixel, any scene
+    int max_u = 0, max_v = 0;     ///< where it is
+    double columns_mean_rel = 0;  ///< the same on test pixels that are lattice columns: depth
+    double columns_max_rel = 0;   ///< interpolation only (and the quadrature)
+    long pixels = 0;              ///< test pixels (each tried in every scene)
+    int refinements = 0;          ///< lattices baked and refined before this one
 };
 
 /// Everything a bake depended on, stored as the `deepsea:bake` JSON (asset_json.h).
@@ -50,10 +65,13 @@ struct BakeInfo {
     Water water;
     Lattice lattice;
     bool z_max_auto = false;  ///< z_max was chosen by the tail tolerance, not given
-    double tolerance = 0.0;   ///< auto z_max: tail beyond z_max / total, every column, channel
-    Quadrature quadrature;    ///< accuracy of the exact integrals at bake time
+    bool step_auto = false;   ///< the xy step was chosen by the baker (lattice_rule.h), not given
+    bool depth_samples_auto = false;  ///< K was chosen by the baker, not given
+    double tolerance = 0.0;  ///< auto z_max: tail beyond z_max / total, every column, channel
+    Quadrature quadrature;   ///< accuracy of the exact integrals at bake time
     Scattering scattering = Scattering::Single;
     HigherOrderSettings higher_orders;  ///< Multiple only
+    LatticeCheck check;                 ///< the bake's own accuracy check
     std::string baker_version;          ///< the bake module that made it (kBakerVersion)
     std::string input_hash;             ///< input_hash(*this) at bake time: "fnv1a64:<16 hex>"
 };

@@ -21,6 +21,8 @@ struct AccuracyOptions {
     /// Test pixels: every stride-th pixel in u and v from stride / 2, plus the last row and
     /// column. An odd stride puts most test pixels between lattice columns.
     int stride = 7;
+    /// Explicit test pixel columns and rows (their product is tested); empty: the stride grid.
+    std::vector<int> us, vs;
     Quadrature quadrature{1e-9, 1e-16, 40};  ///< for the exact reference
 };
 
@@ -40,5 +42,17 @@ struct AccuracyRow {
 std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset,
                                                  const AccuracyOptions& opt = {},
                                                  const Parallel& par = {});
+
+/// Test pixels of the bake's own check: about this many lattice cells are tried at their
+/// centre (where bilinear interpolation errs most), plus a quarter as many lattice columns.
+inline constexpr long kCheckCells = 128;
+
+/// The bake's own check (docs/asset-format.md, "The bake's check"): evaluate_asset_accuracy on
+/// a sample of pixels, the centres of every m-th lattice cell in u and v (m chosen for about
+/// kCheckCells cells) and every 2m-th lattice column, all scenes, the asset's quadrature (rel_tol
+/// at most 1e-6). Costs
+/// about as many exact integrals as kCheckCells * 1.25 lattice columns. Returns the worst
+/// scene's mean and the worst pixel, over all test pixels and over the column pixels alone.
+LatticeCheck check_lattice(const Asset& asset, const Parallel& par = {});
 
 }  // namespace deepsea

@@ -24,23 +24,39 @@ inline constexpr const char* kBakerVersion = "deepsea-bake/1";
 inline constexpr int kMaxXyStep = 4096;
 inline constexpr int kMaxDepthSamples = 4096;
 
-/// Defaults chosen by measurement (docs/asset-format.md, "Choosing the defaults").
+/// Multiple scattering's automatic stride: Monte Carlo columns about this many pixels apart
+/// (every 4th column of a 16 px lattice), whatever the lattice step.
+inline constexpr int kMonteCarloSpacing = 64;
+
+/// Defaults chosen by measurement (docs/asset-format.md, "Choosing the lattice").
 struct BakeSettings {
-    int step = 16;           ///< pixels between lattice columns, 1 .. kMaxXyStep
-    int depth_samples = 64;  ///< K slabs (K + 1 samples per column), 2 .. kMaxDepthSamples
+    int step = 0;  ///< pixels between lattice columns, 1 .. kMaxXyStep; 0: auto (lattice_rule.h)
+    int depth_samples =
+        0;  ///< K slabs (K + 1 samples per column), 2 .. kMaxDepthSamples; 0: auto (64, refined)
     DepthScheme scheme = DepthScheme::Log;
     double z0 = kDefaultLogZ0;  ///< Log scheme's depth scale, metres
     double z_max = 0.0;         ///< planar depth of the last sample, metres; 0: auto
     double tolerance = 5e-4;    ///< auto z_max: the tail beyond it / the total, (0, 0.5)
     Quadrature quadrature{1e-6, 1e-14, 40};      ///< the exact integrals' accuracy
     Scattering scattering = Scattering::Single;  ///< Multiple: add orders >= 2 (Monte Carlo)
-    HigherOrderSettings higher_orders;           ///< Multiple only
+    /// Multiple only; stride 0: auto, kMonteCarloSpacing / step.
+    HigherOrderSettings higher_orders = [] {
+        HigherOrderSettings h;
+        h.stride = 0;
+        return h;
+    }();
+    /// Run the bake's own accuracy check (check_lattice) and record it; an automatic step or K
+    /// that misses the bar is refined (up to max_refinements times) and baked again.
+    bool check = true;
+    int max_refinements = 3;
+    /// A check that still misses the bar throws AccuracyError instead of returning the asset.
+    bool strict = false;
 };
 
 /// Throws ConfigError naming the setting unless the settings can be baked (step in
-/// [1, kMaxXyStep], K in [2, kMaxDepthSamples], z_max > 0 or auto, 0 < tolerance < 0.5, z0 > 0,
-/// the quadrature within its bounds). The lattice size (kMaxLatticePoints) needs the camera:
-/// bake() checks it first thing.
+/// [1, kMaxXyStep] or auto, K in [2, kMaxDepthSamples] or auto, z_max > 0 or auto,
+/// 0 < tolerance < 0.5, z0 > 0, the quadrature within its bounds, strict only with check). The
+/// lattice size (kMaxLatticePoints) needs the camera: bake() checks it before each attempt.
 void validate(const BakeSettings& settings);
 
 /// The BakeInfo a bake with these inputs would record, without baking (for an auto z_max the
@@ -50,10 +66,13 @@ BakeInfo bake_request(const Camera& camera, const Rig& rig, const Water& water,
                       const BakeSettings& settings);
 
 /// Bakes the asset of one camera x rig x water. Parallel over columns; the values are written
-/// to fixed slots, so the result is bit-identical at any thread count. Progress counts lattice
-/// columns, twice as many with an auto z_max (the search visits them first). Throws
+/// to fixed slots, so the result is bit-identical at any thread count. An automatic step or K
+/// starts from lattice_rule.h's choice; with settings.check the single-scattering lattice is
+/// checked (check_lattice, recorded in info.check) and, while it misses the bar, refined and
+/// baked again before any Monte Carlo. Progress counts lattice columns, twice as many with an
+/// auto z_max (the search visits them first); a refinement starts the count again. Throws
 /// ConfigError for bad settings, a rig without lights or threads < 0; Cancelled when the
-/// progress callback returns false.
+/// progress callback returns false; AccuracyError for a strict check that misses the bar.
 Asset bake(const Camera& camera, const Rig& rig, const Water& water, const BakeSettings& settings,
            const Parallel& par = {});
 

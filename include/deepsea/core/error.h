@@ -62,3 +62,15 @@ public:
 };
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+/// A bake asked for a strict accuracy check (`deepsea bake --strict-check`) missed the bar; no
+/// asset was written.
+class AccuracyError : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 7; }
+};
+
+}  // namespace deepsea

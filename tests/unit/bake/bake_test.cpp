@@ -201,10 +201,16 @@ TEST(Bake, ValidateRejectsBadSettings) {
         }
     };
     rejects([](BakeSettings& s) { s.depth_samples = 1; }, "depth_samples");
-    rejects([](BakeSettings& s) { s.depth_samples = 0; }, "depth_samples");
+    rejects([](BakeSettings& s) { s.depth_samples = -1; }, "depth_samples");  // 0 is auto
     rejects([](BakeSettings& s) { s.z_max = -1.0; }, "z_max");
     rejects([](BakeSettings& s) { s.z_max = std::nan(""); }, "z_max");
-    rejects([](BakeSettings& s) { s.step = 0; }, "xy_step");
+    rejects([](BakeSettings& s) { s.step = -1; }, "xy_step");  // 0 is auto
+    rejects(
+        [](BakeSettings& s) {
+            s.check = false;
+            s.strict = true;
+        },
+        "strict");
     rejects([](BakeSettings& s) { s.tolerance = 0.0; }, "tolerance");
     rejects([](BakeSettings& s) { s.tolerance = 0.5; }, "tolerance");
     // bake() validates too, and refuses a rig without lamps.
