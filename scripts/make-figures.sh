@@ -19,4 +19,10 @@ if [[ -d $data ]]; then
     "$data/frame_0001.png" "$work/real/frame_0001.png" "$data/reference_deepsearenderer_0001.jpg" -- \
     "$data/frame_0005.png" "$work/real/frame_0005.png" "$data/reference_deepsearenderer_0005.jpg"
 fi
+# single vs all orders vs Cycles, from the Cycles tests' work folders (ctest -R cycles)
+cw=build/tests/integration
+if [[ -d $cw/cycles_test.work && -d $cw/cycles_all_test.work ]]; then
+  /usr/bin/python3 tools/figures/cycles_comparison.py docs/cycles-comparison.png \
+    "$cw/cycles_test.work" "$cw/cycles_all_test.work"
+fi
 echo "figures written to docs/"

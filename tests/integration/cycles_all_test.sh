@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # deepsea's multiple scattering (all orders) against Blender Cycles with every bounce count 64:
-# `deepsea bake --scattering multiple` + `deepsea render` on four small scenes (clear and
-# coastal water, empty and with a tilted Lambertian plane), 16 Cycles seeds each. Asserted: the
-# backscatter of the empty scenes and the surface signal (deepsea's direct layer, Cycles'
-# (DiffDir + DiffInd) * DiffCol) of the plane scenes, image sums within max(5 %, 3 SE) and
-# the image's quadrants within max(10 %, 5 SE) where Cycles resolves 10 %; the plane scenes' backscatter and final images are
-# printed only (docs/validation-cycles.md, "All orders").
+# `deepsea bake --scattering multiple` + `deepsea render` (forward scatter from the phase
+# function) on four small scenes (clear and coastal water, empty and with a tilted Lambertian
+# plane), 16 Cycles seeds each. Asserted, per channel: image sums of the backscatter (empty
+# water), the surface signal, the final image within max(5 %, 3 SE), the plane scenes' water
+# light (backscatter + forward) within max(10 %, 3 SE), and the quadrants within
+# max(10 %, 5 SE) where Cycles resolves 10 % (docs/validation-cycles.md, "All orders").
 # Skipped (77) where Blender or Debian's python3 with numpy and OpenImageIO is absent.
 set -euo pipefail
 ds=$1 work=$2 src=$3
