@@ -27,7 +27,7 @@ for c in $commands; do
     grep -q -- "--threads INT=0 " "$work/help-$c.txt" || { echo "FAIL: $c --help has no --threads"; exit 1; }
   fi
 done
-for want in "bake:--xy-step INT=16" "bake:--depth-scheme TEXT=log" "bake:--z-max TEXT=auto" \
+for want in "bake:--xy-step INT=0" "bake:--depth-scheme TEXT=log" "bake:--z-max TEXT=auto" \
             "bake:--scattering TEXT=single" "render:--exposure TEXT=auto" "render:--bits INT:{8,16}=8" \
             "render:--depth-scale FLOAT:POSITIVE=0.001" "scene:--fx FLOAT=0.75\*width" \
             "scene:--frames INT=8" "demo:--scattering TEXT=multiple" "bench:--repeats INT=21" \
