@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "clones.h"
 #include "gaussian_planes.h"
 #include "kernels.h"
 
@@ -24,17 +25,31 @@ int level_factor(double sigma, int width, int height) {
     return f;
 }
 
+/// x[u] = (the table's value at distance index idx[u] + frac[u]) * L[u]; 0 where idx < 0.
+DEEPSEA_CLONES
+void weigh_row(int n, const int* __restrict idx, const float* __restrict frac,
+               const float* __restrict tab, const float* __restrict L, float* __restrict x) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const int i = idx[u] < 0 ? 0 : idx[u];
+        const float a = tab[i], b = tab[i + 1];
+        const float w = a + frac[u] * (b - a);
+        x[u] = idx[u] < 0 ? 0.0f : w * L[u];
+    }
+}
+
 }  // namespace
 
 void ForwardPsfBlur::build_table(double d_max) {
     const int S = m_psf.scales();
     m_bins = kTableBins;
     m_step = d_max / m_bins;
-    m_table.assign(std::size_t(m_bins + 1) * S * 3, 0.0f);
+    const std::size_t bins = std::size_t(m_bins) + 1;
+    m_table.assign(bins * S * 3, 0.0f);
     tbb::parallel_for(0, m_bins + 1, [&](int i) {
         for (int j = 0; j < S; ++j) {
             const Rgb w = m_psf.weight(j, i * m_step);
-            for (int c = 0; c < 3; ++c) m_table[(std::size_t(i) * S + j) * 3 + c] = float(w[c]);
+            for (int c = 0; c < 3; ++c) m_table[(std::size_t(j) * 3 + c) * bins + i] = float(w[c]);
         }
     });
 }
@@ -87,42 +102,56 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
     // Weigh: each pixel's radiance times its scales' shares at its distance; full-resolution
     // scales go straight into their planes, wider ones into per-row block sums.
     const float inv_step = float(1.0 / m_step);
+    const int bins = m_bins + 1;
     tbb::parallel_for(0, H, [&](int v) {
-        float* sharp = m_sharp.data() + std::size_t(3) * W * v;
-        std::fill(sharp, sharp + 3 * W, 0.0f);
-        for (Level& L : m_levels) {
-            if (L.factor > 1) {
-                float* p = L.partial.data() + std::size_t(3) * L.w * v;
-                std::fill(p, p + 3 * L.w, 0.0f);
-            } else {
-                for (int c = 0; c < 3; ++c) {
-                    float* p = L.planes.data() + (std::size_t(c) * H + v) * W;
-                    std::fill(p, p + W, 0.0f);
-                }
-            }
-        }
+        thread_local std::vector<int> idx;
+        thread_local std::vector<float> frac, L, x;
+        idx.resize(W);
+        frac.resize(W);
+        L.resize(3 * std::size_t(W));
+        x.resize(3 * std::size_t(W));
         const float* dr = d2.row(v);
         const float* Ls = surface.row(v);
         for (int u = 0; u < W; ++u) {
             const float d = dr[u];
-            if (!(d > 0.0f) || d >= range) continue;
-            const float t = d * inv_step;
+            const bool on = d > 0.0f && d < range;
+            const float t = on ? d * inv_step : 0.0f;
             const int i = std::min(int(t), m_bins - 1);
-            const float fr = t - float(i);
-            const float* a = m_table.data() + std::size_t(i) * S * 3;
-            const float* b = a + S * 3;
-            for (int c = 0; c < 3; ++c)
-                sharp[3 * u + c] = (a[c] + fr * (b[c] - a[c])) * Ls[3 * u + c];
-            for (int j = 1; j < S; ++j) {
-                Level& L = m_levels[j - 1];
+            idx[u] = on ? i : -1;
+            frac[u] = t - float(i);
+            for (int c = 0; c < 3; ++c) L[std::size_t(c) * W + u] = Ls[3 * u + c];
+        }
+        // x = W_j(d) L_s, planar, for one scale at a time (the table is [scale][channel][d])
+        const auto weigh = [&](int j) {
+            for (int c = 0; c < 3; ++c) {
+                weigh_row(W, idx.data(), frac.data(),
+                          m_table.data() + (std::size_t(j) * 3 + c) * bins,
+                          L.data() + std::size_t(c) * W, x.data() + std::size_t(c) * W);
+            }
+        };
+        weigh(0);
+        float* sharp = m_sharp.data() + std::size_t(3) * W * v;
+        for (int u = 0; u < W; ++u) {
+            for (int c = 0; c < 3; ++c) sharp[3 * u + c] = x[std::size_t(c) * W + u];
+        }
+        for (int j = 1; j < S; ++j) {
+            Level& Lv = m_levels[j - 1];
+            weigh(j);
+            if (Lv.factor == 1) {
                 for (int c = 0; c < 3; ++c) {
-                    const int k = 3 * j + c;
-                    const float x = (a[k] + fr * (b[k] - a[k])) * Ls[3 * u + c];
-                    if (L.factor == 1) {
-                        L.planes[(std::size_t(c) * H + v) * W + u] = x;
-                    } else {
-                        L.partial[(std::size_t(v) * L.w + u / L.factor) * 3 + c] += x;
-                    }
+                    std::copy(x.begin() + std::size_t(c) * W, x.begin() + std::size_t(c + 1) * W,
+                              Lv.planes.begin() + (std::size_t(c) * H + v) * W);
+                }
+                continue;
+            }
+            float* p = Lv.partial.data() + std::size_t(3) * Lv.w * v;
+            for (int c = 0; c < 3; ++c) {
+                const float* xc = x.data() + std::size_t(c) * W;
+                for (int bx = 0; bx < Lv.w; ++bx) {
+                    const int u0 = bx * Lv.factor, u1 = std::min(u0 + Lv.factor, W);
+                    float sum = 0.0f;
+                    for (int u = u0; u < u1; ++u) sum += xc[u];
+                    p[3 * bx + c] = sum;
                 }
             }
         }

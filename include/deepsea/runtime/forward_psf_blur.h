@@ -40,7 +40,7 @@ private:
     int m_width = 0, m_height = 0;
     double m_step = 0.0;          ///< distance between table rows, metres
     int m_bins = 0;               ///< table rows - 1
-    std::vector<float> m_table;   ///< m_table[(bin * scales + j) * 3 + c] = W_j(d) per channel
+    std::vector<float> m_table;   ///< m_table[(j * 3 + c) * (bins + 1) + bin] = W_j(d)
     std::vector<float> m_sharp;   ///< scale 0 (unblurred), interleaved RGB, full resolution
     std::vector<Level> m_levels;  ///< scales 1 .. S-1
     std::vector<float> m_kernel, m_norm_x, m_norm_y, m_tmp;  ///< blur scratch
