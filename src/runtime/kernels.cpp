@@ -46,7 +46,9 @@ void finish_row(int n, const float* __restrict d2, const float c[3], const float
                 const float* __restrict blurred, const float* __restrict D, float* __restrict T,
                 float* __restrict F, float* __restrict final) {
     const float c0 = c[0], c1 = c[1], c2 = c[2];
-    if (!blurred) {
+    if (!blurred || !G) {
+        // No forward scatter (F = 0), or blurred is F itself (the phase-function point spread
+        // weighs before blurring).
 #pragma omp simd
         for (int u = 0; u < n; ++u) {
             const float surf = d2[u] > 0.0f ? 1.0f : 0.0f;
@@ -56,23 +58,7 @@ void finish_row(int n, const float* __restrict d2, const float c[3], const float
         }
 #pragma omp simd
         for (int i = 0; i < 3 * n; ++i) {
-            F[i] = 0.0f;
-            final[i] += D[i];
-        }
-        return;
-    }
-    if (!G) {  // blurred is F itself (the phase-function point spread weighs before blurring)
-#pragma omp simd
-        for (int u = 0; u < n; ++u) {
-            const float d = d2[u];
-            const float surf = d > 0.0f ? 1.0f : 0.0f;
-            T[3 * u] = surf * transmission(c0, d);
-            T[3 * u + 1] = surf * transmission(c1, d);
-            T[3 * u + 2] = surf * transmission(c2, d);
-        }
-#pragma omp simd
-        for (int i = 0; i < 3 * n; ++i) {
-            F[i] = blurred[i];
+            F[i] = blurred ? blurred[i] : 0.0f;
             final[i] += D[i] + F[i];
         }
         return;
