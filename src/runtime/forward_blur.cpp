@@ -175,12 +175,8 @@ void ForwardBlur::blend_row(int v, const float* s_row, float* out_rgb) const {
                 add_weighted(W, wgt, q + std::size_t(v) * P.w, acc + c * W);
                 continue;
             }
-            const float fy = (v + 0.5f) / L.factor - 0.5f;
-            const int y0 = std::clamp(int(std::floor(fy)), 0, P.h - 1);
-            const int y1 = std::min(y0 + 1, P.h - 1);
-            const float ay = std::clamp(fy - y0, 0.0f, 1.0f);
-            planes::lerp_rows(P.w, q + std::size_t(y0) * P.w, q + std::size_t(y1) * P.w, ay, tmp);
-            planes::add_upsampled(W, wgt, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
+            planes::add_upsampled_row(W, v, L.factor, q, P.w, P.h, L.x0.data(), L.x1.data(),
+                                      L.ax.data(), wgt, tmp, acc + c * W);
         }
     }
     kernels::interleave(W, acc, out_rgb);

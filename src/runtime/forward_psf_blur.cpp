@@ -186,7 +186,7 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
 }
 
 void ForwardPsfBlur::row(int v, float* out_rgb) const {
-    const int W = m_width, H = m_height;
+    const int W = m_width;
     thread_local std::vector<float> buf;
     buf.resize(std::size_t(6) * W);
     float* acc = buf.data();  // 3 planes
@@ -202,15 +202,10 @@ void ForwardPsfBlur::row(int v, float* out_rgb) const {
                 for (int u = 0; u < W; ++u) acc[c * W + u] += src[u];
                 continue;
             }
-            const float fy = (v + 0.5f) / L.factor - 0.5f;
-            const int y0 = std::clamp(int(std::floor(fy)), 0, L.h - 1);
-            const int y1 = std::min(y0 + 1, L.h - 1);
-            const float ay = std::clamp(fy - y0, 0.0f, 1.0f);
-            planes::lerp_rows(L.w, q + std::size_t(y0) * L.w, q + std::size_t(y1) * L.w, ay, tmp);
-            planes::add_upsampled(W, ones, tmp, L.x0.data(), L.x1.data(), L.ax.data(), acc + c * W);
+            planes::add_upsampled_row(W, v, L.factor, q, L.w, L.h, L.x0.data(), L.x1.data(),
+                                      L.ax.data(), ones, tmp, acc + c * W);
         }
     }
-    (void)H;
     kernels::interleave(W, acc, out_rgb);
     const float* sharp = m_sharp.data() + std::size_t(3) * W * v;
     for (int i = 0; i < 3 * W; ++i) out_rgb[i] += sharp[i];

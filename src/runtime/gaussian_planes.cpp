@@ -97,4 +97,14 @@ void add_upsampled(int n, const float* __restrict w, const float* __restrict row
     }
 }
 
+void add_upsampled_row(int n, int v, int factor, const float* q, int w_lo, int h_lo, const int* x0,
+                       const int* x1, const float* ax, const float* w, float* tmp, float* acc) {
+    const float fy = (v + 0.5f) / factor - 0.5f;
+    const int y0 = std::clamp(int(std::floor(fy)), 0, h_lo - 1);
+    const int y1 = std::min(y0 + 1, h_lo - 1);
+    const float ay = std::clamp(fy - y0, 0.0f, 1.0f);
+    lerp_rows(w_lo, q + std::size_t(y0) * w_lo, q + std::size_t(y1) * w_lo, ay, tmp);
+    add_upsampled(n, w, tmp, x0, x1, ax, acc);
+}
+
 }  // namespace deepsea::planes

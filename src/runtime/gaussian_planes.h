@@ -36,4 +36,10 @@ void lerp_rows(int n, const float* a, const float* b, float t, float* dst);
 void add_upsampled(int n, const float* w, const float* row, const int* x0, const int* x1,
                    const float* ax, float* acc);
 
+/// acc[u] += w[u] * (bilinear sample at full-resolution row v of a w_lo x h_lo plane q that is
+/// the image downsampled by `factor`; x0, x1, ax: its horizontal taps per output column).
+/// tmp holds w_lo floats.
+void add_upsampled_row(int n, int v, int factor, const float* q, int w_lo, int h_lo, const int* x0,
+                       const int* x1, const float* ax, const float* w, float* tmp, float* acc);
+
 }  // namespace deepsea::planes
