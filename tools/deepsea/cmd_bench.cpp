@@ -1,5 +1,6 @@
-// deepsea bench: times the compositor alone (no file I/O) on generated frames, and a sequence
-// render with I/O. Medians over repeated runs; peak memory from getrusage.
+// deepsea bench: times the compositor alone (no file I/O) on generated frames, each stage of a
+// frame's conversion on its own (decode, composite, encode), and whole sequences from files to
+// files. Medians over repeated runs; peak memory from /proc (VmHWM); CPU time from getrusage.
 
 #include <malloc.h>
 #include <sys/resource.h>
@@ -11,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <utility>
 
 #include "cli_util.h"
@@ -21,6 +23,7 @@
 #include "deepsea/optics/jerlov.h"
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
+#include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/lamps.h"
 #include "deepsea/runtime/sequence.h"
 #include "deepsea/scene/flight.h"
@@ -37,6 +40,7 @@ struct BenchArgs {
     bool json = false;
     bool no_forward = false;
     std::string scattering = "single";
+    std::string cases = "composite,stage,sequence";
     std::string config = std::string(DEEPSEA_SOURCE_DIR) + "/volumes/demo.yaml";
 };
 
@@ -44,7 +48,28 @@ struct Case {
     std::string name;
     int width = 0, height = 0, threads = 0, runs = 0;
     double median_ms = 0, min_ms = 0, max_ms = 0, peak_rss_mb = 0;
+    double fps = 0, cpu_ms_per_frame = 0;  ///< sequence cases only (0: not printed)
 };
+
+/// True if `name` starts with one of the comma-separated prefixes in `list`.
+bool wanted(const std::string& list, const std::string& name) {
+    std::size_t b = 0;
+    while (b <= list.size()) {
+        const std::size_t e = std::min(list.find(',', b), list.size());
+        const std::string p = list.substr(b, e - b);
+        if (!p.empty() && name.compare(0, p.size(), p) == 0) return true;
+        b = e + 1;
+    }
+    return false;
+}
+
+/// CPU seconds (user + system) this process has used so far, all threads.
+double cpu_seconds() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return double(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) +
+           1e-6 * double(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+}
 
 /// A /proc/self/status field in kB (0 if unavailable).
 double status_kb(const char* format) {
@@ -119,11 +144,9 @@ Camera scaled(const Camera& base, int w, int h) {
 
 /// Composites one generated frame repeatedly, for each layer set (all layers, then only the
 /// image): one bake and one frame per camera, a fresh compositor and peak window per case.
-std::vector<Case> time_compositor(const Setup& setup, const Camera& cam, const BenchArgs& a,
-                                  int threads) {
-    Water water = *setup.water;
-    if (a.no_forward) water.forward.enabled = false;
-    const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
+std::vector<Case> time_compositor(const Setup& setup, const Asset& asset, const Camera& cam,
+                                  const BenchArgs& a, int threads) {
+    const Water& water = asset.info.water;
     FlightParams flight;
     flight.camera = cam;
     const Frame frame = render_flight_frame(flight, 0);
@@ -148,34 +171,115 @@ std::vector<Case> time_compositor(const Setup& setup, const Camera& cam, const B
     return cases;
 }
 
-Case time_sequence(const Setup& setup, const BenchArgs& a, int threads) {
-    const Camera& cam = *setup.camera;
-    const Asset asset = bake(cam, *setup.rig, *setup.water, bench_bake(a));
-    const fs::path dir = fs::temp_directory_path() / ("deepsea-bench-" + std::to_string(getpid()));
-    fs::create_directories(dir / "out");
+/// A temporary folder for generated files, removed with everything in it at the end.
+struct TempFolder {
+    fs::path dir;
+    explicit TempFolder(const std::string& tag)
+        : dir(fs::temp_directory_path() /
+              ("deepsea-bench-" + tag + "-" + std::to_string(getpid()))) {
+        fs::create_directories(dir);
+    }
+    ~TempFolder() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+    TempFolder(const TempFolder&) = delete;
+    TempFolder& operator=(const TempFolder&) = delete;
+};
+
+/// Each stage of one frame's conversion timed on its own, one thread pool as in a render:
+/// decoding the colour PNG (with the sRGB decode to linear float), decoding the depth EXR,
+/// compositing the image only, and encoding the exposed image to PNG and to JPEG (with the
+/// sRGB encode, written to disk).
+std::vector<Case> time_stages(const Setup& setup, const Asset& asset, const Camera& cam,
+                              const BenchArgs& a, int threads) {
+    const Water& water = asset.info.water;
     FlightParams flight;
     flight.camera = cam;
-    std::vector<FrameJob> jobs;
-    const int n = 8;
-    for (int i = 0; i < n; ++i) {
+    const Frame frame = render_flight_frame(flight, 0);
+    const TempFolder tmp("stages");
+    const std::string png = (tmp.dir / "f.png").string(), exr = (tmp.dir / "f_depth.exr").string();
+    write_color(png, frame.rgb);
+    write_depth_exr(exr, frame.depth);
+    const AnalyticLamps lamps(*setup.rig, water, asset.lamp_fields);
+    const AssetBackscatter backscatter(asset, cam);
+    Compositor comp(cam, water, lamps, backscatter);
+    Layers layers;
+    comp.composite(layers, frame, LayerSet::Final);
+    const double factor = exposure_factor(Exposure{}, layers.final);
+    const Image exposed = apply_exposure(layers.final, factor);
+    const auto time = [&](const std::string& name, const std::function<void()>& f) {
+        f();  // first call allocates, loads codecs
+        std::vector<double> t;
+        for (int r = 0; r < a.repeats; ++r) {
+            const double t0 = now_ms();
+            f();
+            t.push_back(now_ms() - t0);
+        }
+        return summarize(name, cam.width, cam.height, threads, t);
+    };
+    std::vector<Case> cases;
+    cases.push_back(time("stage-decode-color-png", [&] { (void)read_color(png); }));
+    cases.push_back(time("stage-decode-depth-exr", [&] { (void)read_depth(exr); }));
+    cases.push_back(
+        time("stage-composite", [&] { comp.composite(layers, frame, LayerSet::Final); }));
+    cases.push_back(time("stage-expose", [&] { (void)apply_exposure(layers.final, factor); }));
+    cases.push_back(
+        time("stage-encode-png", [&] { write_color((tmp.dir / "o.png").string(), exposed); }));
+    cases.push_back(
+        time("stage-encode-jpeg", [&] { write_color((tmp.dir / "o.jpg").string(), exposed); }));
+    return cases;
+}
+
+/// Whole sequences from files to files (PNG colour + EXR depth in, PNG or JPEG out), as
+/// `deepsea render` runs them: `frames` file pairs (copies of two generated frames, so that the
+/// bench does not spend minutes generating scenes), three runs, the median reported with the
+/// frame rate and the CPU time per frame (user + system, all threads).
+std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const BenchArgs& a,
+                                 int threads) {
+    if (!wanted(a.cases, "sequence-png") && !wanted(a.cases, "sequence-jpeg")) return {};
+    const TempFolder tmp("sequence");
+    fs::create_directories(tmp.dir / "out");
+    FlightParams flight;
+    flight.camera = cam;
+    constexpr int kFrames = 16, kGenerated = 2;
+    for (int i = 0; i < kGenerated; ++i) {
         const Frame f = render_flight_frame(flight, i);
-        FrameJob j;
-        j.rgb = (dir / ("f" + std::to_string(i) + ".png")).string();
-        j.depth = (dir / ("f" + std::to_string(i) + "_depth.exr")).string();
-        j.output = (dir / "out" / ("f" + std::to_string(i) + ".png")).string();
-        write_color(j.rgb, f.rgb);
-        write_depth_exr(j.depth, f.depth);
-        jobs.push_back(j);
+        write_color((tmp.dir / ("f" + std::to_string(i) + ".png")).string(), f.rgb);
+        write_depth_exr((tmp.dir / ("f" + std::to_string(i) + "_depth.exr")).string(), f.depth);
     }
-    reset_peak_rss();
-    std::vector<double> t;
-    for (int r = 0; r < std::max(3, a.repeats / 7); ++r) {
-        const SequenceResult res = render_sequence(asset, jobs, SequenceOptions{});
-        if (!res.errors.empty()) throw IoError("bench sequence failed: " + res.errors.front());
-        t.push_back(res.seconds * 1000.0 / n);
+    std::vector<Case> cases;
+    for (const char* ext : {".png", ".jpg"}) {
+        const std::string name = ext == std::string(".png") ? "sequence-png" : "sequence-jpeg";
+        if (!wanted(a.cases, name)) continue;
+        std::vector<FrameJob> jobs;
+        for (int i = 0; i < kFrames; ++i) {
+            const std::string g = std::to_string(i % kGenerated), k = std::to_string(i);
+            const fs::path rgb = tmp.dir / ("in" + k + ".png"),
+                           depth = tmp.dir / ("in" + k + ".exr");
+            if (!fs::exists(rgb)) fs::copy_file(tmp.dir / ("f" + g + ".png"), rgb);
+            if (!fs::exists(depth)) fs::copy_file(tmp.dir / ("f" + g + "_depth.exr"), depth);
+            jobs.push_back(
+                {rgb.string(), depth.string(), (tmp.dir / "out" / (k + ext)).string(), ""});
+        }
+        SequenceOptions opt;
+        opt.forward = !a.no_forward;
+        reset_peak_rss();
+        std::vector<double> wall, cpu;
+        for (int r = 0; r < 3; ++r) {
+            const double c0 = cpu_seconds();
+            const SequenceResult res = render_sequence(asset, jobs, opt);
+            cpu.push_back((cpu_seconds() - c0) * 1000.0 / kFrames);
+            if (!res.errors.empty()) throw IoError("bench sequence failed: " + res.errors.front());
+            wall.push_back(res.seconds * 1000.0 / kFrames);
+        }
+        Case c = summarize(name, cam.width, cam.height, threads, wall);
+        std::sort(cpu.begin(), cpu.end());
+        c.cpu_ms_per_frame = cpu[cpu.size() / 2];
+        c.fps = 1000.0 / c.median_ms;
+        cases.push_back(c);
     }
-    fs::remove_all(dir);
-    return summarize("sequence_with_io_per_frame", cam.width, cam.height, threads, t);
+    return cases;
 }
 
 void run(const BenchArgs& a) {
@@ -189,11 +293,20 @@ void run(const BenchArgs& a) {
     require_complete(setup, a.config);
     std::vector<Case> cases;
     for (const auto& [w, h] : {std::pair{800, 800}, std::pair{1920, 1080}}) {
-        for (Case& c : time_compositor(setup, scaled(*setup.camera, w, h), a, threads)) {
-            cases.push_back(std::move(c));
+        const Camera cam = scaled(*setup.camera, w, h);
+        // One bake per size for every case (the forward blur left out of the water with
+        // --no-forward).
+        Water water = *setup.water;
+        if (a.no_forward) water.forward.enabled = false;
+        const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
+        if (wanted(a.cases, "composite")) {
+            for (Case& c : time_compositor(setup, asset, cam, a, threads)) cases.push_back(c);
         }
+        if (wanted(a.cases, "stage")) {
+            for (Case& c : time_stages(setup, asset, cam, a, threads)) cases.push_back(c);
+        }
+        for (Case& c : time_sequences(asset, cam, a, threads)) cases.push_back(c);
     }
-    cases.push_back(time_sequence(setup, a, threads));
     if (a.json) {
         std::printf("{\"baseline_rss_mb\": %.1f, \"scattering\": \"%s\", \"cases\": [", baseline_mb,
                     a.scattering.c_str());
@@ -202,23 +315,30 @@ void run(const BenchArgs& a) {
             std::printf(
                 "%s{\"name\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
                 "\"runs\": %d, \"median_ms\": %.3f, \"min_ms\": %.3f, \"max_ms\": %.3f, "
-                "\"peak_rss_mb\": %.1f}",
+                "\"peak_rss_mb\": %.1f",
                 i ? ", " : "", c.name.c_str(), c.width, c.height, c.threads, c.runs, c.median_ms,
                 c.min_ms, c.max_ms, c.peak_rss_mb);
+            if (c.fps > 0) {
+                std::printf(", \"fps\": %.2f, \"cpu_ms_per_frame\": %.2f", c.fps,
+                            c.cpu_ms_per_frame);
+            }
+            std::printf("}");
         }
         std::printf("]}\n");
         return;
     }
-    std::printf("%-28s %11s %7s %5s %10s %10s %10s %9s\n", "case", "size", "threads", "runs",
-                "median ms", "min ms", "max ms", "peak MB");
+    std::printf("%-28s %11s %7s %5s %10s %10s %10s %9s %7s %8s\n", "case", "size", "threads",
+                "runs", "median ms", "min ms", "max ms", "peak MB", "fps", "CPU ms");
     std::printf(
         "(peak MB: resident memory while running the case: asset, frame, compositor\n"
         " buffers and the loaded libraries, not the bake before it; the bare process\n"
         " holds %.1f MB, mostly shared libraries)\n",
         baseline_mb);
     for (const Case& c : cases) {
-        std::printf("%-28s %5dx%-5d %7d %5d %10.2f %10.2f %10.2f %9.1f\n", c.name.c_str(), c.width,
+        std::printf("%-28s %5dx%-5d %7d %5d %10.2f %10.2f %10.2f %9.1f", c.name.c_str(), c.width,
                     c.height, c.threads, c.runs, c.median_ms, c.min_ms, c.max_ms, c.peak_rss_mb);
+        if (c.fps > 0) std::printf(" %7.1f %8.1f", c.fps, c.cpu_ms_per_frame);
+        std::printf("\n");
     }
 }
 
@@ -233,6 +353,9 @@ void setup_bench(CLI::App& sub) {
     sub.add_option("--scattering", a->scattering,
                    "single | multiple: the asset's scattering (multiple adds the lamps' "
                    "scattered light per pixel)");
+    sub.add_option("--cases", a->cases,
+                   "comma-separated prefixes of the cases to run: composite, stage, "
+                   "sequence-png, sequence-jpeg");
     sub.add_flag("--json", a->json, "print JSON for scripts");
     sub.callback([a] { run(*a); });
 }
