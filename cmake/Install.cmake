@@ -65,7 +65,7 @@ foreach(_t deepsea_runtime deepsea_bake deepsea_scene deepsea_io deepsea_asset d
 endforeach()
 if(DEEPSEA_STATIC)
   # OpenVDB has no .pc file on Debian: named directly; its headers call Imath (half) inline.
-  set(DEEPSEA_PC_REQUIRES "tbb OpenImageIO yaml-cpp Imath libcrypto")
+  set(DEEPSEA_PC_REQUIRES "tbb OpenImageIO OpenEXR yaml-cpp Imath libcrypto spng libdeflate libjpeg")
   string(APPEND DEEPSEA_PC_LIBS " -lopenvdb")
 else()
   set(DEEPSEA_PC_REQUIRES "tbb")

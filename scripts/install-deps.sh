@@ -4,6 +4,7 @@ set -euo pipefail
 pkgs=(build-essential cmake pkg-config
       libopenvdb-dev libboost-iostreams-dev libblosc-dev libtbb-dev
       libopenexr-dev libopenimageio-dev openimageio-tools
+      libspng-dev libdeflate-dev libjpeg62-turbo-dev
       libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libssl-dev
       libgtest-dev libbenchmark-dev)
 if [[ "${1:-}" == "--tests" ]]; then

@@ -20,6 +20,7 @@
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/depth_formats.h"
+#include "fast_codecs.h"
 #include "file_checks.h"
 
 namespace deepsea {
@@ -178,6 +179,9 @@ bool is_linear_extension(const std::string& ext) {
     return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
 }
 
+Image read_color_oiio(const std::string& path);
+Image read_depth_oiio(const std::string& path, const DepthReadOptions& opt);
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -214,7 +218,115 @@ float linear_to_srgb(float v) {
     return float(1.055 * std::pow(double(v), 1.0 / 2.4) - 0.055);
 }
 
+namespace {
+
+/// The integer code OpenImageIO stores for a linear value v in [0, 1]: linear_to_srgb, then
+/// scaled and rounded in float as its float-to-integer conversion does.
+int srgb_code(float v, int codes) { return int(linear_to_srgb(v) * float(codes) + 0.5f); }
+
+/// srgb_code of every float without a pow per pixel, and bit-identical to it: thresholds[k] is
+/// the smallest float whose code is k (found once by bisection over the floats' bit patterns,
+/// the code being monotone), and a table indexed by a float's upper bits gives the code at the
+/// start of its bucket, from which at most a few thresholds are stepped over.
+class SrgbEncoder {
+public:
+    explicit SrgbEncoder(int codes) : m_codes(codes), m_shift(codes > 255 ? 10 : 15) {
+        m_threshold.resize(std::size_t(codes) + 2);
+        const std::uint32_t one = 0x3f800000u;
+        m_threshold[0] = 0;
+        for (int k = 1; k <= codes; ++k) {
+            std::uint32_t lo = 0, hi = one;  // code(lo) < k <= code(hi)
+            while (hi - lo > 1) {
+                const std::uint32_t mid = lo + (hi - lo) / 2;
+                (srgb_code(from_bits(mid), codes) >= k ? hi : lo) = mid;
+            }
+            m_threshold[k] = hi;
+        }
+        m_threshold[codes + 1] = one + 1;  // never reached
+        m_start.resize((one >> m_shift) + 1);
+        int k = 0;
+        for (std::size_t b = 0; b < m_start.size(); ++b) {
+            const std::uint32_t bits = std::uint32_t(b) << m_shift;
+            while (k < codes && m_threshold[k + 1] <= bits) ++k;
+            m_start[b] = std::uint16_t(k);
+        }
+    }
+
+    /// The code of a linear value: non-finite values and values <= 0 give 0, above 1 the top.
+    int operator()(float v) const {
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, 4);
+        if ((bits & 0x7f800000u) == 0x7f800000u || bits >= 0x80000000u) return 0;  // NaN, inf, < 0
+        if (bits >= 0x3f800000u) return m_codes;
+        int k = m_start[bits >> m_shift];
+        while (m_threshold[k + 1] <= bits) ++k;
+        return k;
+    }
+
+private:
+    static float from_bits(std::uint32_t b) {
+        float f;
+        std::memcpy(&f, &b, 4);
+        return f;
+    }
+    int m_codes, m_shift;
+    std::vector<std::uint32_t> m_threshold;  ///< as float bit patterns (ordered like the floats)
+    std::vector<std::uint16_t> m_start;
+};
+
+const SrgbEncoder& srgb_encoder(int bits) {
+    if (bits == 8) {
+        static const SrgbEncoder e8(255);
+        return e8;
+    }
+    static const SrgbEncoder e16(65535);
+    return e16;
+}
+
+/// `img` as width x height x channels, its storage reused when it has the room.
+void fit(Image& img, int width, int height, int channels) {
+    img.width = width;
+    img.height = height;
+    img.channels = channels;
+    img.data.resize(std::size_t(width) * height * channels);
+}
+
+thread_local io_detail::PngRgb t_png;
+
+/// read_color of a PNG: libspng, then the decode table straight from the integer codes.
+void read_png_color(const std::string& path, Image& img) {
+    io_detail::PngRgb& p = t_png;
+    io_detail::decode_png_rgb(path, p);
+    fit(img, p.width, p.height, 3);
+    const std::size_t n = std::size_t(p.width) * p.height * 3;
+    const float* lut = srgb_decode_table(p.bits == 16 ? 65535 : 255);
+    float* out = img.data.data();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+        if (p.bits == 16) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb16[i]];
+        } else {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb8[i]];
+        }
+    });
+}
+
+}  // namespace
+
 Image read_color(const std::string& path) {
+    Image img;
+    read_color(path, img);
+    return img;
+}
+
+void read_color(const std::string& path, Image& out) {
+    const std::string ext = extension(path);
+    if (ext == ".png") return read_png_color(path, out);
+    out = read_color_oiio(path);
+}
+
+namespace {
+
+Image read_color_oiio(const std::string& path) {
     if (extension(path) == ".pfm") {
         Image src = read_pfm(path);
         if (src.channels == 3) return src;
@@ -256,7 +368,40 @@ Image read_color(const std::string& path) {
     return img;
 }
 
+}  // namespace
+
 Image read_depth(const std::string& path, const DepthReadOptions& opt) {
+    Image img;
+    read_depth(path, img, opt);
+    return img;
+}
+
+void read_depth(const std::string& path, Image& out, const DepthReadOptions& opt) {
+    const std::string ext = extension(path);
+    if (ext == ".exr") {
+        io_detail::ExrReader in(path);
+        const int ch = depth_channel(path, in.channels(), opt);
+        if (in.is_float(ch)) {
+            fit(out, in.width(), in.height(), 1);
+            in.read(ch, out.data.data());
+            return;
+        }
+    } else if (ext == ".png" && (opt.channel.empty() || opt.channel == "Y")) {
+        thread_local std::vector<std::uint16_t> raw;
+        int w = 0, h = 0;
+        if (io_detail::decode_png_grey16(path, w, h, raw)) {
+            fit(out, w, h, 1);
+            for (std::size_t i = 0; i < raw.size(); ++i)
+                out.data[i] = float(double(raw[i]) * opt.scale);
+            return;
+        }
+    }
+    out = read_depth_oiio(path, opt);
+}
+
+namespace {
+
+Image read_depth_oiio(const std::string& path, const DepthReadOptions& opt) {
     const std::string ext = extension(path);
     if (ext == ".npy") return read_npy(path, opt.scale);
     if (ext == ".pfm") {
@@ -293,6 +438,8 @@ Image read_depth(const std::string& path, const DepthReadOptions& opt) {
     return img;
 }
 
+}  // namespace
+
 bool has_image_writer(const std::string& path) {
     if (fs::path(path).extension().empty()) return false;
     const QuietCodecs quiet;
@@ -306,7 +453,7 @@ void require_image_writer(const std::string& path) {
 }
 
 void write_color(const std::string& path, const Image& linear_rgb, int bits,
-                 const ImageMetadata& meta) {
+                 const ImageMetadata& meta, double exposure) {
     if (linear_rgb.channels != 3 && linear_rgb.channels != 1)
         throw InputError(path + ": write_color needs 1 or 3 channels, got " +
                          std::to_string(linear_rgb.channels));
@@ -315,12 +462,47 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
         throw InputError(path + ": bit depth must be 8 or 16, got " + std::to_string(bits));
     const std::string ext = extension(path);
     const int nch = linear_rgb.channels;
-    std::vector<float> data(linear_rgb.data.size());
+    const std::size_t n = linear_rgb.data.size();
+    // The same float as apply_exposure's: the factor in double, rounded once.
+    const auto exposed = [&](std::size_t i) { return float(linear_rgb.data[i] * exposure); };
+    const bool jpeg = ext == ".jpg" || ext == ".jpeg";
+    if (ext == ".png" || jpeg) {
+        // Integer codes straight from the table (bit-identical to OpenImageIO's float to
+        // integer conversion of linear_to_srgb), into buffers kept from frame to frame.
+        const int b = jpeg ? 8 : bits;
+        const SrgbEncoder& enc = srgb_encoder(b);
+        thread_local std::vector<std::uint8_t> codes8;
+        thread_local std::vector<std::uint16_t> codes16;
+        if (b == 8) {
+            codes8.resize(n);
+        } else {
+            codes16.resize(n);
+        }
+        std::uint8_t* c8 = codes8.data();
+        std::uint16_t* c16 = codes16.data();
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+            if (b == 8) {
+                for (std::size_t i = r.begin(); i < r.end(); ++i)
+                    c8[i] = std::uint8_t(enc(exposed(i)));
+            } else {
+                for (std::size_t i = r.begin(); i < r.end(); ++i)
+                    c16[i] = std::uint16_t(enc(exposed(i)));
+            }
+        });
+        if (jpeg) {
+            io_detail::write_jpeg(path, linear_rgb.width, linear_rgb.height, nch, c8, meta);
+        } else {
+            io_detail::write_png(path, linear_rgb.width, linear_rgb.height, nch,
+                                 b == 8 ? c8 : nullptr, b == 16 ? c16 : nullptr, meta);
+        }
+        return;
+    }
+    std::vector<float> data(n);
     OIIO::ImageSpec spec;
     if (is_linear_extension(ext)) {
         // Float formats keep radiance above 1 (HDR); only non-finite values are cleaned.
         for (std::size_t i = 0; i < data.size(); ++i) {
-            const float v = linear_rgb.data[i];
+            const float v = exposed(i);
             data[i] = std::isfinite(v) ? v : 0.0f;
         }
         spec = OIIO::ImageSpec(linear_rgb.width, linear_rgb.height, nch,
@@ -331,20 +513,14 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, data.size(), 8192),
                           [&](const auto& r) {
                               for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                                  float v = linear_rgb.data[i];
+                                  float v = exposed(i);
                                   v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
                                   data[i] = linear_to_srgb(v);
                               }
                           });
-        const bool jpeg = ext == ".jpg" || ext == ".jpeg";
-        const int b = jpeg ? 8 : bits;
         spec = OIIO::ImageSpec(linear_rgb.width, linear_rgb.height, nch,
-                               b == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
+                               bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
         spec.attribute("oiio:ColorSpace", "sRGB");
-        if (jpeg) spec.attribute("CompressionQuality", 95);
-        // zlib level 3 instead of 6: about 40 % less time per PNG (the sequence renderer's
-        // largest cost) for files about 6 % larger.
-        if (ext == ".png") spec.attribute("png:compressionLevel", 3);
     }
     if (nch == 3) spec.channelnames = {"R", "G", "B"};
     add_metadata(spec, meta);
@@ -379,7 +555,7 @@ void write_depth_exr(const std::string& path, const Image& depth) {
 }
 
 void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& layers,
-                      const ImageMetadata& meta) {
+                      const ImageMetadata& meta, bool half) {
     if (layers.empty()) throw InputError(path + ": no layers to write");
     int total = 0;
     const Image* first = nullptr;
@@ -398,50 +574,36 @@ void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& laye
                 std::to_string(first->width) + "x" + std::to_string(first->height));
         total += l.image->channels;
     }
-    OIIO::ImageSpec spec(first->width, first->height, total, OIIO::TypeDesc::FLOAT);
-    spec.channelnames.clear();
-    for (const auto& l : layers)
-        for (const auto& c : l.channels)
-            spec.channelnames.push_back(l.name.empty() ? c : l.name + "." + c);
-    // No channel is alpha or depth for OIIO's purposes: they are plain named data.
-    spec.alpha_channel = -1;
-    spec.z_channel = -1;
-    // PIZ (lossless wavelet): on 800x800 render layers 1.6x faster to write than ZIP and 20 %
-    // smaller (8 frames: 4.4 s and 274 MB vs 7.1 s and 343 MB).
-    spec.attribute("compression", "piz");
-    add_metadata(spec, meta);
-    const std::size_t n = std::size_t(first->width) * first->height;
-    std::vector<float> data(n * total);
-    int off = 0;
+    // Each channel is a slice of its layer's own image: OpenEXR reads them in place (and
+    // converts to half itself), nothing is interleaved or copied here. PIZ (lossless wavelet):
+    // on 800x800 render layers 1.6x faster to write than ZIP and 20 % smaller.
+    std::vector<io_detail::ExrChannel> channels;
     for (const auto& l : layers) {
         const int lc = l.image->channels;
-        for (std::size_t i = 0; i < n; ++i)
-            for (int c = 0; c < lc; ++c) data[i * total + off + c] = l.image->data[i * lc + c];
-        off += lc;
+        for (int c = 0; c < lc; ++c) {
+            channels.push_back({l.name.empty() ? l.channels[c] : l.name + "." + l.channels[c],
+                                l.image->data.data() + c, lc});
+        }
     }
-    write_image(path, spec, data);
+    (void)total;
+    io_detail::write_exr(path, first->width, first->height, channels, half, "piz", meta);
 }
 
 Image read_exr_layer(const std::string& path, const std::string& layer,
                      const std::vector<std::string>& channels) {
-    auto in = open_input(path);
-    const auto spec = in->spec();
+    io_detail::ExrReader in(path);
+    const auto& names = in.channels();
     std::vector<int> idx;
     for (const auto& c : channels) {
         const std::string want = layer.empty() ? c : layer + "." + c;
-        const auto it = std::find(spec.channelnames.begin(), spec.channelnames.end(), want);
-        if (it == spec.channelnames.end())
-            throw InputError(path + " has no channel '" + want + "' (it has " +
-                             join(spec.channelnames) + ")");
-        idx.push_back(int(it - spec.channelnames.begin()));
+        const auto it = std::find(names.begin(), names.end(), want);
+        if (it == names.end())
+            throw InputError(path + " has no channel '" + want + "' (it has " + join(names) + ")");
+        idx.push_back(int(it - names.begin()));
     }
-    const std::vector<float> all = read_float(*in, path, 0, spec.nchannels);
-    in->close();
     const int nc = int(channels.size());
-    Image img(spec.width, spec.height, nc);
-    const std::size_t n = std::size_t(spec.width) * spec.height;
-    for (std::size_t i = 0; i < n; ++i)
-        for (int c = 0; c < nc; ++c) img.data[i * nc + c] = all[i * spec.nchannels + idx[c]];
+    Image img(in.width(), in.height(), nc);
+    in.read(idx, img.data.data());
     return img;
 }
 

@@ -35,13 +35,19 @@ struct Slot {
 /// An output that a finished write left: non-empty and decoding fully. A kill never leaves a
 /// partial file under the final name (writes are atomic), but a 0-byte or damaged file may
 /// come from elsewhere; such a frame is rendered again.
-bool complete(const std::string& path, bool layers) {
+bool complete(const std::string& path, const LayerOutput* layers) {
     if (path.empty()) return true;
     std::error_code ec;
     if (!fs::is_regular_file(path, ec) || fs::file_size(path, ec) == 0 || ec) return false;
     try {
         if (layers) {
-            (void)read_exr_layer(path, "final", {"R", "G", "B"});
+            // The first layer written decodes: every channel of a scanline file is in each of
+            // its line blocks, so the last block decoding means the file is whole.
+            const std::string& first = layers->names.front();
+            (void)read_exr_layer(path, first,
+                                 first == "depth"    ? std::vector<std::string>{"Z"}
+                                 : first == "normal" ? std::vector<std::string>{"X", "Y", "Z"}
+                                                     : std::vector<std::string>{"R", "G", "B"});
         } else {
             (void)read_color(path);
         }
@@ -51,8 +57,8 @@ bool complete(const std::string& path, bool layers) {
     }
 }
 
-bool done_already(const FrameJob& j) {
-    return complete(j.output, false) && complete(j.layers, true);
+bool done_already(const FrameJob& j, const LayerOutput& layers) {
+    return complete(j.output, nullptr) && complete(j.layers, &layers);
 }
 
 std::string absolute(const std::string& pattern) {
@@ -75,6 +81,8 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.image = !jobs.empty() && !jobs.front().output.empty();
     m.bits = opt.bits;
     m.layers = !jobs.empty() && !jobs.front().layers.empty();
+    m.layer_set = opt.layer_output.describe();
+    m.half = m.layers && opt.layer_output.half;
     m.forward = opt.forward;
     m.depth_kind = opt.depth_kind == DepthKind::Range ? "range" : "z";
     m.depth_channel = opt.depth_read.channel;
@@ -164,11 +172,12 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 s->index = next;
                 s->error.clear();
                 const FrameJob& job = jobs[next++];
-                s->skip = opt.resume && done_already(job);
+                s->skip = opt.resume && done_already(job, opt.layer_output);
                 if (s->skip) return s;
                 try {
-                    s->frame.rgb = read_color(job.rgb);
-                    s->frame.depth = read_depth(job.depth, opt.depth_read);
+                    // Into the slot's buffers: a frame of the same size allocates nothing.
+                    read_color(job.rgb, s->frame.rgb);
+                    read_depth(job.depth, s->frame.depth, opt.depth_read);
                     require_same_size(s->frame.rgb, s->frame.depth, job.rgb + " and " + job.depth);
                 } catch (const Error& e) {
                     s->error = e.what();
@@ -190,7 +199,9 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         to_planar_depth(camera, s->frame.depth, opt.depth_kind);
                         const bool all = !jobs[s->index].layers.empty();
                         Layers& out = all ? s->layers : shared;
-                        compositor->composite(out, s->frame, all ? LayerSet::All : LayerSet::Final);
+                        compositor->composite(
+                            out, s->frame,
+                            all ? opt.layer_output.compositor_set() : LayerSet::Final);
                         s->final = out.final;
                         if (exposure == 0.0) {
                             exposure = exposure_factor(opt.exposure, s->final);
@@ -217,11 +228,11 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 const FrameJob& job = jobs[s->index];
                 if (!s->skip && s->error.empty()) {
                     try {
-                        if (!job.layers.empty()) write_layers(job.layers, s->layers, meta);
-                        if (!job.output.empty()) {
-                            write_color(job.output, apply_exposure(s->final, exposure), opt.bits,
-                                        meta);
-                        }
+                        if (!job.layers.empty())
+                            write_layers(job.layers, s->layers, meta, opt.layer_output);
+                        // The exposure is applied while encoding (no exposed copy).
+                        if (!job.output.empty())
+                            write_color(job.output, s->final, opt.bits, meta, exposure);
                     } catch (const Error& e) {
                         s->error = e.what();
                     }

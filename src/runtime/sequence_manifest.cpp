@@ -28,7 +28,8 @@ std::string manifest_to_json(const SequenceManifest& m) {
                      {"max_clipped", m.max_clipped}};
     j["outputs"] = {{"image", m.image ? "png" : "none"},
                     {"bits", m.bits},
-                    {"layers", m.layers ? "all" : "none"}};
+                    {"layers", m.layers ? m.layer_set : "none"},
+                    {"half", m.half}};
     j["settings"] = {{"forward", m.forward},
                      {"depth_kind", m.depth_kind},
                      {"depth_channel", m.depth_channel},
@@ -93,7 +94,13 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
     m.max_clipped = get<double>(j, path, "exposure", "max_clipped");
     m.image = get<std::string>(j, path, "outputs", "image") != "none";
     m.bits = get<int>(j, path, "outputs", "bits");
-    m.layers = get<std::string>(j, path, "outputs", "layers") != "none";
+    const std::string layers = get<std::string>(j, path, "outputs", "layers");
+    m.layers = layers != "none";
+    if (m.layers) m.layer_set = layers;
+    // "half" came with --layer-set; a manifest from before it wrote float layers.
+    m.half = j.contains("outputs") && j["outputs"].contains("half")
+                 ? get<bool>(j, path, "outputs", "half")
+                 : false;
     m.forward = get<bool>(j, path, "settings", "forward");
     m.depth_kind = get<std::string>(j, path, "settings", "depth_kind");
     m.depth_channel = get<std::string>(j, path, "settings", "depth_channel");
@@ -159,6 +166,10 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
     if (folder.layers != run.layers)
         differ("--layers", folder.layers ? "given" : "not given",
                run.layers ? "given" : "not given");
+    if (folder.layers && run.layers && folder.layer_set != run.layer_set)
+        differ("--layer-set", folder.layer_set, run.layer_set);
+    if (folder.layers && run.layers && folder.half != run.half)
+        differ("--half", folder.half ? "given" : "not given", run.half ? "given" : "not given");
     if (folder.forward != run.forward)
         differ("forward scatter", folder.forward ? "on" : "off", run.forward ? "on" : "off");
     if (folder.depth_kind != run.depth_kind)

@@ -90,7 +90,7 @@ m = json.load(open(sys.argv[1]))
 assert m["format"] == 1 and m["frames"] == {"total": 3, "done": 3}, m
 assert m["asset_hash"].startswith("fnv1a64:") and m["exposure"]["mode"] == "auto", m
 assert m["exposure"]["factor"] > 0 and m["exposure"]["chosen_on"].endswith("frame_0001.png")
-assert m["outputs"] == {"image": "png", "bits": 8, "layers": "all"}, m
+assert m["outputs"] == {"image": "png", "bits": 8, "layers": "all", "half": False}, m
 assert m["camera"]["width"] == 320 and m["deepsea_version"], m
 for f in sys.argv[2:]:
     spec = oiio.ImageInput.open(f).spec()

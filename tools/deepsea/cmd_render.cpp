@@ -9,6 +9,7 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
+#include "deepsea/runtime/layers.h"
 #include "deepsea/runtime/output_folders.h"
 #include "deepsea/runtime/sequence.h"
 
@@ -19,7 +20,8 @@ namespace {
 struct RenderArgs {
     DepthFlags depth;
     std::string asset, rgb, depth_path, output, layers, exposure = "auto", camera;
-    bool resume = false, no_forward = false;
+    std::string layer_set = "all";
+    bool resume = false, no_forward = false, half = false;
     int bits = 8;
     int threads = 0;
 };
@@ -60,6 +62,8 @@ void run(const RenderArgs& a) {
     opt.resume = a.resume;
     opt.forward = !a.no_forward;
     opt.bits = a.bits;
+    opt.layer_output.names = parse_layer_set(a.layer_set);
+    opt.layer_output.half = a.half;
     opt.version = DEEPSEA_VERSION;
     if (!a.camera.empty()) {
         Setup s = load_setup({a.camera});
@@ -129,6 +133,22 @@ void setup_render(CLI::App& sub) {
         ->required();
     sub.add_option("-o,--output", a->output, "exposed image; a folder for a sequence");
     sub.add_option("--layers", a->layers, "multi-layer EXR; a folder for a sequence");
+    // Checked while parsing: a misspelt layer is a usage error (exit 2), before any work.
+    const CLI::Validator layer_names(
+        [](std::string& text) -> std::string {
+            try {
+                (void)parse_layer_set(text);
+            } catch (const Error& e) {
+                return e.what();
+            }
+            return "";
+        },
+        "");
+    sub.add_option("--layer-set", a->layer_set,
+                   "layers the --layers files hold, comma-separated: final, direct, forward, "
+                   "backscatter, transmission, depth, normal, or all")
+        ->check(layer_names);
+    sub.add_flag("--half", a->half, "write the --layers files in half floats (16 bits)");
     sub.add_option("--exposure", a->exposure,
                    "'auto' (first frame's, then kept, in the sequence manifest) or a factor");
     sub.add_option("--camera", a->camera, "YAML with the frames' camera (default: the asset's)");

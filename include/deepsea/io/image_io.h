@@ -16,6 +16,10 @@ namespace deepsea {
 /// Throws IoError for a missing or unreadable file.
 Image read_color(const std::string& path);
 
+/// read_color into `out`, reusing its storage when it has the room (a sequence's frames).
+/// PNG is decoded by libspng, other formats by OpenImageIO.
+void read_color(const std::string& path, Image& out);
+
 /// How to read a depth file.
 struct DepthReadOptions {
     std::string channel;   ///< channel name to use; empty: the only channel, or else the one
@@ -32,6 +36,10 @@ struct DepthReadOptions {
 /// first). .npy: dtype <f4, <f8 or <u2 (times scale), shape (H, W) or (H, W, 1).
 Image read_depth(const std::string& path, const DepthReadOptions& opt = {});
 
+/// read_depth into `out`, reusing its storage. EXR (half or float channels) is read through
+/// OpenEXR, 16-bit grey PNG through libspng, other formats through OpenImageIO.
+void read_depth(const std::string& path, Image& out, const DepthReadOptions& opt = {});
+
 /// Text attributes stored with an image: PNG text chunks, EXR header string attributes
 /// (name, value), e.g. {"deepsea:exposure", "1.25"}.
 using ImageMetadata = std::vector<std::pair<std::string, std::string>>;
@@ -43,12 +51,14 @@ bool has_image_writer(const std::string& path);
 /// work.
 void require_image_writer(const std::string& path);
 
-/// Writes linear RGB: PNG/JPEG/TIFF are sRGB-encoded at `bits` (8 or 16; JPEG is always 8);
-/// EXR and other float formats keep linear values (half float). Values are clamped to [0, 1]
-/// before encoding. `meta` goes into the file's header. Atomic (temporary file + rename).
-/// Throws IoError.
+/// Writes linear RGB times `exposure` (as apply_exposure, without its copy): PNG/JPEG/TIFF are
+/// sRGB-encoded at `bits` (8 or 16; JPEG is always 8); EXR and other float formats keep linear
+/// values (half float). Values are clamped to [0, 1] before encoding. `meta` goes into the
+/// file's header (PNG tEXt chunks, a JPEG COM marker of name=value lines, EXR/TIFF
+/// attributes). Atomic (temporary file + rename). PNG is encoded by hand with libdeflate,
+/// JPEG by libjpeg-turbo, other formats by OpenImageIO. Throws IoError.
 void write_color(const std::string& path, const Image& linear_rgb, int bits = 8,
-                 const ImageMetadata& meta = {});
+                 const ImageMetadata& meta = {}, double exposure = 1.0);
 
 /// Throws IoError naming `path` unless an image can be written there: an extension deepsea
 /// writes (`exr_only`: .exr, for layers; else .png, .jpg, .jpeg, .tif, .tiff, .exr, .hdr), an
@@ -65,10 +75,11 @@ struct ExrLayer {
     std::vector<std::string> channels;  ///< e.g. {"R", "G", "B"}, one per image channel
 };
 
-/// Writes float EXR with all layers (channels "final.R", ..., "depth.Z"), ZIP-compressed.
-/// `meta` goes into the header. Atomic. Throws IoError.
+/// Writes an EXR with all `layers` (channels "final.R", ..., "depth.Z"), float or `half`,
+/// PIZ-compressed, through OpenEXR (its own thread pool). `meta` goes into the header as string
+/// attributes. Atomic. Throws IoError.
 void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& layers,
-                      const ImageMetadata& meta = {});
+                      const ImageMetadata& meta = {}, bool half = false);
 
 /// Reads one layer of a multi-layer EXR written by write_exr_layers (for tests and tools);
 /// an empty `layer` reads channels by their plain names. Throws InputError for a missing

@@ -12,6 +12,7 @@
 #include "deepsea/optics/camera.h"
 #include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/frame_jobs.h"
+#include "deepsea/runtime/layers.h"
 
 namespace deepsea {
 
@@ -24,6 +25,8 @@ struct SequenceOptions {
     /// continue the sequence they record (its exposure) or refuse (check_resumable).
     bool resume = false;
     int bits = 8;  ///< PNG bit depth
+    /// What the --layers files hold (which layers, half or float).
+    LayerOutput layer_output;
     /// The frames' camera; unset (width 0): the asset's camera, resampled to the frame size.
     Camera camera;
     /// Called with (0, total) first and after each frame, in order, with (frames done, total);

@@ -58,6 +58,12 @@ TEST_F(ManifestTest, RoundTripsExactlyThroughTheFile) {
     EXPECT_EQ(r.frames_total, 10);
     EXPECT_TRUE(r.image && r.layers && r.auto_exposure && r.forward);
     EXPECT_EQ(manifest_to_json(r), manifest_to_json(m));
+    SequenceManifest some = m;
+    some.layer_set = "final,depth";
+    some.half = true;
+    const SequenceManifest r2 = manifest_from_json(manifest_to_json(some), "m2.json");
+    EXPECT_EQ(r2.layer_set, "final,depth");
+    EXPECT_TRUE(r2.half);
     EXPECT_EQ(listing().size(), 1u);  // no temporary left beside it
 }
 
@@ -109,6 +115,9 @@ TEST(Manifest, ResumeRefusesEverySettingThatChangesTheFrames) {
     EXPECT_NE(changed([](auto& r) { r.target = 0.5; }).find("auto exposure"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.layers = false; }).find("--layers"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.bits = 16; }).find("--bits"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.layer_set = "final,depth"; }).find("--layer-set"),
+              std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.half = true; }).find("--half"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.forward = false; }).find("forward"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.depth_scale = 0.0001; }).find("--depth-scale"),
               std::string::npos);

@@ -1,0 +1,463 @@
+// PNG through libspng (decode) and libdeflate (encode), JPEG through libjpeg-turbo, EXR through
+// OpenEXR: the formats datasets use, without OpenImageIO's per-call overhead and float
+// conversions (docs/runtime.md, "Where the time goes").
+
+#include "fast_codecs.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
+#include <fcntl.h>
+#include <libdeflate.h>
+#include <spng.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+// jpeglib.h needs FILE and size_t declared first.
+#include <cstdio>
+#include <cstdlib>
+// clang-format off
+#include <jpeglib.h>
+// clang-format on
+
+#include <algorithm>
+#include <cerrno>
+#include <csetjmp>
+#include <cstring>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "deepsea/core/atomic_file.h"
+#include "deepsea/core/error.h"
+#include "file_checks.h"
+
+namespace deepsea::io_detail {
+
+namespace {
+
+/// The whole file into `bytes` (its capacity reused from frame to frame).
+void read_whole_file(const std::string& path, std::vector<std::uint8_t>& bytes) {
+    require_readable(path);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) io_fail(path, std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) {
+        const int e = errno;
+        ::close(fd);
+        io_fail(path, std::strerror(e));
+    }
+    bytes.resize(std::size_t(st.st_size));
+    std::size_t got = 0;
+    while (got < bytes.size()) {
+        const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int e = errno;
+            ::close(fd);
+            io_fail(path, n == 0 ? std::string("file shrank while reading") : std::strerror(e));
+        }
+        got += std::size_t(n);
+    }
+    ::close(fd);
+}
+
+/// Creates or truncates `file` and writes all of `bytes`, checking every write and the close
+/// (a full disk is an IoError naming `name`). No fsync: as OpenImageIO's writers, which the
+/// rename after it makes atomic, not durable.
+void write_bytes(const std::string& file, const std::uint8_t* bytes, std::size_t size,
+                 const std::string& name) {
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (fd < 0) io_fail(name, std::strerror(errno));
+    std::size_t done = 0;
+    while (done < size) {
+        const ssize_t n = ::write(fd, bytes + done, size - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const int e = n < 0 ? errno : ENOSPC;
+            ::close(fd);
+            io_fail(name, std::string("write failed: ") + std::strerror(e));
+        }
+        done += std::size_t(n);
+    }
+    if (::close(fd) != 0) io_fail(name, std::string("write failed: ") + std::strerror(errno));
+}
+
+// ---------------------------------------------------------------------------------------------
+// PNG decoding (libspng)
+
+struct SpngCtx {
+    spng_ctx* ctx = spng_ctx_new(0);
+    ~SpngCtx() { spng_ctx_free(ctx); }
+};
+
+[[noreturn]] void png_fail(const std::string& path, int err) {
+    io_fail(path, std::string("corrupt or truncated PNG (") + spng_strerror(err) + ")");
+}
+
+/// Opens `bytes` in `c` and returns its header, its size checked against deepsea's limits.
+spng_ihdr png_header(const std::string& path, SpngCtx& c, const std::vector<std::uint8_t>& bytes) {
+    if (!c.ctx) io_fail(path, "out of memory");
+    // Text and other ancillary chunks are not needed; cap what a hostile file can make libspng
+    // keep (the pixels are checked against deepsea's limits below).
+    spng_set_chunk_limits(c.ctx, 1 << 24, 1 << 26);
+    int err = spng_set_png_buffer(c.ctx, bytes.data(), bytes.size());
+    spng_ihdr ihdr{};
+    if (!err) err = spng_get_ihdr(c.ctx, &ihdr);
+    if (err) png_fail(path, err);
+    const int channels = ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR         ? 3
+                         : ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR_ALPHA ? 4
+                         : ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA ? 2
+                         : ihdr.color_type == SPNG_COLOR_TYPE_INDEXED         ? 3
+                                                                              : 1;
+    check_image_size(ihdr.width, ihdr.height, channels, path);
+    return ihdr;
+}
+
+thread_local std::vector<std::uint8_t> t_file;  // the encoded file, reused frame to frame
+thread_local std::vector<std::uint16_t> t_rgba16;
+
+}  // namespace
+
+void decode_png_rgb(const std::string& path, PngRgb& out) {
+    read_whole_file(path, t_file);
+    SpngCtx c;
+    const spng_ihdr ihdr = png_header(path, c, t_file);
+    out.width = int(ihdr.width);
+    out.height = int(ihdr.height);
+    const std::size_t n = std::size_t(out.width) * out.height;
+    int err = 0;
+    if (ihdr.bit_depth == 16) {
+        out.bits = 16;
+        // libspng converts every 16-bit colour type to RGBA16 (host order); alpha is dropped.
+        t_rgba16.resize(n * 4);
+        err = spng_decode_image(c.ctx, t_rgba16.data(), n * 8, SPNG_FMT_RGBA16, 0);
+        if (err) png_fail(path, err);
+        out.rgb16.resize(n * 3);
+        for (std::size_t i = 0; i < n; ++i) {
+            out.rgb16[i * 3 + 0] = t_rgba16[i * 4 + 0];
+            out.rgb16[i * 3 + 1] = t_rgba16[i * 4 + 1];
+            out.rgb16[i * 3 + 2] = t_rgba16[i * 4 + 2];
+        }
+    } else {
+        out.bits = 8;
+        out.rgb8.resize(n * 3);
+        err = spng_decode_image(c.ctx, out.rgb8.data(), n * 3, SPNG_FMT_RGB8, 0);
+        if (err) png_fail(path, err);
+    }
+}
+
+bool decode_png_grey16(const std::string& path, int& width, int& height,
+                       std::vector<std::uint16_t>& values) {
+    read_whole_file(path, t_file);
+    SpngCtx c;
+    const spng_ihdr ihdr = png_header(path, c, t_file);
+    if (ihdr.color_type != SPNG_COLOR_TYPE_GRAYSCALE || ihdr.bit_depth != 16) return false;
+    width = int(ihdr.width);
+    height = int(ihdr.height);
+    const std::size_t n = std::size_t(width) * height;
+    values.resize(n);
+    // SPNG_FMT_PNG: the file's own layout, in host order (only SPNG_FMT_RAW is big-endian).
+    const int err = spng_decode_image(c.ctx, values.data(), n * 2, SPNG_FMT_PNG, 0);
+    if (err) png_fail(path, err);
+    return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// PNG encoding (libdeflate)
+
+namespace {
+
+void put32(std::vector<std::uint8_t>& v, std::uint32_t x) {
+    v.push_back(std::uint8_t(x >> 24));
+    v.push_back(std::uint8_t(x >> 16));
+    v.push_back(std::uint8_t(x >> 8));
+    v.push_back(std::uint8_t(x));
+}
+
+/// Appends one chunk (length, type, data, CRC of type and data).
+void chunk(std::vector<std::uint8_t>& png, const char type[4], const std::uint8_t* data,
+           std::size_t size) {
+    put32(png, std::uint32_t(size));
+    const std::size_t start = png.size();
+    png.insert(png.end(), type, type + 4);
+    png.insert(png.end(), data, data + size);
+    put32(png, libdeflate_crc32(0, png.data() + start, size + 4));
+}
+
+struct Compressor {
+    libdeflate_compressor* c = libdeflate_alloc_compressor(1);
+    ~Compressor() { libdeflate_free_compressor(c); }
+};
+
+thread_local std::vector<std::uint8_t> t_filtered;
+thread_local std::vector<std::uint8_t> t_png;
+
+}  // namespace
+
+void write_png(const std::string& path, int width, int height, int channels,
+               const std::uint8_t* pixels8, const std::uint16_t* pixels16,
+               const ImageMetadata& meta) {
+    const int bytes = pixels16 ? 2 : 1;
+    const std::size_t row = std::size_t(width) * channels * bytes;
+    // Filter "up" (each byte minus the one above): the cheapest filter that helps, on rendered
+    // frames as small as libpng's adaptive choice at a fraction of the time.
+    std::vector<std::uint8_t>& f = t_filtered;
+    f.resize((row + 1) * height);
+    std::vector<std::uint8_t> prev(row, 0), cur(row);
+    for (int y = 0; y < height; ++y) {
+        if (pixels16) {
+            const std::uint16_t* s = pixels16 + std::size_t(y) * width * channels;
+            for (std::size_t i = 0; i < row / 2; ++i) {
+                cur[2 * i] = std::uint8_t(s[i] >> 8);  // PNG samples are big-endian
+                cur[2 * i + 1] = std::uint8_t(s[i]);
+            }
+        } else {
+            std::memcpy(cur.data(), pixels8 + std::size_t(y) * row, row);
+        }
+        std::uint8_t* d = f.data() + std::size_t(y) * (row + 1);
+        d[0] = 2;  // up
+        for (std::size_t i = 0; i < row; ++i) d[1 + i] = std::uint8_t(cur[i] - prev[i]);
+        std::swap(prev, cur);
+    }
+    static thread_local Compressor comp;
+    if (!comp.c) io_fail(path, "out of memory");
+    std::vector<std::uint8_t>& png = t_png;
+    png.clear();
+    static const std::uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    png.insert(png.end(), sig, sig + 8);
+    std::vector<std::uint8_t> ihdr;
+    put32(ihdr, std::uint32_t(width));
+    put32(ihdr, std::uint32_t(height));
+    ihdr.push_back(std::uint8_t(bytes * 8));
+    ihdr.push_back(channels == 3 ? 2 : 0);  // truecolour or grey
+    ihdr.push_back(0);                      // deflate
+    ihdr.push_back(0);                      // adaptive filtering
+    ihdr.push_back(0);                      // not interlaced
+    chunk(png, "IHDR", ihdr.data(), ihdr.size());
+    const std::uint8_t intent = 0;  // sRGB, perceptual
+    chunk(png, "sRGB", &intent, 1);
+    for (const auto& [name, value] : meta) {
+        std::vector<std::uint8_t> text(name.begin(),
+                                       name.begin() + std::min<std::size_t>(79, name.size()));
+        text.push_back(0);
+        text.insert(text.end(), value.begin(), value.end());
+        chunk(png, "tEXt", text.data(), text.size());
+    }
+    // One IDAT chunk holds the whole stream, compressed in place (no copy of the data).
+    const std::size_t bound = libdeflate_zlib_compress_bound(comp.c, f.size());
+    const std::size_t at = png.size();
+    png.resize(at + 8 + bound + 4);
+    const std::size_t z =
+        libdeflate_zlib_compress(comp.c, f.data(), f.size(), png.data() + at + 8, bound);
+    if (z == 0 || z > 0x7fffffff) io_fail(path, "deflate failed");
+    std::uint8_t* h = png.data() + at;
+    const auto be32 = [](std::uint8_t* d, std::uint32_t x) {
+        d[0] = std::uint8_t(x >> 24), d[1] = std::uint8_t(x >> 16), d[2] = std::uint8_t(x >> 8),
+        d[3] = std::uint8_t(x);
+    };
+    be32(h, std::uint32_t(z));
+    std::memcpy(h + 4, "IDAT", 4);
+    be32(h + 8 + z, libdeflate_crc32(0, h + 4, z + 4));
+    png.resize(at + 8 + z + 4);
+    chunk(png, "IEND", nullptr, 0);
+    write_atomically(
+        path, [&](const std::string& tmp) { write_bytes(tmp, png.data(), png.size(), path); });
+}
+
+// ---------------------------------------------------------------------------------------------
+// JPEG encoding (libjpeg-turbo)
+
+namespace {
+
+struct JpegError {
+    jpeg_error_mgr mgr;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX] = {};
+};
+
+extern "C" void jpeg_error_exit(j_common_ptr cinfo) {
+    auto* e = reinterpret_cast<JpegError*>(cinfo->err);
+    (*cinfo->err->format_message)(cinfo, e->message);
+    std::longjmp(e->jump, 1);
+}
+
+extern "C" void jpeg_silent(j_common_ptr, int) {}
+
+}  // namespace
+
+void write_jpeg(const std::string& path, int width, int height, int channels,
+                const std::uint8_t* pixels, const ImageMetadata& meta) {
+    std::string comment;
+    for (const auto& [name, value] : meta) comment += name + "=" + value + "\n";
+    unsigned char* buf = nullptr;
+    unsigned long size = 0;
+    // Plain C structs only between setjmp and longjmp (no destructors skipped).
+    jpeg_compress_struct cinfo{};
+    JpegError err;
+    cinfo.err = jpeg_std_error(&err.mgr);
+    err.mgr.error_exit = jpeg_error_exit;
+    err.mgr.emit_message = jpeg_silent;
+    if (setjmp(err.jump)) {
+        jpeg_destroy_compress(&cinfo);
+        std::free(buf);
+        io_fail(path, std::string("JPEG encoder: ") + err.message);
+    }
+    jpeg_create_compress(&cinfo);
+    jpeg_mem_dest(&cinfo, &buf, &size);
+    cinfo.image_width = JDIMENSION(width);
+    cinfo.image_height = JDIMENSION(height);
+    cinfo.input_components = channels;
+    cinfo.in_color_space = channels == 3 ? JCS_RGB : JCS_GRAYSCALE;
+    jpeg_set_defaults(&cinfo);  // 4:2:0, JFIF, Huffman tables of the standard
+    jpeg_set_quality(&cinfo, 95, TRUE);
+    jpeg_start_compress(&cinfo, TRUE);
+    if (comment.size() < 65000) {
+        jpeg_write_marker(&cinfo, JPEG_COM, reinterpret_cast<const JOCTET*>(comment.data()),
+                          unsigned(comment.size()));
+    }
+    const std::size_t row = std::size_t(width) * channels;
+    while (cinfo.next_scanline < cinfo.image_height) {
+        JSAMPROW r = const_cast<JSAMPROW>(pixels + cinfo.next_scanline * row);
+        jpeg_write_scanlines(&cinfo, &r, 1);
+    }
+    jpeg_finish_compress(&cinfo);
+    jpeg_destroy_compress(&cinfo);
+    try {
+        write_atomically(path, [&](const std::string& tmp) { write_bytes(tmp, buf, size, path); });
+    } catch (...) {
+        std::free(buf);
+        throw;
+    }
+    std::free(buf);
+}
+
+// ---------------------------------------------------------------------------------------------
+// EXR (OpenEXR)
+
+namespace {
+
+/// OpenEXR's global thread pool, sized once to the cores (it is separate from TBB's: its
+/// threads mostly wait on zlib/PIZ work of one file at a time).
+int exr_threads() {
+    static std::once_flag once;
+    static int n = 1;
+    std::call_once(once, [] {
+        n = int(std::max(1u, std::min(4u, std::thread::hardware_concurrency())));
+        if (Imf::globalThreadCount() < n) Imf::setGlobalThreadCount(n);
+    });
+    return n;
+}
+
+}  // namespace
+
+void write_exr(const std::string& path, int width, int height,
+               const std::vector<ExrChannel>& channels, bool half, const std::string& compression,
+               const ImageMetadata& meta) {
+    const int threads = exr_threads();
+    Imf::Header header(width, height);
+    header.compression() = compression == "piz" ? Imf::PIZ_COMPRESSION : Imf::ZIP_COMPRESSION;
+    for (const auto& [name, value] : meta) header.insert(name, Imf::StringAttribute(value));
+    Imf::FrameBuffer fb;
+    for (const ExrChannel& c : channels) {
+        header.channels().insert(c.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
+        // OpenEXR converts the float samples to half itself, row by row: no copy here.
+        fb.insert(
+            c.name,
+            Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(c.base)),
+                       sizeof(float) * c.stride, sizeof(float) * c.stride * std::size_t(width)));
+    }
+    write_atomically(path, [&](const std::string& tmp) {
+        try {
+            Imf::OutputFile out(tmp.c_str(), header, threads);
+            out.setFrameBuffer(fb);
+            out.writePixels(height);
+        } catch (const Error&) {
+            throw;
+        } catch (const std::exception& e) {
+            io_fail(path, e.what());
+        }
+    });
+}
+
+struct ExrReader::Impl {
+    std::unique_ptr<Imf::InputFile> file;
+    int x0 = 0, y0 = 0;
+};
+
+ExrReader::ExrReader(const std::string& path) : m_impl(new Impl), m_path(path) {
+    require_readable(path);
+    try {
+        m_impl->file = std::make_unique<Imf::InputFile>(path.c_str(), exr_threads());
+    } catch (const std::exception& e) {
+        io_fail(path, e.what());
+    }
+    const Imf::Header& h = m_impl->file->header();
+    const auto& dw = h.dataWindow();
+    const long long w = (long long)dw.max.x - dw.min.x + 1, hh = (long long)dw.max.y - dw.min.y + 1;
+    int n = 0;
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+        m_channels.push_back(it.name());
+        m_float.push_back(it.channel().type != Imf::UINT);
+        ++n;
+        if (n > kMaxImageChannels) break;
+    }
+    check_image_size(w, hh, n, path);
+    // OpenEXR lists channels alphabetically; OpenImageIO (and so deepsea's messages until
+    // now) lists each layer's R, G, B, A first: keep that order.
+    const auto rank = [](const std::string& name) {
+        const std::size_t dot = name.rfind('.');
+        const std::string suffix = dot == std::string::npos ? name : name.substr(dot + 1);
+        static const char* order[] = {"R", "G", "B", "A"};
+        for (int i = 0; i < 4; ++i)
+            if (suffix == order[i]) return i;
+        return 4;
+    };
+    const auto layer = [](const std::string& name) {
+        const std::size_t dot = name.rfind('.');
+        return dot == std::string::npos ? std::string() : name.substr(0, dot);
+    };
+    std::vector<std::size_t> idx(m_channels.size());
+    for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+        const std::string la = layer(m_channels[a]), lb = layer(m_channels[b]);
+        if (la != lb) return la < lb;
+        return rank(m_channels[a]) < rank(m_channels[b]);
+    });
+    std::vector<std::string> names;
+    std::vector<bool> floats;
+    for (std::size_t i : idx) names.push_back(m_channels[i]), floats.push_back(m_float[i]);
+    m_channels = std::move(names);
+    m_float = std::move(floats);
+    m_width = int(w);
+    m_height = int(hh);
+    m_impl->x0 = dw.min.x;
+    m_impl->y0 = dw.min.y;
+}
+
+ExrReader::~ExrReader() = default;
+
+void ExrReader::read(const std::vector<int>& channels, float* dst) {
+    const std::size_t w = std::size_t(m_width), nc = channels.size();
+    Imf::FrameBuffer fb;
+    for (std::size_t c = 0; c < nc; ++c) {
+        // The frame buffer's origin is the data window's, so that dst holds it from its first
+        // pixel.
+        char* base = reinterpret_cast<char*>(dst + c - std::ptrdiff_t(nc) * m_impl->x0 -
+                                             std::ptrdiff_t(nc * w) * m_impl->y0);
+        fb.insert(m_channels[channels[c]],
+                  Imf::Slice(Imf::FLOAT, base, sizeof(float) * nc, sizeof(float) * nc * w));
+    }
+    try {
+        m_impl->file->setFrameBuffer(fb);
+        m_impl->file->readPixels(m_impl->y0, m_impl->y0 + m_height - 1);
+    } catch (const std::exception& e) {
+        io_fail(m_path, e.what());
+    }
+}
+
+}  // namespace deepsea::io_detail
