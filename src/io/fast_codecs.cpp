@@ -4,6 +4,7 @@
 
 #include "fast_codecs.h"
 
+#include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -120,6 +121,7 @@ spng_ihdr png_header(const std::string& path, SpngCtx& c, const std::vector<std:
 
 thread_local std::vector<std::uint8_t> t_file;  // the encoded file, reused frame to frame
 thread_local std::vector<std::uint16_t> t_rgba16;
+thread_local std::vector<std::uint8_t> t_rgba8;
 
 }  // namespace
 
@@ -142,6 +144,19 @@ void decode_png_rgb(const std::string& path, PngRgb& out) {
             out.rgb16[i * 3 + 0] = t_rgba16[i * 4 + 0];
             out.rgb16[i * 3 + 1] = t_rgba16[i * 4 + 1];
             out.rgb16[i * 3 + 2] = t_rgba16[i * 4 + 2];
+        }
+    } else if (ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA ||
+               ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR_ALPHA) {
+        // With alpha: through RGBA8 (libspng's RGB8 from grey + alpha is not the grey).
+        out.bits = 8;
+        t_rgba8.resize(n * 4);
+        err = spng_decode_image(c.ctx, t_rgba8.data(), n * 4, SPNG_FMT_RGBA8, 0);
+        if (err) png_fail(path, err);
+        out.rgb8.resize(n * 3);
+        for (std::size_t i = 0; i < n; ++i) {
+            out.rgb8[i * 3 + 0] = t_rgba8[i * 4 + 0];
+            out.rgb8[i * 3 + 1] = t_rgba8[i * 4 + 1];
+            out.rgb8[i * 3 + 2] = t_rgba8[i * 4 + 2];
         }
     } else {
         out.bits = 8;
@@ -336,6 +351,59 @@ void write_jpeg(const std::string& path, int width, int height, int channels,
     std::free(buf);
 }
 
+namespace {
+
+/// Warnings are errors when decoding: libjpeg "warns" of a truncated file or damaged data and
+/// fills the rest with grey, which would be rendered as if it were the frame.
+extern "C" void jpeg_warning_is_error(j_common_ptr cinfo, int level) {
+    if (level < 0) jpeg_error_exit(cinfo);
+}
+
+}  // namespace
+
+void decode_jpeg_rgb(const std::string& path, int& width, int& height,
+                     std::vector<std::uint8_t>& rgb) {
+    read_whole_file(path, t_file);
+    jpeg_decompress_struct cinfo{};
+    JpegError err;
+    cinfo.err = jpeg_std_error(&err.mgr);
+    err.mgr.error_exit = jpeg_error_exit;
+    err.mgr.emit_message = jpeg_warning_is_error;
+    // Only C objects between here and the longjmp; the exception is thrown after it.
+    bool too_big = false;
+    long long w = 0, h = 0;
+    if (setjmp(err.jump)) {
+        jpeg_destroy_decompress(&cinfo);
+        io_fail(path, std::string("corrupt or truncated JPEG (") + err.message + ")");
+    }
+    jpeg_create_decompress(&cinfo);
+    jpeg_mem_src(&cinfo, t_file.data(), static_cast<unsigned long>(t_file.size()));
+    jpeg_read_header(&cinfo, TRUE);
+    w = cinfo.image_width;
+    h = cinfo.image_height;
+    too_big = w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide ||
+              (long double)w * h > kMaxImagePixels;
+    if (too_big) {
+        jpeg_destroy_decompress(&cinfo);
+        check_image_size(w, h, 3, path);  // throws
+    }
+    cinfo.out_color_space = JCS_RGB;  // grey and YCbCr alike; CMYK is refused below
+    if (cinfo.jpeg_color_space == JCS_CMYK || cinfo.jpeg_color_space == JCS_YCCK) {
+        jpeg_destroy_decompress(&cinfo);
+        io_fail(path, "CMYK JPEG is not supported");
+    }
+    jpeg_start_decompress(&cinfo);
+    width = int(w);
+    height = int(h);
+    rgb.resize(std::size_t(width) * height * 3);
+    while (cinfo.output_scanline < cinfo.output_height) {
+        JSAMPROW r = rgb.data() + std::size_t(cinfo.output_scanline) * width * 3;
+        jpeg_read_scanlines(&cinfo, &r, 1);
+    }
+    jpeg_finish_decompress(&cinfo);
+    jpeg_destroy_decompress(&cinfo);
+}
+
 // ---------------------------------------------------------------------------------------------
 // EXR (OpenEXR)
 
@@ -363,13 +431,26 @@ void write_exr(const std::string& path, int width, int height,
     header.compression() = compression == "piz" ? Imf::PIZ_COMPRESSION : Imf::ZIP_COMPRESSION;
     for (const auto& [name, value] : meta) header.insert(name, Imf::StringAttribute(value));
     Imf::FrameBuffer fb;
-    for (const ExrChannel& c : channels) {
+    const std::size_t n = std::size_t(width) * height, nc = channels.size();
+    // Float channels are written straight from the caller's images; half ones from one
+    // interleaved half copy (OpenEXR's writer does not convert float slices to half).
+    thread_local std::vector<Imath::half> halves;
+    if (half) halves.resize(n * nc);
+    for (std::size_t k = 0; k < nc; ++k) {
+        const ExrChannel& c = channels[k];
         header.channels().insert(c.name, Imf::Channel(half ? Imf::HALF : Imf::FLOAT));
-        // OpenEXR converts the float samples to half itself, row by row: no copy here.
-        fb.insert(
-            c.name,
-            Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(c.base)),
-                       sizeof(float) * c.stride, sizeof(float) * c.stride * std::size_t(width)));
+        if (half) {
+            Imath::half* h = halves.data() + k;
+            for (std::size_t i = 0; i < n; ++i) h[i * nc] = Imath::half(c.base[i * c.stride]);
+            fb.insert(c.name,
+                      Imf::Slice(Imf::HALF, reinterpret_cast<char*>(h), sizeof(Imath::half) * nc,
+                                 sizeof(Imath::half) * nc * std::size_t(width)));
+        } else {
+            fb.insert(c.name,
+                      Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(c.base)),
+                                 sizeof(float) * c.stride,
+                                 sizeof(float) * c.stride * std::size_t(width)));
+        }
     }
     write_atomically(path, [&](const std::string& tmp) {
         try {

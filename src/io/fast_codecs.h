@@ -47,6 +47,12 @@ void write_png(const std::string& path, int width, int height, int channels,
 void write_jpeg(const std::string& path, int width, int height, int channels,
                 const std::uint8_t* pixels, const ImageMetadata& meta);
 
+/// Decodes a JPEG (baseline or progressive, grey or YCbCr) to 8-bit RGB in `rgb` (resized),
+/// as libjpeg-turbo decodes it for OpenImageIO. A truncated or damaged file is an IoError
+/// naming it (libjpeg's warnings are errors here: it would fill the missing rows with grey).
+void decode_jpeg_rgb(const std::string& path, int& width, int& height,
+                     std::vector<std::uint8_t>& rgb);
+
 /// One channel of an EXR to write: `base` points at the first pixel's sample, `stride` floats
 /// between pixels (rows follow each other).
 struct ExrChannel {

@@ -321,6 +321,15 @@ Image read_color(const std::string& path) {
 void read_color(const std::string& path, Image& out) {
     const std::string ext = extension(path);
     if (ext == ".png") return read_png_color(path, out);
+    if (ext == ".jpg" || ext == ".jpeg") {
+        io_detail::PngRgb& p = t_png;  // its 8-bit buffer, reused
+        int w = 0, h = 0;
+        io_detail::decode_jpeg_rgb(path, w, h, p.rgb8);
+        fit(out, w, h, 3);
+        const float* lut = srgb_decode_table(255);
+        for (std::size_t i = 0; i < out.data.size(); ++i) out.data[i] = lut[p.rgb8[i]];
+        return;
+    }
     out = read_color_oiio(path);
 }
 

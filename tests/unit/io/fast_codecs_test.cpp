@@ -1,0 +1,360 @@
+// The fast PNG/JPEG/EXR paths of image_io against OpenImageIO: the same integer codes, files
+// that OpenImageIO decodes with their metadata, and the same guards (one-line errors naming the
+// file, header limits, nothing left behind).
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "deepsea/core/error.h"
+#include "deepsea/io/image_io.h"
+#include "io_fixtures.h"
+
+namespace deepsea {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FastCodecs : public test::TempFolderTest {};
+
+/// Linear values that probe the encoder: a dense sweep of [0, 1], values a few ulps around
+/// every 8-bit code's boundary, and the specials (NaN, inf, negative, -0, above 1).
+Image probe_image(int w, int h) {
+    Image img(w, h, 3);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const std::size_t n = img.data.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        float v = float(i) / float(n);
+        if (i % 3 == 1) v = u(rng) * u(rng) * u(rng);
+        if (i % 7 == 2) {
+            // near the boundary between codes k and k + 1 (in sRGB), a few ulps either way
+            const float s = (float(i % 255) + 0.5f) / 255.0f;
+            float lin = s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
+            for (int k = int(i % 9) - 4; k != 0; k += k > 0 ? -1 : 1)
+                lin = std::nextafter(lin, k > 0 ? 2.0f : -1.0f);
+            v = lin;
+        }
+        img.data[i] = v;
+    }
+    const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                              std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity(),
+                              -0.0f,
+                              -1.0f,
+                              1.0f,
+                              1.5f,
+                              1e30f,
+                              std::numeric_limits<float>::denorm_min()};
+    for (std::size_t i = 0; i < std::size(specials); ++i) img.data[i] = specials[i];
+    return img;
+}
+
+/// The file's pixels as OpenImageIO decodes them, as `type` (alpha unassociated, as deepsea
+/// reads it).
+template <class T>
+std::vector<T> oiio_pixels(const std::string& path, OIIO::TypeDesc type, int* channels = nullptr) {
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path, &config);
+    EXPECT_TRUE(in) << OIIO::geterror();
+    if (!in) return {};
+    const auto& spec = in->spec();
+    if (channels) *channels = spec.nchannels;
+    std::vector<T> px(std::size_t(spec.width) * spec.height * spec.nchannels);
+    EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, type, px.data()));
+    return px;
+}
+
+std::string error_of(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+/// Compares two code lists: every code within 1, and at most `max_off` of them off by one.
+template <class T>
+void expect_codes_match(const std::vector<T>& a, const std::vector<T>& b, std::size_t max_off) {
+    ASSERT_EQ(a.size(), b.size());
+    std::size_t off = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_LE(std::abs(int(a[i]) - int(b[i])), 1) << i;
+        off += a[i] != b[i];
+    }
+    EXPECT_LE(off, max_off);
+}
+
+TEST_F(FastCodecs, PngCodesAreOpenImageIOs) {
+    // TIFF still goes through OpenImageIO's float to integer conversion: the reference. It is
+    // the same except where value x codes lies within an ulp of k + 1/2: OpenImageIO's own
+    // vector and scalar loops disagree there (its output depends on the pixel's position), and
+    // the probe puts about 2 % of its values there on purpose; a rendered frame has none
+    // (docs/runtime.md).
+    const Image img = probe_image(256, 128);
+    const std::size_t n = img.data.size();
+    for (int bits : {8, 16}) {
+        write_color(path("a.png"), img, bits);
+        write_color(path("a.tif"), img, bits);
+        if (bits == 8) {
+            expect_codes_match(oiio_pixels<std::uint8_t>(path("a.png"), OIIO::TypeDesc::UINT8),
+                               oiio_pixels<std::uint8_t>(path("a.tif"), OIIO::TypeDesc::UINT8),
+                               n / 1000);
+        } else {
+            expect_codes_match(oiio_pixels<std::uint16_t>(path("a.png"), OIIO::TypeDesc::UINT16),
+                               oiio_pixels<std::uint16_t>(path("a.tif"), OIIO::TypeDesc::UINT16),
+                               n / 1000);
+        }
+    }
+    // Random values (no engineered ties) come out identical.
+    Image rnd(128, 128, 3);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (float& v : rnd.data) v = u(rng) * u(rng);
+    write_color(path("r.png"), rnd, 8);
+    write_color(path("r.tif"), rnd, 8);
+    EXPECT_EQ(oiio_pixels<std::uint8_t>(path("r.png"), OIIO::TypeDesc::UINT8),
+              oiio_pixels<std::uint8_t>(path("r.tif"), OIIO::TypeDesc::UINT8));
+}
+
+/// What read_color makes of a value OpenImageIO decoded as float from a `codes`-level file.
+float decoded(float f, int codes) {
+    return srgb_to_linear(float(std::lround(f * codes)) / float(codes));
+}
+
+TEST_F(FastCodecs, ExposureWhileEncodingEqualsAnExposedCopy) {
+    const Image img = probe_image(64, 64);
+    Image exposed = img;
+    for (float& v : exposed.data) v = float(v * 3.7);
+    write_color(path("a.png"), img, 8, {}, 3.7);
+    write_color(path("b.png"), exposed, 8);
+    EXPECT_EQ(read_color(path("a.png")).data, read_color(path("b.png")).data);
+}
+
+TEST_F(FastCodecs, PngDecodesWithOpenImageIOWithItsMetadata) {
+    const Image img = probe_image(33, 17);
+    const ImageMetadata meta{{"deepsea:exposure", "1.25"}, {"deepsea:asset_hash", "fnv1a64:ab"}};
+    for (int bits : {8, 16}) {
+        write_color(path("m.png"), img, bits, meta);
+        auto in = OIIO::ImageInput::open(path("m.png"));
+        ASSERT_TRUE(in) << OIIO::geterror();
+        const auto& spec = in->spec();
+        EXPECT_EQ(spec.width, 33);
+        EXPECT_EQ(spec.nchannels, 3);
+        EXPECT_EQ(spec.format, bits == 8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::UINT16);
+        EXPECT_EQ(spec.get_string_attribute("deepsea:exposure"), "1.25");
+        EXPECT_EQ(spec.get_string_attribute("deepsea:asset_hash"), "fnv1a64:ab");
+        EXPECT_EQ(spec.get_string_attribute("oiio:ColorSpace"), "sRGB");
+        // read_color (libspng) decodes what OpenImageIO decodes.
+        const std::vector<float> f = oiio_pixels<float>(path("m.png"), OIIO::TypeDesc::FLOAT);
+        const Image back = read_color(path("m.png"));
+        ASSERT_EQ(back.data.size(), f.size());
+        for (std::size_t i = 0; i < f.size(); ++i)
+            ASSERT_EQ(back.data[i], decoded(f[i], bits == 8 ? 255 : 65535)) << i;
+    }
+    write_color(path("grey.png"), Image(5, 4, 1, 0.5f), 8);
+    int channels = 0;
+    (void)oiio_pixels<std::uint8_t>(path("grey.png"), OIIO::TypeDesc::UINT8, &channels);
+    EXPECT_EQ(channels, 1);
+    EXPECT_EQ(read_color(path("grey.png")).channels, 3);
+}
+
+TEST_F(FastCodecs, PngsOfEveryKindReadAsOpenImageIOReadsThem) {
+    // Written by OpenImageIO itself (libpng): grey, grey + alpha, RGB, RGBA at 8 and 16 bits.
+    std::mt19937 rng(3);
+    for (int nch : {1, 2, 3, 4}) {
+        for (OIIO::TypeDesc type : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
+            const std::string p = path("k" + std::to_string(nch) + type.c_str() + ".png");
+            OIIO::ImageSpec spec(19, 7, nch, type);
+            spec.attribute("oiio:UnassociatedAlpha", 1);  // the values as they are
+            std::vector<std::uint16_t> px(std::size_t(19) * 7 * nch);
+            for (auto& v : px) v = std::uint16_t(rng());
+            auto out = OIIO::ImageOutput::create(p);
+            ASSERT_TRUE(out && out->open(p, spec));
+            ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, px.data()));
+            out->close();
+            const std::vector<float> f = oiio_pixels<float>(p, OIIO::TypeDesc::FLOAT);
+            const Image img = read_color(p);
+            ASSERT_EQ(img.channels, 3);
+            const int use = nch >= 3 ? 3 : 1;
+            for (std::size_t i = 0; i < std::size_t(19) * 7; ++i)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_EQ(img.data[i * 3 + c],
+                              decoded(f[i * nch + (use == 3 ? c : 0)],
+                                      type == OIIO::TypeDesc::UINT8 ? 255 : 65535))
+                        << p << " " << i;
+        }
+    }
+}
+
+TEST_F(FastCodecs, JpegPixelsAreOpenImageIOsAndCarryMetadata) {
+    const Image img = probe_image(96, 64);
+    write_color(path("fast.jpg"), img, 8, {{"deepsea:exposure", "2.5"}});
+    // The same codes through OpenImageIO's own JPEG writer (quality 95, its defaults).
+    write_color(path("codes.png"), img, 8);
+    const std::vector<std::uint8_t> codes =
+        oiio_pixels<std::uint8_t>(path("codes.png"), OIIO::TypeDesc::UINT8);
+    {
+        auto out = OIIO::ImageOutput::create(path("oiio.jpg"));
+        OIIO::ImageSpec spec(96, 64, 3, OIIO::TypeDesc::UINT8);
+        spec.attribute("CompressionQuality", 95);
+        ASSERT_TRUE(out && out->open(path("oiio.jpg"), spec));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, codes.data()));
+        out->close();
+    }
+    EXPECT_EQ(oiio_pixels<std::uint8_t>(path("fast.jpg"), OIIO::TypeDesc::UINT8),
+              oiio_pixels<std::uint8_t>(path("oiio.jpg"), OIIO::TypeDesc::UINT8));
+    // read_color (libjpeg-turbo) decodes what OpenImageIO decodes.
+    const std::vector<float> f = oiio_pixels<float>(path("fast.jpg"), OIIO::TypeDesc::FLOAT);
+    const Image back = read_color(path("fast.jpg"));
+    ASSERT_EQ(back.data.size(), f.size());
+    for (std::size_t i = 0; i < f.size(); ++i) ASSERT_EQ(back.data[i], decoded(f[i], 255)) << i;
+    auto in = OIIO::ImageInput::open(path("fast.jpg"));
+    ASSERT_TRUE(in);
+    EXPECT_NE(in->spec().get_string_attribute("ImageDescription").find("deepsea:exposure=2.5"),
+              std::string::npos);
+}
+
+TEST_F(FastCodecs, HalfAndFloatExrLayersRoundTrip) {
+    Image rgb(7, 5, 3), depth(7, 5, 1);
+    for (std::size_t i = 0; i < rgb.data.size(); ++i) rgb.data[i] = 0.1f + 1e-3f * float(i);
+    for (std::size_t i = 0; i < depth.data.size(); ++i) depth.data[i] = 2.0f + 0.37f * float(i);
+    const std::vector<ExrLayer> layers{{"final", &rgb, {"R", "G", "B"}}, {"depth", &depth, {"Z"}}};
+    write_exr_layers(path("f.exr"), layers, {{"deepsea:exposure", "3"}});
+    write_exr_layers(path("h.exr"), layers, {}, true);
+    EXPECT_EQ(read_exr_layer(path("f.exr"), "final", {"R", "G", "B"}).data, rgb.data);
+    EXPECT_EQ(read_depth(path("f.exr"), {"depth.Z"}).data, depth.data);
+    const Image h = read_exr_layer(path("h.exr"), "final", {"R", "G", "B"});
+    for (std::size_t i = 0; i < rgb.data.size(); ++i)
+        EXPECT_NEAR(h.data[i], rgb.data[i], rgb.data[i] * 1e-3f);
+    for (const char* f : {"f.exr", "h.exr"}) {
+        auto in = OIIO::ImageInput::open(path(f));
+        ASSERT_TRUE(in) << OIIO::geterror();
+        EXPECT_EQ(in->spec().nchannels, 4);
+        EXPECT_EQ(in->spec().format, f[0] == 'h' ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    }
+    auto in = OIIO::ImageInput::open(path("f.exr"));
+    EXPECT_EQ(in->spec().get_string_attribute("deepsea:exposure"), "3");
+    EXPECT_GT(fs::file_size(path("f.exr")), fs::file_size(path("h.exr")));
+}
+
+TEST_F(FastCodecs, DepthExrReadsTheDataWindowAndHalfChannels) {
+    // An EXR whose data window does not start at (0, 0), with a half channel.
+    const std::string p = path("win.exr");
+    OIIO::ImageSpec spec(6, 4, 1, OIIO::TypeDesc::HALF);
+    spec.x = 3;
+    spec.y = 2;
+    spec.channelnames = {"Z"};
+    std::vector<float> z(24);
+    for (std::size_t i = 0; i < z.size(); ++i) z[i] = 0.5f * float(i);
+    auto out = OIIO::ImageOutput::create(p);
+    ASSERT_TRUE(out && out->open(p, spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, z.data()));
+    out->close();
+    const Image d = read_depth(p);
+    EXPECT_EQ(d.width, 6);
+    EXPECT_EQ(d.height, 4);
+    EXPECT_EQ(d.data, z);
+}
+
+TEST_F(FastCodecs, ReadsReuseTheImagesStorage) {
+    write_color(path("a.png"), probe_image(40, 30), 8);
+    Image img;
+    read_color(path("a.png"), img);
+    const float* before = img.data.data();
+    read_color(path("a.png"), img);
+    EXPECT_EQ(img.data.data(), before);
+    EXPECT_EQ(img.data, read_color(path("a.png")).data);
+}
+
+TEST_F(FastCodecs, CorruptOrTruncatedFilesAreOneLineIoErrorsNamingTheFile) {
+    write_color(path("ok.png"), probe_image(64, 48), 8);
+    write_color(path("ok16.png"), Image(64, 48, 1, 0.5f), 16);
+    write_color(path("ok.jpg"), probe_image(64, 48), 8);
+    Image depth(64, 48, 1, 3.0f);
+    write_depth_exr(path("ok.exr"), depth);
+    for (const std::string f : {"ok.png", "ok16.png", "ok.jpg", "ok.exr"}) {
+        std::ifstream is(path(f), std::ios::binary);
+        const std::string bytes{std::istreambuf_iterator<char>(is), {}};
+        const std::string ext = fs::path(f).extension().string();
+        std::vector<std::pair<std::string, std::string>> damaged;
+        for (std::size_t cut :
+             {std::size_t(8), std::size_t(40), bytes.size() / 2, bytes.size() - 5}) {
+            damaged.emplace_back("cut" + std::to_string(cut) + ext, bytes.substr(0, cut));
+        }
+        std::string flipped = bytes;
+        for (std::size_t i = bytes.size() / 3; i < bytes.size() / 3 + 64; ++i) flipped[i] ^= 0x5a;
+        damaged.emplace_back("flip" + ext, flipped);
+        for (const auto& [name, content] : damaged) {
+            const std::string p = path(f.substr(0, f.size() - ext.size()) + "-" + name);
+            test::write_bytes(p, content);
+            const std::string msg = error_of([&] {
+                if (ext == ".exr") {
+                    (void)read_depth(p);
+                    (void)read_exr_layer(p, "", {"Z"});
+                } else if (f == "ok16.png") {
+                    (void)read_depth(p);
+                } else {
+                    (void)read_color(p);
+                }
+            });
+            // Damaged entropy data may still decode to some pixels (nothing says it is wrong),
+            // and a PNG whose last 5 bytes (of its end chunk) are cut still has all its pixels.
+            if (msg.empty() && ext == ".jpg" && name.rfind("flip", 0) == 0) continue;
+            if (msg.empty() && ext == ".png" && content.size() + 5 == bytes.size()) continue;
+            EXPECT_EQ(msg.rfind(p + ": ", 0), 0u) << p << ": " << msg;
+            EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+        }
+    }
+}
+
+TEST_F(FastCodecs, HeaderSizesBeyondTheLimitAreRefusedBeforeAllocating) {
+    // A valid 2x2 PNG and EXR whose headers are edited to claim 20000 x 20000.
+    write_color(path("small.png"), Image(2, 2, 3, 0.5f), 8);
+    write_depth_exr(path("small.exr"), Image(2, 2, 1, 1.0f));
+    {
+        std::fstream f(path("small.png"), std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(16);
+        f.write(test::be32(20000).data(), 4);
+        f.write(test::be32(20000).data(), 4);
+    }
+    EXPECT_NE(error_of([&] { (void)read_color(path("small.png")); }).find("small.png"),
+              std::string::npos);
+    std::ifstream is(path("small.exr"), std::ios::binary);
+    std::string bytes{std::istreambuf_iterator<char>(is), {}};
+    is.close();
+    const std::string key = std::string("dataWindow\0box2i\0", 17);
+    const std::size_t at = bytes.find(key);
+    ASSERT_NE(at, std::string::npos);
+    const std::int32_t big = 19999;
+    std::memcpy(&bytes[at + key.size() + 4 + 8], &big, 4);   // max.x
+    std::memcpy(&bytes[at + key.size() + 4 + 12], &big, 4);  // max.y
+    test::write_bytes(path("big.exr"), bytes);
+    const std::string msg = error_of([&] { (void)read_depth(path("big.exr")); });
+    EXPECT_EQ(msg.rfind(path("big.exr") + ":", 0), 0u) << msg;
+}
+
+TEST_F(FastCodecs, PngWriteFailureLeavesNothing) {
+    fs::create_directories(dir_ / "out.png" / "x");  // the rename onto a full folder fails
+    EXPECT_THROW(write_color(path("out.png"), Image(3, 3, 3, 0.2f)), IoError);
+    EXPECT_THROW(write_color(path("out.jpg/"), Image(3, 3, 3, 0.2f)), IoError);
+    std::vector<std::string> left;
+    for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename());
+    EXPECT_EQ(left, std::vector<std::string>{"out.png"});
+}
+
+}  // namespace
+}  // namespace deepsea
