@@ -52,6 +52,10 @@ void read_whole_file(const std::string& path, std::vector<std::uint8_t>& bytes) 
         ::close(fd);
         io_fail(path, std::strerror(e));
     }
+    if (st.st_size == 0) {
+        ::close(fd);
+        io_fail(path, "empty file");
+    }
     bytes.resize(std::size_t(st.st_size));
     std::size_t got = 0;
     while (got < bytes.size()) {

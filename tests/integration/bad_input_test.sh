@@ -114,6 +114,15 @@ bad "image: empty" "empty.png" "$ds" "${ref[@]}" --rgb "$work/empty.png" --depth
 head -c 300 "$rgb" > "$work/cut.png"
 bad "image: truncated PNG" "cut.png" "$ds" "${ref[@]}" --rgb "$work/cut.png" --depth "$depth" \
   -o "$work/res.png"
+# JPEG colour and EXR depth are decoded by libjpeg-turbo and OpenEXR directly: a cut file is
+# still one line (libjpeg would fill the missing rows with grey and only warn).
+"$ds" "${ref[@]}" --rgb "$rgb" --depth "$depth" -o "$work/ok.jpg" >/dev/null
+head -c 400 "$work/ok.jpg" > "$work/cut.jpg"
+bad "image: truncated JPEG" "cut.jpg" "$ds" "${ref[@]}" --rgb "$work/cut.jpg" --depth "$depth" \
+  -o "$work/res.png"
+head -c $(($(stat -c %s "$depth") / 2)) "$depth" > "$work/cut.exr"
+bad "depth: truncated EXR" "cut.exr" "$ds" "${ref[@]}" --rgb "$rgb" --depth "$work/cut.exr" \
+  -o "$work/res.png"
 cp "$rgb" "$work/png.exr"
 bad "depth: PNG renamed .exr" "png.exr" "$ds" "${ref[@]}" --rgb "$rgb" --depth "$work/png.exr" \
   -o "$work/res.png"

@@ -66,4 +66,52 @@ expect_fail "asset of another camera" \
 expect_fail "unwritable output" \
   "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$d1" -o /nonexistent/x.png
 expect_absent "$work"/bad[1235].png "$work/bad4" /nonexistent/x.png
+
+# --layer-set and --half: only the chosen layers, in half floats, the same values as the full
+# float file's to half precision; a sequence's manifest records both; an unknown layer is a
+# usage error (exit 2, one line) before any work.
+"$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$d1" --layers "$work/some.exr" \
+  --layer-set depth,final --half | grep -q "wrote $work/some.exr"
+"$ds" render --asset "$work/a.vdb" --rgb "$work/in/*.png" --depth "$work/in/*_depth.exr" \
+  --layers "$work/lay" --layer-set backscatter --half | grep -q "rendered 3 frame(s)"
+/usr/bin/python3 - "$work/one.exr" "$work/some.exr" "$work/lay" <<'PY'
+import json, os, sys
+import numpy as np
+import OpenImageIO as oiio
+full, some, lay = sys.argv[1:]
+a, b = oiio.ImageInput.open(full), oiio.ImageInput.open(some)
+assert a.spec().nchannels == 19 and a.spec().format == "float", a.spec().channelnames
+assert sorted(b.spec().channelnames) == ["depth.Z", "final.B", "final.G", "final.R"], \
+    b.spec().channelnames
+assert b.spec().format == "half", b.spec().format
+fa, fb = a.read_image("float"), b.read_image("float")
+for i, name in enumerate(b.spec().channelnames):
+    ref = fa[..., list(a.spec().channelnames).index(name)]
+    assert np.allclose(fb[..., i], ref, rtol=1e-3, atol=1e-6), name
+assert b.spec().getattribute("deepsea:exposure"), "metadata"
+m = json.load(open(os.path.join(lay, "deepsea-sequence.json")))
+assert m["outputs"]["layers"] == "backscatter" and m["outputs"]["half"] is True, m["outputs"]
+names = [f for f in os.listdir(lay) if f.endswith(".exr")]
+assert len(names) == 3, names
+assert sorted(oiio.ImageInput.open(os.path.join(lay, names[0])).spec().channelnames) == \
+    ["backscatter.B", "backscatter.G", "backscatter.R"]
+PY
+# --resume with another layer set or without --half is refused.
+expect_fail "resume with another layer set" \
+  "$ds" render --asset "$work/a.vdb" --rgb "$work/in/*.png" --depth "$work/in/*_depth.exr" \
+  --layers "$work/lay" --layer-set final --half --resume
+grep -q -- "--layer-set" "$work/err.txt"
+"$ds" render --asset "$work/a.vdb" --rgb "$work/in/*.png" --depth "$work/in/*_depth.exr" \
+  --layers "$work/lay" --layer-set backscatter --half --resume | grep -q "skipped 3"
+for bad in "final,bogus" "final,final" ""; do
+  set +e
+  "$ds" render --asset "$work/a.vdb" --rgb "$f1" --depth "$d1" --layers "$work/bad6.exr" \
+    --layer-set "$bad" >"$work/out.txt" 2>"$work/err.txt"
+  rc=$?
+  set -e
+  [[ $rc -eq 2 && $(wc -l <"$work/err.txt") -eq 1 ]] || { echo "FAIL --layer-set '$bad': exit $rc"; cat "$work/err.txt"; exit 1; }
+  echo "ok --layer-set '$bad' (exit 2): $(cat "$work/err.txt")"
+done
+grep -q "unknown layer\|no layer\|twice" "$work/err.txt"
+expect_absent "$work/bad6.exr"
 echo "render CLI: OK"

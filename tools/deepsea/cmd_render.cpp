@@ -62,6 +62,8 @@ void run(const RenderArgs& a) {
     opt.resume = a.resume;
     opt.forward = !a.no_forward;
     opt.bits = a.bits;
+    if ((a.half || a.layer_set != "all") && a.layers.empty())
+        throw ConfigError("--layer-set and --half choose what --layers writes: give --layers");
     opt.layer_output.names = parse_layer_set(a.layer_set);
     opt.layer_output.half = a.half;
     opt.version = DEEPSEA_VERSION;
@@ -139,7 +141,8 @@ void setup_render(CLI::App& sub) {
             try {
                 (void)parse_layer_set(text);
             } catch (const Error& e) {
-                return e.what();
+                const std::string m = e.what(), prefix = "--layer-set: ";  // CLI11 names it
+                return m.rfind(prefix, 0) == 0 ? m.substr(prefix.size()) : m;
             }
             return "";
         },
