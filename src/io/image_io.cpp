@@ -461,6 +461,55 @@ void require_image_writer(const std::string& path) {
     if (!has_image_writer(path)) fail_no_writer(path);
 }
 
+bool writes_encoded(const std::string& path) {
+    const std::string ext = extension(path);
+    return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
+}
+
+void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::string& path,
+                 EncodedImage& out) {
+    const std::string ext = extension(path);
+    const int b = ext == ".png" ? bits : 8;
+    out.width = linear_rgb.width;
+    out.height = linear_rgb.height;
+    out.channels = linear_rgb.channels;
+    out.bits = b;
+    const std::size_t n = linear_rgb.data.size();
+    // Integer codes straight from the table (OpenImageIO's float to integer conversion of
+    // linear_to_srgb without a pow per value), times the exposure as apply_exposure rounds it.
+    const SrgbEncoder& enc = srgb_encoder(b);
+    const float* in = linear_rgb.data.data();
+    if (b == 8) {
+        out.codes8.resize(n);
+    } else {
+        out.codes16.resize(n);
+    }
+    std::uint8_t* c8 = out.codes8.data();
+    std::uint16_t* c16 = out.codes16.data();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+        if (b == 8) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i)
+                c8[i] = std::uint8_t(enc(float(in[i] * exposure)));
+        } else {
+            for (std::size_t i = r.begin(); i < r.end(); ++i)
+                c16[i] = std::uint16_t(enc(float(in[i] * exposure)));
+        }
+    });
+}
+
+void write_encoded(const std::string& path, const EncodedImage& img, const ImageMetadata& meta) {
+    const std::string ext = extension(path);
+    if (ext == ".png") {
+        io_detail::write_png(path, img.width, img.height, img.channels,
+                             img.bits == 8 ? img.codes8.data() : nullptr,
+                             img.bits == 16 ? img.codes16.data() : nullptr, meta);
+    } else if ((ext == ".jpg" || ext == ".jpeg") && img.bits == 8) {
+        io_detail::write_jpeg(path, img.width, img.height, img.channels, img.codes8.data(), meta);
+    } else {
+        throw InputError(path + ": write_encoded writes 8/16-bit PNG and 8-bit JPEG only");
+    }
+}
+
 void write_color(const std::string& path, const Image& linear_rgb, int bits,
                  const ImageMetadata& meta, double exposure) {
     if (linear_rgb.channels != 3 && linear_rgb.channels != 1)
@@ -474,36 +523,10 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
     const std::size_t n = linear_rgb.data.size();
     // The same float as apply_exposure's: the factor in double, rounded once.
     const auto exposed = [&](std::size_t i) { return float(linear_rgb.data[i] * exposure); };
-    const bool jpeg = ext == ".jpg" || ext == ".jpeg";
-    if (ext == ".png" || jpeg) {
-        // Integer codes straight from the table (bit-identical to OpenImageIO's float to
-        // integer conversion of linear_to_srgb), into buffers kept from frame to frame.
-        const int b = jpeg ? 8 : bits;
-        const SrgbEncoder& enc = srgb_encoder(b);
-        thread_local std::vector<std::uint8_t> codes8;
-        thread_local std::vector<std::uint16_t> codes16;
-        if (b == 8) {
-            codes8.resize(n);
-        } else {
-            codes16.resize(n);
-        }
-        std::uint8_t* c8 = codes8.data();
-        std::uint16_t* c16 = codes16.data();
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-            if (b == 8) {
-                for (std::size_t i = r.begin(); i < r.end(); ++i)
-                    c8[i] = std::uint8_t(enc(exposed(i)));
-            } else {
-                for (std::size_t i = r.begin(); i < r.end(); ++i)
-                    c16[i] = std::uint16_t(enc(exposed(i)));
-            }
-        });
-        if (jpeg) {
-            io_detail::write_jpeg(path, linear_rgb.width, linear_rgb.height, nch, c8, meta);
-        } else {
-            io_detail::write_png(path, linear_rgb.width, linear_rgb.height, nch,
-                                 b == 8 ? c8 : nullptr, b == 16 ? c16 : nullptr, meta);
-        }
+    if (writes_encoded(path)) {
+        thread_local EncodedImage codes;  // kept from frame to frame
+        encode_srgb(linear_rgb, exposure, bits, path, codes);
+        write_encoded(path, codes, meta);
         return;
     }
     std::vector<float> data(n);

@@ -28,8 +28,9 @@ struct Slot {
     bool skip = false;
     std::string error;
     Frame frame;
-    Layers layers;  ///< filled only for jobs that write all layers
-    Image final;    ///< the final layer, for the exposed image
+    Layers layers;         ///< filled only for jobs that write layers
+    EncodedImage encoded;  ///< the exposed image's codes (PNG, JPEG outputs)
+    Image final;           ///< the final layer, for other outputs (TIFF, EXR)
 };
 
 /// An output that a finished write left: non-empty and decoding fully. A kill never leaves a
@@ -148,8 +149,9 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     double exposure = record.exposure;
     ImageMetadata meta;
 
-    // A few slots in flight: one being read, one composited, one or two being written.
-    constexpr int kTokens = 4;
+    // A few slots in flight: one being read, one composited, one being written. Each holds its
+    // frame's inputs (a 1080p frame: 33 MB of float), so no more than that.
+    constexpr int kTokens = 3;
     std::vector<Slot> slots(kTokens);
     int next = 0, done = 0;
     std::mutex mutex;  // result, record and the manifest files
@@ -202,10 +204,20 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         compositor->composite(
                             out, s->frame,
                             all ? opt.layer_output.compositor_set() : LayerSet::Final);
-                        s->final = out.final;
                         if (exposure == 0.0) {
-                            exposure = exposure_factor(opt.exposure, s->final);
+                            exposure = exposure_factor(opt.exposure, out.final);
                             record.exposure_frame = jobs[s->index].rgb;
+                        }
+                        // What the writer needs, kept small: PNG and JPEG codes (a quarter of
+                        // the float image), encoded here while the exposure is known.
+                        // (With layers, the slot's own final layer is written from.)
+                        const std::string& o = jobs[s->index].output;
+                        if (!o.empty() && !all) {
+                            if (writes_encoded(o)) {
+                                encode_srgb(out.final, exposure, opt.bits, o, s->encoded);
+                            } else {
+                                s->final = out.final;
+                            }
                         }
                     } catch (const AssetError&) {
                         throw;  // the asset does not fit these frames: stop everything
@@ -231,8 +243,15 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         if (!job.layers.empty())
                             write_layers(job.layers, s->layers, meta, opt.layer_output);
                         // The exposure is applied while encoding (no exposed copy).
-                        if (!job.output.empty())
-                            write_color(job.output, s->final, opt.bits, meta, exposure);
+                        if (!job.output.empty()) {
+                            if (job.layers.empty() && writes_encoded(job.output)) {
+                                write_encoded(job.output, s->encoded, meta);
+                            } else {
+                                write_color(job.output,
+                                            job.layers.empty() ? s->final : s->layers.final,
+                                            opt.bits, meta, exposure);
+                            }
+                        }
                     } catch (const Error& e) {
                         s->error = e.what();
                     }

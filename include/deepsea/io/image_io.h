@@ -3,6 +3,7 @@
 /// Every writer goes through core's write_atomically, so no half-written image is ever left
 /// behind.
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,29 @@ void require_image_writer(const std::string& path);
 /// JPEG by libjpeg-turbo, other formats by OpenImageIO. Throws IoError.
 void write_color(const std::string& path, const Image& linear_rgb, int bits = 8,
                  const ImageMetadata& meta = {}, double exposure = 1.0);
+
+/// An exposed image as sRGB integer codes, what PNG and JPEG files hold: 8 bits per sample in
+/// codes8 or 16 in codes16 (interleaved, 1 or 3 channels). A sequence keeps this (a quarter of
+/// the float image at 8 bits) between compositing and writing.
+struct EncodedImage {
+    int width = 0, height = 0, channels = 0;
+    int bits = 8;
+    std::vector<std::uint8_t> codes8;
+    std::vector<std::uint16_t> codes16;
+};
+
+/// True for the formats write_encoded writes (.png, .jpg, .jpeg), whose pixels write_color
+/// makes through encode_srgb and write_encoded.
+bool writes_encoded(const std::string& path);
+
+/// The codes write_color stores for `linear_rgb` x `exposure` in the format of `path` (PNG:
+/// `bits`, JPEG: 8), into `out`, its storage reused.
+void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::string& path,
+                 EncodedImage& out);
+
+/// Writes encode_srgb's codes as `path` (PNG or JPEG), with `meta`, atomically. Throws IoError.
+void write_encoded(const std::string& path, const EncodedImage& img,
+                   const ImageMetadata& meta = {});
 
 /// Throws IoError naming `path` unless an image can be written there: an extension deepsea
 /// writes (`exr_only`: .exr, for layers; else .png, .jpg, .jpeg, .tif, .tiff, .exr, .hdr), an
