@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -301,12 +302,16 @@ void read_png_color(const std::string& path, Image& img) {
     const std::size_t n = std::size_t(p.width) * p.height * 3;
     const float* lut = srgb_decode_table(p.bits == 16 ? 65535 : 255);
     float* out = img.data.data();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-        if (p.bits == 16) {
-            for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb16[i]];
-        } else {
-            for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb8[i]];
-        }
+    // Isolated: a thread waiting here must not pick up another frame's task that would reuse
+    // this thread's buffers (a sequence runs readers and writers in one arena).
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+            if (p.bits == 16) {
+                for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb16[i]];
+            } else {
+                for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb8[i]];
+            }
+        });
     });
 }
 
@@ -486,14 +491,17 @@ void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::
     }
     std::uint8_t* c8 = out.codes8.data();
     std::uint16_t* c16 = out.codes16.data();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-        if (b == 8) {
-            for (std::size_t i = r.begin(); i < r.end(); ++i)
-                c8[i] = std::uint8_t(enc(float(in[i] * exposure)));
-        } else {
-            for (std::size_t i = r.begin(); i < r.end(); ++i)
-                c16[i] = std::uint16_t(enc(float(in[i] * exposure)));
-        }
+    // Isolated, as in read_png_color: write_color calls this with a thread-local target.
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+            if (b == 8) {
+                for (std::size_t i = r.begin(); i < r.end(); ++i)
+                    c8[i] = std::uint8_t(enc(float(in[i] * exposure)));
+            } else {
+                for (std::size_t i = r.begin(); i < r.end(); ++i)
+                    c16[i] = std::uint16_t(enc(float(in[i] * exposure)));
+            }
+        });
     });
 }
 
