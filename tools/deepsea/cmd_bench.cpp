@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <utility>
 
@@ -44,6 +45,7 @@ struct Case {
     std::string name;
     int width = 0, height = 0, threads = 0, runs = 0;
     double median_ms = 0, min_ms = 0, max_ms = 0, peak_rss_mb = 0;
+    double median_cpu_ms = 0;  ///< the process's CPU time (all threads) per run
 };
 
 /// A /proc/self/status field in kB (0 if unavailable).
@@ -86,13 +88,24 @@ double now_ms() {
     return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
 }
 
-Case summarize(std::string name, int w, int h, int threads, std::vector<double> t) {
+/// CPU time of the whole process (every thread), ms: unlike wall time, barely changed by other
+/// processes competing for the cores.
+double cpu_ms() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+Case summarize(std::string name, int w, int h, int threads, std::vector<double> t,
+               std::vector<double> cpu) {
     std::sort(t.begin(), t.end());
+    std::sort(cpu.begin(), cpu.end());
     Case c{std::move(name), w, h, threads, int(t.size())};
     c.median_ms = t[t.size() / 2];
     c.min_ms = t.front();
     c.max_ms = t.back();
     c.peak_rss_mb = peak_rss_mb();
+    c.median_cpu_ms = cpu[cpu.size() / 2];
     return c;
 }
 
@@ -136,14 +149,15 @@ std::vector<Case> time_compositor(const Setup& setup, const Camera& cam, const B
         Compositor comp(cam, water, lamps, backscatter);
         Layers layers;
         comp.composite(layers, frame, set);  // first frame allocates
-        std::vector<double> t;
+        std::vector<double> t, cpu;
         for (int r = 0; r < a.repeats; ++r) {
-            const double t0 = now_ms();
+            const double t0 = now_ms(), c0 = cpu_ms();
             comp.composite(layers, frame, set);
             t.push_back(now_ms() - t0);
+            cpu.push_back(cpu_ms() - c0);
         }
         cases.push_back(summarize(set == LayerSet::All ? "composite" : "composite_final_only",
-                                  cam.width, cam.height, threads, t));
+                                  cam.width, cam.height, threads, t, cpu));
     }
     return cases;
 }
@@ -168,14 +182,16 @@ Case time_sequence(const Setup& setup, const BenchArgs& a, int threads) {
         jobs.push_back(j);
     }
     reset_peak_rss();
-    std::vector<double> t;
+    std::vector<double> t, cpu;
     for (int r = 0; r < std::max(3, a.repeats / 7); ++r) {
+        const double c0 = cpu_ms();
         const SequenceResult res = render_sequence(asset, jobs, SequenceOptions{});
         if (!res.errors.empty()) throw IoError("bench sequence failed: " + res.errors.front());
         t.push_back(res.seconds * 1000.0 / n);
+        cpu.push_back((cpu_ms() - c0) / n);
     }
     fs::remove_all(dir);
-    return summarize("sequence_with_io_per_frame", cam.width, cam.height, threads, t);
+    return summarize("sequence_with_io_per_frame", cam.width, cam.height, threads, t, cpu);
 }
 
 void run(const BenchArgs& a) {
@@ -202,23 +218,24 @@ void run(const BenchArgs& a) {
             std::printf(
                 "%s{\"name\": \"%s\", \"width\": %d, \"height\": %d, \"threads\": %d, "
                 "\"runs\": %d, \"median_ms\": %.3f, \"min_ms\": %.3f, \"max_ms\": %.3f, "
-                "\"peak_rss_mb\": %.1f}",
+                "\"median_cpu_ms\": %.3f, \"peak_rss_mb\": %.1f}",
                 i ? ", " : "", c.name.c_str(), c.width, c.height, c.threads, c.runs, c.median_ms,
-                c.min_ms, c.max_ms, c.peak_rss_mb);
+                c.min_ms, c.max_ms, c.median_cpu_ms, c.peak_rss_mb);
         }
         std::printf("]}\n");
         return;
     }
-    std::printf("%-28s %11s %7s %5s %10s %10s %10s %9s\n", "case", "size", "threads", "runs",
-                "median ms", "min ms", "max ms", "peak MB");
+    std::printf("%-28s %11s %7s %5s %10s %10s %10s %10s %9s\n", "case", "size", "threads", "runs",
+                "median ms", "min ms", "max ms", "cpu ms", "peak MB");
     std::printf(
         "(peak MB: resident memory while running the case: asset, frame, compositor\n"
         " buffers and the loaded libraries, not the bake before it; the bare process\n"
         " holds %.1f MB, mostly shared libraries)\n",
         baseline_mb);
     for (const Case& c : cases) {
-        std::printf("%-28s %5dx%-5d %7d %5d %10.2f %10.2f %10.2f %9.1f\n", c.name.c_str(), c.width,
-                    c.height, c.threads, c.runs, c.median_ms, c.min_ms, c.max_ms, c.peak_rss_mb);
+        std::printf("%-28s %5dx%-5d %7d %5d %10.2f %10.2f %10.2f %10.2f %9.1f\n", c.name.c_str(),
+                    c.width, c.height, c.threads, c.runs, c.median_ms, c.min_ms, c.max_ms,
+                    c.median_cpu_ms, c.peak_rss_mb);
     }
 }
 
