@@ -91,7 +91,7 @@ vdb::math::Transform::Ptr axis_transform(const Vec3& scale, const Vec3& origin) 
 /// leaf nodes, divided evenly over the frustum's bounding box, index (i, j, k) at the centre
 /// of cell (i, j, k); columns left to right, rows top to bottom, samples from the camera
 /// forward. So a plain import frames the light field. The true camera-space point of a
-/// voxel is in the grid's metadata (lattice_geometry_meta), not in this map: OpenVDB's frustum
+/// voxel is in the grid's metadata (add_lattice_geometry_meta), not in this map: OpenVDB's frustum
 /// map holds only uniform depths, and Blender 3.4 drops its perspective (docs/blender.md).
 vdb::math::Transform::Ptr lattice_transform(const Camera& cam, const Lattice& l) {
     const WorldBox box = frustum_extent(cam, l.z_max());
@@ -105,7 +105,7 @@ vdb::math::Transform::Ptr lattice_transform(const Camera& cam, const Lattice& l)
 
 /// Grid metadata from which a tool that knows nothing of deepsea (Houdini, pyopenvdb) gets
 /// the camera-space point of backscatter voxel (i, j, k) in every depth scheme
-/// (docs/asset-format.md, "Camera-space geometry of the backscatter grid").
+/// (docs/asset-format.md, "The backscatter grid's transform and its camera-space geometry").
 void add_lattice_geometry_meta(vdb::GridBase& grid, const Camera& cam, const Lattice& l) {
     grid.insertMeta("deepsea:index_to_camera",
                     vdb::StringMetadata("OpenCV camera point of index (i, j, k): z = "
@@ -125,12 +125,10 @@ vdb::math::Transform::Ptr lamp_field_transform(const LampField& f, const WorldBo
     const int n[3] = {leaf_cells(f.nr), leaf_cells(f.ntheta), leaf_cells(kShCount)};
     double h = 1e-3;
     for (int a = 0; a < 3; ++a) h = std::min(h, 0.5 * (box.max[a] - box.min[a]) / n[a]);
-    Vec3 origin;
     const auto start = [&](int a) {
         return 0.5 * (box.min[a] + box.max[a]) - 0.5 * h * (n[a] - 1);
     };
-    origin = {start(0), start(1), start(2)};
-    return axis_transform({h, h, h}, origin);
+    return axis_transform({h, h, h}, {start(0), start(1), start(2)});
 }
 
 template <typename T>
