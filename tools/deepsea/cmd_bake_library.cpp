@@ -103,16 +103,11 @@ void run(const LibraryArgs& a) {
             setup.water = load_water(entry.water);
             require_complete(setup, entry.name);
             const BakeInfo want = bake_request(*setup.camera, *setup.rig, *setup.water, settings);
-            if (!a.force && fs::exists(path)) {
-                try {
-                    if (read_asset_summary(path).info.input_hash == want.input_hash) {
-                        std::printf("up to date  %s\n", path.c_str());
-                        ++skipped;
-                        continue;
-                    }
-                } catch (const Error&) {
-                    // unreadable: bake it again
-                }
+            // An asset of an older format, or unreadable, is baked again.
+            if (!a.force && asset_up_to_date(path, want.input_hash)) {
+                std::printf("up to date  %s\n", path.c_str());
+                ++skipped;
+                continue;
             }
             if (a.dry_run) {
                 std::printf("would bake  %s\n", path.c_str());

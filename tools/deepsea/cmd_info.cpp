@@ -57,23 +57,34 @@ void run(const InfoArgs& a) {
         }
     }
     if (a.json) {
+        const auto vec = [](const Vec3& v) {
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "[%.9g, %.9g, %.9g]", v.x, v.y, v.z);
+            return std::string(buf);
+        };
         std::string grids;
         for (const GridSummary& g : s.grids) {
             char buf[512];
             std::snprintf(buf, sizeof buf,
                           "%s{\"name\": %s, \"value_type\": %s, \"transform\": %s, \"half\": %s, "
-                          "\"active_voxels\": %lld}",
+                          "\"active_voxels\": %lld, ",
                           grids.empty() ? "" : ", ", json_string(g.name).c_str(),
                           json_string(g.value_type).c_str(), json_string(g.transform).c_str(),
                           g.half ? "true" : "false", static_cast<long long>(g.active_voxels));
             grids += buf;
+            grids += "\"world_min\": " + vec(g.world_min) + ", \"world_max\": " + vec(g.world_max) +
+                     ", \"leaf_world_min\": " + vec(g.leaf_world_min) +
+                     ", \"leaf_world_max\": " + vec(g.leaf_world_max) + "}";
         }
+        const WorldBox box = frustum_extent(b.camera, l.z_max());
         std::printf(
             "{\"file\": %s, \"bytes\": %ju, \"format\": %d, \"value_scale\": %.17g, "
             "\"backscatter_at_z_max\": {\"min\": [%.9g, %.9g, %.9g], "
-            "\"max\": [%.9g, %.9g, %.9g]}, \"grids\": [%s], \"bake\": %s}\n",
+            "\"max\": [%.9g, %.9g, %.9g]}, \"frustum_extent\": {\"min\": %s, \"max\": %s}, "
+            "\"preview_voxel_size\": %.9g, \"grids\": [%s], \"bake\": %s}\n",
             json_string(a.path).c_str(), s.file_bytes, s.format, s.value_scale, lo.r, lo.g, lo.b,
-            hi.r, hi.g, hi.b, grids.c_str(), bake_info_to_json(b, -1).c_str());
+            hi.r, hi.g, hi.b, vec(box.min).c_str(), vec(box.max).c_str(), s.preview_voxel_size,
+            grids.c_str(), bake_info_to_json(b, -1).c_str());
         return;
     }
     const Camera& c = b.camera;
@@ -132,6 +143,10 @@ void run(const InfoArgs& a) {
         std::printf("grid       %-12s %-6s %-8s %s%lld active voxels\n", g.name.c_str(),
                     g.value_type.c_str(), g.transform.c_str(), g.half ? "half, " : "",
                     static_cast<long long>(g.active_voxels));
+    }
+    if (s.preview_voxel_size > 0.0) {
+        std::printf("preview    %.1f mm voxels (density 1 = in-scatter luminance %.4g per metre)\n",
+                    1e3 * s.preview_voxel_size, s.preview_density_scale);
     }
 }
 
