@@ -32,30 +32,33 @@ void halving_taps(int w, int n_lo, std::vector<int>& x0, std::vector<int>& x1,
     }
 }
 
-/// x[u * lanes + c * stride + j] = W_j(d_u) L_u[c]: the table's rows idx[u] and idx[u] + 1
-/// interpolated by frac[u]; all zero where idx[u] < 0 (no surface). Scale 0's values also go
-/// to sharp[c][u] (3 planes `plane` floats apart).
+/// x[b * lanes + c * stride + j] = sum over the block's pixels u (b * block .. b * block +
+/// block - 1, fewer at the end) of W_j(d_u) L_u[c], W_j from the table's rows idx[u] and
+/// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. Scale
+/// 0's values per pixel also go to sharp[c][u] (3 planes `plane` floats apart).
 DEEPSEA_CLONES
-void weigh_pixels(int n, int lanes, int stride, const int* __restrict idx,
+void weigh_blocks(int n, int block, int lanes, int stride, const int* __restrict idx,
                   const float* __restrict frac, const float* __restrict tab,
                   const float* __restrict L, float* __restrict x, float* __restrict sharp,
                   std::size_t plane) {
-    for (int u = 0; u < n; ++u) {
-        float* xu = x + std::size_t(u) * lanes;
-        if (idx[u] < 0) {
-            std::fill(xu, xu + lanes, 0.0f);
-            for (int c = 0; c < 3; ++c) sharp[c * plane + u] = 0.0f;
-            continue;
-        }
-        const float* a = tab + std::size_t(idx[u]) * lanes;
-        const float* b = a + lanes;
-        const float t = frac[u];
-        for (int c = 0; c < 3; ++c) {
-            const float l = L[3 * u + c];
-            const int k0 = c * stride;
+    for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
+        float* xb = x + std::size_t(b) * lanes;
+        std::fill(xb, xb + lanes, 0.0f);
+        for (int u = u0; u < std::min(u0 + block, n); ++u) {
+            if (idx[u] < 0) {
+                for (int c = 0; c < 3; ++c) sharp[c * plane + u] = 0.0f;
+                continue;
+            }
+            const float* ta = tab + std::size_t(idx[u]) * lanes;
+            const float* tb = ta + lanes;
+            const float t = frac[u];
+            for (int c = 0; c < 3; ++c) {
+                const float l = L[3 * u + c];
+                const int k0 = c * stride;
+                sharp[c * plane + u] = (ta[k0] + t * (tb[k0] - ta[k0])) * l;
 #pragma omp simd
-            for (int k = k0; k < k0 + stride; ++k) xu[k] = (a[k] + t * (b[k] - a[k])) * l;
-            sharp[c * plane + u] = xu[k0];
+                for (int k = k0; k < k0 + stride; ++k) xb[k] += (ta[k] + t * (tb[k] - ta[k])) * l;
+            }
         }
     }
 }
@@ -196,13 +199,16 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
                 idx[u] = on ? i : -1;
                 frac[u] = ti - float(i);
             }
-            weigh_pixels(W, lanes, stride, idx.data(), frac.data(), m_table.data(), surface.row(v),
-                         x.data(), m_sharp.data() + std::size_t(v) * W, std::size_t(W) * H);
+            // Blocks of two pixels at once unless a group needs single pixels (tiny images).
+            int f = m_groups.empty() || m_groups[0].factor == 1 ? 1 : 2;
+            weigh_blocks(W, f, lanes, stride, idx.data(), frac.data(), m_table.data(),
+                         surface.row(v), x.data(), m_sharp.data() + std::size_t(v) * W,
+                         std::size_t(W) * H);
             // Each group's scales from blocks of its factor (neighbouring blocks summed in
             // turn), added up over the block's rows and divided by its pixels at the last.
             const float* blocks = x.data();
             float* next = pyramid.data();
-            int n = W, f = 1;
+            int n = (W + f - 1) / f;
             for (const Group& g : m_groups) {
                 while (f < g.factor) {
                     pair_sums(n, lanes, blocks, next);
