@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "clones.h"
+#include "deepsea/core/error.h"
 #include "gaussian_planes.h"
 #include "kernels.h"
 
@@ -15,6 +16,8 @@ namespace deepsea {
 namespace {
 
 constexpr int kTableBins = 1024;
+/// Scales per channel in a table row, padded: 32 holds images of up to 2^30 px a side.
+constexpr int kMaxStride = 32;
 
 /// Bilinear taps into a grid downsampled by two more (n_lo columns), per column of a w-column
 /// grid: column x samples the coarser grid at (x + 0.5) / 2 - 0.5.
@@ -35,15 +38,17 @@ void halving_taps(int w, int n_lo, std::vector<int>& x0, std::vector<int>& x1,
 /// x[b * lanes + c * stride + j] = sum over the block's pixels u (b * block .. b * block +
 /// block - 1, fewer at the end) of W_j(d_u) L_u[c], W_j from the table's rows idx[u] and
 /// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. Scale
-/// 0's values per pixel also go to sharp[c][u] (3 planes `plane` floats apart).
-DEEPSEA_CLONES
-void weigh_blocks(int n, int block, int lanes, int stride, const int* __restrict idx,
-                  const float* __restrict frac, const float* __restrict tab,
-                  const float* __restrict L, float* __restrict x, float* __restrict sharp,
-                  std::size_t plane) {
+/// 0's values per pixel also go to sharp[c][u] (3 planes `plane` floats apart). A block's sums
+/// stay in registers: the stride is a compile-time constant.
+template <int S>
+[[gnu::always_inline]] inline void weigh_blocks_of(int n, int block, const int* __restrict idx,
+                                                   const float* __restrict frac,
+                                                   const float* __restrict tab,
+                                                   const float* __restrict L, float* __restrict x,
+                                                   float* __restrict sharp, std::size_t plane) {
+    constexpr int lanes = 3 * S;
     for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
-        float* xb = x + std::size_t(b) * lanes;
-        std::fill(xb, xb + lanes, 0.0f);
+        float acc[lanes] = {};
         for (int u = u0; u < std::min(u0 + block, n); ++u) {
             if (idx[u] < 0) {
                 for (int c = 0; c < 3; ++c) sharp[c * plane + u] = 0.0f;
@@ -54,12 +59,31 @@ void weigh_blocks(int n, int block, int lanes, int stride, const int* __restrict
             const float t = frac[u];
             for (int c = 0; c < 3; ++c) {
                 const float l = L[3 * u + c];
-                const int k0 = c * stride;
-                sharp[c * plane + u] = (ta[k0] + t * (tb[k0] - ta[k0])) * l;
-#pragma omp simd
-                for (int k = k0; k < k0 + stride; ++k) xb[k] += (ta[k] + t * (tb[k] - ta[k])) * l;
+#pragma GCC unroll 32
+                for (int k = c * S; k < c * S + S; ++k) acc[k] += (ta[k] + t * (tb[k] - ta[k])) * l;
+                sharp[c * plane + u] = (ta[c * S] + t * (tb[c * S] - ta[c * S])) * l;
             }
         }
+        std::copy(acc, acc + lanes, x + std::size_t(b) * lanes);
+    }
+}
+
+DEEPSEA_CLONES
+void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
+                  const float* L, float* x, float* sharp, std::size_t plane) {
+    switch (stride) {
+        case 4:
+            return weigh_blocks_of<4>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 8:
+            return weigh_blocks_of<8>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 12:
+            return weigh_blocks_of<12>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 16:
+            return weigh_blocks_of<16>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 20:
+            return weigh_blocks_of<20>(n, block, idx, frac, tab, L, x, sharp, plane);
+        default:
+            return weigh_blocks_of<kMaxStride>(n, block, idx, frac, tab, L, x, sharp, plane);
     }
 }
 
@@ -84,6 +108,8 @@ void pair_sums(int n, int lanes, const float* __restrict src, float* __restrict 
 
 ForwardPsfBlur::ForwardPsfBlur(ForwardPsf psf) : m_psf(std::move(psf)) {
     m_stride = (m_psf.scales() + 3) / 4 * 4;
+    if (m_stride > 20) m_stride = kMaxStride;
+    if (m_psf.scales() > kMaxStride) throw ConfigError("forward scatter: too many scales");
     m_lanes = 3 * m_stride;
 }
 
@@ -201,9 +227,8 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
             }
             // Blocks of two pixels at once unless a group needs single pixels (tiny images).
             int f = m_groups.empty() || m_groups[0].factor == 1 ? 1 : 2;
-            weigh_blocks(W, f, lanes, stride, idx.data(), frac.data(), m_table.data(),
-                         surface.row(v), x.data(), m_sharp.data() + std::size_t(v) * W,
-                         std::size_t(W) * H);
+            weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(), surface.row(v),
+                         x.data(), m_sharp.data() + std::size_t(v) * W, std::size_t(W) * H);
             // Each group's scales from blocks of its factor (neighbouring blocks summed in
             // turn), added up over the block's rows and divided by its pixels at the last.
             const float* blocks = x.data();
