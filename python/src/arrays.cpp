@@ -1,0 +1,160 @@
+#include "arrays.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "deepsea/core/error.h"
+#include "deepsea/io/image_io.h"
+
+namespace deepsea::python {
+
+namespace {
+
+std::string dtype_name(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+
+std::string shape_text(const py::array& a) {
+    std::string s = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) {
+        if (i) s += ", ";
+        s += std::to_string(a.shape(i));
+    }
+    return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+/// The element type of `a`, if the module reads it in this role.
+bool elem_of(const py::array& a, bool color, Elem& out) {
+    const py::dtype dt = a.dtype();
+    if (!dt.attr("isnative").cast<bool>()) return false;  // byte-swapped: numpy can convert
+    const char kind = dt.kind();
+    const py::ssize_t size = dt.itemsize();
+    if (kind == 'u' && size == 1 && color) {
+        out = Elem::U8;
+    } else if (kind == 'u' && size == 2) {
+        out = Elem::U16;
+    } else if (kind == 'f' && size == 4) {
+        out = Elem::F32;
+    } else if (kind == 'f' && size == 8) {
+        out = Elem::F64;
+    } else {
+        return false;
+    }
+    return true;
+}
+
+ArrayIn inspect(const py::array& a, const std::string& what, bool color) {
+    ArrayIn in;
+    if (!elem_of(a, color, in.elem)) {
+        throw InputError(what + ": dtype " + dtype_name(a) + " is not supported; give " +
+                         (color ? "uint8 or uint16 (sRGB codes) or float32 or float64 (linear)"
+                                : "float32 or float64 (metres) or uint16 (times depth_scale)"));
+    }
+    const py::ssize_t nd = a.ndim();
+    const py::ssize_t c = nd == 3 ? a.shape(2) : 1;
+    const bool shape_ok = (nd == 2 || nd == 3) && (color ? (c == 1 || c == 3 || c == 4) : c == 1);
+    if (!shape_ok) {
+        throw InputError(
+            what + ": shape " + shape_text(a) + " is not an image; give " +
+            (color ? "(H, W, 3) RGB, (H, W, 4) RGBA or (H, W) grey" : "(H, W) or (H, W, 1)"));
+    }
+    check_image_size(a.shape(1), a.shape(0), c, what);
+    in.height = int(a.shape(0));
+    in.width = int(a.shape(1));
+    in.channels = int(c);
+    // A C-contiguous view of the same memory, or numpy's contiguous copy of a strided view.
+    in.array = py::array::ensure(a, py::array::c_style);
+    if (!in.array) throw py::error_already_set();
+    return in;
+}
+
+/// Converts n elements to float: sRGB codes decoded, floats as they are.
+void to_linear(const ArrayIn& in, std::size_t offset, std::size_t n, float* out) {
+    switch (in.elem) {
+        case Elem::U8:
+            srgb_decode(static_cast<const std::uint8_t*>(in.data()) + offset, n, out);
+            break;
+        case Elem::U16:
+            srgb_decode(static_cast<const std::uint16_t*>(in.data()) + offset, n, out);
+            break;
+        case Elem::F32:
+            std::memcpy(out, static_cast<const float*>(in.data()) + offset, n * sizeof(float));
+            break;
+        case Elem::F64: {
+            const double* src = static_cast<const double*>(in.data()) + offset;
+            for (std::size_t i = 0; i < n; ++i) out[i] = float(src[i]);
+            break;
+        }
+    }
+}
+
+/// Sets the size of `img`, keeping its memory when the size is unchanged.
+void reshape(Image& img, int width, int height, int channels) {
+    img.width = width;
+    img.height = height;
+    img.channels = channels;
+    img.data.resize(std::size_t(width) * height * channels);
+}
+
+}  // namespace
+
+ArrayIn inspect_color(const py::array& a, const std::string& what) {
+    return inspect(a, what, true);
+}
+
+ArrayIn inspect_depth(const py::array& a, const std::string& what) {
+    return inspect(a, what, false);
+}
+
+void fill_color(const ArrayIn& in, Image& out) {
+    reshape(out, in.width, in.height, 3);
+    const std::size_t n = std::size_t(in.width) * in.height;
+    if (in.channels == 3) {
+        to_linear(in, 0, n * 3, out.data.data());
+        return;
+    }
+    // Grey or RGBA: one row at a time through a small buffer.
+    const int c = in.channels;
+    std::vector<float> row(std::size_t(in.width) * c);
+    for (int v = 0; v < in.height; ++v) {
+        to_linear(in, std::size_t(v) * in.width * c, row.size(), row.data());
+        float* dst = out.row(v);
+        for (int u = 0; u < in.width; ++u) {
+            for (int k = 0; k < 3; ++k) dst[u * 3 + k] = row[std::size_t(u) * c + (c == 1 ? 0 : k)];
+        }
+    }
+}
+
+void fill_depth(const ArrayIn& in, double scale, Image& out) {
+    reshape(out, in.width, in.height, 1);
+    const std::size_t n = out.data.size();
+    float* dst = out.data.data();
+    switch (in.elem) {
+        case Elem::U16: {
+            const std::uint16_t* src = static_cast<const std::uint16_t*>(in.data());
+            for (std::size_t i = 0; i < n; ++i) dst[i] = float(src[i] * scale);
+            break;
+        }
+        case Elem::F32:
+            std::memcpy(dst, in.data(), n * sizeof(float));
+            break;
+        case Elem::F64: {
+            const double* src = static_cast<const double*>(in.data());
+            for (std::size_t i = 0; i < n; ++i) dst[i] = float(src[i]);
+            break;
+        }
+        case Elem::U8:
+            throw InputError("8-bit depth is not supported");  // inspect_depth refuses it
+    }
+}
+
+py::array to_array(Image&& img) {
+    auto* pixels = new std::vector<float>(std::move(img.data));
+    const py::capsule owner(pixels, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+    std::vector<py::ssize_t> shape{img.height, img.width};
+    if (img.channels != 1) shape.push_back(img.channels);
+    img = Image();
+    return py::array_t<float>(shape, pixels->data(), owner);
+}
+
+}  // namespace deepsea::python

@@ -1,0 +1,52 @@
+#pragma once
+// NumPy arrays in and out of deepsea's Images. Reading an array takes two steps: inspect()
+// (with the GIL: dtype, shape, a C-contiguous view) and then fill the Image (without the GIL:
+// plain C++ on the array's memory). Output layers move their pixels into the array they
+// return: no copy.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstddef>
+#include <string>
+
+#include "deepsea/core/image.h"
+
+namespace deepsea::python {
+
+namespace py = pybind11;
+
+/// Element types the module reads.
+enum class Elem { U8, U16, F32, F64 };
+
+/// A C-contiguous array of height x width x channels elements, checked, and the reference
+/// that keeps its memory alive.
+struct ArrayIn {
+    py::array array;  ///< C-contiguous (numpy's copy if the caller's was not)
+    Elem elem = Elem::F32;
+    int height = 0, width = 0, channels = 0;
+    const void* data() const { return array.data(); }
+};
+
+/// Checks a colour array: (H, W, 3) RGB, (H, W, 4) RGBA (alpha dropped), (H, W) or (H, W, 1)
+/// grey; uint8 / uint16 (sRGB codes) or float32 / float64 (linear). InputError naming `what`
+/// otherwise. Needs the GIL.
+ArrayIn inspect_color(const py::array& a, const std::string& what);
+
+/// Checks a depth array: (H, W) or (H, W, 1); float32 / float64 (metres) or uint16 (units of
+/// the depth scale). InputError naming `what` otherwise. Needs the GIL.
+ArrayIn inspect_depth(const py::array& a, const std::string& what);
+
+/// Fills `out` with linear RGB (3 channels) as read_color would decode the same pixels from a
+/// file. Reuses out's memory. No Python calls: may run without the GIL.
+void fill_color(const ArrayIn& in, Image& out);
+
+/// Fills `out` with one-channel depth in metres: floats as they are, uint16 times `scale` (as
+/// a 16-bit PNG depth image). Reuses out's memory. No Python calls.
+void fill_depth(const ArrayIn& in, double scale, Image& out);
+
+/// The image as a float32 array that owns its pixels (moved out of `img`, which is left
+/// empty): (H, W, C), or (H, W) for one channel. Needs the GIL.
+py::array to_array(Image&& img);
+
+}  // namespace deepsea::python
