@@ -43,7 +43,9 @@ bool elem_of(const py::array& a, bool color, Elem& out) {
     return true;
 }
 
-ArrayIn inspect(const py::array& a, const std::string& what, bool color) {
+ArrayIn inspect(const py::handle& obj, const std::string& what, bool color) {
+    const py::array a = py::array::ensure(obj);  // numpy.asarray
+    if (!a) throw py::error_already_set();
     ArrayIn in;
     if (!elem_of(a, color, in.elem)) {
         throw InputError(what + ": dtype " + dtype_name(a) + " is not supported; give " +
@@ -98,12 +100,12 @@ void reshape(Image& img, int width, int height, int channels) {
 
 }  // namespace
 
-ArrayIn inspect_color(const py::array& a, const std::string& what) {
-    return inspect(a, what, true);
+ArrayIn inspect_color(const py::handle& obj, const std::string& what) {
+    return inspect(obj, what, true);
 }
 
-ArrayIn inspect_depth(const py::array& a, const std::string& what) {
-    return inspect(a, what, false);
+ArrayIn inspect_depth(const py::handle& obj, const std::string& what) {
+    return inspect(obj, what, false);
 }
 
 void fill_color(const ArrayIn& in, Image& out) {
@@ -148,13 +150,53 @@ void fill_depth(const ArrayIn& in, double scale, Image& out) {
     }
 }
 
-py::array to_array(Image&& img) {
-    auto* pixels = new std::vector<float>(std::move(img.data));
-    const py::capsule owner(pixels, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+std::vector<float> BufferPool::take(std::size_t n) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    for (std::size_t i = 0; i < m_free.size(); ++i) {
+        if (m_free[i].size() == n) {
+            std::vector<float> out = std::move(m_free[i]);
+            m_free.erase(m_free.begin() + std::ptrdiff_t(i));
+            return out;
+        }
+    }
+    return {};
+}
+
+void BufferPool::give(std::vector<float>&& buffer) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (m_free.size() >= kMaxBuffers) m_free.erase(m_free.begin());  // the oldest size goes
+    m_free.push_back(std::move(buffer));
+}
+
+void reuse(Image& img, int width, int height, int channels, BufferPool& pool) {
+    std::vector<float> buffer = pool.take(std::size_t(width) * height * channels);
+    if (buffer.empty()) return;
+    img.width = width;
+    img.height = height;
+    img.channels = channels;
+    img.data = std::move(buffer);
+}
+
+namespace {
+
+/// What an array's capsule owns: its pixels, and where they go when it is freed.
+struct Lent {
+    std::vector<float> pixels;
+    std::weak_ptr<BufferPool> pool;
+};
+
+}  // namespace
+
+py::array to_array(Image&& img, const std::shared_ptr<BufferPool>& pool) {
+    auto* lent = new Lent{std::move(img.data), pool};
+    const py::capsule owner(lent, [](void* p) {
+        std::unique_ptr<Lent> l(static_cast<Lent*>(p));
+        if (auto pool = l->pool.lock()) pool->give(std::move(l->pixels));
+    });
     std::vector<py::ssize_t> shape{img.height, img.width};
     if (img.channels != 1) shape.push_back(img.channels);
     img = Image();
-    return py::array_t<float>(shape, pixels->data(), owner);
+    return py::array_t<float>(shape, lent->pixels.data(), owner);
 }
 
 }  // namespace deepsea::python

@@ -8,7 +8,10 @@
 #include <pybind11/pybind11.h>
 
 #include <cstddef>
+#include <memory>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include "deepsea/core/image.h"
 
@@ -28,14 +31,14 @@ struct ArrayIn {
     const void* data() const { return array.data(); }
 };
 
-/// Checks a colour array: (H, W, 3) RGB, (H, W, 4) RGBA (alpha dropped), (H, W) or (H, W, 1)
-/// grey; uint8 / uint16 (sRGB codes) or float32 / float64 (linear). InputError naming `what`
-/// otherwise. Needs the GIL.
-ArrayIn inspect_color(const py::array& a, const std::string& what);
+/// Checks a colour array (or anything numpy.asarray takes, such as nested lists): (H, W, 3) RGB,
+/// (H, W, 4) RGBA (alpha dropped), (H, W) or (H, W, 1) grey; uint8 / uint16 (sRGB codes) or float32
+/// / float64 (linear). InputError naming `what` otherwise. Needs the GIL.
+ArrayIn inspect_color(const py::handle& obj, const std::string& what);
 
 /// Checks a depth array: (H, W) or (H, W, 1); float32 / float64 (metres) or uint16 (units of
 /// the depth scale). InputError naming `what` otherwise. Needs the GIL.
-ArrayIn inspect_depth(const py::array& a, const std::string& what);
+ArrayIn inspect_depth(const py::handle& obj, const std::string& what);
 
 /// Fills `out` with linear RGB (3 channels) as read_color would decode the same pixels from a
 /// file. Reuses out's memory. No Python calls: may run without the GIL.
@@ -45,8 +48,29 @@ void fill_color(const ArrayIn& in, Image& out);
 /// a 16-bit PNG depth image). Reuses out's memory. No Python calls.
 void fill_depth(const ArrayIn& in, double scale, Image& out);
 
+/// Pixel buffers lent to NumPy arrays come back here when the arrays are freed, so that the
+/// next frame of the same size reuses them (no allocation, no page faults, no zero fill): in a
+/// loop that drops each frame's layers before the next, nothing is allocated after the first
+/// frames. Thread-safe; holds at most kMaxBuffers.
+class BufferPool {
+public:
+    static constexpr std::size_t kMaxBuffers = 32;
+    /// A buffer of exactly n floats (contents undefined), or an empty vector if none is free.
+    std::vector<float> take(std::size_t n);
+    void give(std::vector<float>&& buffer);
+
+private:
+    std::mutex m_mutex;
+    std::vector<std::vector<float>> m_free;
+};
+
+/// Gives `img` the pool's buffer for width x height x channels, if it has one, so that
+/// Layers::resize keeps it.
+void reuse(Image& img, int width, int height, int channels, BufferPool& pool);
+
 /// The image as a float32 array that owns its pixels (moved out of `img`, which is left
-/// empty): (H, W, C), or (H, W) for one channel. Needs the GIL.
-py::array to_array(Image&& img);
+/// empty): (H, W, C), or (H, W) for one channel. When the array is freed its buffer goes back
+/// to `pool`, if the pool still exists. Needs the GIL.
+py::array to_array(Image&& img, const std::shared_ptr<BufferPool>& pool = {});
 
 }  // namespace deepsea::python

@@ -38,7 +38,7 @@ double seconds_since(Clock::time_point t0) {
 
 // ---------------------------------------------------------------------------------------------
 // Exceptions: deepsea.Error and one subclass per library type, each also a subclass of the
-// built-in exception a Python user would catch for it.
+// built-in exception a Python user would catch for it. The message is the CLI's line.
 
 struct ErrorTypes {
     PyObject* error = nullptr;
@@ -83,19 +83,19 @@ void register_errors(py::module_& m) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const ConfigError& e) {
-            PyErr_SetString(g_errors.config, e.what());
+            PyErr_SetString(g_errors.config, one_line(e.what(), 1000).c_str());
         } catch (const InputError& e) {
-            PyErr_SetString(g_errors.input, e.what());
+            PyErr_SetString(g_errors.input, one_line(e.what(), 1000).c_str());
         } catch (const IoError& e) {
-            PyErr_SetString(g_errors.io, e.what());
+            PyErr_SetString(g_errors.io, one_line(e.what(), 1000).c_str());
         } catch (const AssetError& e) {
-            PyErr_SetString(g_errors.asset, e.what());
+            PyErr_SetString(g_errors.asset, one_line(e.what(), 1000).c_str());
         } catch (const AccuracyError& e) {
-            PyErr_SetString(g_errors.accuracy, e.what());
+            PyErr_SetString(g_errors.accuracy, one_line(e.what(), 1000).c_str());
         } catch (const Cancelled& e) {
-            PyErr_SetString(g_errors.cancelled, e.what());
+            PyErr_SetString(g_errors.cancelled, one_line(e.what(), 1000).c_str());
         } catch (const Error& e) {
-            PyErr_SetString(g_errors.error, e.what());
+            PyErr_SetString(g_errors.error, one_line(e.what(), 1000).c_str());
         }
     });
 }
@@ -224,11 +224,12 @@ void check_depth_scale(double scale) {
     }
 }
 
-/// Layers as a dict of arrays (moved out: no copy); empty layers are left out.
-py::dict layers_dict(Layers& l) {
+/// Layers as a dict of arrays (moved out: no copy; their buffers return to `pool`, if given,
+/// when the arrays are freed); empty layers are left out.
+py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool = {}) {
     py::dict d;
     const auto put = [&](const char* name, Image& img) {
-        if (!img.empty()) d[name] = to_array(std::move(img));
+        if (!img.empty()) d[name] = to_array(std::move(img), pool);
     };
     put("final", l.final);
     put("direct", l.direct);
@@ -275,7 +276,7 @@ public:
                                                   m_asset.asset->lamp_fields);
     }
 
-    py::dict render(const py::array& rgb, const py::array& depth, const std::string& depth_kind,
+    py::dict render(const py::object& rgb, const py::object& depth, const std::string& depth_kind,
                     double depth_scale, const std::string& layers) {
         const auto t0 = Clock::now();
         const DepthKind kind = parse_depth_kind(depth_kind);
@@ -306,12 +307,23 @@ public:
                         std::make_unique<Compositor>(m_camera, m_water, *m_lamps, *m_backscatter);
                 }
                 to_planar_depth(m_camera, m_frame.depth, kind);
+                // Last frames' buffers, if their arrays are gone: Layers::resize keeps them.
+                const int w = z.width, h = z.height;
+                reuse(out.final, w, h, 3, *m_pool);
+                reuse(out.direct, w, h, 3, *m_pool);
+                if (set == LayerSet::All) {
+                    for (Image* img :
+                         {&out.forward, &out.backscatter, &out.transmission, &out.normal}) {
+                        reuse(*img, w, h, 3, *m_pool);
+                    }
+                    reuse(out.depth, w, h, 1, *m_pool);
+                }
                 const auto tc = Clock::now();
                 m_compositor->composite(out, m_frame, set);
                 m_composite_s = seconds_since(tc);
             });
         }
-        py::dict result = layers_dict(out);
+        py::dict result = layers_dict(out, m_pool);
         m_total_s = seconds_since(t0);
         return result;
     }
@@ -338,6 +350,7 @@ private:
     std::unique_ptr<Compositor> m_compositor;
     Camera m_camera;  ///< the compositor's
     Frame m_frame;    ///< input pixels, reused between frames
+    std::shared_ptr<BufferPool> m_pool = std::make_shared<BufferPool>();
     std::mutex m_mutex;
     double m_composite_s = 0.0, m_total_s = 0.0;
 };
@@ -404,7 +417,7 @@ PyAsset bake_asset(const py::object& setup, const py::object& camera, const py::
     return {std::move(a), output.value_or("")};
 }
 
-py::dict reference(const py::object& setup, const py::array& rgb, const py::array& depth,
+py::dict reference(const py::object& setup, const py::object& rgb, const py::object& depth,
                    const py::object& camera, const py::object& rig, const py::object& water,
                    const std::string& depth_kind, double depth_scale, double z_max, double rel_tol,
                    int threads) {
@@ -435,7 +448,7 @@ py::dict reference(const py::object& setup, const py::array& rgb, const py::arra
     return layers_dict(out);
 }
 
-double exposure_of(const py::array& radiance, const py::object& exposure) {
+double exposure_of(const py::object& radiance, const py::object& exposure) {
     Exposure e;
     if (py::isinstance<py::str>(exposure)) {
         e = parse_exposure(exposure.cast<std::string>());
@@ -444,8 +457,8 @@ double exposure_of(const py::array& radiance, const py::object& exposure) {
     }
     const ArrayIn in = inspect_color(radiance, "radiance");
     if (in.elem != Elem::F32 && in.elem != Elem::F64) {
-        throw InputError("radiance: expected float32 or float64 linear radiance, got dtype " +
-                         py::str(radiance.dtype()).cast<std::string>());
+        throw InputError("radiance: expected float32 or float64 linear radiance, got " +
+                         std::string(in.elem == Elem::U8 ? "uint8" : "uint16"));
     }
     py::gil_scoped_release nogil;
     Image img;
@@ -534,7 +547,7 @@ PYBIND11_MODULE(deepsea, m) {
 
     m.def(
         "render",
-        [](const PyAsset& asset, const py::array& rgb, const py::array& depth,
+        [](const PyAsset& asset, const py::object& rgb, const py::object& depth,
            const py::object& camera, const std::string& depth_kind, double depth_scale,
            bool forward, const std::string& layers, int threads) {
             Renderer r(asset, camera, forward, threads);
