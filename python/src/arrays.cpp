@@ -6,11 +6,15 @@
 #include <vector>
 
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
 
 namespace deepsea::python {
 
 namespace {
+
+/// Image rows per task when converting arrays: enough work to be worth a task.
+constexpr std::size_t kRowGrain = 32;
 
 std::string dtype_name(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
 
@@ -108,46 +112,58 @@ ArrayIn inspect_depth(const py::handle& obj, const std::string& what) {
     return inspect(obj, what, false);
 }
 
-void fill_color(const ArrayIn& in, Image& out) {
+void fill_color(const ArrayIn& in, Image& out, int threads) {
     reshape(out, in.width, in.height, 3);
-    const std::size_t n = std::size_t(in.width) * in.height;
-    if (in.channels == 3) {
-        to_linear(in, 0, n * 3, out.data.data());
-        return;
-    }
-    // Grey or RGBA: one row at a time through a small buffer.
     const int c = in.channels;
-    std::vector<float> row(std::size_t(in.width) * c);
-    for (int v = 0; v < in.height; ++v) {
-        to_linear(in, std::size_t(v) * in.width * c, row.size(), row.data());
-        float* dst = out.row(v);
-        for (int u = 0; u < in.width; ++u) {
-            for (int k = 0; k < 3; ++k) dst[u * 3 + k] = row[std::size_t(u) * c + (c == 1 ? 0 : k)];
-        }
-    }
+    const std::size_t row_in = std::size_t(in.width) * c;
+    parallel_for(std::size_t(in.height),
+                 [&](std::size_t v0, std::size_t v1) {
+                     if (c == 3) {
+                         to_linear(in, v0 * row_in, (v1 - v0) * row_in, out.row(int(v0)));
+                         return;
+                     }
+                     // Grey or RGBA: one row at a time through a small buffer.
+                     std::vector<float> row(row_in);
+                     for (std::size_t v = v0; v < v1; ++v) {
+                         to_linear(in, v * row_in, row_in, row.data());
+                         float* dst = out.row(int(v));
+                         for (int u = 0; u < in.width; ++u) {
+                             for (int k = 0; k < 3; ++k) {
+                                 dst[u * 3 + k] = row[std::size_t(u) * c + (c == 1 ? 0 : k)];
+                             }
+                         }
+                     }
+                 },
+                 {threads, kRowGrain});
 }
 
-void fill_depth(const ArrayIn& in, double scale, Image& out) {
+void fill_depth(const ArrayIn& in, double scale, Image& out, int threads) {
     reshape(out, in.width, in.height, 1);
-    const std::size_t n = out.data.size();
-    float* dst = out.data.data();
-    switch (in.elem) {
-        case Elem::U16: {
-            const std::uint16_t* src = static_cast<const std::uint16_t*>(in.data());
-            for (std::size_t i = 0; i < n; ++i) dst[i] = float(src[i] * scale);
-            break;
-        }
-        case Elem::F32:
-            std::memcpy(dst, in.data(), n * sizeof(float));
-            break;
-        case Elem::F64: {
-            const double* src = static_cast<const double*>(in.data());
-            for (std::size_t i = 0; i < n; ++i) dst[i] = float(src[i]);
-            break;
-        }
-        case Elem::U8:
-            throw InputError("8-bit depth is not supported");  // inspect_depth refuses it
-    }
+    const std::size_t w = std::size_t(in.width);
+    parallel_for(
+        std::size_t(in.height),
+        [&](std::size_t v0, std::size_t v1) {
+            const std::size_t i0 = v0 * w, n = (v1 - v0) * w;
+            float* dst = out.data.data() + i0;
+            switch (in.elem) {
+                case Elem::U16: {
+                    const std::uint16_t* src = static_cast<const std::uint16_t*>(in.data()) + i0;
+                    for (std::size_t i = 0; i < n; ++i) dst[i] = float(src[i] * scale);
+                    break;
+                }
+                case Elem::F32:
+                    std::memcpy(dst, static_cast<const float*>(in.data()) + i0, n * sizeof(float));
+                    break;
+                case Elem::F64: {
+                    const double* src = static_cast<const double*>(in.data()) + i0;
+                    for (std::size_t i = 0; i < n; ++i) dst[i] = float(src[i]);
+                    break;
+                }
+                case Elem::U8:
+                    throw InputError("8-bit depth is not supported");  // inspect_depth refuses
+            }
+        },
+        {threads, kRowGrain});
 }
 
 std::vector<float> BufferPool::take(std::size_t n) {

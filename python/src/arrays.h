@@ -41,12 +41,13 @@ ArrayIn inspect_color(const py::handle& obj, const std::string& what);
 ArrayIn inspect_depth(const py::handle& obj, const std::string& what);
 
 /// Fills `out` with linear RGB (3 channels) as read_color would decode the same pixels from a
-/// file. Reuses out's memory. No Python calls: may run without the GIL.
-void fill_color(const ArrayIn& in, Image& out);
+/// file. Reuses out's memory. Parallel over rows on `threads` workers (0: all cores). No Python
+/// calls: may run without the GIL.
+void fill_color(const ArrayIn& in, Image& out, int threads = 0);
 
 /// Fills `out` with one-channel depth in metres: floats as they are, uint16 times `scale` (as
-/// a 16-bit PNG depth image). Reuses out's memory. No Python calls.
-void fill_depth(const ArrayIn& in, double scale, Image& out);
+/// a 16-bit PNG depth image). Reuses out's memory. Parallel as fill_color. No Python calls.
+void fill_depth(const ArrayIn& in, double scale, Image& out, int threads = 0);
 
 /// Pixel buffers lent to NumPy arrays come back here when the arrays are freed, so that the
 /// next frame of the same size reuses them (no allocation, no page faults, no zero fill): in a

@@ -293,8 +293,8 @@ public:
         {
             py::gil_scoped_release nogil;
             std::lock_guard<std::mutex> lock(m_mutex);
-            fill_color(c, m_frame.rgb);
-            fill_depth(d, depth_scale, m_frame.depth);
+            fill_color(c, m_frame.rgb, m_threads);
+            fill_depth(d, depth_scale, m_frame.depth, m_threads);
             require_same_size(m_frame.rgb, m_frame.depth, "rgb and depth");
             in_arena(m_threads, [&] {
                 const Image& z = m_frame.depth;
@@ -438,8 +438,8 @@ py::dict reference(const py::object& setup, const py::object& rgb, const py::obj
     {
         py::gil_scoped_release nogil;
         Frame f;
-        fill_color(c, f.rgb);
-        fill_depth(d, depth_scale, f.depth);
+        fill_color(c, f.rgb, threads);
+        fill_depth(d, depth_scale, f.depth, threads);
         require_same_size(f.rgb, f.depth, "rgb and depth");
         to_planar_depth(*full.camera, f.depth, kind);
         out =
