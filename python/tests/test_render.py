@@ -93,7 +93,10 @@ def test_dtypes_agree(asset, frame):
     big_d = np.zeros((96, 128), np.float32)
     big_d[::2, ::2] = depth
     np.testing.assert_array_equal(r.render(big_rgb[::2, ::2], big_d[::2, ::2])["final"], ref)
-    np.testing.assert_array_equal(r.render(rgb[:, :, ::-1][:, :, ::-1], depth)["final"], ref)
+    np.testing.assert_array_equal(
+        r.render(np.asfortranarray(rgb), np.asfortranarray(depth))["final"], ref)
+    np.testing.assert_array_equal(
+        r.render(rgb[:, ::-1].copy()[:, ::-1], depth[:, ::-1].copy()[:, ::-1])["final"], ref)
 
 
 def test_range_depth(asset, frame):
