@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -334,8 +335,8 @@ public:
     }
     py::dict timing() const {
         py::dict d;
-        d["composite_s"] = m_composite_s;
-        d["call_s"] = m_total_s;
+        d["composite_s"] = m_composite_s.load();
+        d["call_s"] = m_total_s.load();
         return d;
     }
     const PyAsset& asset() const { return m_asset; }
@@ -352,7 +353,7 @@ private:
     Frame m_frame;    ///< input pixels, reused between frames
     std::shared_ptr<BufferPool> m_pool = std::make_shared<BufferPool>();
     std::mutex m_mutex;
-    double m_composite_s = 0.0, m_total_s = 0.0;
+    std::atomic<double> m_composite_s{0.0}, m_total_s{0.0};  // the last frame's, any thread
 };
 
 py::dict info(const std::string& path, int threads) {
