@@ -9,6 +9,8 @@ for m in pytest numpy; do
     exit 77
   fi
 done
+# Nothing written into the source tree (no __pycache__ beside the tests).
+export PYTHONDONTWRITEBYTECODE=1
 rm -rf "$work"; mkdir -p "$work"
 cd "$work"
 exec "$python" -m pytest -q -p no:cacheprovider --basetemp="$work/tmp" "$tests"
