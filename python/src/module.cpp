@@ -124,6 +124,7 @@ bool is_path(const py::handle& h) {
     return py::isinstance(h, py::module_::import("os").attr("PathLike"));
 }
 
+/// A str or os.PathLike as a path (TypeError from os.fspath otherwise).
 std::string path_text(const py::handle& h) {
     return py::module_::import("os").attr("fspath")(h).cast<std::string>();
 }
@@ -251,8 +252,9 @@ struct PyAsset {
     std::string path;  ///< file it was loaded from or written to; empty for a bake in memory
 };
 
-PyAsset load(const std::string& path, int threads) {
+PyAsset load(const py::object& file, int threads) {
     check_threads(threads);
+    const std::string path = path_text(file);
     auto a = std::make_shared<Asset>();
     {
         py::gil_scoped_release nogil;
@@ -356,8 +358,9 @@ private:
     std::atomic<double> m_composite_s{0.0}, m_total_s{0.0};  // the last frame's, any thread
 };
 
-py::dict info(const std::string& path, int threads) {
+py::dict info(const py::object& file, int threads) {
     check_threads(threads);
+    const std::string path = path_text(file);
     std::string json;
     {
         py::gil_scoped_release nogil;
@@ -370,7 +373,7 @@ py::dict info(const std::string& path, int threads) {
 }
 
 PyAsset bake_asset(const py::object& setup, const py::object& camera, const py::object& rig,
-                   const py::object& water, const std::optional<std::string>& output, int xy_step,
+                   const py::object& water, const py::object& output_path, int xy_step,
                    int depth_samples, const std::string& depth_scheme, const py::object& z_max,
                    double tolerance, bool check, bool strict, const std::string& scattering,
                    int paths, int ms_stride, std::uint64_t seed, bool half, bool preview,
@@ -403,6 +406,8 @@ PyAsset bake_asset(const py::object& setup, const py::object& camera, const py::
     validate(s);
     Setup full = full_setup(setup, camera, rig, water);
     require_complete(full, "deepsea.bake");
+    std::optional<std::string> output;
+    if (!output_path.is_none()) output = path_text(output_path);
     if (output) require_writable(*output);  // before a long bake, not after
     auto a = std::make_shared<Asset>();
     {
@@ -498,7 +503,8 @@ PYBIND11_MODULE(deepsea, m) {
             "the deepsea:bake metadata (dict: camera, rig, water, lattice, check, ...)")
         .def(
             "save",
-            [](const PyAsset& a, const std::string& path, bool half, bool preview) {
+            [](const PyAsset& a, const py::object& file, bool half, bool preview) {
+                const std::string path = path_text(file);
                 WriteOptions w;
                 w.half = half;
                 w.preview = preview;
@@ -566,9 +572,10 @@ PYBIND11_MODULE(deepsea, m) {
     m.def("bake", &bake_asset, py::arg("setup") = py::none(), py::kw_only(),
           py::arg("camera") = py::none(), py::arg("rig") = py::none(),
           py::arg("water") = py::none(), py::arg("output") = py::none(), py::arg("xy_step") = 0,
-          py::arg("depth_samples") = 0, py::arg("depth_scheme") = "log", py::arg("z_max") = "auto",
-          py::arg("tolerance") = BakeSettings{}.tolerance, py::arg("check") = true,
-          py::arg("strict") = false, py::arg("scattering") = "single",
+          py::arg("depth_samples") = 0,
+          py::arg("depth_scheme") = std::string(to_string(BakeSettings{}.scheme)),
+          py::arg("z_max") = "auto", py::arg("tolerance") = BakeSettings{}.tolerance,
+          py::arg("check") = true, py::arg("strict") = false, py::arg("scattering") = "single",
           py::arg("paths") = HigherOrderSettings{}.paths, py::arg("ms_stride") = 0,
           py::arg("seed") = HigherOrderSettings{}.seed, py::arg("half") = true,
           py::arg("preview") = true, py::arg("threads") = 0,

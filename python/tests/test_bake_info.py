@@ -25,9 +25,13 @@ def test_asset_properties(asset, asset_path, work):
     assert asset.camera == CAMERA
     assert asset.bake_info == deepsea.info(asset_path)["bake"]
     assert "64x48" in repr(asset)
-    again = str(work / "saved.vdb")
+    again = work / "saved.vdb"  # paths may be os.PathLike
     asset.save(again, preview=False)
     loaded = deepsea.load_asset(again)
+    assert loaded.path == str(again)
+    assert deepsea.info(again)["bake"] == asset.bake_info
+    with pytest.raises(TypeError):
+        deepsea.load_asset(42)
     frame = tilted_plane()
     np.testing.assert_array_equal(deepsea.render(asset, *frame)["final"],
                                   deepsea.render(loaded, *frame)["final"])
@@ -50,6 +54,9 @@ def test_setup_forms_bake_the_same(asset, work):
         a = deepsea.bake(form, **kw, **BAKE)
         assert a.bake_info["input_hash"] == want, form
         assert a.path is None
+    written = deepsea.bake(forms[0], output=work / "from_text.vdb", **BAKE)
+    assert written.path == str(work / "from_text.vdb")
+    assert deepsea.load_asset(written.path).bake_info["input_hash"] == want
     # the same inputs as `deepsea bake` on the command line
     cli("bake", "--config", work / "setup.yaml", "--xy-step", 8, "--depth-samples", 16,
         "--no-check", "-o", work / "cli.vdb")
