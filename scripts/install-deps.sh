@@ -6,9 +6,10 @@ pkgs=(build-essential cmake pkg-config
       libopenexr-dev libopenimageio-dev openimageio-tools
       libspng-dev libdeflate-dev libjpeg62-turbo-dev
       libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libssl-dev
-      libgtest-dev libbenchmark-dev)
+      libgtest-dev libbenchmark-dev
+      python3-dev pybind11-dev python3-numpy)
 if [[ "${1:-}" == "--tests" ]]; then
-  pkgs+=(blender python3-numpy python3-openimageio python3-openvdb clang-format)
+  pkgs+=(blender python3-pytest python3-openimageio python3-openvdb clang-format)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

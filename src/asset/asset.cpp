@@ -1,5 +1,9 @@
 #include "deepsea/asset/asset.h"
 
+#include <algorithm>
+
+#include "deepsea/asset/asset_file.h"
+
 namespace deepsea {
 
 const char* to_string(Scattering s) { return s == Scattering::Multiple ? "multiple" : "single"; }
@@ -34,6 +38,16 @@ Rgb Asset::sample(double u, double v, double z) const {
         out[c] = lerp(top, bottom, cv.w);
     }
     return out;
+}
+
+WorldBox frustum_extent(const Camera& cam, double z_max) {
+    // Camera-frame x / z and y / z of the image's outer pixel edges; the apex adds 0.
+    const double x0 = (-0.5 - cam.cx) / cam.fx, x1 = (cam.width - 0.5 - cam.cx) / cam.fx;
+    const double y0 = (-0.5 - cam.cy) / cam.fy, y1 = (cam.height - 0.5 - cam.cy) / cam.fy;
+    WorldBox box;
+    box.min = {std::min(0.0, x0) * z_max, -std::max(0.0, y1) * z_max, -z_max};
+    box.max = {std::max(0.0, x1) * z_max, -std::min(0.0, y0) * z_max, 0.0};
+    return box;
 }
 
 void check_camera(const Asset& asset, const Camera& camera) {

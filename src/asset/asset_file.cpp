@@ -74,43 +74,61 @@ double half_scale(const std::vector<float>& v) {
     return std::ldexp(1.0, 12 - std::ilogb(m) - 1);
 }
 
-bool is_uniform(const Lattice& l) {
-    if (l.scheme != DepthScheme::Uniform || l.slabs() < 2) return false;
-    const double dz = l.z_max() / l.slabs();
-    for (int k = 0; k <= l.slabs(); ++k) {
-        if (std::abs(l.z[k] - k * dz) > 1e-9 * l.z_max()) return false;
-    }
-    return true;
+/// Index cells 0 .. leaf_cells(n) - 1 that OpenVDB's leaf nodes (8^3 voxels) around index
+/// 0 .. n - 1 span: Blender frames a grid by its leaf nodes, not by its active voxels.
+int leaf_cells(int n) { return (n + 7) / 8 * 8; }
+
+/// A diagonal affine transform: world = origin + scale * index, per axis.
+vdb::math::Transform::Ptr axis_transform(const Vec3& scale, const Vec3& origin) {
+    const vdb::math::Mat4d m(scale.x, 0.0, 0.0, 0.0,  //
+                             0.0, scale.y, 0.0, 0.0,  //
+                             0.0, 0.0, scale.z, 0.0,  //
+                             origin.x, origin.y, origin.z, 1.0);
+    return vdb::math::Transform::createLinearTransform(m);
 }
 
-/// Frustum transform: index (i, j, k) -> camera point of pixel (i s, j s) at planar depth
-/// k dz, in the world frame (x, -y, -z). docs/asset-format.md derives the parameters.
-vdb::math::Transform::Ptr frustum_transform(const Camera& cam, const Lattice& l) {
-    const int K = l.slabs();
-    const double s = l.step, dz = l.z_max() / K;
-    const double ci = cam.cx / s, cj = cam.cy / s;
-    const double half_i = std::max(ci, (l.ni - 1) - ci);
-    const double half_j = std::max(cj, (l.nj - 1) - cj);
-    // Symmetric about the principal point. OpenVDB scales both x and y by 1 / Lx, so the
-    // second map's y scale carries fx / fy (a uniform scale when fx = fy).
-    const double Lx = std::max(2.0 * half_i, 1.0);
-    const double Ly = std::max(2.0 * half_j, 1.0);
-    const vdb::BBoxd bbox(vdb::Vec3d(ci - Lx / 2, cj - Ly / 2, 1.0),
-                          vdb::Vec3d(ci + Lx / 2, cj + Ly / 2, double(K)));
-    // Index z from 1 (near plane z_1) to K (far plane): taper z_1 / z_K = 1 / K, and the
-    // frustum's linear extrapolation puts k = 0 at the apex.
-    const double Sx = s * dz * Lx / cam.fx;
-    const double Sy = s * dz * Lx / cam.fy;
-    const double taper = 1.0 / K;
-    const double depth = dz * (K - 1) / Sx;
-    const vdb::math::Mat4d m(Sx, 0.0, 0.0, 0.0,   //
-                             0.0, -Sy, 0.0, 0.0,  //
-                             0.0, 0.0, -Sx, 0.0,  //
-                             0.0, 0.0, -dz, 1.0);
-    auto second = vdb::math::MapBase::Ptr(new vdb::math::AffineMap(m));
-    auto frustum =
-        vdb::math::MapBase::Ptr(new vdb::math::NonlinearFrustumMap(bbox, taper, depth, second));
-    return vdb::math::Transform::Ptr(new vdb::math::Transform(frustum));
+/// The backscatter grid's transform (every depth scheme): its index box, rounded up to whole
+/// leaf nodes, divided evenly over the frustum's bounding box, index (i, j, k) at the centre
+/// of cell (i, j, k); columns left to right, rows top to bottom, samples from the camera
+/// forward. So a plain import frames the light field. The true camera-space point of a
+/// voxel is in the grid's metadata (add_lattice_geometry_meta), not in this map: OpenVDB's frustum
+/// map holds only uniform depths, and Blender 3.4 drops its perspective (docs/blender.md).
+vdb::math::Transform::Ptr lattice_transform(const Camera& cam, const Lattice& l) {
+    const WorldBox box = frustum_extent(cam, l.z_max());
+    const Vec3 cell{(box.max.x - box.min.x) / leaf_cells(l.ni),
+                    (box.max.y - box.min.y) / leaf_cells(l.nj),
+                    (box.max.z - box.min.z) / leaf_cells(l.nk())};
+    return axis_transform(
+        {cell.x, -cell.y, -cell.z},
+        {box.min.x + 0.5 * cell.x, box.max.y - 0.5 * cell.y, box.max.z - 0.5 * cell.z});
+}
+
+/// Grid metadata from which a tool that knows nothing of deepsea (Houdini, pyopenvdb) gets
+/// the camera-space point of backscatter voxel (i, j, k) in every depth scheme
+/// (docs/asset-format.md, "The backscatter grid's transform and its camera-space geometry").
+void add_lattice_geometry_meta(vdb::GridBase& grid, const Camera& cam, const Lattice& l) {
+    grid.insertMeta("deepsea:index_to_camera",
+                    vdb::StringMetadata("OpenCV camera point of index (i, j, k): z = "
+                                        "z_samples[k], x = (i * step - cx) / fx * z, y = "
+                                        "(j * step - cy) / fy * z; world = (x, -y, -z)"));
+    grid.insertMeta("deepsea:step", vdb::Int32Metadata(l.step));
+    grid.insertMeta("deepsea:fx", vdb::DoubleMetadata(cam.fx));
+    grid.insertMeta("deepsea:fy", vdb::DoubleMetadata(cam.fy));
+    grid.insertMeta("deepsea:cx", vdb::DoubleMetadata(cam.cx));
+    grid.insertMeta("deepsea:cy", vdb::DoubleMetadata(cam.cy));
+    grid.insertMeta("deepsea:depth_scheme", vdb::StringMetadata(to_string(l.scheme)));
+}
+
+/// A lamp field's transform: cubic voxels of at most 1 mm, the table's leaf box centred in the
+/// frustum's bounding box (its index space is not space; it only has to stay out of the way).
+vdb::math::Transform::Ptr lamp_field_transform(const LampField& f, const WorldBox& box) {
+    const int n[3] = {leaf_cells(f.nr), leaf_cells(f.ntheta), leaf_cells(kShCount)};
+    double h = 1e-3;
+    for (int a = 0; a < 3; ++a) h = std::min(h, 0.5 * (box.max[a] - box.min[a]) / n[a]);
+    const auto start = [&](int a) {
+        return 0.5 * (box.min[a] + box.max[a]) - 0.5 * h * (n[a] - 1);
+    };
+    return axis_transform({h, h, h}, {start(0), start(1), start(2)});
 }
 
 template <typename T>
@@ -199,19 +217,19 @@ GridSummary summarize(const vdb::GridBase& g) {
     const auto lo = g.getMetadata<vdb::Vec3IMetadata>(vdb::GridBase::META_FILE_BBOX_MIN);
     const auto hi = g.getMetadata<vdb::Vec3IMetadata>(vdb::GridBase::META_FILE_BBOX_MAX);
     if (lo && hi && s.active_voxels > 0) {
-        double mn[3] = {1e300, 1e300, 1e300}, mx[3] = {-1e300, -1e300, -1e300};
-        for (int corner = 0; corner < 8; ++corner) {
-            const vdb::Vec3d p((corner & 1 ? hi : lo)->value().x(),
-                               (corner & 2 ? hi : lo)->value().y(),
-                               (corner & 4 ? hi : lo)->value().z());
-            const vdb::Vec3d w = g.transform().indexToWorld(p);
-            for (int a = 0; a < 3; ++a) {
-                mn[a] = std::min(mn[a], w[a]);
-                mx[a] = std::max(mx[a], w[a]);
-            }
-        }
-        s.world_min = {mn[0], mn[1], mn[2]};
-        s.world_max = {mx[0], mx[1], mx[2]};
+        const auto world = [&](const vdb::Vec3i& a, const vdb::Vec3i& b, Vec3& wmin, Vec3& wmax) {
+            const vdb::BBoxd w = g.transform().indexToWorld(
+                vdb::BBoxd(vdb::Vec3d(a.x(), a.y(), a.z()), vdb::Vec3d(b.x(), b.y(), b.z())));
+            wmin = {w.min().x(), w.min().y(), w.min().z()};
+            wmax = {w.max().x(), w.max().y(), w.max().z()};
+        };
+        world(lo->value(), hi->value(), s.world_min, s.world_max);
+        // The leaf nodes around the active voxels (an 8^3 leaf's origin is a multiple of 8).
+        const auto leaf_lo = [](int x) { return x & ~7; };
+        const vdb::Vec3i a = lo->value(), b = hi->value();
+        world({leaf_lo(a.x()), leaf_lo(a.y()), leaf_lo(a.z())},
+              {leaf_lo(b.x()) + 7, leaf_lo(b.y()) + 7, leaf_lo(b.z()) + 7}, s.leaf_world_min,
+              s.leaf_world_max);
     }
     return s;
 }
@@ -224,9 +242,9 @@ constexpr const char* kMetaFieldRMax = "deepsea:r_max";
 constexpr const char* kMetaFieldError = "deepsea:rel_std_error";
 
 /// A lamp field as a Vec3f grid, index (i, j, m) = (distance, angle, SH coefficient), RGB per
-/// voxel, full float. Its 1 mm voxels keep it next to the lamp in world space (a grid of unit
-/// voxels would frame a box metres wide around nothing in Blender).
-vdb::GridBase::Ptr lamp_field_to_grid(const LampField& f, std::size_t l) {
+/// voxel, full float. Its small voxels keep it inside the frustum's box in world space (a grid
+/// of unit voxels would frame a box metres wide around nothing in Blender).
+vdb::GridBase::Ptr lamp_field_to_grid(const LampField& f, std::size_t l, const WorldBox& extent) {
     std::vector<vdb::Vec3s> stored(f.sh.size() / 3);
     for (std::size_t n = 0; n < stored.size(); ++n) {
         stored[n] = vdb::Vec3s(f.sh[3 * n], f.sh[3 * n + 1], f.sh[3 * n + 2]);
@@ -237,7 +255,7 @@ vdb::GridBase::Ptr lamp_field_to_grid(const LampField& f, std::size_t l) {
     vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, stored.data());
     vdb::tools::copyFromDense(dense, *grid, vdb::Vec3s(0.0f));
     grid->setName(lamp_field_grid(l));
-    grid->setTransform(vdb::math::Transform::createLinearTransform(1e-3));
+    grid->setTransform(lamp_field_transform(f, extent));
     grid->setVectorType(vdb::VEC_INVARIANT);
     grid->insertMeta(kMetaFieldR0, vdb::DoubleMetadata(f.r0));
     grid->insertMeta(kMetaFieldRMax, vdb::DoubleMetadata(f.r_max));
@@ -340,8 +358,9 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
         vdb::tools::copyFromDense(dense, *grid, vdb::Vec3s(0.0f));
     }
     grid->setName(kBackscatterGrid);
-    grid->setTransform(is_uniform(l) ? frustum_transform(asset.info.camera, l)
-                                     : vdb::math::Transform::createLinearTransform(1.0));
+    grid->setTransform(lattice_transform(asset.info.camera, l));
+    add_lattice_geometry_meta(*grid, asset.info.camera, l);
+    const WorldBox extent = frustum_extent(asset.info.camera, l.z_max());
     grid->setSaveFloatAsHalf(opt.half);
     grid->setVectorType(vdb::VEC_INVARIANT);
 
@@ -351,7 +370,11 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     meta.insertMeta(kMetaScale, vdb::DoubleMetadata(scale));
     meta.insertMeta(kMetaChecksum, vdb::StringMetadata(hex(sum)));
     std::string zs;
-    for (double z : l.z) zs += (zs.empty() ? "" : " ") + std::to_string(z);
+    for (double z : l.z) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%s%.17g", zs.empty() ? "" : " ", z);
+        zs += buf;
+    }
     meta.insertMeta(kMetaZ, vdb::StringMetadata(zs));
     for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it)
         grid->insertMeta(it->first, *it->second);
@@ -360,7 +383,8 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     // descriptors before it), and load_asset, which reads only this grid, notices.
     vdb::GridPtrVec grids;
     if (opt.preview) {
-        const detail::Preview pv = detail::make_preview(asset, std::max(opt.preview_resolution, 2));
+        const detail::Preview pv = detail::make_preview(asset, std::max(opt.preview_resolution, 8),
+                                                        std::max(opt.preview_across, 8));
         if (!pv.voxels.empty()) {
             auto density = vdb::FloatGrid::create(0.0f);
             auto color = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
@@ -392,7 +416,7 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
                 "write_asset: a multiple-scattering asset needs one lamp field per lamp");
         }
         for (std::size_t l = 0; l < asset.lamp_fields.size(); ++l) {
-            grids.push_back(lamp_field_to_grid(asset.lamp_fields[l], l));
+            grids.push_back(lamp_field_to_grid(asset.lamp_fields[l], l, extent));
         }
     }
     grids.push_back(grid);
@@ -500,6 +524,17 @@ AssetFileSummary read_asset_summary(const std::string& path) {
         throw AssetError(path + ": damaged OpenVDB file (" + one_line(e.what()) + ")");
     }
     return s;
+}
+
+bool asset_up_to_date(const std::string& path, const std::string& input_hash) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return false;
+    try {
+        const AssetFileSummary s = read_asset_summary(path);
+        return s.format == kAssetFormat && s.info.input_hash == input_hash;
+    } catch (const Error&) {
+        return false;  // unreadable: bake it again
+    }
 }
 
 std::vector<Vec3> index_to_world(const std::string& path, const std::string& grid,

@@ -1,5 +1,6 @@
 #include "deepsea/asset/asset_json.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -398,6 +399,78 @@ std::string input_hash(const BakeInfo& info) {
         h *= 1099511628211ull;
     }
     return "fnv1a64:" + hex64(h);
+}
+
+namespace {
+
+/// A JSON string literal: paths may hold quotes, backslashes or control characters.
+std::string json_string(const std::string& text) {
+    std::string out = "\"";
+    for (unsigned char ch : text) {
+        if (ch == '"' || ch == '\\') {
+            out += '\\';
+            out += char(ch);
+        } else if (ch < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
+            out += buf;
+        } else {
+            out += char(ch);
+        }
+    }
+    return out + "\"";
+}
+
+}  // namespace
+
+std::pair<Rgb, Rgb> backscatter_range(const Asset& asset) {
+    const Lattice& l = asset.lattice();
+    Rgb lo(1e30), hi(0.0);
+    for (int i = 0; i < l.ni; ++i) {
+        for (int j = 0; j < l.nj; ++j) {
+            const Rgb v = asset.at(i, j, l.slabs());
+            for (int c = 0; c < 3; ++c) {
+                lo[c] = std::min(lo[c], v[c]);
+                hi[c] = std::max(hi[c], v[c]);
+            }
+        }
+    }
+    return {lo, hi};
+}
+
+std::string asset_info_json(const std::string& path, const AssetFileSummary& s,
+                            const Asset& asset) {
+    const auto [lo, hi] = backscatter_range(asset);
+    const auto vec = [](const Vec3& v) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "[%.9g, %.9g, %.9g]", v.x, v.y, v.z);
+        return std::string(buf);
+    };
+    std::string grids;
+    for (const GridSummary& g : s.grids) {
+        char buf[512];
+        std::snprintf(buf, sizeof buf,
+                      "%s{\"name\": %s, \"value_type\": %s, \"transform\": %s, \"half\": %s, "
+                      "\"active_voxels\": %lld, ",
+                      grids.empty() ? "" : ", ", json_string(g.name).c_str(),
+                      json_string(g.value_type).c_str(), json_string(g.transform).c_str(),
+                      g.half ? "true" : "false", static_cast<long long>(g.active_voxels));
+        grids += buf;
+        grids += "\"world_min\": " + vec(g.world_min) + ", \"world_max\": " + vec(g.world_max) +
+                 ", \"leaf_world_min\": " + vec(g.leaf_world_min) +
+                 ", \"leaf_world_max\": " + vec(g.leaf_world_max) + "}";
+    }
+    const WorldBox box = frustum_extent(s.info.camera, s.info.lattice.z_max());
+    const std::string head = "{\"file\": " + json_string(path) + ", ";
+    char buf[1024];
+    std::snprintf(buf, sizeof buf,
+                  "\"bytes\": %ju, \"format\": %d, \"value_scale\": %.17g, "
+                  "\"backscatter_at_z_max\": {\"min\": [%.9g, %.9g, %.9g], "
+                  "\"max\": [%.9g, %.9g, %.9g]}, \"frustum_extent\": {\"min\": %s, \"max\": %s}, "
+                  "\"preview_voxel_size\": %.9g, \"grids\": [",
+                  s.file_bytes, s.format, s.value_scale, lo.r, lo.g, lo.b, hi.r, hi.g, hi.b,
+                  vec(box.min).c_str(), vec(box.max).c_str(), s.preview_voxel_size);
+    return head + buf + grids + "], \"bake\": " + bake_info_to_json(s.info, -1) + "}";
 }
 
 }  // namespace deepsea

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "deepsea/asset/asset_file.h"
+
 namespace deepsea::detail {
 
 namespace {
@@ -17,9 +19,26 @@ inline double luminance(double r, double g, double b) {
 constexpr double kDepthCut = 1e-2;    // preview depth: in-scatter below 1 % of the max beyond
 constexpr double kDensityCut = 1e-3;  // voxels below this density stay background (sparse)
 
+/// Leaf-safe index range [lo, hi] of one axis: voxels a = lo .. hi at world a * h whose whole
+/// 8-voxel leaf node [8q, 8q + 7] lies in [wmin, wmax]. Blender frames a grid by its leaf nodes.
+void leaf_safe_range(double wmin, double wmax, double h, int& lo, int& hi) {
+    const double eps = 1e-9;
+    lo = 8 * int(std::ceil(wmin / h / 8.0 - eps));
+    hi = 8 * int(std::floor((wmax / h - 7.0) / 8.0 + eps)) + 7;
+}
+
 }  // namespace
 
-Preview make_preview(const Asset& asset, int resolution) {
+double preview_voxel_size(const Camera& cam, double depth, int max_depth, int max_across) {
+    const double pixels = std::max(1.0, double(std::max(cam.width, cam.height)) / max_across);
+    const double footprint = pixels * depth / std::min(cam.fx, cam.fy);
+    const double h = std::max(footprint, depth / max_depth);
+    // Whole leaf nodes along the depth, rounded down: voxels no smaller than both bounds.
+    const double leaves = std::floor(depth / h / 8.0 + 1e-9);
+    return depth / (8.0 * std::max(leaves, 1.0));
+}
+
+Preview make_preview(const Asset& asset, int max_depth, int max_across) {
     const Lattice& l = asset.lattice();
     const Camera& cam = asset.info.camera;
     const int K = l.slabs();
@@ -52,16 +71,23 @@ Preview make_preview(const Asset& asset, int resolution) {
         }
     }
     out.depth = l.z[k_last + 1];
-    out.voxel_size = out.depth / resolution;
+    out.voxel_size = preview_voxel_size(cam, out.depth, max_depth, max_across);
     out.density_scale = lum_max;
     const double h = out.voxel_size;
+    const int slabs = int(std::lround(out.depth / h));  // a multiple of 8
 
     std::vector<double> mid(K);
     for (int k = 0; k < K; ++k) mid[k] = 0.5 * (l.z[k] + l.z[k + 1]);
-    const double u_max = l.u(l.ni - 1), v_max = l.v(l.nj - 1);
+    // The image's frustum: pixel edges -0.5 .. size - 0.5 (the lattice may reach beyond).
+    const double u_lo = -0.5, u_hi = cam.width - 0.5, v_lo = -0.5, v_hi = cam.height - 0.5;
+    const WorldBox box = frustum_extent(cam, l.z_max());
+    int a_lo, a_hi, b_lo, b_hi;
+    leaf_safe_range(box.min.x, box.max.x, h, a_lo, a_hi);
+    leaf_safe_range(box.min.y, box.max.y, h, b_lo, b_hi);
 
-    std::vector<std::vector<PreviewVoxel>> slices(resolution);
-    tbb::parallel_for(0, resolution, [&](int n) {
+    std::vector<std::vector<PreviewVoxel>> slices(slabs);
+    std::vector<long> trimmed(slabs, 0);
+    tbb::parallel_for(0, slabs, [&](int n) {
         const double Z = (n + 1) * h;
         // In-scatter at depth Z, linear between segment midpoints, for every column.
         const int m1 = int(std::upper_bound(mid.begin(), mid.end(), Z) - mid.begin());
@@ -77,18 +103,23 @@ Preview make_preview(const Asset& asset, int resolution) {
             }
         }
         std::vector<PreviewVoxel>& vox = slices[n];
-        const int a0 = int(std::ceil((0.0 - cam.cx) / cam.fx * Z / h));
-        const int a1 = int(std::floor((u_max - cam.cx) / cam.fx * Z / h));
+        const int a0 = int(std::ceil((u_lo - cam.cx) / cam.fx * Z / h));
+        const int a1 = int(std::floor((u_hi - cam.cx) / cam.fx * Z / h));
         // World y is up: b = -Y / h.
-        const int b0 = int(std::ceil(-(v_max - cam.cy) / cam.fy * Z / h));
-        const int b1 = int(std::floor(-(0.0 - cam.cy) / cam.fy * Z / h));
-        for (int bb = b0; bb <= b1; ++bb) {
+        const int b0 = int(std::ceil(-(v_hi - cam.cy) / cam.fy * Z / h));
+        const int b1 = int(std::floor(-(v_lo - cam.cy) / cam.fy * Z / h));
+        // Voxels in the frustum whose leaf node would reach out of its box: only at the far
+        // corners, when the preview reaches z_max.
+        trimmed[n] = long(b1 - b0 + 1) * (a1 - a0 + 1) -
+                     long(std::max(0, std::min(b1, b_hi) - std::max(b0, b_lo) + 1)) *
+                         std::max(0, std::min(a1, a_hi) - std::max(a0, a_lo) + 1);
+        for (int bb = std::max(b0, b_lo); bb <= std::min(b1, b_hi); ++bb) {
             const double v = cam.fy * (-bb * h) / Z + cam.cy;
             const double y = std::clamp(v / l.step, 0.0, double(l.nj - 1));
             const int j0 = std::min(int(y), std::max(l.nj - 2, 0));
             const int j1 = std::min(j0 + 1, l.nj - 1);
             const double wy = y - j0;
-            for (int a = a0; a <= a1; ++a) {
+            for (int a = std::max(a0, a_lo); a <= std::min(a1, a_hi); ++a) {
                 const double u = cam.fx * (a * h) / Z + cam.cx;
                 const double x = std::clamp(u / l.step, 0.0, double(l.ni - 1));
                 const int i0 = std::min(int(x), std::max(l.ni - 2, 0));
@@ -114,6 +145,7 @@ Preview make_preview(const Asset& asset, int resolution) {
             }
         }
     });
+    for (long t : trimmed) out.trimmed += t;
     std::size_t total = 0;
     for (const auto& v : slices) total += v.size();
     out.voxels.reserve(total);

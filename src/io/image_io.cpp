@@ -214,6 +214,16 @@ const float* srgb_decode_table(int codes) {
 
 }  // namespace
 
+void srgb_decode(const std::uint8_t* codes, std::size_t n, float* linear) {
+    const float* lut = srgb_decode_table(255);
+    for (std::size_t i = 0; i < n; ++i) linear[i] = lut[codes[i]];
+}
+
+void srgb_decode(const std::uint16_t* codes, std::size_t n, float* linear) {
+    const float* lut = srgb_decode_table(65535);
+    for (std::size_t i = 0; i < n; ++i) linear[i] = lut[codes[i]];
+}
+
 float linear_to_srgb(float v) {
     if (v <= 0.0031308f) return v * 12.92f;
     return float(1.055 * std::pow(double(v), 1.0 / 2.4) - 0.055);

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "clones.h"
+#include "deepsea/core/error.h"
 #include "gaussian_planes.h"
 #include "kernels.h"
 
@@ -15,47 +16,259 @@ namespace deepsea {
 namespace {
 
 constexpr int kTableBins = 1024;
+/// Scales per channel in a table row, padded: 32 holds images of up to 2^30 px a side.
+constexpr int kMaxStride = 32;
 
-/// Downsampling factor for a Gaussian of sigma pixels: the largest power of two that leaves
-/// sigma at least one pixel of the smaller image, keeps that image at least 8 pixels high and
-/// wide, and is at most 128.
-int level_factor(double sigma, int width, int height) {
-    int f = 1;
-    while (2 * f <= sigma && f < 128 && std::min(width, height) / (2 * f) >= 8) f *= 2;
-    return f;
+/// Bilinear taps into a grid downsampled by two more (n_lo columns), per column of a w-column
+/// grid: column x samples the coarser grid at (x + 0.5) / 2 - 0.5.
+void halving_taps(int w, int n_lo, std::vector<int>& x0, std::vector<int>& x1,
+                  std::vector<float>& ax) {
+    x0.resize(w);
+    x1.resize(w);
+    ax.resize(w);
+    for (int x = 0; x < w; ++x) {
+        const float fx = (x + 0.5f) / 2.0f - 0.5f;
+        const int a = std::clamp(int(std::floor(fx)), 0, n_lo - 1);
+        x0[x] = a;
+        x1[x] = std::min(a + 1, n_lo - 1);
+        ax[x] = std::clamp(fx - a, 0.0f, 1.0f);
+    }
 }
 
-/// x[u] = (the table's value at distance index idx[u] + frac[u]) * L[u]; 0 where idx < 0.
+/// x[b * lanes + c * stride + j] = sum over the block's pixels u (b * block .. b * block +
+/// block - 1, fewer at the end) of W_j(d_u) L_u[c], W_j from the table's rows idx[u] and
+/// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. Scale
+/// 0's values per pixel also go to sharp[c][u] (3 planes `plane` floats apart). A block's sums
+/// stay in registers: the stride is a compile-time constant.
+template <int S>
+[[gnu::always_inline]] inline void weigh_blocks_of(int n, int block, const int* __restrict idx,
+                                                   const float* __restrict frac,
+                                                   const float* __restrict tab,
+                                                   const float* __restrict L, float* __restrict x,
+                                                   float* __restrict sharp, std::size_t plane) {
+    constexpr int lanes = 3 * S;
+    for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
+        float acc[lanes] = {};
+        for (int u = u0; u < std::min(u0 + block, n); ++u) {
+            if (idx[u] < 0) {
+                for (int c = 0; c < 3; ++c) sharp[c * plane + u] = 0.0f;
+                continue;
+            }
+            const float* ta = tab + std::size_t(idx[u]) * lanes;
+            const float* tb = ta + lanes;
+            const float t = frac[u];
+            for (int c = 0; c < 3; ++c) {
+                const float l = L[3 * u + c];
+#pragma GCC unroll 32
+                for (int k = c * S; k < c * S + S; ++k) acc[k] += (ta[k] + t * (tb[k] - ta[k])) * l;
+                sharp[c * plane + u] = (ta[c * S] + t * (tb[c * S] - ta[c * S])) * l;
+            }
+        }
+        std::copy(acc, acc + lanes, x + std::size_t(b) * lanes);
+    }
+}
+
 DEEPSEA_CLONES
-void weigh_row(int n, const int* __restrict idx, const float* __restrict frac,
-               const float* __restrict tab, const float* __restrict L, float* __restrict x) {
+void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
+                  const float* L, float* x, float* sharp, std::size_t plane) {
+    switch (stride) {
+        case 4:
+            return weigh_blocks_of<4>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 8:
+            return weigh_blocks_of<8>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 12:
+            return weigh_blocks_of<12>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 16:
+            return weigh_blocks_of<16>(n, block, idx, frac, tab, L, x, sharp, plane);
+        case 20:
+            return weigh_blocks_of<20>(n, block, idx, frac, tab, L, x, sharp, plane);
+        default:
+            return weigh_blocks_of<kMaxStride>(n, block, idx, frac, tab, L, x, sharp, plane);
+    }
+}
+
+/// Sums of neighbouring blocks: dst block i = src blocks 2i and 2i + 1 (the last alone when
+/// n is odd), each block `lanes` floats.
+DEEPSEA_CLONES
+void pair_sums(int n, int lanes, const float* __restrict src, float* __restrict dst) {
+    const int pairs = n / 2;
+    for (int i = 0; i < pairs; ++i) {
+        const float* s = src + std::size_t(2 * i) * lanes;
+        float* d = dst + std::size_t(i) * lanes;
 #pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        const int i = idx[u] < 0 ? 0 : idx[u];
-        const float a = tab[i], b = tab[i + 1];
-        const float w = a + frac[u] * (b - a);
-        x[u] = idx[u] < 0 ? 0.0f : w * L[u];
+        for (int k = 0; k < lanes; ++k) d[k] = s[k] + s[k + lanes];
+    }
+    if (n % 2) {
+        std::copy(src + std::size_t(n - 1) * lanes, src + std::size_t(n) * lanes,
+                  dst + std::size_t(pairs) * lanes);
     }
 }
 
 }  // namespace
 
+ForwardPsfBlur::ForwardPsfBlur(ForwardPsf psf) : m_psf(std::move(psf)) {
+    m_stride = (m_psf.scales() + 3) / 4 * 4;
+    if (m_stride > 20) m_stride = kMaxStride;
+    if (m_psf.scales() > kMaxStride) throw ConfigError("forward scatter: too many scales");
+    m_lanes = 3 * m_stride;
+}
+
+int ForwardPsfBlur::level_factor(double sigma, int width, int height) {
+    int f = 1;
+    while (f < 128 && std::min(width, height) / (2 * f) >= 8 &&
+           resampling_variance(2 * f) <= sigma * sigma * (1.0 + 1e-9)) {
+        f *= 2;
+    }
+    return f;
+}
+
+double ForwardPsfBlur::resampling_variance(int factor) {
+    if (factor <= 1) return 0.0;
+    // One row of 16 blocks; an impulse at each place p of block 8 is box-averaged into its
+    // block, upsampled by two until full resolution, and the spread about p measured.
+    const int n = 16 * factor;
+    double sum = 0.0;
+    for (int p = 0; p < factor; ++p) {
+        const int x = 8 * factor + p;
+        std::vector<double> g(16, 0.0);
+        g[x / factor] = 1.0 / factor;
+        while (int(g.size()) < n) {
+            const int lo = int(g.size());
+            std::vector<double> fine(2 * g.size());
+            for (int i = 0; i < 2 * lo; ++i) {
+                const double fx = (i + 0.5) / 2.0 - 0.5;
+                const int a = std::clamp(int(std::floor(fx)), 0, lo - 1);
+                const int b = std::min(a + 1, lo - 1);
+                const double t = std::clamp(fx - a, 0.0, 1.0);
+                fine[i] = g[a] + t * (g[b] - g[a]);
+            }
+            g.swap(fine);
+        }
+        for (int u = 0; u < n; ++u) sum += g[u] * double(u - x) * double(u - x);
+    }
+    return sum / factor;
+}
+
 void ForwardPsfBlur::build_table(double d_max) {
     const int S = m_psf.scales();
     m_bins = kTableBins;
     m_step = d_max / m_bins;
-    const std::size_t bins = std::size_t(m_bins) + 1;
-    m_table.assign(bins * S * 3, 0.0f);
+    m_table.assign(std::size_t(m_bins + 1) * m_lanes, 0.0f);
     tbb::parallel_for(0, m_bins + 1, [&](int i) {
+        float* row = m_table.data() + std::size_t(i) * m_lanes;
         for (int j = 0; j < S; ++j) {
             const Rgb w = m_psf.weight(j, i * m_step);
-            for (int c = 0; c < 3; ++c) m_table[(std::size_t(j) * 3 + c) * bins + i] = float(w[c]);
+            for (int c = 0; c < 3; ++c) row[c * m_stride + j] = float(w[c]);
+        }
+    });
+}
+
+void ForwardPsfBlur::resize(int W, int H) {
+    m_width = W;
+    m_height = H;
+    m_sharp.assign(std::size_t(3) * W * H, 0.0f);
+    m_groups.clear();
+    m_levels.assign(m_psf.scales() - 1, Level{});
+    for (int j = 1; j < m_psf.scales(); ++j) {
+        const int f = level_factor(m_psf.sigma_px(j), W, H);
+        if (m_groups.empty() || m_groups.back().factor != f) {
+            Group g;
+            g.factor = f;
+            g.j0 = j;
+            g.w = (W + f - 1) / f;
+            g.h = (H + f - 1) / f;
+            m_groups.push_back(std::move(g));
+        }
+        m_groups.back().j1 = j + 1;
+        Level& L = m_levels[j - 1];
+        L.group = int(m_groups.size()) - 1;
+        const Group& g = m_groups.back();
+        L.planes.assign(std::size_t(3) * g.w * g.h, 0.0f);
+        L.blurred.assign(L.planes.size(), 0.0f);
+    }
+    for (Group& g : m_groups) g.spent = resampling_variance(g.factor);
+    m_grids.clear();
+    const int f_max = m_groups.empty() ? 1 : m_groups.back().factor;
+    for (int f = 2; f <= f_max; f *= 2) {
+        Grid G;
+        G.factor = f;
+        G.w = (W + f - 1) / f;
+        G.h = (H + f - 1) / f;
+        G.acc.assign(std::size_t(3) * G.w * G.h, 0.0f);
+        if (2 * f <= f_max) halving_taps(G.w, (W + 2 * f - 1) / (2 * f), G.x0, G.x1, G.ax);
+        m_grids.push_back(std::move(G));
+    }
+    if (!m_grids.empty()) halving_taps(W, m_grids[0].w, m_x0, m_x1, m_ax);
+}
+
+void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
+    const int W = m_width, H = m_height, lanes = m_lanes, stride = m_stride;
+    const float inv_step = float(1.0 / m_step);
+    const float range = float(m_bins * m_step);
+    // Bands of rows as high as the widest group's blocks, so that every block is summed by
+    // one task, straight into its level's planes.
+    const int band = m_groups.empty() ? 1 : m_groups.back().factor;
+    tbb::parallel_for(0, (H + band - 1) / band, [&](int t) {
+        thread_local std::vector<int> idx;
+        thread_local std::vector<float> frac, x, pyramid;
+        idx.resize(W);
+        frac.resize(W);
+        x.resize(std::size_t(lanes) * W);
+        pyramid.resize(std::size_t(lanes) * (W + 16));
+        for (int v = t * band; v < std::min(H, (t + 1) * band); ++v) {
+            const float* dr = d2.row(v);
+            for (int u = 0; u < W; ++u) {
+                const float d = dr[u];
+                const bool on = d > 0.0f && d < range;
+                const float ti = on ? d * inv_step : 0.0f;
+                const int i = std::min(int(ti), m_bins - 1);
+                idx[u] = on ? i : -1;
+                frac[u] = ti - float(i);
+            }
+            // Blocks of two pixels at once unless a group needs single pixels (tiny images).
+            int f = m_groups.empty() || m_groups[0].factor == 1 ? 1 : 2;
+            weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(), surface.row(v),
+                         x.data(), m_sharp.data() + std::size_t(v) * W, std::size_t(W) * H);
+            // Each group's scales from blocks of its factor (neighbouring blocks summed in
+            // turn), added up over the block's rows and divided by its pixels at the last.
+            const float* blocks = x.data();
+            float* next = pyramid.data();
+            int n = (W + f - 1) / f;
+            for (const Group& g : m_groups) {
+                while (f < g.factor) {
+                    pair_sums(n, lanes, blocks, next);
+                    blocks = next;
+                    n = (n + 1) / 2;
+                    next += std::size_t(n) * lanes;
+                    f *= 2;
+                }
+                const int y = v / f, row_in_block = v % f;
+                const bool last = row_in_block == f - 1 || v == H - 1;
+                const float scale = 1.0f / float(f * (row_in_block + 1));
+                const float edge = float(f) / float(W - (g.w - 1) * f);  // last block's columns
+                for (int j = g.j0; j < g.j1; ++j) {
+                    for (int c = 0; c < 3; ++c) {
+                        float* dst =
+                            m_levels[j - 1].planes.data() + (std::size_t(c) * g.h + y) * g.w;
+                        const float* src = blocks + c * stride + j;
+                        if (row_in_block == 0) {
+                            for (int b = 0; b < g.w; ++b) dst[b] = src[std::size_t(b) * lanes];
+                        } else {
+                            for (int b = 0; b < g.w; ++b) dst[b] += src[std::size_t(b) * lanes];
+                        }
+                        if (f > 1 && last) {
+                            for (int b = 0; b < g.w; ++b) dst[b] *= scale;
+                            dst[g.w - 1] *= edge;
+                        }
+                    }
+                }
+            }
         }
     });
 }
 
 void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
-    const int W = surface.width, H = surface.height, S = m_psf.scales();
+    const int W = surface.width, H = surface.height;
     // The table spans the frame's farthest surface (rebuilt only when a frame reaches beyond
     // it) but no farther than where every weight is below 1e-17 of a surface's radiance.
     const double d_frame = tbb::parallel_reduce(
@@ -68,147 +281,76 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
             return m;
         },
         [](double a, double b) { return std::max(a, b); });
-    const double d_limit = m_psf.negligible_beyond();
-    const double d_max = std::min(d_frame, d_limit);
+    const double d_max = std::min(d_frame, m_psf.negligible_beyond());
     if (m_table.empty() || d_max > m_bins * m_step) build_table(std::max(d_max * 1.25, 1.0));
-    const double range = m_bins * m_step;
+    if (m_width != W || m_height != H) resize(W, H);
 
-    if (m_width != W || m_height != H) {
-        m_width = W;
-        m_height = H;
-        m_sharp.assign(std::size_t(3) * W * H, 0.0f);
-        m_levels.assign(S - 1, Level{});
-        for (int j = 1; j < S; ++j) {
-            Level& L = m_levels[j - 1];
-            L.factor = level_factor(m_psf.sigma_px(j), W, H);
-            L.w = (W + L.factor - 1) / L.factor;
-            L.h = (H + L.factor - 1) / L.factor;
-            if (L.factor > 1) L.partial.assign(std::size_t(3) * L.w * H, 0.0f);
-            L.planes.assign(std::size_t(3) * L.w * L.h, 0.0f);
-            L.blurred.assign(L.planes.size(), 0.0f);
-            L.x0.resize(W);
-            L.x1.resize(W);
-            L.ax.resize(W);
-            for (int u = 0; u < W; ++u) {
-                const float fx = (u + 0.5f) / L.factor - 0.5f;
-                const int x0 = std::clamp(int(std::floor(fx)), 0, L.w - 1);
-                L.x0[u] = x0;
-                L.x1[u] = std::min(x0 + 1, L.w - 1);
-                L.ax[u] = std::clamp(fx - x0, 0.0f, 1.0f);
-            }
-        }
+    weigh(surface, d2);
+
+    // Each scale's blur at its group's grid: box downsampling and the upsampling cascade
+    // spread the light already (resampling_variance); the Gaussian supplies the rest.
+    for (std::size_t i = 0; i < m_levels.size(); ++i) {
+        Level& L = m_levels[i];
+        const Group& g = m_groups[L.group];
+        const double sigma = m_psf.sigma_px(int(i) + 1);
+        const double rest = std::sqrt(std::max(sigma * sigma - g.spent, 0.09)) / g.factor;
+        planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), L.blurred.data(), rest,
+                            m_kernel, m_norm_x, m_norm_y, m_tmp);
     }
 
-    // Weigh: each pixel's radiance times its scales' shares at its distance; full-resolution
-    // scales go straight into their planes, wider ones into per-row block sums.
-    const float inv_step = float(1.0 / m_step);
-    const int bins = m_bins + 1;
-    tbb::parallel_for(0, H, [&](int v) {
-        thread_local std::vector<int> idx;
-        thread_local std::vector<float> frac, L, x;
-        idx.resize(W);
-        frac.resize(W);
-        L.resize(3 * std::size_t(W));
-        x.resize(3 * std::size_t(W));
-        const float* dr = d2.row(v);
-        const float* Ls = surface.row(v);
-        for (int u = 0; u < W; ++u) {
-            const float d = dr[u];
-            const bool on = d > 0.0f && d < range;
-            const float t = on ? d * inv_step : 0.0f;
-            const int i = std::min(int(t), m_bins - 1);
-            idx[u] = on ? i : -1;
-            frac[u] = t - float(i);
-            for (int c = 0; c < 3; ++c) L[std::size_t(c) * W + u] = Ls[3 * u + c];
-        }
-        // x = W_j(d) L_s, planar, for one scale at a time (the table is [scale][channel][d])
-        const auto weigh = [&](int j) {
-            for (int c = 0; c < 3; ++c) {
-                weigh_row(W, idx.data(), frac.data(),
-                          m_table.data() + (std::size_t(j) * 3 + c) * bins,
-                          L.data() + std::size_t(c) * W, x.data() + std::size_t(c) * W);
+    // Coarse to fine: each grid holds its own scales plus the next coarser grid upsampled.
+    for (int k = int(m_grids.size()) - 1; k >= 0; --k) {
+        Grid& G = m_grids[k];
+        const Grid* coarser = k + 1 < int(m_grids.size()) ? &m_grids[k + 1] : nullptr;
+        tbb::parallel_for(0, 3 * G.h, [&](int prow) {
+            const int c = prow / G.h, y = prow % G.h;
+            float* dst = G.acc.data() + std::size_t(prow) * G.w;
+            std::fill(dst, dst + G.w, 0.0f);
+            for (const Level& L : m_levels) {
+                if (m_groups[L.group].factor != G.factor) continue;
+                const float* src = L.blurred.data() + std::size_t(prow) * G.w;
+                for (int x = 0; x < G.w; ++x) dst[x] += src[x];
             }
-        };
-        weigh(0);
-        float* sharp = m_sharp.data() + std::size_t(3) * W * v;
-        for (int u = 0; u < W; ++u) {
-            for (int c = 0; c < 3; ++c) sharp[3 * u + c] = x[std::size_t(c) * W + u];
-        }
-        for (int j = 1; j < S; ++j) {
-            Level& Lv = m_levels[j - 1];
-            weigh(j);
-            if (Lv.factor == 1) {
-                for (int c = 0; c < 3; ++c) {
-                    std::copy(x.begin() + std::size_t(c) * W, x.begin() + std::size_t(c + 1) * W,
-                              Lv.planes.begin() + (std::size_t(c) * H + v) * W);
-                }
-                continue;
-            }
-            float* p = Lv.partial.data() + std::size_t(3) * Lv.w * v;
-            for (int c = 0; c < 3; ++c) {
-                const float* xc = x.data() + std::size_t(c) * W;
-                for (int bx = 0; bx < Lv.w; ++bx) {
-                    const int u0 = bx * Lv.factor, u1 = std::min(u0 + Lv.factor, W);
-                    float sum = 0.0f;
-                    for (int u = u0; u < u1; ++u) sum += xc[u];
-                    p[3 * bx + c] = sum;
-                }
-            }
-        }
-    });
-
-    // Block sums to block means (edge blocks average what they have), then each level's blur:
-    // box downsampling and bilinear upsampling by f spread about (2 f^2 - 1) / 12 px^2
-    // already; the Gaussian supplies the rest of the scale's variance.
-    for (int j = 1; j < S; ++j) {
-        Level& L = m_levels[j - 1];
-        const int f = L.factor;
-        if (f > 1) {
-            tbb::parallel_for(0, 3 * L.h, [&](int prow) {
-                const int c = prow / L.h, y = prow % L.h;
-                const int v0 = y * f, v1 = std::min(v0 + f, H);
-                float* dst = L.planes.data() + (std::size_t(c) * L.h + y) * L.w;
-                for (int x = 0; x < L.w; ++x) {
-                    float sum = 0.0f;
-                    for (int v = v0; v < v1; ++v)
-                        sum += L.partial[(std::size_t(v) * L.w + x) * 3 + c];
-                    const int cols = std::min(f, W - x * f);
-                    dst[x] = sum / float(cols * (v1 - v0));
-                }
-            });
-        }
-        const double sigma = m_psf.sigma_px(j);
-        const double spent = f > 1 ? (2.0 * f * f - 1.0) / 12.0 : 0.0;
-        const double rest = std::sqrt(std::max(sigma * sigma - spent, 0.09)) / f;
-        planes::blur_planes(planes::planar(L.planes.data(), L.w, L.h), L.blurred.data(), rest,
-                            m_kernel, m_norm_x, m_norm_y, m_tmp);
+            if (!coarser) return;
+            thread_local std::vector<float> ones, tmp;
+            ones.assign(G.w, 1.0f);
+            tmp.resize(coarser->w);
+            planes::add_upsampled_row(
+                G.w, y, 2, coarser->acc.data() + std::size_t(c) * coarser->w * coarser->h,
+                coarser->w, coarser->h, G.x0.data(), G.x1.data(), G.ax.data(), ones.data(),
+                tmp.data(), dst);
+        });
     }
 }
 
 void ForwardPsfBlur::row(int v, float* out_rgb) const {
-    const int W = m_width;
+    const int W = m_width, H = m_height;
     thread_local std::vector<float> buf;
     buf.resize(std::size_t(6) * W);
     float* acc = buf.data();  // 3 planes
     float* tmp = acc + 3 * W;
     float* ones = tmp + 2 * W;
-    std::fill(acc, acc + 3 * W, 0.0f);
     std::fill(ones, ones + W, 1.0f);
+    for (int c = 0; c < 3; ++c) {
+        const float* sharp = m_sharp.data() + (std::size_t(c) * H + v) * W;
+        std::copy(sharp, sharp + W, acc + c * W);
+    }
     for (const Level& L : m_levels) {
+        if (m_groups[L.group].factor != 1) continue;
         for (int c = 0; c < 3; ++c) {
-            const float* q = L.blurred.data() + std::size_t(c) * L.w * L.h;
-            if (L.factor == 1) {
-                const float* src = q + std::size_t(v) * W;
-                for (int u = 0; u < W; ++u) acc[c * W + u] += src[u];
-                continue;
-            }
-            planes::add_upsampled_row(W, v, L.factor, q, L.w, L.h, L.x0.data(), L.x1.data(),
-                                      L.ax.data(), ones, tmp, acc + c * W);
+            const float* src = L.blurred.data() + (std::size_t(c) * H + v) * W;
+            for (int u = 0; u < W; ++u) acc[c * W + u] += src[u];
+        }
+    }
+    if (!m_grids.empty()) {
+        const Grid& G = m_grids[0];
+        for (int c = 0; c < 3; ++c) {
+            planes::add_upsampled_row(W, v, 2, G.acc.data() + std::size_t(c) * G.w * G.h, G.w, G.h,
+                                      m_x0.data(), m_x1.data(), m_ax.data(), ones, tmp,
+                                      acc + c * W);
         }
     }
     kernels::interleave(W, acc, out_rgb);
-    const float* sharp = m_sharp.data() + std::size_t(3) * W * v;
-    for (int i = 0; i < 3 * W; ++i) out_rgb[i] += sharp[i];
 }
 
 }  // namespace deepsea

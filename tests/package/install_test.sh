@@ -38,6 +38,19 @@ for f in "$prefix/bin/deepsea" "$libdir"/libdeepsea_*.so; do
 done
 echo "ok run paths: $(readelf -d "$prefix/bin/deepsea" | grep -E -c 'R(UN)?PATH') in bin/deepsea, none into $build_abs"
 
+# The installed Blender script finds the installed binary by itself (bpy stubbed: no Blender).
+found=$(env -u DEEPSEA PATH=/usr/bin:/bin /usr/bin/python3 - "$prefix/share/deepsea/blender/open_asset.py" <<'PY'
+import importlib.util, sys, types
+sys.modules["bpy"] = types.ModuleType("bpy")
+spec = importlib.util.spec_from_file_location("open_asset", sys.argv[1])
+m = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(m)
+print(m.find_deepsea(None))
+PY
+)
+[[ $found -ef $prefix/bin/deepsea ]] || fail "open_asset.py found '$found', not $prefix/bin/deepsea"
+echo "ok Blender script: finds $found"
+
 [[ $("$prefix/bin/deepsea" --version) == "deepsea $version" ]] || fail "--version"
 "$prefix/bin/deepsea" import-config --help >/dev/null
 echo "package install: OK"

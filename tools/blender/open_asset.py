@@ -1,33 +1,33 @@
 """Open a deepsea asset in Blender: the in-scatter preview grids as a glowing volume, a camera
 matching the rig's camera, small spheres at the lamps; optionally render a preview PNG.
 
-blender -b --factory-startup --python tools/blender/open_asset.py -- ASSET.vdb
+blender -b --factory-startup --python open_asset.py -- ASSET.vdb [--deepsea PATH]
         [--render OUT.png] [--samples N] [--resolution W] [--save OUT.blend] [--strength S]
 
-The asset's metadata (camera, rig) is read with Debian's /usr/bin/python3 and pyopenvdb,
-because Blender's bundled Python has no OpenVDB bindings. World frame of the asset's grids:
-OpenGL-style camera frame (x right, y up, looking down -z), which is a Blender camera with
-identity rotation at the origin.
+Works with any Blender build (no OpenVDB module needed in its Python). The asset's metadata
+(camera, rig, frustum) comes from `deepsea info --json ASSET`, with the deepsea binary found as
+--deepsea PATH, else $DEEPSEA, else next to this script's install location
+(<prefix>/share/deepsea/blender/ -> <prefix>/bin/deepsea), else on PATH. Without one, the
+`deepsea:bake` JSON is read from the file's own header (plain Python; no integrity check).
+World frame of the asset's grids: OpenGL-style camera frame (x right, y up, looking down -z),
+which is a Blender camera with identity rotation at the origin.
 """
 import argparse
 import json
-import math
+import os
+import shutil
+import struct
 import subprocess
 import sys
 
 import bpy
-
-READ_META = (
-    "import json, sys, pyopenvdb as vdb\n"
-    "m = vdb.readMetadata(sys.argv[1])\n"
-    "print(m.get('deepsea:bake') or vdb.readAllGridMetadata(sys.argv[1])[0]['deepsea:bake'])\n"
-)
 
 
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     p = argparse.ArgumentParser(prog="open_asset.py")
     p.add_argument("asset")
+    p.add_argument("--deepsea", help="the deepsea binary (default: $DEEPSEA, the install, PATH)")
     p.add_argument("--render")
     p.add_argument("--samples", type=int, default=16)
     p.add_argument("--resolution", type=int, default=320, help="render width in pixels")
@@ -38,15 +38,82 @@ def parse_args():
     return p.parse_args(argv)
 
 
-def bake_info(path):
-    out = subprocess.run(["/usr/bin/python3", "-c", READ_META, path], check=True,
-                         capture_output=True, text=True).stdout
-    return json.loads(out)
+def find_deepsea(explicit):
+    """The deepsea binary, or None."""
+    if explicit:
+        if not (os.path.isfile(explicit) and os.access(explicit, os.X_OK)):
+            sys.exit(f"open_asset.py: --deepsea {explicit}: not an executable")
+        return explicit
+    here = os.path.dirname(os.path.realpath(__file__))
+    candidates = [os.environ.get("DEEPSEA", ""),
+                  os.path.join(here, "..", "..", "..", "bin", "deepsea")]  # installed layout
+    for c in candidates:
+        if c and os.path.isfile(c) and os.access(c, os.X_OK):
+            return os.path.normpath(c)
+    return shutil.which("deepsea")
+
+
+def header_metadata(path):
+    """The file-level metadata of an OpenVDB file (format 222 or later), read as OpenVDB
+    writes it: magic, version, library version, grid-offset flag, 36-byte UUID, then a count
+    and (name, type, value) entries, each length-prefixed. String values only."""
+    with open(path, "rb") as f:
+        data = f.read(1 << 20)
+
+    def u32(at):
+        return struct.unpack_from("<I", data, at)[0]
+
+    if data[:4] != b" BDV":
+        raise ValueError(f"{path}: not an OpenVDB file")
+    if u32(8) < 222:
+        raise ValueError(f"{path}: OpenVDB file format {u32(8)} is too old")
+
+    def blob(at):  # a length-prefixed string or value, and the position after it
+        n = u32(at)
+        return data[at + 4:at + 4 + n], at + 4 + n
+
+    pos = 8 + 4 + 8 + 1 + 36
+    meta = {}
+    count, pos = u32(pos), pos + 4
+    for _ in range(count):
+        name, pos = blob(pos)
+        kind, pos = blob(pos)
+        value, pos = blob(pos)
+        if kind == b"string":
+            meta[name.decode()] = value.decode()
+    return meta
+
+
+def asset_info(path, deepsea):
+    """What `deepsea info --json` prints (keys "bake", "frustum_extent", "grids"), or the
+    file's own `deepsea:bake` when there is no deepsea binary."""
+    if deepsea:
+        out = subprocess.run([deepsea, "info", "--json", path], capture_output=True, text=True)
+        if out.returncode != 0:
+            sys.exit(f"open_asset.py: {deepsea} info: {out.stderr.strip()}")
+        return json.loads(out.stdout)
+    print("open_asset.py: no deepsea binary (--deepsea, $DEEPSEA, PATH): reading the file's "
+          "header", file=sys.stderr)
+    bake = header_metadata(path).get("deepsea:bake")
+    if bake is None:
+        sys.exit(f"open_asset.py: {path}: no deepsea:bake metadata (not a deepsea asset)")
+    return {"bake": json.loads(bake)}
+
+
+def cone_box(meta):
+    """Centre and size (metres) of the lit water: the density grid's world bounds, or a guess
+    (without deepsea info)."""
+    for g in meta.get("grids", []):
+        if g["name"] == "density":
+            lo, hi = g["world_min"], g["world_max"]
+            return [(a + b) / 2 for a, b in zip(lo, hi)], max(b - a for a, b in zip(lo, hi))
+    return [0.0, 0.0, -3.0], 5.0
 
 
 def main():
     args = parse_args()
-    info = bake_info(args.asset)
+    meta = asset_info(args.asset, find_deepsea(args.deepsea))
+    info = meta["bake"]
     cam = info["camera"]
     scene = bpy.context.scene
     for obj in list(scene.objects):
@@ -98,9 +165,10 @@ def main():
         side.data.lens = 24.0
         side.data.clip_end = 1000.0
         scene.collection.objects.link(side)
-        side.location = (5.0, 3.0, -1.0)
+        centre, size = cone_box(meta)
+        side.location = [c + d * size / 5.0 for c, d in zip(centre, (5.0, 3.0, 2.0))]
         target = bpy.data.objects.new("cones_centre", None)
-        target.location = (0.0, 0.0, -3.0)
+        target.location = centre
         scene.collection.objects.link(target)
         track = side.constraints.new("TRACK_TO")
         track.target = target

@@ -11,6 +11,28 @@
 
 namespace deepsea::cli {
 
+namespace {
+volatile std::sig_atomic_t g_signal = 0;
+}  // namespace
+
+extern "C" void deepsea_on_stop_signal(int sig) { g_signal = sig; }
+
+StopOnSignals::StopOnSignals() {
+    struct sigaction sa {};
+    sa.sa_handler = deepsea_on_stop_signal;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &m_int);
+    sigaction(SIGTERM, &sa, &m_term);
+}
+
+StopOnSignals::~StopOnSignals() {
+    sigaction(SIGINT, &m_int, nullptr);
+    sigaction(SIGTERM, &m_term, nullptr);
+}
+
+int stop_signal() { return int(g_signal); }
+
 CLI::Option* add_threads(CLI::App& sub, int& threads) {
     const CLI::Validator non_negative(
         [](std::string& text) -> std::string {

@@ -2,6 +2,7 @@
 /// \file Small helpers shared by the subcommands: config loading from flags, progress bars.
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,24 @@ struct BakeFlags {
 /// One line on an asset's own accuracy check (BakeInfo::check) for bake and info: the
 /// errors, where the worst pixel is, how many pixels, refinements, and whether it meets the bar.
 std::string describe_check(const BakeInfo& info);
+
+/// While one is in scope, SIGINT and SIGTERM ask long work to stop: stop_signal() turns
+/// non-zero and the commands' progress callbacks return false, so that only complete outputs
+/// remain. A second signal of the same kind ends the process at once.
+class StopOnSignals {
+public:
+    StopOnSignals();
+    ~StopOnSignals();
+    StopOnSignals(const StopOnSignals&) = delete;
+    StopOnSignals& operator=(const StopOnSignals&) = delete;
+
+private:
+    struct sigaction m_int {
+    }, m_term{};
+};
+
+/// The signal that asked to stop, 0 if none.
+int stop_signal();
 
 /// A one-line progress bar on stderr when it is a terminal; silent otherwise.
 class Progress {

@@ -13,6 +13,7 @@
 #include "deepsea/bake/lattice_rule.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 
 namespace deepsea::cli {
 
@@ -34,12 +35,20 @@ void run(const BakeArgs& a) {
     require_complete(setup, "deepsea bake");
     Progress bar("bake", 1);
     const auto t0 = std::chrono::steady_clock::now();
-    const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings,
-                             a.bake.parallel([&](long done, long total) {
-                                 bar.set_total(total);
-                                 bar.update(done);
-                                 return true;
-                             }));
+    const StopOnSignals stop;
+    const Asset asset = [&] {
+        try {
+            return bake(*setup.camera, *setup.rig, *setup.water, settings,
+                        a.bake.parallel([&](long done, long total) {
+                            bar.set_total(total);
+                            bar.update(done);
+                            return stop_signal() == 0;
+                        }));
+        } catch (const Cancelled&) {
+            throw Cancelled("stopped by signal " + std::to_string(stop_signal()) +
+                            " before writing " + a.output + "; nothing was written");
+        }
+    }();
     bar.finish();
     const double bake_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

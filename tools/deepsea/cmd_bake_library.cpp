@@ -11,6 +11,7 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 #include "deepsea/io/library_manifest.h"
 
 namespace deepsea::cli {
@@ -93,8 +94,19 @@ void run(const LibraryArgs& a) {
     if (ec) throw IoError("cannot create " + a.out + ": " + ec.message());
 
     int baked = 0, skipped = 0, failed = 0, mine = 0;
+    // A signal stops the asset being baked (nothing of it is written) and the run; assets
+    // written are complete, and running the same command again bakes only what is missing.
+    const StopOnSignals stop;
+    const Parallel par = flags.parallel([](long, long) { return stop_signal() == 0; });
+    const auto stopped = [&](const std::string& name) {
+        return Cancelled("stopped by signal " + std::to_string(stop_signal()) + " at " + name +
+                         " after baking " + std::to_string(baked) +
+                         " asset(s); every asset written is complete; run the same command "
+                         "again to finish");
+    };
     for (std::size_t e = 0; e < entries.size(); ++e) {
         if (int(e % count) != index) continue;
+        if (stop_signal() != 0) throw stopped(entries[e].name);
         ++mine;
         const LibraryEntry& entry = entries[e];
         const std::string path = (fs::path(a.out) / entry.name).string();
@@ -103,26 +115,23 @@ void run(const LibraryArgs& a) {
             setup.water = load_water(entry.water);
             require_complete(setup, entry.name);
             const BakeInfo want = bake_request(*setup.camera, *setup.rig, *setup.water, settings);
-            if (!a.force && fs::exists(path)) {
-                try {
-                    if (read_asset_summary(path).info.input_hash == want.input_hash) {
-                        std::printf("up to date  %s\n", path.c_str());
-                        ++skipped;
-                        continue;
-                    }
-                } catch (const Error&) {
-                    // unreadable: bake it again
-                }
+            // An asset of an older format, or unreadable, is baked again.
+            if (!a.force && asset_up_to_date(path, want.input_hash)) {
+                std::printf("up to date  %s\n", path.c_str());
+                ++skipped;
+                continue;
             }
             if (a.dry_run) {
                 std::printf("would bake  %s\n", path.c_str());
                 continue;
             }
-            const Asset asset =
-                bake(*setup.camera, *setup.rig, *setup.water, settings, flags.parallel());
+            const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings, par);
             write_asset(path, asset);
             std::printf("baked       %s\n", path.c_str());
+            std::fflush(stdout);
             ++baked;
+        } catch (const Cancelled&) {
+            throw stopped(entry.name);
         } catch (const Error& err) {
             std::fprintf(stderr, "deepsea: error: %s: %s\n", entry.name.c_str(), err.what());
             ++failed;

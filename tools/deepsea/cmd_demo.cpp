@@ -35,17 +35,11 @@ struct DemoArgs {
 Asset demo_asset(const Setup& setup, const std::string& path, Scattering scattering, int threads) {
     BakeSettings settings;
     settings.scattering = scattering;
-    if (fs::exists(path)) {
-        try {
-            const std::string want =
-                bake_request(*setup.camera, *setup.rig, *setup.water, settings).input_hash;
-            if (read_asset_summary(path).info.input_hash == want) {
-                std::printf("asset: %s (up to date)\n", path.c_str());
-                return load_asset(path);
-            }
-        } catch (const Error&) {
-            // unreadable or stale: bake a new one below
-        }
+    // Unreadable, stale or of an older format: bake a new one below.
+    if (asset_up_to_date(
+            path, bake_request(*setup.camera, *setup.rig, *setup.water, settings).input_hash)) {
+        std::printf("asset: %s (up to date)\n", path.c_str());
+        return load_asset(path);
     }
     Progress bar("bake", 1);
     Asset a = bake(*setup.camera, *setup.rig, *setup.water, settings,

@@ -1,6 +1,5 @@
 // deepsea info: what an asset holds, for a person (or --json for scripts).
 
-#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -15,24 +14,6 @@ namespace deepsea::cli {
 
 namespace {
 
-/// A JSON string literal: paths may hold quotes, backslashes or control characters.
-std::string json_string(const std::string& text) {
-    std::string out = "\"";
-    for (unsigned char ch : text) {
-        if (ch == '"' || ch == '\\') {
-            out += '\\';
-            out += char(ch);
-        } else if (ch < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-            out += buf;
-        } else {
-            out += char(ch);
-        }
-    }
-    return out + "\"";
-}
-
 struct InfoArgs {
     std::string path;
     bool json = false;
@@ -45,37 +26,11 @@ void run(const InfoArgs& a) {
     in_arena(a.threads, [&] { asset = load_asset(a.path); });  // also checks the voxel data
     const BakeInfo& b = s.info;
     const Lattice& l = b.lattice;
-    // Backscatter at z_max over all columns: the range the runtime can return.
-    Rgb lo(1e30), hi(0.0);
-    for (int i = 0; i < l.ni; ++i) {
-        for (int j = 0; j < l.nj; ++j) {
-            const Rgb v = asset.at(i, j, l.slabs());
-            for (int c = 0; c < 3; ++c) {
-                lo[c] = std::min(lo[c], v[c]);
-                hi[c] = std::max(hi[c], v[c]);
-            }
-        }
-    }
     if (a.json) {
-        std::string grids;
-        for (const GridSummary& g : s.grids) {
-            char buf[512];
-            std::snprintf(buf, sizeof buf,
-                          "%s{\"name\": %s, \"value_type\": %s, \"transform\": %s, \"half\": %s, "
-                          "\"active_voxels\": %lld}",
-                          grids.empty() ? "" : ", ", json_string(g.name).c_str(),
-                          json_string(g.value_type).c_str(), json_string(g.transform).c_str(),
-                          g.half ? "true" : "false", static_cast<long long>(g.active_voxels));
-            grids += buf;
-        }
-        std::printf(
-            "{\"file\": %s, \"bytes\": %ju, \"format\": %d, \"value_scale\": %.17g, "
-            "\"backscatter_at_z_max\": {\"min\": [%.9g, %.9g, %.9g], "
-            "\"max\": [%.9g, %.9g, %.9g]}, \"grids\": [%s], \"bake\": %s}\n",
-            json_string(a.path).c_str(), s.file_bytes, s.format, s.value_scale, lo.r, lo.g, lo.b,
-            hi.r, hi.g, hi.b, grids.c_str(), bake_info_to_json(b, -1).c_str());
+        std::printf("%s\n", asset_info_json(a.path, s, asset).c_str());
         return;
     }
+    const auto [lo, hi] = backscatter_range(asset);
     const Camera& c = b.camera;
     std::printf("asset      %s (%.2f MB, format %d)\n", a.path.c_str(), s.file_bytes / 1e6,
                 s.format);
@@ -132,6 +87,10 @@ void run(const InfoArgs& a) {
         std::printf("grid       %-12s %-6s %-8s %s%lld active voxels\n", g.name.c_str(),
                     g.value_type.c_str(), g.transform.c_str(), g.half ? "half, " : "",
                     static_cast<long long>(g.active_voxels));
+    }
+    if (s.preview_voxel_size > 0.0) {
+        std::printf("preview    %.1f mm voxels (density 1 = in-scatter luminance %.4g per metre)\n",
+                    1e3 * s.preview_voxel_size, s.preview_density_scale);
     }
 }
 

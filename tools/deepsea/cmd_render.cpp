@@ -1,6 +1,5 @@
 // deepsea render: composite one frame or a whole sequence with a baked asset.
 
-#include <csignal>
 #include <cstdio>
 #include <optional>
 
@@ -24,34 +23,6 @@ struct RenderArgs {
     bool resume = false, no_forward = false, half = false;
     int bits = 8;
     int threads = 0;
-};
-
-volatile std::sig_atomic_t g_signal = 0;
-
-extern "C" void on_stop_signal(int sig) { g_signal = sig; }
-
-/// SIGINT and SIGTERM ask the sequence to stop after the frames in flight, so that only
-/// complete outputs remain; a second signal of the same kind ends the process at once.
-class StopOnSignals {
-public:
-    StopOnSignals() {
-        struct sigaction sa {};
-        sa.sa_handler = on_stop_signal;
-        sa.sa_flags = SA_RESETHAND;
-        sigemptyset(&sa.sa_mask);
-        sigaction(SIGINT, &sa, &m_int);
-        sigaction(SIGTERM, &sa, &m_term);
-    }
-    ~StopOnSignals() {
-        sigaction(SIGINT, &m_int, nullptr);
-        sigaction(SIGTERM, &m_term, nullptr);
-    }
-    StopOnSignals(const StopOnSignals&) = delete;
-    StopOnSignals& operator=(const StopOnSignals&) = delete;
-
-private:
-    struct sigaction m_int {
-    }, m_term{};
 };
 
 void run(const RenderArgs& a) {
@@ -87,7 +58,7 @@ void run(const RenderArgs& a) {
     Progress bar("render", long(jobs.size()));
     opt.progress = [&](long done, long) {
         bar.update(done);
-        return g_signal == 0;
+        return stop_signal() == 0;
     };
     SequenceResult r;
     {
@@ -106,7 +77,7 @@ void run(const RenderArgs& a) {
                 r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
     if (r.interrupted) {
         const int left = r.total - r.written - r.skipped - int(r.errors.size());
-        throw Cancelled("stopped by signal " + std::to_string(int(g_signal)) + " with " +
+        throw Cancelled("stopped by signal " + std::to_string(stop_signal()) + " with " +
                         std::to_string(left) + " of " + std::to_string(r.total) +
                         " frame(s) not rendered; every output written is complete; run the "
                         "same command with --resume to finish");

@@ -17,8 +17,11 @@
 
 namespace deepsea {
 
-/// The asset format this library writes and the newest it reads (`deepsea:format`).
-inline constexpr int kAssetFormat = 1;
+/// The asset format this library writes and the newest it reads (`deepsea:format`). 2: every
+/// grid's transform lies within the frustum's extent, the backscatter grid carries its
+/// camera-space geometry as metadata (format 1's are read the same way: only the transforms
+/// and the preview differ, which the loader does not use).
+inline constexpr int kAssetFormat = 2;
 
 /// Which light the backscatter values hold.
 enum class Scattering {

@@ -1,7 +1,8 @@
 #pragma once
 /// \file The asset's `.vdb` file (docs/asset-format.md): grid `backscatter` (Vec3f, index
-/// (i, j, k), frustum transform for uniform depth samples), preview grids `density` and
-/// `color` on a world-space linear grid, metadata `deepsea:format` and `deepsea:bake`.
+/// (i, j, k), an affine transform into the frustum's bounding box, its camera-space geometry in
+/// metadata), preview grids `density` and `color` on a world-space linear grid, metadata
+/// `deepsea:format` and `deepsea:bake`.
 /// OpenVDB stays behind this header; errors are AssetError (what is in the file) or IoError
 /// (the file system).
 
@@ -28,8 +29,12 @@ struct WriteOptions {
     bool half = true;
     /// Write the `density` and `color` preview grids for Blender and Houdini.
     bool preview = true;
-    /// Preview voxels along the preview depth (the voxel size is that depth / this).
+    /// At most this many preview voxels along the preview depth.
     int preview_resolution = 128;
+    /// At most this many preview voxels across the image's longer side at the preview depth,
+    /// and never more than its pixels: the preview's size follows the camera's resolution,
+    /// not its field of view (docs/asset-format.md).
+    int preview_across = 192;
 };
 
 /// Writes the asset atomically: to a temporary file in the same directory, then a rename, so
@@ -51,6 +56,8 @@ struct GridSummary {
     bool half = false;       ///< stored as 16-bit floats
     std::int64_t active_voxels = 0;
     Vec3 world_min, world_max;  ///< world-space bounding box of the active voxels
+    /// The same for OpenVDB's leaf nodes (8^3 voxels) around them: what Blender frames.
+    Vec3 leaf_world_min, leaf_world_max;
 };
 
 /// What `deepsea info` shows besides the values.
@@ -77,6 +84,21 @@ std::vector<Vec3> index_to_world(const std::string& path, const std::string& gri
 /// The world frame of the file's transforms: OpenGL-style camera frame, x right, y up,
 /// looking down -z. A camera-frame (OpenCV) point maps to (x, -y, -z).
 inline Vec3 camera_to_world(const Vec3& p) { return {p.x, -p.y, -p.z}; }
+
+/// An axis-aligned box in the file's world frame, metres.
+struct WorldBox {
+    Vec3 min, max;
+};
+
+/// The frustum's extent: the world bounding box of the camera's view (the image's outer pixel
+/// edges, -0.5 .. width - 0.5) from the camera centre to planar depth z_max. Every grid of an
+/// asset lies in it, with OpenVDB's leaf nodes (what Blender frames) included.
+WorldBox frustum_extent(const Camera& camera, double z_max);
+
+/// True if the asset at `path` reads and was written by this deepsea's format
+/// (`kAssetFormat`) for the inputs `input_hash` (BakeInfo::input_hash): nothing to re-bake.
+/// False for a missing, unreadable or older asset.
+bool asset_up_to_date(const std::string& path, const std::string& input_hash);
 
 /// Throws IoError unless `path` can be created or replaced: it ends in `.vdb` (an asset under
 /// another name, say x.exr, would only mislead), its directory exists and is writable, and it

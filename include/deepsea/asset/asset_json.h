@@ -4,8 +4,10 @@
 /// docs/asset-format.md lists them.
 
 #include <string>
+#include <utility>
 
 #include "deepsea/asset/asset.h"
+#include "deepsea/asset/asset_file.h"
 
 namespace deepsea {
 
@@ -21,5 +23,17 @@ BakeInfo bake_info_from_json(const std::string& json);
 /// lattice settings (step, scheme, K, z_max or "auto" with its tolerance, quadrature). Not the
 /// results (an auto z_max) nor the baker version. "fnv1a64:" and 16 hex digits.
 std::string input_hash(const BakeInfo& info);
+
+/// The smallest and largest backscatter at z_max over all columns, per channel: the range the
+/// runtime can return.
+std::pair<Rgb, Rgb> backscatter_range(const Asset& asset);
+
+/// What `deepsea info --json` prints (one line, no newline) for the file at `path`, with its
+/// summary (read_asset_summary) and its loaded values (load_asset): file, bytes, format,
+/// value_scale, backscatter_at_z_max {min, max} over all columns, frustum_extent {min, max},
+/// preview_voxel_size, grids (with their world bounds) and bake. The CLI and the Python
+/// module's info() share it.
+std::string asset_info_json(const std::string& path, const AssetFileSummary& summary,
+                            const Asset& asset);
 
 }  // namespace deepsea

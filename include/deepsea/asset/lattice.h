@@ -13,7 +13,7 @@ namespace deepsea {
 /// How the depth samples are spread over [0, z_max]. docs/asset-format.md has the formulas
 /// and the measurements that chose the default.
 enum class DepthScheme {
-    Uniform,  ///< z_k = z_max k / K; the only scheme with an OpenVDB frustum transform
+    Uniform,  ///< z_k = z_max k / K
     Taylor,   ///< the paper's Eq. 7: slab n has thickness proportional to K^n / n!
     Sqrt,     ///< uniform in sqrt(z): z_k = z_max (k / K)^2
     Log,      ///< uniform in log(z + z0): z_k = z0 ((1 + z_max / z0)^(k / K) - 1)

@@ -3,6 +3,7 @@
 /// Every writer goes through core's write_atomically, so no half-written image is ever left
 /// behind.
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -114,5 +115,10 @@ Image read_exr_layer(const std::string& path, const std::string& layer,
 /// sRGB transfer functions on one value in [0, 1].
 float srgb_to_linear(float v);
 float linear_to_srgb(float v);
+
+/// Decodes n 8-bit (0..255) or 16-bit (0..65535) sRGB codes to linear values, through the
+/// same tables as read_color: for images that arrive in memory (the Python module).
+void srgb_decode(const std::uint8_t* codes, std::size_t n, float* linear);
+void srgb_decode(const std::uint16_t* codes, std::size_t n, float* linear);
 
 }  // namespace deepsea

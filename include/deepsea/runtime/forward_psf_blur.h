@@ -2,7 +2,9 @@
 /// \file The runtime's forward scatter from the phase function (optics/forward_psf.h):
 /// F = sum_j G_j * (W_j(d) L_s), a fixed Gaussian per scale j applied to the surface radiance
 /// weighted by that scale's share at each pixel's distance. Wide scales are summed into
-/// box-downsampled images as they are weighted, blurred there and upsampled bilinearly.
+/// box-downsampled images as they are weighted and blurred there; the blurred images are then
+/// added coarse to fine, each grid upsampled by two into the next, so a full-resolution row
+/// costs one upsampling whatever the number of scales.
 
 #include <vector>
 
@@ -15,7 +17,7 @@ namespace deepsea {
 /// add_row() then adds any row of F to an interleaved RGB row (thread-safe).
 class ForwardPsfBlur {
 public:
-    explicit ForwardPsfBlur(ForwardPsf psf) : m_psf(std::move(psf)) {}
+    explicit ForwardPsfBlur(ForwardPsf psf);
 
     /// surface: J/pi E (3 channels); d2: camera-to-surface distance (1 channel, <= 0 for no
     /// surface, which sends no light).
@@ -25,24 +27,52 @@ public:
 
     const ForwardPsf& psf() const { return m_psf; }
 
+    /// Variance (px^2) that box-downsampling by `factor` (a power of two) and upsampling back
+    /// through the grids of factors factor/2, ..., 2, 1 add to a pixel's light, averaged over
+    /// its place in the block.
+    static double resampling_variance(int factor);
+    /// Downsampling factor for a Gaussian of sigma pixels: the largest power of two whose
+    /// resampling variance is within sigma^2, that keeps the smaller image at least 8 pixels
+    /// high and wide, and is at most 128. Scale 1 (sigma 1 px) gets factor 2: a box of two
+    /// and the upsampling back spread exactly its variance, so no scale is blurred at full
+    /// resolution.
+    static int level_factor(double sigma, int width, int height);
+
 private:
-    struct Level {
-        int factor = 1;  ///< downsampling factor (1: full resolution)
-        int w = 0, h = 0;
-        std::vector<float> partial;  ///< H rows of w x 3: each row's horizontal block sums
-        std::vector<float> planes;   ///< 3 planes of w x h: the weighted image
-        std::vector<float> blurred;  ///< 3 planes of w x h
-        std::vector<int> x0, x1;     ///< horizontal upsampling taps per output column
+    /// One grid of the cascade: the image downsampled by 2^k (k >= 1).
+    struct Grid {
+        int factor = 2, w = 0, h = 0;
+        std::vector<float> acc;   ///< 3 planes: this grid's blurred scales + coarser grids
+        std::vector<int> x0, x1;  ///< taps into the next coarser grid, per column
         std::vector<float> ax;
     };
+    /// Scales sharing one downsampling factor.
+    struct Group {
+        int factor = 1, j0 = 1, j1 = 1, w = 0, h = 0;
+        double spent = 0.0;  ///< resampling_variance(factor)
+    };
+    struct Level {
+        int group = 0;
+        std::vector<float> planes;   ///< 3 planes at the group's grid: the weighted image
+        std::vector<float> blurred;  ///< 3 planes
+    };
     void build_table(double d_max);
+    void resize(int W, int H);
+    void weigh(const Image& surface, const Image& d2);
+
     ForwardPsf m_psf;
+    int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride scales
+    int m_stride = 0;
     int m_width = 0, m_height = 0;
-    double m_step = 0.0;          ///< distance between table rows, metres
-    int m_bins = 0;               ///< table rows - 1
-    std::vector<float> m_table;   ///< m_table[(j * 3 + c) * (bins + 1) + bin] = W_j(d)
-    std::vector<float> m_sharp;   ///< scale 0 (unblurred), interleaved RGB, full resolution
+    double m_step = 0.0;         ///< distance between table rows, metres
+    int m_bins = 0;              ///< table rows - 1
+    std::vector<float> m_table;  ///< m_table[bin * lanes + c * stride + j] = W_j(d)
+    std::vector<float> m_sharp;  ///< scale 0 (unblurred): 3 planes at full resolution
+    std::vector<Group> m_groups;
     std::vector<Level> m_levels;  ///< scales 1 .. S-1
+    std::vector<Grid> m_grids;    ///< factors 2, 4, .. up to the widest group's
+    std::vector<int> m_x0, m_x1;  ///< full-resolution taps into the factor-2 grid
+    std::vector<float> m_ax;
     std::vector<float> m_kernel, m_norm_x, m_norm_y, m_tmp;  ///< blur scratch
 };
 

@@ -93,44 +93,98 @@ TEST_F(AssetFile, RoundTripHalfKeepsElevenBits) {
     EXPECT_GT(s.file_bytes, 0u);
 }
 
-TEST_F(AssetFile, FrustumTransformMapsIndexToCameraPoints) {
-    for (const Camera& cam : {kCam, Camera{800, 800, 600, 600, 400, 400}}) {
-        const int step = 8, K = 10;
-        const Asset a =
-            test::function_asset(cam, step, DepthScheme::Uniform, K, 5.0, test::smooth_field);
-        write_asset(path("f.vdb"), a);
-        const AssetFileSummary s = read_asset_summary(path("f.vdb"));
-        EXPECT_EQ(s.grids.at(0).transform, "frustum");
-        const Lattice& l = a.lattice();
-        std::vector<Vec3> idx;
-        for (int i : {0, 1, l.ni / 2, l.ni - 1}) {
-            for (int j : {0, l.nj / 3, l.nj - 1}) {
-                for (int k : {0, 1, 5, K}) idx.push_back({double(i), double(j), double(k)});
+/// Every grid of the file, leaf nodes included (what Blender frames), lies in the frustum's
+/// extent and spans a good part of it.
+void expect_in_extent(const AssetFileSummary& s, const Camera& cam, double z_max) {
+    const WorldBox box = frustum_extent(cam, z_max);
+    for (const GridSummary& g : s.grids) {
+        SCOPED_TRACE(g.name);
+        EXPECT_GT(g.active_voxels, 0);
+        for (int a = 0; a < 3; ++a) {
+            const double size = box.max[a] - box.min[a], tol = 1e-9 * size;
+            EXPECT_GE(g.leaf_world_min[a], box.min[a] - tol) << "axis " << a;
+            EXPECT_LE(g.leaf_world_max[a], box.max[a] + tol) << "axis " << a;
+            EXPECT_LE(g.leaf_world_min[a], g.world_min[a]) << "axis " << a;
+            EXPECT_GE(g.leaf_world_max[a], g.world_max[a]) << "axis " << a;
+            EXPECT_LT(g.world_min[a], g.world_max[a]) << "axis " << a;  // not flat
+            if (g.name == kBackscatterGrid) {
+                // Its index box fills the extent up to the rounding to whole leaf nodes.
+                EXPECT_GT(g.world_max[a] - g.world_min[a], 0.4 * size) << "axis " << a;
             }
-        }
-        const std::vector<Vec3> world = index_to_world(path("f.vdb"), kBackscatterGrid, idx);
-        ASSERT_EQ(world.size(), idx.size());
-        for (std::size_t n = 0; n < idx.size(); ++n) {
-            const Vec3 expect =
-                camera_to_world(cam.point(idx[n].x * step, idx[n].y * step, l.z[int(idx[n].z)]));
-            const double tol = 1e-9 * (1.0 + length(expect));
-            EXPECT_NEAR(world[n].x, expect.x, tol)
-                << idx[n].x << " " << idx[n].y << " " << idx[n].z;
-            EXPECT_NEAR(world[n].y, expect.y, tol)
-                << idx[n].x << " " << idx[n].y << " " << idx[n].z;
-            EXPECT_NEAR(world[n].z, expect.z, tol)
-                << idx[n].x << " " << idx[n].y << " " << idx[n].z;
         }
     }
 }
 
-TEST_F(AssetFile, NonUniformSamplesUseALinearTransformAndKeepTheirDepths) {
+TEST_F(AssetFile, EveryGridLiesInTheFrustumExtentInEveryDepthScheme) {
+    const Camera wide{96, 72, 33.61, 33.61, 47.5, 35.5};  // 110 degrees
+    for (const Camera& cam : {kCam, wide, Camera{800, 800, 600, 600, 400, 400}}) {
+        for (DepthScheme scheme :
+             {DepthScheme::Uniform, DepthScheme::Taylor, DepthScheme::Sqrt, DepthScheme::Log}) {
+            SCOPED_TRACE(describe(cam) + " " + to_string(scheme));
+            const Asset a = test::function_asset(cam, 8, scheme, 10, 5.0, test::smooth_field);
+            write_asset(path("e.vdb"), a);
+            const AssetFileSummary s = read_asset_summary(path("e.vdb"));
+            ASSERT_EQ(s.grids.size(), 3u);
+            EXPECT_EQ(s.grids.at(0).name, kBackscatterGrid);
+            EXPECT_EQ(s.grids.at(0).transform, "linear");
+            expect_in_extent(s, cam, 5.0);
+        }
+    }
+}
+
+TEST_F(AssetFile, LampFieldsLieInTheFrustumExtent) {
+    Asset a = smooth_asset(DepthScheme::Log);
+    a.info.scattering = Scattering::Multiple;
+    for (std::size_t l = 0; l < a.info.rig.lights.size(); ++l) {
+        LampField f;
+        f.nr = 40;
+        f.ntheta = 37;
+        f.r0 = 0.02;
+        f.r_max = 30.0;
+        f.sh.assign(f.size(), 0.5f);
+        a.lamp_fields.push_back(f);
+    }
+    write_asset(path("m.vdb"), a);
+    const AssetFileSummary s = read_asset_summary(path("m.vdb"));
+    ASSERT_EQ(s.grids.size(), 5u);
+    expect_in_extent(s, kCam, 5.0);
+    EXPECT_EQ(load_asset(path("m.vdb")).lamp_fields.at(1).sh, a.lamp_fields[1].sh);
+}
+
+TEST_F(AssetFile, BackscatterTransformKeepsTheCameraOrientation) {
+    // Columns left to right, rows top to bottom (world y is up), samples from the camera on.
+    const Asset a = smooth_asset(DepthScheme::Log);
+    write_asset(path("o.vdb"), a);
+    const Lattice& l = a.lattice();
+    const std::vector<Vec3> w = index_to_world(
+        path("o.vdb"), kBackscatterGrid,
+        {{0, 0, 0}, {double(l.ni - 1), 0, 0}, {0, double(l.nj - 1), 0}, {0, 0, double(l.slabs())}});
+    EXPECT_LT(w[0].x, w[1].x);
+    EXPECT_GT(w[0].y, w[2].y);
+    EXPECT_GT(w[0].z, w[3].z);
+    EXPECT_LT(w[0].z, 0.0);
+}
+
+TEST_F(AssetFile, NonUniformSamplesKeepTheirDepths) {
     const Asset a = smooth_asset(DepthScheme::Log);
     write_asset(path("l.vdb"), a);
-    EXPECT_EQ(read_asset_summary(path("l.vdb")).grids.at(0).transform, "linear");
     const Asset b = load_asset(path("l.vdb"));
     EXPECT_EQ(b.lattice().scheme, DepthScheme::Log);
     EXPECT_EQ(b.lattice().z, a.lattice().z);
+}
+
+TEST_F(AssetFile, TheTransformDoesNotChangeTheValues) {
+    // The loader reads by index: the same values in every scheme, whatever the transform.
+    for (DepthScheme scheme : {DepthScheme::Uniform, DepthScheme::Log}) {
+        const Asset a = smooth_asset(scheme);
+        WriteOptions opt;
+        opt.half = false;
+        write_asset(path("v.vdb"), a, opt);
+        const Asset b = load_asset(path("v.vdb"));
+        ASSERT_EQ(b.values.size(), a.values.size());
+        EXPECT_EQ(std::memcmp(b.values.data(), a.values.data(), a.values.size() * sizeof(float)),
+                  0);
+    }
 }
 
 TEST_F(AssetFile, PreviewGridsLieInTheFrustum) {
@@ -154,13 +208,33 @@ TEST_F(AssetFile, PreviewGridsLieInTheFrustum) {
         const GridSummary p = find(name);
         EXPECT_EQ(p.transform, "linear");
         EXPECT_GT(p.active_voxels, 0);
-        // World frame: looking down -z, the frustum between z = 0 and z = -z_max.
-        EXPECT_LE(p.world_max.z, 0.0);
-        EXPECT_GE(p.world_min.z, -5.0 - 1e-9);
-        const double half_w = 5.0 * 64 / 50.0;  // generous bound on |x| at z_max
-        EXPECT_GE(p.world_min.x, -half_w);
-        EXPECT_LE(p.world_max.x, half_w);
     }
+    expect_in_extent(s, kCam, 5.0);
+}
+
+TEST_F(AssetFile, PreviewSizeFollowsTheResolutionNotTheFieldOfView) {
+    // The same 96x72 image at 40 and 110 degrees, and at twice the resolution: the preview's
+    // voxels are bounded by pixels x depth voxels / 3 (a pyramid), and a wide field of view no
+    // longer multiplies them (it used to: 4 M voxels at 110 degrees).
+    const auto voxels = [&](const Camera& cam) {
+        const Asset a = test::function_asset(cam, 4, DepthScheme::Log, 16, 5.0,
+                                             [](double, double, double z) { return Rgb(z); });
+        write_asset(path("s.vdb"), a);
+        const AssetFileSummary s = read_asset_summary(path("s.vdb"));
+        for (const GridSummary& g : s.grids) {
+            if (g.name == kDensityGrid) return g.active_voxels;
+        }
+        return std::int64_t(0);
+    };
+    const long pixels = 96 * 72;
+    const std::int64_t narrow = voxels({96, 72, 131.9, 131.9, 47.5, 35.5});
+    const std::int64_t wide = voxels({96, 72, 33.61, 33.61, 47.5, 35.5});
+    const std::int64_t wide2 = voxels({192, 144, 67.22, 67.22, 95.5, 71.5});
+    EXPECT_LE(narrow, pixels * 128 / 3 + pixels);
+    EXPECT_LE(wide, pixels * 128 / 3);
+    EXPECT_GT(wide, pixels * 8);
+    EXPECT_GT(wide2, 4 * wide);  // twice the pixels across: about 8x (twice as deep too)
+    EXPECT_LT(wide2, 12 * wide);
 }
 
 TEST_F(AssetFile, MissingFileIsIoError) { EXPECT_THROW(load_asset(path("none.vdb")), IoError); }

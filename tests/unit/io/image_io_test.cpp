@@ -91,6 +91,20 @@ TEST(Srgb, MatchesIec61966) {
     }
 }
 
+TEST(Srgb, DecodesCodesInMemoryAsFilesAre) {
+    std::vector<std::uint8_t> c8(256);
+    for (int i = 0; i < 256; ++i) c8[i] = std::uint8_t(i);
+    std::vector<float> out(256);
+    srgb_decode(c8.data(), c8.size(), out.data());
+    for (int i = 0; i < 256; ++i) EXPECT_EQ(out[i], srgb_to_linear(float(i) / 255.0f)) << i;
+    const std::vector<std::uint16_t> c16{0, 1, 2570, 32768, 65534, 65535};
+    out.resize(c16.size());
+    srgb_decode(c16.data(), c16.size(), out.data());
+    for (std::size_t i = 0; i < c16.size(); ++i) {
+        EXPECT_EQ(out[i], srgb_to_linear(float(c16[i]) / 65535.0f)) << c16[i];
+    }
+}
+
 // --- colour ----------------------------------------------------------------------------------
 
 TEST_F(ImageIo, Png8RoundTripWithinQuantisation) {

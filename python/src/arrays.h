@@ -1,0 +1,77 @@
+#pragma once
+// NumPy arrays in and out of deepsea's Images. Reading an array takes two steps: inspect()
+// (with the GIL: dtype, shape, a C-contiguous view) and then fill the Image (without the GIL:
+// plain C++ on the array's memory). Output layers move their pixels into the array they
+// return: no copy.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "deepsea/core/image.h"
+
+namespace deepsea::python {
+
+namespace py = pybind11;
+
+/// Element types the module reads.
+enum class Elem { U8, U16, F32, F64 };
+
+/// A C-contiguous array of height x width x channels elements, checked, and the reference
+/// that keeps its memory alive.
+struct ArrayIn {
+    py::array array;  ///< C-contiguous (numpy's copy if the caller's was not)
+    Elem elem = Elem::F32;
+    int height = 0, width = 0, channels = 0;
+    const void* data() const { return array.data(); }
+};
+
+/// Checks a colour array (or anything numpy.asarray takes, such as nested lists): (H, W, 3) RGB,
+/// (H, W, 4) RGBA (alpha dropped), (H, W) or (H, W, 1) grey; uint8 / uint16 (sRGB codes) or float32
+/// / float64 (linear). InputError naming `what` otherwise. Needs the GIL.
+ArrayIn inspect_color(const py::handle& obj, const std::string& what);
+
+/// Checks a depth array: (H, W) or (H, W, 1); float32 / float64 (metres) or uint16 (units of
+/// the depth scale). InputError naming `what` otherwise. Needs the GIL.
+ArrayIn inspect_depth(const py::handle& obj, const std::string& what);
+
+/// Fills `out` with linear RGB (3 channels) as read_color would decode the same pixels from a
+/// file. Reuses out's memory. Parallel over rows on `threads` workers (0: all cores). No Python
+/// calls: may run without the GIL.
+void fill_color(const ArrayIn& in, Image& out, int threads = 0);
+
+/// Fills `out` with one-channel depth in metres: floats as they are, uint16 times `scale` (as
+/// a 16-bit PNG depth image). Reuses out's memory. Parallel as fill_color. No Python calls.
+void fill_depth(const ArrayIn& in, double scale, Image& out, int threads = 0);
+
+/// Pixel buffers lent to NumPy arrays come back here when the arrays are freed, so that the
+/// next frame of the same size reuses them (no allocation, no page faults, no zero fill): in a
+/// loop that drops each frame's layers before the next, nothing is allocated after the first
+/// frames. Thread-safe; holds at most kMaxBuffers.
+class BufferPool {
+public:
+    static constexpr std::size_t kMaxBuffers = 32;
+    /// A buffer of exactly n floats (contents undefined), or an empty vector if none is free.
+    std::vector<float> take(std::size_t n);
+    void give(std::vector<float>&& buffer);
+
+private:
+    std::mutex m_mutex;
+    std::vector<std::vector<float>> m_free;
+};
+
+/// Gives `img` the pool's buffer for width x height x channels, if it has one, so that
+/// Layers::resize keeps it.
+void reuse(Image& img, int width, int height, int channels, BufferPool& pool);
+
+/// The image as a float32 array that owns its pixels (moved out of `img`, which is left
+/// empty): (H, W, C), or (H, W) for one channel. When the array is freed its buffer goes back
+/// to `pool`, if the pool still exists. Needs the GIL.
+py::array to_array(Image&& img, const std::shared_ptr<BufferPool>& pool = {});
+
+}  // namespace deepsea::python
