@@ -7,7 +7,8 @@ pkgs=(build-essential cmake pkg-config
       libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libssl-dev
       libgtest-dev libbenchmark-dev)
 if [[ "${1:-}" == "--tests" ]]; then
-  pkgs+=(blender python3-numpy python3-openimageio python3-openvdb clang-format)
+  pkgs+=(blender python3-numpy python3-openimageio python3-openvdb clang-format
+        clang-14 libclang-rt-14-dev)  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
 fi
 missing=()
 for p in "${pkgs[@]}"; do
