@@ -3,19 +3,25 @@
 # libFuzzer instrumentation (DEEPSEA_FUZZ=ON) in build-san/, then
 #   1. every unit test binary, each in one process (the per-test processes CTest would start
 #      cost three times as long under ASan, mostly in repeated fixtures);
-#   2. the CLI integration tests that drive the deepsea binary (not the Blender/Cycles ones,
-#      which only drive Blender, nor the clang-format check), and the fuzz regression inputs;
+#   2. the CLI integration tests that drive the deepsea binary, and the fuzz regression
+#      inputs; not the Blender/Cycles tests (they only drive Blender), the clang-format check,
+#      nor the two that spend minutes rendering under ASan without new code paths
+#      (real_data_test: the authors' sequence; reference_independent_test: physics checked
+#      against a Python integrator; 160 s and 120 s here);
 #   3. each libFuzzer target for FUZZ_SECONDS (default 20) from the seed corpus that
 #      scripts/fuzz-corpus.sh makes.
 # Any sanitizer report, in any process, fails the run: reports go to files under
 # build-san/sanitizer-logs as well (the image readers point stderr at /dev/null while a codec
 # runs, and some tests expect a command to fail), and the run fails if any file is there.
-#   scripts/sanitize.sh [--no-fuzz]
+#   scripts/sanitize.sh [--no-fuzz | --fuzz-only]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
-fuzz=1
-[[ "${1:-}" == "--no-fuzz" ]] && fuzz=0
+fuzz=1 tests=1
+case "${1:-}" in
+  --no-fuzz) fuzz=0 ;;
+  --fuzz-only) tests=0 ;;
+esac
 seconds=${FUZZ_SECONDS:-20}
 b=build-san
 t0=$SECONDS
@@ -41,32 +47,37 @@ reports() {
   fi
 }
 
-stamp "unit tests"
-run_unit() {
-  local out
-  if out=$("$1" --gtest_brief=1 2>&1); then
-    echo "ok $(basename "$1")"
-  else
-    echo "$out" | tail -40
-    echo "FAIL $1"
-    return 1
-  fi
-}
-run_unit $b/tests/runtime_tests &  # the longest: beside all the others
-slow=$!
-for t in $b/tests/*_tests; do
-  [[ $t == */runtime_tests ]] || run_unit "$t" || fail=1
-done
-wait $slow || fail=1
-reports || fail=1
+if ((tests)); then
+  stamp "unit tests"
+  run_unit() {
+    local out
+    if out=$("$1" --gtest_brief=1 2>&1); then
+      echo "ok $(basename "$1")"
+    else
+      echo "$out" | tail -40
+      echo "FAIL $1"
+      return 1
+    fi
+  }
+  run_unit $b/tests/runtime_tests &  # the longest: beside all the others
+  slow=$!
+  for t in $b/tests/*_tests; do
+    [[ $t == */runtime_tests ]] || run_unit "$t" || fail=1
+  done
+  wait $slow || fail=1
+  reports || fail=1
 
-stamp "integration tests and fuzz regressions"
-ctest --test-dir $b --output-on-failure -j "$(nproc)" -L 'integration|fuzz' \
-  -E 'blender|cycles|format_test' || fail=1
-reports || fail=1
+  stamp "integration tests and fuzz regressions"
+  ctest --test-dir $b --output-on-failure -j "$(nproc)" -L 'integration|fuzz' \
+    -E 'blender|cycles|format_test|real_data_test|reference_independent_test' || fail=1
+  reports || fail=1
+fi
 
 if ((fuzz)); then
   stamp "fuzzing, ${seconds} s per target"
+  # libFuzzer prints the report and keeps the input itself (and the triage below reads it).
+  export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1"
+  export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
   corpus=$b/fuzz-corpus
   bash scripts/fuzz-corpus.sh $b/tools/deepsea/deepsea "$corpus" >/dev/null
   # fuzz_asset without comparison feedback: with it, libFuzzer copies the expected SHA-256 out
@@ -97,7 +108,6 @@ if ((fuzz)); then
       bash scripts/triage-crashes.sh "$b/tests/fuzz/fuzz_$target" "$work" || fail=1
     fi
   done
-  reports || fail=1
 fi
 
 stamp "done"
