@@ -150,6 +150,20 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
     // The header's size, before any pixel is allocated: a 76-byte PNG can claim 20000x20000.
     const auto& spec = in->spec();
     check_image_size(spec.width, spec.height, spec.nchannels, path);
+    if (std::strcmp(in->format_name(), "png") == 0) {
+        // PNG pixels are only ever deflated, and deflate packs at most 1032 bytes into one, so
+        // a file holds at least height x ceil(width / 8) raw bytes / 1032 (one bit a pixel,
+        // palette images included). OIIO allocates the whole image before it decodes a row: a
+        // 76-byte PNG claiming 9000x9000 would cost a gigabyte before its error.
+        std::error_code ec;
+        const auto bytes = fs::file_size(path, ec);
+        const double least = double(spec.height) * std::ceil(spec.width / 8.0) / 1100.0;
+        if (!ec && double(bytes) < least) {
+            io_fail(path, "its header claims " + std::to_string(spec.width) + "x" +
+                              std::to_string(spec.height) + " pixels, more than its " +
+                              std::to_string(bytes) + " bytes can hold (truncated or damaged)");
+        }
+    }
     if (spec.depth > 1) io_fail(path, "a volume image (depth " + std::to_string(spec.depth) + ")");
     return in;
 }
