@@ -9,7 +9,8 @@ pkgs=(build-essential cmake pkg-config
       libgtest-dev libbenchmark-dev
       python3-dev pybind11-dev python3-numpy)
 if [[ "${1:-}" == "--tests" ]]; then
-  pkgs+=(blender python3-pytest python3-openimageio python3-openvdb clang-format)
+  pkgs+=(blender python3-pytest python3-openimageio python3-openvdb clang-format
+        clang-14 libclang-rt-14-dev)  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
 fi
 missing=()
 for p in "${pkgs[@]}"; do

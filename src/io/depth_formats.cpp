@@ -36,6 +36,23 @@ bool read_token(std::istream& is, std::string& tok) {
     return true;
 }
 
+/// IoError unless the stream still holds `need` bytes: these formats are uncompressed, so a
+/// header claiming more pixels than the file carries is refused before the raster is allocated
+/// (a 40-byte file could otherwise cost hundreds of megabytes first).
+void require_bytes(std::istream& is, std::uint64_t need, const std::string& path,
+                   const char* what) {
+    const auto at = is.tellg();
+    is.seekg(0, std::ios::end);
+    const auto end = is.tellg();
+    is.seekg(at);
+    const std::uint64_t have = at >= 0 && end >= at ? std::uint64_t(end - at) : 0;
+    if (have < need) {
+        io_fail(path, std::string("truncated ") + what + " (the header needs " +
+                          std::to_string(need) + " bytes of data, the file holds " +
+                          std::to_string(have) + ")");
+    }
+}
+
 }  // namespace
 
 Image read_pfm(const std::string& path) {
@@ -59,6 +76,7 @@ Image read_pfm(const std::string& path) {
     if (w <= 0 || h <= 0 || scale == 0.0 || !std::isfinite(scale)) io_fail(path, "bad PFM header");
     const int nch = magic == "PF" ? 3 : 1;
     check_image_size(w, h, nch, path);
+    require_bytes(is, std::uint64_t(w) * h * nch * 4, path, "PFM raster");
     Image img(w, h, nch);
     const bool little = scale < 0.0;
     std::vector<unsigned char> row(std::size_t(w) * nch * 4);
@@ -160,6 +178,7 @@ Image read_npy(const std::string& path, double scale) {
     check_image_size(shape[1], shape[0], 1, path);
     const bool col_major = fortran.find("True") != std::string::npos;
     const int h = int(shape[0]), w = int(shape[1]);
+    require_bytes(is, std::uint64_t(w) * h * bytes, path, ".npy data");
     std::vector<unsigned char> raw(std::size_t(w) * h * bytes);
     if (!is.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size())))
         io_fail(path, "truncated .npy data");

@@ -84,5 +84,41 @@ TEST_F(DepthFormats, PfmColourAndDirectReaders) {
     EXPECT_THROW(read_pfm(path("bad.pfm")), IoError);
 }
 
+// A header claiming more data than the file holds is refused before the data is allocated
+// (found by fuzz_depth: a 40-byte file claiming 10000x10000 doubles cost 800 MB first).
+TEST_F(DepthFormats, HeaderClaimingMoreThanTheFileHoldsIsRefusedFirst) {
+    write_bytes(path("big.npy"), npy("<f8", "(10000, 10000)", raw(std::vector<double>{1, 2})));
+    try {
+        read_depth(path("big.npy"));
+        FAIL() << "no error";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("800000000 bytes"), std::string::npos) << e.what();
+    }
+    write_bytes(path("big.pfm"), "PF\n9000 9000\n-1.0\n" + raw(std::vector<float>{1, 2, 3}));
+    EXPECT_THROW(read_pfm(path("big.pfm")), IoError);
+}
+
+// OpenEXR allocates a header attribute at its stated size before reading it (found by
+// fuzz_depth: a 273-byte EXR whose attribute claimed 2.4 GB took 11 s); deepsea walks the
+// header first.
+TEST_F(DepthFormats, ExrAttributeLargerThanTheFileIsRefusedBeforeOpenExr) {
+    const std::string attr =
+        std::string("capDate\0string\0", 15) + std::string("\x00\x00\x00\x70", 4);
+    write_bytes(path("big.exr"),
+                std::string("\x76\x2f\x31\x01\x02\x00\x00\x00", 8) + attr + "2026");
+    try {
+        read_depth(path("big.exr"));
+        FAIL() << "no error";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("attribute 'capDate' claims"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_THROW(read_color(path("big.exr")), IoError);
+    // A real EXR passes the walk.
+    Image d(3, 2, 1, 1.5f);
+    write_depth_exr(path("ok.exr"), d);
+    EXPECT_EQ(read_depth(path("ok.exr")).at(2, 1), 1.5f);
+}
+
 }  // namespace
 }  // namespace deepsea

@@ -312,5 +312,28 @@ TEST_F(ImageIo, OverwriteReplacesAtomically) {
     EXPECT_EQ(listing(), std::vector<std::string>{"a.png"});
 }
 
+// Deflate packs at most 1032 bytes into one: a 60-byte PNG cannot hold 9000x9000 pixels, and is
+// refused before OIIO allocates the image (found by fuzz_image: it cost 0.3 s and a gigabyte).
+TEST_F(ImageIo, PngClaimingMoreThanItCanHoldIsRefusedBeforeAllocating) {
+    std::string ihdr = be32(9000) + be32(9000) + std::string("\x08\x00\x00\x00\x00", 5);
+    const std::string tiny = png16_grey(1, 1, {7});
+    const std::string idat = tiny.substr(8 + 25);  // the 1x1 file's IDAT and IEND
+    write_bytes(path("claims.png"),
+                std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + idat);
+    for (auto read : {+[](const std::string& p) { (void)read_color(p); },
+                      +[](const std::string& p) { (void)read_depth(p); }}) {
+        try {
+            read(path("claims.png"));
+            FAIL() << "no error";
+        } catch (const IoError& e) {
+            EXPECT_NE(std::string(e.what()).find("claims 9000x9000 pixels"), std::string::npos)
+                << e.what();
+        }
+    }
+    // A large image that deflates well is still read.
+    write_bytes(path("flat.png"), png16_grey(64, 64, std::vector<std::uint16_t>(64 * 64, 9)));
+    EXPECT_EQ(read_depth(path("flat.png")).width, 64);
+}
+
 }  // namespace
 }  // namespace deepsea
