@@ -5,9 +5,10 @@
 #      cost three times as long under ASan, mostly in repeated fixtures);
 #   2. the CLI integration tests that drive the deepsea binary, and the fuzz regression
 #      inputs; not the Blender/Cycles tests (they only drive Blender), the clang-format check,
-#      nor three that spend minutes rendering under ASan on code paths the others cover
+#      nor four that spend minutes rendering under ASan on code paths the others cover
 #      (real_data_test: the authors' sequence; reference_independent_test: physics checked
-#      against a Python integrator; render_kill_test: kills and resumes; 160, 120 and 130 s);
+#      against a Python integrator; render_kill_test and bake_kill_test: kills and resumes;
+#      160, 120, 130 and about 100 s);
 #   3. each libFuzzer target for FUZZ_SECONDS (default 20) from the seed corpus that
 #      scripts/fuzz-corpus.sh makes.
 # Any sanitizer report, in any process, fails the run: reports go to files under
@@ -70,7 +71,7 @@ if ((tests)); then
 
   stamp "integration tests and fuzz regressions"
   ctest --test-dir $b --output-on-failure -j "$(nproc)" -L 'integration|fuzz' \
-    -E 'blender|cycles|format_test|real_data_test|reference_independent_test|render_kill_test' ||
+    -E 'blender|cycles|format_test|real_data_test|reference_independent_test|render_kill_test|bake_kill_test' ||
     fail=1
   reports || fail=1
 fi
