@@ -18,6 +18,7 @@
 #   scripts/sanitize.sh [--no-fuzz | --fuzz-only]
 set -euo pipefail
 cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh --tests  # clang-14 and its sanitizer runtimes
 root=$(pwd)
 fuzz=1 tests=1
 case "${1:-}" in

@@ -14,7 +14,7 @@
 namespace deepsea {
 
 /// Reusable state: buffers are kept between frames. prepare() weighs and blurs one frame,
-/// add_row() then adds any row of F to an interleaved RGB row (thread-safe).
+/// row() then gives any row of F as an interleaved RGB row (thread-safe).
 class ForwardPsfBlur {
 public:
     explicit ForwardPsfBlur(ForwardPsf psf);
