@@ -120,6 +120,7 @@ spng_ihdr png_header(const std::string& path, SpngCtx& c, const std::vector<std:
                          : ihdr.color_type == SPNG_COLOR_TYPE_INDEXED         ? 3
                                                                               : 1;
     check_image_size(ihdr.width, ihdr.height, channels, path);
+    check_png_claim(path, ihdr.width, ihdr.height, bytes.size());
     return ihdr;
 }
 
@@ -476,6 +477,7 @@ struct ExrReader::Impl {
 
 ExrReader::ExrReader(const std::string& path) : m_impl(new Impl), m_path(path) {
     require_readable(path);
+    check_exr_header(path);
     try {
         m_impl->file = std::make_unique<Imf::InputFile>(path.c_str(), exr_threads());
     } catch (const std::exception& e) {

@@ -29,6 +29,8 @@ namespace deepsea {
 
 namespace fs = std::filesystem;
 
+using io_detail::check_exr_header;
+using io_detail::check_png_claim;
 using io_detail::io_fail;
 using io_detail::require_readable;
 
@@ -91,54 +93,6 @@ private:
     }
 };
 
-/// OpenEXR allocates each header attribute at the size the file states before reading it: a
-/// 273-byte file whose attribute claims 2.4 GB costs 2.4 GB and seconds before the error. So an
-/// EXR header is walked here first (magic, version, then name, type, int32 size, value per
-/// attribute; an empty name ends a header, and an empty header ends a multi-part file's list)
-/// and refused when a size runs past the end of the file.
-void check_exr_header(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    char head[8];
-    if (!in.read(head, 8) || std::memcmp(head, "\x76\x2f\x31\x01", 4) != 0) return;  // not EXR
-    in.seekg(0, std::ios::end);
-    const std::streamoff end = in.tellg();
-    in.seekg(8);
-    const bool multipart = (static_cast<unsigned char>(head[5]) & 0x10) != 0;  // bit 12
-    // A null-terminated name of at most 255 characters; empty at the end of a header.
-    auto read_name = [&](std::string& name) {
-        name.clear();
-        for (char ch; in.get(ch);) {
-            if (ch == '\0') return true;
-            if (name.size() >= 255) return false;
-            name += ch;
-        }
-        return false;
-    };
-    std::string name, type;
-    for (;;) {  // headers: one, or one per part and an empty one after them
-        bool empty_header = true;
-        for (;;) {  // attributes
-            if (!read_name(name)) io_fail(path, "damaged EXR header (an attribute name runs on)");
-            if (name.empty()) break;
-            empty_header = false;
-            unsigned char b[4];
-            if (!read_name(type) || !in.read(reinterpret_cast<char*>(b), 4))
-                io_fail(path, "damaged EXR header (attribute '" + name + "' is cut short)");
-            const std::int64_t size =
-                std::int32_t(std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 |
-                             std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24);
-            const std::int64_t left = end - in.tellg();
-            if (size < 0 || size > left) {
-                io_fail(path, "damaged EXR header (attribute '" + name + "' claims " +
-                                  std::to_string(size) + " bytes, the file holds " +
-                                  std::to_string(left) + " after it)");
-            }
-            in.seekg(size, std::ios::cur);
-        }
-        if (!multipart || empty_header) return;
-    }
-}
-
 std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
     require_readable(path);
     check_exr_header(path);
@@ -153,18 +107,9 @@ std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
     const auto& spec = in->spec();
     check_image_size(spec.width, spec.height, spec.nchannels, path);
     if (std::strcmp(in->format_name(), "png") == 0) {
-        // PNG pixels are only ever deflated, and deflate packs at most 1032 bytes into one, so
-        // a file holds at least height x ceil(width / 8) raw bytes / 1032 (one bit a pixel,
-        // palette images included). OIIO allocates the whole image before it decodes a row: a
-        // 76-byte PNG claiming 9000x9000 would cost a gigabyte before its error.
         std::error_code ec;
         const auto bytes = fs::file_size(path, ec);
-        const double least = double(spec.height) * std::ceil(spec.width / 8.0) / 1100.0;
-        if (!ec && double(bytes) < least) {
-            io_fail(path, "its header claims " + std::to_string(spec.width) + "x" +
-                              std::to_string(spec.height) + " pixels, more than its " +
-                              std::to_string(bytes) + " bytes can hold (truncated or damaged)");
-        }
+        if (!ec) check_png_claim(path, spec.width, spec.height, bytes);
     }
     if (spec.depth > 1) io_fail(path, "a volume image (depth " + std::to_string(spec.depth) + ")");
     return in;
