@@ -152,9 +152,13 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     // A few slots in flight: one being read, one composited, one being written. Each holds its
     // frame's inputs (a 1080p frame: 33 MB of float), so no more than that.
     constexpr int kTokens = 3;
+    // A slot is taken when a frame is read and given back when it is written: the writers run
+    // in parallel and finish out of order, so a slot is reused only once its frame is done.
     std::vector<Slot> slots(kTokens);
+    std::vector<Slot*> free_slots;
+    for (Slot& slot : slots) free_slots.push_back(&slot);
     int next = 0, done = 0;
-    std::mutex mutex;  // result, record and the manifest files
+    std::mutex mutex;  // result, record, the manifest files and free_slots
     std::atomic<bool> stop{opt.progress && !opt.progress(0, int(jobs.size()))};
     const auto write_manifests = [&] {
         record.frames_done = result.written + result.skipped;
@@ -170,7 +174,12 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     fc.stop();
                     return nullptr;
                 }
-                Slot* s = &slots[next % kTokens];
+                Slot* s = nullptr;
+                {
+                    std::lock_guard<std::mutex> lock(mutex);
+                    s = free_slots.back();  // the pipeline holds at most kTokens frames
+                    free_slots.pop_back();
+                }
                 s->index = next;
                 s->error.clear();
                 const FrameJob& job = jobs[next++];
@@ -266,6 +275,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     result.errors.push_back(s->error);
                 }
                 ++done;
+                free_slots.push_back(s);
                 if (opt.progress && !opt.progress(done, int(jobs.size()))) stop = true;
             }));
 

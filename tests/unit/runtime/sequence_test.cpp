@@ -56,6 +56,35 @@ TEST(Sequence, WritesEveryFrame) {
     EXPECT_GT(r.exposure, 0.0);
 }
 
+// Writers run in parallel and finish out of order (here three PNG frames follow a slow TIFF
+// with every layer as EXR):
+// every output must still hold its own frame, as a render of that frame alone does.
+TEST(Sequence, EveryOutputHoldsItsOwnFrame) {
+    const int n = 12;
+    SequenceDir d("own", n);
+    for (int i = 0; i < n; ++i) {
+        Image rgb = read_color(d.jobs[i].rgb);
+        for (float& x : rgb.data) x *= 0.2f + 0.06f * float(i);
+        write_color(d.jobs[i].rgb, rgb);
+        if (i % 4 == 0) {  // slower to write: TIFF, and every layer as EXR
+            d.jobs[i].output = (d.dir / "out" / ("f" + std::to_string(i) + ".tif")).string();
+            d.jobs[i].layers = (d.dir / "out" / ("f" + std::to_string(i) + ".exr")).string();
+        }
+    }
+    SequenceOptions opt;
+    opt.exposure = parse_exposure("40");
+    const SequenceResult r = render_sequence(d.asset, d.jobs, opt);
+    ASSERT_EQ(r.written, n);
+    for (int i = 0; i < n; ++i) {
+        FrameJob alone = d.jobs[i];
+        alone.output =
+            (d.dir / ("alone" + fs::path(d.jobs[i].output).extension().string())).string();
+        ASSERT_EQ(render_sequence(d.asset, {alone}, opt).written, 1);
+        EXPECT_EQ(read_color(d.jobs[i].output).data, read_color(alone.output).data)
+            << "frame " << i << " holds another frame's pixels";
+    }
+}
+
 TEST(Sequence, CorruptFrameIsReportedAndTheRestWritten) {
     SequenceDir d("corrupt");
     std::ofstream(d.jobs[1].depth, std::ios::trunc) << "not an exr";
