@@ -232,10 +232,14 @@ struct Parsed {
 Parsed parse_document(const Document& doc) {
     Parsed out;
     try {
-        if (doc.empty())
-            doc.fail(YAML::Mark::null_mark(), "",
-                     "empty configuration (expected camera, rig and/or water sections)");
+        static const char* const kEmpty =
+            "empty configuration (expected camera, rig and/or water sections)";
+        if (doc.empty()) doc.fail(YAML::Mark::null_mark(), "", kEmpty);
         const MapView m(doc, doc.root(), schema::kSections);
+        // A map with none of the sections (`{}`) is as empty as no text: refused alike, so that
+        // whatever parses also prints as a configuration that parses (fuzz_config's property).
+        if (!m.opt("camera") && !m.opt("rig") && !m.opt("water"))
+            doc.fail(doc.root().mark, "", kEmpty);
         if (const Field* c = m.opt("camera")) {
             out.setup.camera = parse_camera(doc, *c);
             out.line["camera"] = yaml::line_of(c->key_mark);

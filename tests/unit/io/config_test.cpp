@@ -179,6 +179,18 @@ TEST(Config, EmptyLightListAndEmptyTextAreErrors) {
     }
     EXPECT_THROW(parse_setup("", "e.yaml"), ConfigError);
     EXPECT_THROW(parse_setup("camera:\n", "e.yaml"), ConfigError);
+    // A map without sections (found by fuzz_config: it parsed, printed as "", and the printed
+    // text was refused).
+    for (const char* text : {"{}", "{}\n", "--- {}\n"}) {
+        try {
+            parse_setup(text, "m.yaml");
+            ADD_FAILURE() << "accepted: " << text;
+        } catch (const ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find("m.yaml:1: (top level): empty configuration"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
 }
 
 TEST(Config, YamlSyntaxErrorNamesFileAndLine) {
