@@ -485,6 +485,13 @@ void require_image_writer(const std::string& path) {
     if (!has_image_writer(path)) fail_no_writer(path);
 }
 
+std::string image_format(const std::string& path) {
+    const std::string ext = extension(path);
+    if (ext == ".jpeg") return "jpg";
+    if (ext == ".tiff") return "tif";
+    return ext.empty() ? ext : ext.substr(1);
+}
+
 bool writes_encoded(const std::string& path) {
     const std::string ext = extension(path);
     return ext == ".png" || ext == ".jpg" || ext == ".jpeg";

@@ -184,12 +184,20 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
     if (f.output.empty() && f.layers.empty()) {
         throw ConfigError("nothing to write: give -o and/or --layers");
     }
+    const std::string format = f.format.empty() ? "png" : f.format;
+    if (format != "png" && format != "jpg" && format != "tif" && format != "exr") {
+        throw ConfigError("--format " + f.format + ": expected png, jpg, tif or exr");
+    }
     if (!f.sequence()) {
         if (is_pattern(f.depth))
             throw ConfigError("colour input '" + f.rgb + "' is one file but depth input '" +
                               f.depth + "' is a pattern");
         check_output_file(f.output, "-o", f);
         check_output_file(f.layers, "--layers", f);
+        if (!f.format.empty() && !f.output.empty() && image_format(f.output) != f.format) {
+            throw ConfigError(f.output + ": -o is not a ." + f.format + " file but --format is " +
+                              f.format);
+        }
         if (!f.output.empty() && !f.layers.empty() && same_file(f.output, f.layers)) {
             throw ConfigError(f.output + ": -o and --layers name the same file");
         }
@@ -201,7 +209,8 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
     check_output_folder(f.layers, "--layers", jobs);
     std::map<std::string, const FrameJob*> written;
     for (FrameJob& j : jobs) {
-        if (!f.output.empty()) j.output = (fs::path(f.output) / (stem(j.rgb) + ".png")).string();
+        if (!f.output.empty())
+            j.output = (fs::path(f.output) / (stem(j.rgb) + "." + format)).string();
         if (!f.layers.empty()) j.layers = (fs::path(f.layers) / (stem(j.rgb) + ".exr")).string();
         for (const std::string* out : {&j.output, &j.layers}) {
             if (out->empty()) continue;

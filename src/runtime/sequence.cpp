@@ -12,6 +12,7 @@
 #include <mutex>
 
 #include "deepsea/core/error.h"
+#include "deepsea/io/image_io.h"
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/lamps.h"
@@ -80,6 +81,7 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.max_clipped = opt.exposure.max_clipped;
     m.exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
     m.image = !jobs.empty() && !jobs.front().output.empty();
+    if (m.image) m.image_format = image_format(jobs.front().output);
     m.bits = opt.bits;
     m.layers = !jobs.empty() && !jobs.front().layers.empty();
     m.layer_set = opt.layer_output.describe();

@@ -26,7 +26,7 @@ std::string manifest_to_json(const SequenceManifest& m) {
                      {"percentile", m.percentile},
                      {"target", m.target},
                      {"max_clipped", m.max_clipped}};
-    j["outputs"] = {{"image", m.image ? "png" : "none"},
+    j["outputs"] = {{"image", m.image ? m.image_format : "none"},
                     {"bits", m.bits},
                     {"layers", m.layers ? m.layer_set : "none"},
                     {"half", m.half}};
@@ -92,7 +92,9 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
     m.percentile = get<double>(j, path, "exposure", "percentile");
     m.target = get<double>(j, path, "exposure", "target");
     m.max_clipped = get<double>(j, path, "exposure", "max_clipped");
-    m.image = get<std::string>(j, path, "outputs", "image") != "none";
+    const std::string image = get<std::string>(j, path, "outputs", "image");
+    m.image = image != "none";
+    if (m.image) m.image_format = image;
     m.bits = get<int>(j, path, "outputs", "bits");
     const std::string layers = get<std::string>(j, path, "outputs", "layers");
     m.layers = layers != "none";
@@ -161,6 +163,8 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
                num(run.percentile) + "/" + num(run.target));
     if (folder.image != run.image)
         differ("-o", folder.image ? "given" : "not given", run.image ? "given" : "not given");
+    if (folder.image && folder.image_format != run.image_format)
+        differ("--format", folder.image_format, run.image_format);
     if (folder.image && folder.bits != run.bits)
         differ("--bits", std::to_string(folder.bits), std::to_string(run.bits));
     if (folder.layers != run.layers)

@@ -133,6 +133,36 @@ mkdir "$work/old"; cp "$work/seq_full/frame_0001.png" "$work/old/"
 expect_fail "resume without a manifest" render --rgb "$rgb" --depth "$depth" -o "$work/old" --resume
 [[ $(ls -A "$work/old") == frame_0001.png ]] || { echo "FAIL: old/ changed"; exit 1; }
 
+# --format: a JPEG sequence, the same frames as the PNG one up to JPEG's loss; recorded in the
+# manifest and kept on --resume; 16 bits refused for JPEG; -o's extension must match it.
+render --rgb "$rgb" --depth "$depth" -o "$work/jpg" --format jpg --exposure 100 \
+  | grep -q "rendered 3 frame(s), skipped 0, failed 0"
+[[ $(cd "$work/jpg" && echo *.jpg) == "frame_0001.jpg frame_0002.jpg frame_0003.jpg" ]] ||
+  { echo "FAIL: JPEG sequence names"; ls "$work/jpg"; exit 1; }
+/usr/bin/python3 - "$work/jpg" "$work/ref" <<'PY'
+import json, sys
+import numpy as np
+import OpenImageIO as oiio
+jpg, png = sys.argv[1:]
+assert json.load(open(jpg + "/deepsea-sequence.json"))["outputs"]["image"] == "jpg"
+for i in (1, 2, 3):
+    a = oiio.ImageBuf(f"{jpg}/frame_000{i}.jpg").get_pixels(oiio.FLOAT) * 255
+    b = oiio.ImageBuf(f"{png}/frame_000{i}.png").get_pixels(oiio.FLOAT) * 255
+    assert a.shape == b.shape and np.abs(a - b).mean() < 2.0, (i, np.abs(a - b).mean())
+PY
+rm "$work/jpg/frame_0002.jpg"
+render --rgb "$rgb" --depth "$depth" -o "$work/jpg" --format jpg --exposure 100 --resume \
+  | grep -q "rendered 1 frame(s), skipped 2, failed 0"
+expect_fail "resume as PNG" render --rgb "$rgb" --depth "$depth" -o "$work/jpg" \
+  --exposure 100 --resume
+grep -q "cannot resume: --format was jpg, now png" "$work/err.txt"
+expect_fail "16-bit JPEG" render --rgb "$rgb" --depth "$depth" -o "$work/jpg16" --format jpg \
+  --bits 16
+grep -q "JPEG holds 8 bits" "$work/err.txt"
+expect_fail "-o x.png --format jpg" render --rgb "$f1" --depth "$d1" -o "$work/x.png" \
+  --format jpg
+expect_absent "$work/jpg16" "$work/x.png"
+
 # 7. A folder another process writes into is refused (its lock held here with flock(1)).
 mkdir "$work/busy"
 flock -o "$work/busy/.deepsea.lock" sleep 30 &

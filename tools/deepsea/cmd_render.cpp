@@ -8,6 +8,7 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
+#include "deepsea/io/image_io.h"
 #include "deepsea/runtime/layers.h"
 #include "deepsea/runtime/output_folders.h"
 #include "deepsea/runtime/sequence.h"
@@ -19,7 +20,7 @@ namespace {
 struct RenderArgs {
     DepthFlags depth;
     std::string asset, rgb, depth_path, output, layers, exposure = "auto", camera;
-    std::string layer_set = "all";
+    std::string layer_set = "all", format;
     bool resume = false, no_forward = false, half = false;
     int bits = 8;
     int threads = 0;
@@ -45,8 +46,10 @@ void run(const RenderArgs& a) {
     }
     // Everything that can be checked without rendering is checked before the asset is loaded
     // and before any folder is made.
-    const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers};
+    const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers, a.format};
     const std::vector<FrameJob> jobs = frame_jobs(files);
+    if (a.bits == 16 && !jobs.empty() && image_format(jobs.front().output) == "jpg")
+        throw ConfigError("--bits 16: JPEG holds 8 bits per sample; write PNG or TIFF for 16");
     const Asset asset = load_asset(a.asset);
     std::optional<OutputFolders> folders;
     if (files.sequence()) {
@@ -126,7 +129,10 @@ void setup_render(CLI::App& sub) {
     sub.add_option("--exposure", a->exposure,
                    "'auto' (first frame's, then kept, in the sequence manifest) or a factor");
     sub.add_option("--camera", a->camera, "YAML with the frames' camera (default: the asset's)");
-    sub.add_option("--bits", a->bits, "PNG bit depth")->check(CLI::IsMember({8, 16}));
+    sub.add_option("--format", a->format,
+                   "a sequence's image format (default png); one frame: -o's extension")
+        ->check(CLI::IsMember({"png", "jpg", "tif", "exr"}));
+    sub.add_option("--bits", a->bits, "PNG/TIFF bit depth")->check(CLI::IsMember({8, 16}));
     sub.add_flag("--resume", a->resume,
                  "continue a sequence: skip frames whose outputs are complete, keep the "
                  "exposure of deepsea-sequence.json, refuse other settings");

@@ -53,6 +53,11 @@ bool has_image_writer(const std::string& path);
 /// work.
 void require_image_writer(const std::string& path);
 
+/// The format of `path` by its extension, case-insensitive, with one name per format: "png",
+/// "jpg" (.jpg, .jpeg), "tif" (.tif, .tiff), or the extension itself without the dot ("exr",
+/// ...; empty without one).
+std::string image_format(const std::string& path);
+
 /// Writes linear RGB times `exposure` (as apply_exposure, without its copy): PNG/JPEG/TIFF are
 /// sRGB-encoded at `bits` (8 or 16; JPEG is always 8); EXR and other float formats keep linear
 /// values (half float). Values are clamped to [0, 1] before encoding. `meta` goes into the

@@ -20,6 +20,10 @@ struct FrameJob {
 struct FrameFiles {
     std::string rgb, depth;
     std::string output, layers;
+    /// The exposed images' format, as an extension without the dot: png, jpg, tif or exr.
+    /// Empty: png for a sequence, -o's own extension for one frame (which it must match when
+    /// given).
+    std::string format;
     /// A sequence: the colour input is a pattern (then outputs are folders).
     bool sequence() const;
 };
@@ -31,12 +35,12 @@ bool is_pattern(const std::string& path);
 /// - one frame (rgb a plain file): depth must be one too (ConfigError); -o needs an extension
 ///   OpenImageIO writes and --layers `.exr` (ConfigError), their folders must exist and be
 ///   writable (IoError);
-/// - a sequence: the pairs of pair_frames, outputs <output>/<colour stem>.png and
+/// - a sequence: the pairs of pair_frames, outputs <output>/<colour stem>.<format> and
 ///   <layers>/<colour stem>.exr; -o and --layers must be folders or creatable as such
 ///   (ConfigError for an existing file or an image file name, IoError for an unwritable
 ///   place), never a folder that holds inputs;
 /// - always: something to write, no output the same file as an input or as another output
-///   (ConfigError naming both).
+///   (ConfigError naming both), a known format (ConfigError).
 std::vector<FrameJob> frame_jobs(const FrameFiles& files);
 
 /// Pairs colour and depth files by frame identity. A file's frame key is its stem less the

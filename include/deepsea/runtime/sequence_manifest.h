@@ -21,14 +21,15 @@ struct SequenceManifest {
     Camera camera;           ///< the frames' camera as given (--camera), or the asset's
     bool auto_exposure = true;
     double percentile = 0, target = 0, max_clipped = 0;  ///< auto exposure's settings
-    double exposure = 0;            ///< the factor every frame uses; 0 until chosen
-    std::string exposure_frame;     ///< auto: the colour file it was chosen on
-    bool image = false;             ///< exposed PNGs are written (-o)
-    int bits = 8;                   ///< their bit depth
-    bool layers = false;            ///< layer EXRs are written (--layers)
-    std::string layer_set = "all";  ///< with layers: "all" or the names joined by commas
-    bool half = false;              ///< half-float layers (--half)
-    bool forward = true;            ///< forward scatter on
+    double exposure = 0;               ///< the factor every frame uses; 0 until chosen
+    std::string exposure_frame;        ///< auto: the colour file it was chosen on
+    bool image = false;                ///< exposed images are written (-o)
+    std::string image_format = "png";  ///< their format (--format): png, jpg, tif or exr
+    int bits = 8;                      ///< their bit depth
+    bool layers = false;               ///< layer EXRs are written (--layers)
+    std::string layer_set = "all";     ///< with layers: "all" or the names joined by commas
+    bool half = false;                 ///< half-float layers (--half)
+    bool forward = true;               ///< forward scatter on
     std::string depth_kind = "z", depth_channel;
     double depth_scale = 0.001;
     int frames_total = 0;

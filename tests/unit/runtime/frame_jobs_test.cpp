@@ -87,16 +87,17 @@ TEST(PairFrames, TwoFilesOfOneFrameAreAnError) {
 TEST_F(FrameJobsTest, OneFrameOrEveryPairOfTwoPatterns) {
     for (const char* f : {"in/f2.png", "in/f1.png", "in/f1_depth.exr", "in/f2_depth.exr"}) touch(f);
 
-    const auto one = frame_jobs({path("in/f1.png"), path("in/f1_depth.exr"), path("o.png"), ""});
+    const auto one =
+        frame_jobs({path("in/f1.png"), path("in/f1_depth.exr"), path("o.png"), "", ""});
     ASSERT_EQ(one.size(), 1u);
     EXPECT_EQ(one[0].output, path("o.png"));
     EXPECT_TRUE(one[0].layers.empty());
-    EXPECT_THROW(frame_jobs({"a.png", path("in/*.exr"), "out.png", ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({"a.png", path("in/*.exr"), "out.png", "", ""}), ConfigError);
 
     // '*.png' does not catch the depth files here, 'f*' does: both pair the same frames.
     for (const char* pattern : {"*.png", "f*"}) {
         const auto jobs = frame_jobs({(dir_ / "in" / pattern).string(), path("in/*_depth.exr"),
-                                      path("out"), path("layers")});
+                                      path("out"), path("layers"), ""});
         ASSERT_EQ(jobs.size(), 2u) << pattern;
         EXPECT_EQ(jobs[1].rgb, path("in/f2.png"));
         EXPECT_EQ(jobs[1].depth, path("in/f2_depth.exr"));
@@ -105,37 +106,60 @@ TEST_F(FrameJobsTest, OneFrameOrEveryPairOfTwoPatterns) {
     }
     // Checking creates nothing: the folders come later (OutputFolders).
     EXPECT_FALSE(fs::exists(path("out")) || fs::exists(path("layers")));
-    EXPECT_THROW(frame_jobs({path("in/*.jpg"), path("in/*.exr"), path("out"), ""}), InputError);
+    EXPECT_THROW(frame_jobs({path("in/*.jpg"), path("in/*.exr"), path("out"), "", ""}), InputError);
 }
 
 TEST_F(FrameJobsTest, OutputsNeverOverwriteInputsOrEachOther) {
     for (const char* f : {"in/f1.png", "in/f1_depth.exr"}) touch(f);
     const std::string rgb = path("in/f1.png"), depth = path("in/f1_depth.exr");
-    EXPECT_THROW(frame_jobs({rgb, depth, rgb, ""}), ConfigError);
-    EXPECT_THROW(frame_jobs({rgb, depth, "", depth}), ConfigError);
-    EXPECT_THROW(frame_jobs({rgb, depth, path("in/../in/f1.png"), ""}), ConfigError);
-    EXPECT_THROW(frame_jobs({rgb, depth, path("x.exr"), path("x.exr")}), ConfigError);
-    EXPECT_THROW(frame_jobs({rgb, depth, "", ""}), ConfigError);  // nothing to write
-    EXPECT_THROW(frame_jobs({path("in/*.png"), path("in/*_depth.exr"), path("in"), ""}),
+    EXPECT_THROW(frame_jobs({rgb, depth, rgb, "", ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({rgb, depth, "", depth, ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({rgb, depth, path("in/../in/f1.png"), "", ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({rgb, depth, path("x.exr"), path("x.exr"), ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({rgb, depth, "", "", ""}), ConfigError);  // nothing to write
+    EXPECT_THROW(frame_jobs({path("in/*.png"), path("in/*_depth.exr"), path("in"), "", ""}),
                  ConfigError);
-    EXPECT_THROW(frame_jobs({path("in/*.png"), path("in/*_depth.exr"), "", path("in/.")}),
+    EXPECT_THROW(frame_jobs({path("in/*.png"), path("in/*_depth.exr"), "", path("in/."), ""}),
                  ConfigError);
 }
 
 TEST_F(FrameJobsTest, OutputNamesAndFoldersAreCheckedFirst) {
     for (const char* f : {"in/f1.png", "in/f1_depth.exr"}) touch(f);
     const std::string rgb = path("in/f1.png"), depth = path("in/f1_depth.exr");
-    EXPECT_THROW(frame_jobs({rgb, depth, path("x.unknown"), ""}), IoError);
-    EXPECT_THROW(frame_jobs({rgb, depth, path("noext"), ""}), IoError);
-    EXPECT_THROW(frame_jobs({rgb, depth, "", path("layers.png")}), ConfigError);
-    EXPECT_THROW(frame_jobs({rgb, depth, path("missing/x.png"), ""}), IoError);
-    EXPECT_NO_THROW(frame_jobs({rgb, depth, path("x.exr"), path("l.EXR")}));
+    EXPECT_THROW(frame_jobs({rgb, depth, path("x.unknown"), "", ""}), IoError);
+    EXPECT_THROW(frame_jobs({rgb, depth, path("noext"), "", ""}), IoError);
+    EXPECT_THROW(frame_jobs({rgb, depth, "", path("layers.png"), ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({rgb, depth, path("missing/x.png"), "", ""}), IoError);
+    EXPECT_NO_THROW(frame_jobs({rgb, depth, path("x.exr"), path("l.EXR"), ""}));
     const std::string seq = path("in/*.png"), seq_depth = path("in/*_depth.exr");
-    EXPECT_THROW(frame_jobs({seq, seq_depth, path("frames.png"), ""}), ConfigError);
-    EXPECT_THROW(frame_jobs({seq, seq_depth, rgb, ""}), ConfigError);  // an existing file
-    EXPECT_THROW(frame_jobs({seq, seq_depth, path("in/f1.png/sub"), ""}), IoError);
-    EXPECT_NO_THROW(frame_jobs({seq, seq_depth, path("new/deeper/out"), path("new/out")}));
+    EXPECT_THROW(frame_jobs({seq, seq_depth, path("frames.png"), "", ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({seq, seq_depth, rgb, "", ""}), ConfigError);  // an existing file
+    EXPECT_THROW(frame_jobs({seq, seq_depth, path("in/f1.png/sub"), "", ""}), IoError);
+    EXPECT_NO_THROW(frame_jobs({seq, seq_depth, path("new/deeper/out"), path("new/out"), ""}));
     EXPECT_TRUE(listing().size() == 1u);  // only in/
+}
+
+TEST_F(FrameJobsTest, FormatNamesTheSequencesImagesAndMustMatchOneFramesOutput) {
+    for (const char* f : {"in/f1.png", "in/f1_depth.exr"}) touch(f);
+    const std::string seq = path("in/*.png"), seq_depth = path("in/*_depth.exr");
+    for (const char* format : {"jpg", "tif", "exr", "png"}) {
+        const auto jobs = frame_jobs({seq, seq_depth, path("out"), "", format});
+        ASSERT_EQ(jobs.size(), 1u);
+        EXPECT_EQ(jobs[0].output, path(std::string("out/f1.") + format));
+    }
+    EXPECT_EQ(frame_jobs({seq, seq_depth, path("out"), "", ""})[0].output, path("out/f1.png"));
+    EXPECT_THROW(frame_jobs({seq, seq_depth, path("out"), "", "bmp"}), ConfigError);
+    const std::string rgb = path("in/f1.png"), depth = path("in/f1_depth.exr");
+    EXPECT_NO_THROW(frame_jobs({rgb, depth, path("x.JPEG"), "", "jpg"}));
+    EXPECT_NO_THROW(frame_jobs({rgb, depth, path("x.jpg"), "", ""}));
+    try {
+        frame_jobs({rgb, depth, path("x.png"), "", "jpg"});
+        ADD_FAILURE() << "-o x.png with --format jpg was accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("x.png: -o is not a .jpg file but --format is jpg"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 }  // namespace deepsea

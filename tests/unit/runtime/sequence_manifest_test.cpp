@@ -64,6 +64,10 @@ TEST_F(ManifestTest, RoundTripsExactlyThroughTheFile) {
     const SequenceManifest r2 = manifest_from_json(manifest_to_json(some), "m2.json");
     EXPECT_EQ(r2.layer_set, "final,depth");
     EXPECT_TRUE(r2.half);
+    some.image_format = "jpg";
+    EXPECT_EQ(manifest_from_json(manifest_to_json(some), "m3.json").image_format, "jpg");
+    some.image = false;  // no -o: "none", and the format stays png
+    EXPECT_EQ(manifest_from_json(manifest_to_json(some), "m4.json").image_format, "png");
     EXPECT_EQ(listing().size(), 1u);  // no temporary left beside it
 }
 
@@ -115,6 +119,8 @@ TEST(Manifest, ResumeRefusesEverySettingThatChangesTheFrames) {
     EXPECT_NE(changed([](auto& r) { r.target = 0.5; }).find("auto exposure"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.layers = false; }).find("--layers"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.bits = 16; }).find("--bits"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.image_format = "jpg"; }).find("--format was png, now jpg"),
+              std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.layer_set = "final,depth"; }).find("--layer-set"),
               std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.half = true; }).find("--half"), std::string::npos);
