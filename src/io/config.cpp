@@ -236,19 +236,19 @@ Parsed parse_document(const Document& doc) {
             "empty configuration (expected camera, rig and/or water sections)";
         if (doc.empty()) doc.fail(YAML::Mark::null_mark(), "", kEmpty);
         const MapView m(doc, doc.root(), schema::kSections);
+        const Field *c = m.opt("camera"), *r = m.opt("rig"), *w = m.opt("water");
         // A map with none of the sections (`{}`) is as empty as no text: refused alike, so that
         // whatever parses also prints as a configuration that parses (fuzz_config's property).
-        if (!m.opt("camera") && !m.opt("rig") && !m.opt("water"))
-            doc.fail(doc.root().mark, "", kEmpty);
-        if (const Field* c = m.opt("camera")) {
+        if (!c && !r && !w) doc.fail(doc.root().mark, "", kEmpty);
+        if (c) {
             out.setup.camera = parse_camera(doc, *c);
             out.line["camera"] = yaml::line_of(c->key_mark);
         }
-        if (const Field* r = m.opt("rig")) {
+        if (r) {
             out.setup.rig = parse_rig(doc, *r);
             out.line["rig"] = yaml::line_of(r->key_mark);
         }
-        if (const Field* w = m.opt("water")) {
+        if (w) {
             out.setup.water = parse_water(doc, *w);
             out.line["water"] = yaml::line_of(w->key_mark);
         }
