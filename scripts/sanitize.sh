@@ -88,8 +88,10 @@ if ((fuzz)); then
   # of the integrity check and forges the record, which is fuzz_asset_sealed's job.
   # fuzz_asset_sealed reaches OpenVDB's decoders, which trust lengths in the file; it runs in
   # fork mode past their crashes, and each crash is replayed and sorted below.
+  # Its allocations over 1 GB stop it where they are made, so that the report (and the triage's
+  # replay, which uses the same limit) has the allocating stack.
   declare -A extra=([asset]="-use_cmp=0"
-    [asset_sealed]="-fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1")
+    [asset_sealed]="-fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 -malloc_limit_mb=1024")
   for target in config asset asset_sealed depth image; do
     seeds=$corpus/${target%_sealed}
     work=$b/fuzz-work/$target
