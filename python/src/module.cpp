@@ -313,10 +313,9 @@ public:
                 // Last frames' buffers, if their arrays are gone: Layers::resize keeps them.
                 const int w = z.width, h = z.height;
                 reuse(out.final, w, h, 3, *m_pool);
-                reuse(out.direct, w, h, 3, *m_pool);
                 if (set == LayerSet::All) {
-                    for (Image* img :
-                         {&out.forward, &out.backscatter, &out.transmission, &out.normal}) {
+                    for (Image* img : {&out.direct, &out.forward, &out.backscatter,
+                                       &out.transmission, &out.normal}) {
                         reuse(*img, w, h, 3, *m_pool);
                     }
                     reuse(out.depth, w, h, 1, *m_pool);
@@ -544,7 +543,7 @@ PYBIND11_MODULE(deepsea, m) {
              "('z') or along the ray ('range'), or uint16 times depth_scale; not finite or <= 0 "
              "is open water. Returns a dict of float32 arrays: final, direct, forward, "
              "backscatter, transmission (H, W, 3), depth (H, W, planar z), normal (H, W, 3); "
-             "layers='final' computes only final (and direct).")
+             "layers='final' computes only final.")
         .def_property_readonly("camera", &Renderer::camera,
                                "the frames' camera (after the first frame: the one in use)")
         .def_property_readonly("asset", [](const Renderer& r) { return r.asset(); })

@@ -21,10 +21,14 @@ void check_image_size(long long width, long long height, long long channels,
 }
 
 void require_same_size(const Image& a, const Image& b, const std::string& what) {
-    if (a.width != b.width || a.height != b.height) {
-        throw InputError(what + ": sizes differ (" + std::to_string(a.width) + "x" +
-                         std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" +
-                         std::to_string(b.height) + ")");
+    require_same_size(a.width, a.height, b.width, b.height, what);
+}
+
+void require_same_size(int a_w, int a_h, int b_w, int b_h, const std::string& what) {
+    if (a_w != b_w || a_h != b_h) {
+        throw InputError(what + ": sizes differ (" + std::to_string(a_w) + "x" +
+                         std::to_string(a_h) + " vs " + std::to_string(b_w) + "x" +
+                         std::to_string(b_h) + ")");
     }
 }
 

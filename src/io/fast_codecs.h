@@ -10,18 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/core/frame.h"
 #include "deepsea/io/image_io.h"
 
 namespace deepsea::io_detail {
 
 /// A PNG decoded to interleaved RGB: 8 bits per sample for files of 1 to 8 bits (palette and
 /// grey expanded, alpha dropped), 16 bits (host order) for 16-bit files.
-struct PngRgb {
-    int width = 0, height = 0;
-    int bits = 8;                      ///< 8 or 16
-    std::vector<std::uint8_t> rgb8;    ///< bits == 8
-    std::vector<std::uint16_t> rgb16;  ///< bits == 16
-};
+using PngRgb = SrgbCodes;
 
 /// Decodes `path` into `out`, reusing its buffers. IoError naming the file for a corrupt or
 /// truncated file; InputError (check_image_size) for a header beyond deepsea's limits, before

@@ -357,6 +357,22 @@ void read_color(const std::string& path, Image& out) {
     out = read_color_oiio(path);
 }
 
+void read_frame_color(const std::string& path, Frame& frame) {
+    const std::string ext = extension(path);
+    SrgbCodes& codes = frame.codes;
+    if (ext == ".png") {
+        io_detail::decode_png_rgb(path, codes);
+    } else if (ext == ".jpg" || ext == ".jpeg") {
+        io_detail::decode_jpeg_rgb(path, codes.width, codes.height, codes.rgb8);
+        codes.bits = 8;
+    } else {
+        codes.width = codes.height = 0;
+        read_color(path, frame.rgb);
+        return;
+    }
+    frame.rgb = Image();
+}
+
 namespace {
 
 Image read_color_oiio(const std::string& path) {

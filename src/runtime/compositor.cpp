@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "deepsea/core/error.h"
+#include "deepsea/io/image_io.h"
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/normals.h"
 #include "kernels.h"
@@ -17,12 +18,11 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, b;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, b, d, j;
     std::vector<unsigned char> irregular;
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz}) v->resize(n);
-        e.resize(3 * std::size_t(n));
-        b.resize(3 * std::size_t(n));
+        for (auto* v : {&e, &b, &d, &j}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -40,17 +40,23 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
 void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     const Camera& cam = m_camera;
     const int W = cam.width, H = cam.height;
-    if (f.rgb.channels != 3 || f.depth.channels != 1) {
+    const bool coded = f.coded();
+    if ((!coded && f.rgb.channels != 3) || f.depth.channels != 1) {
         throw InputError("frame needs a 3-channel colour image and a 1-channel depth image");
     }
-    // (the message is built only on failure: composite allocates nothing per frame)
-    if (f.rgb.width != f.depth.width || f.rgb.height != f.depth.height) {
-        require_same_size(f.rgb, f.depth, "colour and depth images");
+    const int cw = f.color_width(), ch = f.color_height();
+    const std::size_t samples = 3 * std::size_t(cw) * std::size_t(ch);
+    if (coded && (f.codes.bits == 16 ? f.codes.rgb16.size() : f.codes.rgb8.size()) != samples) {
+        throw InputError("frame's colour codes do not fill its " + std::to_string(cw) + "x" +
+                         std::to_string(ch) + " pixels");
     }
-    if (f.rgb.width != W || f.rgb.height != H) {
-        throw InputError("frame is " + std::to_string(f.rgb.width) + "x" +
-                         std::to_string(f.rgb.height) + " but the camera is " + std::to_string(W) +
-                         "x" + std::to_string(H));
+    // (the message is built only on failure: composite allocates nothing per frame)
+    if (cw != f.depth.width || ch != f.depth.height) {
+        require_same_size(cw, ch, f.depth.width, f.depth.height, "colour and depth images");
+    }
+    if (cw != W || ch != H) {
+        throw InputError("frame is " + std::to_string(cw) + "x" + std::to_string(ch) +
+                         " but the camera is " + std::to_string(W) + "x" + std::to_string(H));
     }
     dst.resize(W, H, set);
     const bool all = set == LayerSet::All;
@@ -116,14 +122,25 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
         m_lamps.irradiance_row(g, s.e.data());
         m_backscatter.backscatter_row(v, W, s.z.data(), s.b.data());
 
-        const float* J = f.rgb.row(v);
-        kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, c,
-                           dst.direct.row(v), m_d2.row(v), forward ? m_surface.row(v) : nullptr);
-        // final starts as B; the second pass adds D + F.
+        const float* J = coded ? s.j.data() : f.rgb.row(v);
+        if (coded) {
+            const std::size_t row = 3 * std::size_t(W) * std::size_t(v);
+            if (f.codes.bits == 16) {
+                srgb_decode(f.codes.rgb16.data() + row, 3 * std::size_t(W), s.j.data());
+            } else {
+                srgb_decode(f.codes.rgb8.data() + row, 3 * std::size_t(W), s.j.data());
+            }
+        }
+        float* D = all ? dst.direct.row(v) : s.d.data();
+        kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, c, D, m_d2.row(v),
+                           forward ? m_surface.row(v) : nullptr);
+        // final = B + D here; the second pass adds F (in that order whatever the layer set,
+        // so that every set gives the same final bit for bit).
         float* B = dst.final.row(v);
         kernels::interleave(W, s.b.data(), B);
+        if (all) std::copy(B, B + 3 * std::size_t(W), dst.backscatter.row(v));
+        for (int i = 0; i < 3 * W; ++i) B[i] += D[i];
         if (!all) return;
-        std::copy(B, B + 3 * std::size_t(W), dst.backscatter.row(v));
         float* N = dst.normal.row(v);
         for (int u = 0; u < W; ++u) {
             N[3 * u] = s.nx[u];
@@ -156,8 +173,8 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
         }
         float* T = all ? dst.transmission.row(v) : blurred + 3 * W;
         float* F = all ? dst.forward.row(v) : blurred + 6 * W;
-        kernels::finish_row(W, m_d2.row(v), c, psf ? nullptr : G, forward ? blurred : nullptr,
-                            dst.direct.row(v), T, F, dst.final.row(v));
+        kernels::finish_row(W, m_d2.row(v), c, psf ? nullptr : G, forward ? blurred : nullptr, T, F,
+                            dst.final.row(v));
     });
 }
 

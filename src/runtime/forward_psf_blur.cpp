@@ -37,23 +37,18 @@ void halving_taps(int w, int n_lo, std::vector<int>& x0, std::vector<int>& x1,
 
 /// x[b * lanes + c * stride + j] = sum over the block's pixels u (b * block .. b * block +
 /// block - 1, fewer at the end) of W_j(d_u) L_u[c], W_j from the table's rows idx[u] and
-/// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. Scale
-/// 0's values per pixel also go to sharp[c][u] (3 planes `plane` floats apart). A block's sums
-/// stay in registers: the stride is a compile-time constant.
+/// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. A
+/// block's sums stay in registers: the stride is a compile-time constant.
 template <int S>
 [[gnu::always_inline]] inline void weigh_blocks_of(int n, int block, const int* __restrict idx,
                                                    const float* __restrict frac,
                                                    const float* __restrict tab,
-                                                   const float* __restrict L, float* __restrict x,
-                                                   float* __restrict sharp, std::size_t plane) {
+                                                   const float* __restrict L, float* __restrict x) {
     constexpr int lanes = 3 * S;
     for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
         float acc[lanes] = {};
         for (int u = u0; u < std::min(u0 + block, n); ++u) {
-            if (idx[u] < 0) {
-                for (int c = 0; c < 3; ++c) sharp[c * plane + u] = 0.0f;
-                continue;
-            }
+            if (idx[u] < 0) continue;
             const float* ta = tab + std::size_t(idx[u]) * lanes;
             const float* tb = ta + lanes;
             const float t = frac[u];
@@ -61,7 +56,6 @@ template <int S>
                 const float l = L[3 * u + c];
 #pragma GCC unroll 32
                 for (int k = c * S; k < c * S + S; ++k) acc[k] += (ta[k] + t * (tb[k] - ta[k])) * l;
-                sharp[c * plane + u] = (ta[c * S] + t * (tb[c * S] - ta[c * S])) * l;
             }
         }
         std::copy(acc, acc + lanes, x + std::size_t(b) * lanes);
@@ -70,20 +64,55 @@ template <int S>
 
 DEEPSEA_CLONES
 void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
-                  const float* L, float* x, float* sharp, std::size_t plane) {
+                  const float* L, float* x) {
     switch (stride) {
         case 4:
-            return weigh_blocks_of<4>(n, block, idx, frac, tab, L, x, sharp, plane);
+            return weigh_blocks_of<4>(n, block, idx, frac, tab, L, x);
         case 8:
-            return weigh_blocks_of<8>(n, block, idx, frac, tab, L, x, sharp, plane);
+            return weigh_blocks_of<8>(n, block, idx, frac, tab, L, x);
         case 12:
-            return weigh_blocks_of<12>(n, block, idx, frac, tab, L, x, sharp, plane);
+            return weigh_blocks_of<12>(n, block, idx, frac, tab, L, x);
         case 16:
-            return weigh_blocks_of<16>(n, block, idx, frac, tab, L, x, sharp, plane);
+            return weigh_blocks_of<16>(n, block, idx, frac, tab, L, x);
         case 20:
-            return weigh_blocks_of<20>(n, block, idx, frac, tab, L, x, sharp, plane);
+            return weigh_blocks_of<20>(n, block, idx, frac, tab, L, x);
         default:
-            return weigh_blocks_of<kMaxStride>(n, block, idx, frac, tab, L, x, sharp, plane);
+            return weigh_blocks_of<kMaxStride>(n, block, idx, frac, tab, L, x);
+    }
+}
+
+/// Scale 0 (light left where it is) of one row: out[c * n + u] = W_0(d_u) L_u[c], 0 where
+/// idx[u] < 0.
+DEEPSEA_CLONES
+void sharp_row(int n, int lanes, int stride, const int* __restrict idx,
+               const float* __restrict frac, const float* __restrict tab, const float* __restrict L,
+               float* __restrict out) {
+    for (int u = 0; u < n; ++u) {
+        if (idx[u] < 0) {
+            for (int c = 0; c < 3; ++c) out[c * n + u] = 0.0f;
+            continue;
+        }
+        const float* ta = tab + std::size_t(idx[u]) * lanes;
+        const float* tb = ta + lanes;
+        const float t = frac[u];
+        for (int c = 0; c < 3; ++c) {
+            const float a = ta[c * stride];
+            out[c * n + u] = (a + t * (tb[c * stride] - a)) * L[3 * u + c];
+        }
+    }
+}
+
+/// Table rows and fractions of one row of distances: idx[u] = -1 where there is no surface
+/// (d <= 0) or the distance is beyond the table (its weights are negligible).
+void table_rows(int n, const float* d2, float inv_step, float range, int bins, int* idx,
+                float* frac) {
+    for (int u = 0; u < n; ++u) {
+        const float d = d2[u];
+        const bool on = d > 0.0f && d < range;
+        const float ti = on ? d * inv_step : 0.0f;
+        const int i = std::min(int(ti), bins - 1);
+        idx[u] = on ? i : -1;
+        frac[u] = ti - float(i);
     }
 }
 
@@ -166,7 +195,6 @@ void ForwardPsfBlur::build_table(double d_max) {
 void ForwardPsfBlur::resize(int W, int H) {
     m_width = W;
     m_height = H;
-    m_sharp.assign(std::size_t(3) * W * H, 0.0f);
     m_groups.clear();
     m_levels.assign(m_psf.scales() - 1, Level{});
     for (int j = 1; j < m_psf.scales(); ++j) {
@@ -184,8 +212,11 @@ void ForwardPsfBlur::resize(int W, int H) {
         L.group = int(m_groups.size()) - 1;
         const Group& g = m_groups.back();
         L.planes.assign(std::size_t(3) * g.w * g.h, 0.0f);
-        L.blurred.assign(L.planes.size(), 0.0f);
     }
+    // Scales blurred at full resolution (only on images under 16 px a side) add up here.
+    m_full.clear();
+    if (!m_groups.empty() && m_groups.front().factor == 1)
+        m_full.assign(std::size_t(3) * W * H, 0.0f);
     for (Group& g : m_groups) g.spent = resampling_variance(g.factor);
     m_grids.clear();
     const int f_max = m_groups.empty() ? 1 : m_groups.back().factor;
@@ -216,19 +247,11 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
         x.resize(std::size_t(lanes) * W);
         pyramid.resize(std::size_t(lanes) * (W + 16));
         for (int v = t * band; v < std::min(H, (t + 1) * band); ++v) {
-            const float* dr = d2.row(v);
-            for (int u = 0; u < W; ++u) {
-                const float d = dr[u];
-                const bool on = d > 0.0f && d < range;
-                const float ti = on ? d * inv_step : 0.0f;
-                const int i = std::min(int(ti), m_bins - 1);
-                idx[u] = on ? i : -1;
-                frac[u] = ti - float(i);
-            }
+            table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
             // Blocks of two pixels at once unless a group needs single pixels (tiny images).
             int f = m_groups.empty() || m_groups[0].factor == 1 ? 1 : 2;
             weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(), surface.row(v),
-                         x.data(), m_sharp.data() + std::size_t(v) * W, std::size_t(W) * H);
+                         x.data());
             // Each group's scales from blocks of its factor (neighbouring blocks summed in
             // turn), added up over the block's rows and divided by its pixels at the last.
             const float* blocks = x.data();
@@ -286,59 +309,65 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
     if (m_width != W || m_height != H) resize(W, H);
 
     weigh(surface, d2);
+    m_surface = &surface;
+    m_d2 = &d2;
 
-    // Each scale's blur at its group's grid: box downsampling and the upsampling cascade
-    // spread the light already (resampling_variance); the Gaussian supplies the rest.
+    // Each scale's blur at its group's grid, added into that grid (or the full-resolution sum):
+    // box downsampling and the upsampling cascade spread the light already
+    // (resampling_variance); the Gaussian supplies the rest.
+    std::fill(m_full.begin(), m_full.end(), 0.0f);
+    for (Grid& G : m_grids) std::fill(G.acc.begin(), G.acc.end(), 0.0f);
     for (std::size_t i = 0; i < m_levels.size(); ++i) {
         Level& L = m_levels[i];
         const Group& g = m_groups[L.group];
         const double sigma = m_psf.sigma_px(int(i) + 1);
         const double rest = std::sqrt(std::max(sigma * sigma - g.spent, 0.09)) / g.factor;
-        planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), L.blurred.data(), rest,
-                            m_kernel, m_norm_x, m_norm_y, m_tmp);
+        float* sum = g.factor == 1 ? m_full.data() : grid_of(g.factor).acc.data();
+        planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), sum, rest, m_kernel,
+                            m_norm_x, m_norm_y, m_tmp, planes::Store::Add);
     }
 
     // Coarse to fine: each grid holds its own scales plus the next coarser grid upsampled.
-    for (int k = int(m_grids.size()) - 1; k >= 0; --k) {
+    for (int k = int(m_grids.size()) - 2; k >= 0; --k) {
         Grid& G = m_grids[k];
-        const Grid* coarser = k + 1 < int(m_grids.size()) ? &m_grids[k + 1] : nullptr;
+        const Grid& coarser = m_grids[k + 1];
         tbb::parallel_for(0, 3 * G.h, [&](int prow) {
             const int c = prow / G.h, y = prow % G.h;
             float* dst = G.acc.data() + std::size_t(prow) * G.w;
-            std::fill(dst, dst + G.w, 0.0f);
-            for (const Level& L : m_levels) {
-                if (m_groups[L.group].factor != G.factor) continue;
-                const float* src = L.blurred.data() + std::size_t(prow) * G.w;
-                for (int x = 0; x < G.w; ++x) dst[x] += src[x];
-            }
-            if (!coarser) return;
             thread_local std::vector<float> ones, tmp;
             ones.assign(G.w, 1.0f);
-            tmp.resize(coarser->w);
+            tmp.resize(coarser.w);
             planes::add_upsampled_row(
-                G.w, y, 2, coarser->acc.data() + std::size_t(c) * coarser->w * coarser->h,
-                coarser->w, coarser->h, G.x0.data(), G.x1.data(), G.ax.data(), ones.data(),
-                tmp.data(), dst);
+                G.w, y, 2, coarser.acc.data() + std::size_t(c) * coarser.w * coarser.h, coarser.w,
+                coarser.h, G.x0.data(), G.x1.data(), G.ax.data(), ones.data(), tmp.data(), dst);
         });
     }
 }
 
+ForwardPsfBlur::Grid& ForwardPsfBlur::grid_of(int factor) {
+    for (Grid& G : m_grids)
+        if (G.factor == factor) return G;
+    throw Error("forward scatter: no grid of factor " + std::to_string(factor));
+}
+
 void ForwardPsfBlur::row(int v, float* out_rgb) const {
     const int W = m_width, H = m_height;
-    thread_local std::vector<float> buf;
+    thread_local std::vector<float> buf, frac;
+    thread_local std::vector<int> idx;
     buf.resize(std::size_t(6) * W);
+    idx.resize(W);
+    frac.resize(W);
     float* acc = buf.data();  // 3 planes
     float* tmp = acc + 3 * W;
     float* ones = tmp + 2 * W;
     std::fill(ones, ones + W, 1.0f);
-    for (int c = 0; c < 3; ++c) {
-        const float* sharp = m_sharp.data() + (std::size_t(c) * H + v) * W;
-        std::copy(sharp, sharp + W, acc + c * W);
-    }
-    for (const Level& L : m_levels) {
-        if (m_groups[L.group].factor != 1) continue;
+    table_rows(W, m_d2->row(v), float(1.0 / m_step), float(m_bins * m_step), m_bins, idx.data(),
+               frac.data());
+    sharp_row(W, m_lanes, m_stride, idx.data(), frac.data(), m_table.data(), m_surface->row(v),
+              acc);
+    if (!m_full.empty()) {
         for (int c = 0; c < 3; ++c) {
-            const float* src = L.blurred.data() + (std::size_t(c) * H + v) * W;
+            const float* src = m_full.data() + (std::size_t(c) * H + v) * W;
             for (int u = 0; u < W; ++u) acc[c * W + u] += src[u];
         }
     }

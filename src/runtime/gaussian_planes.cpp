@@ -46,7 +46,8 @@ Source planar(const float* data, int w, int h) {
 }
 
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
-                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp) {
+                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp,
+                 Store store) {
     const int w = src.w, h = src.h;
     const int r = std::max(1, int(std::ceil(3.0 * sigma)));
     g.resize(2 * r + 1);
@@ -67,7 +68,13 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
     });
     tbb::parallel_for(0, 3 * h, [&](int prow) {
         const int p = prow / h, y = prow % h;
-        float* dst = dst_planes + p * plane + std::size_t(y) * w;
+        float* out = dst_planes + p * plane + std::size_t(y) * w;
+        thread_local std::vector<float> row;
+        float* dst = out;
+        if (store == Store::Add) {
+            row.resize(w);
+            dst = row.data();
+        }
         std::fill(dst, dst + w, 0.0f);
         const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
         for (int k = k0; k <= k1; ++k) {
@@ -75,6 +82,10 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
             const float* in = tmp.data() + p * plane + std::size_t(y + k) * w;
 #pragma omp simd
             for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
+        }
+        if (store == Store::Add) {
+#pragma omp simd
+            for (int x = 0; x < w; ++x) out[x] += dst[x];
         }
     });
 }

@@ -43,8 +43,8 @@ namespace deepsea::kernels {
 
 DEEPSEA_CLONES
 void finish_row(int n, const float* __restrict d2, const float c[3], const float G[3],
-                const float* __restrict blurred, const float* __restrict D, float* __restrict T,
-                float* __restrict F, float* __restrict final) {
+                const float* __restrict blurred, float* __restrict T, float* __restrict F,
+                float* __restrict final) {
     const float c0 = c[0], c1 = c[1], c2 = c[2];
     if (!blurred || !G) {
         // No forward scatter (F = 0), or blurred is F itself (the phase-function point spread
@@ -59,7 +59,7 @@ void finish_row(int n, const float* __restrict d2, const float c[3], const float
 #pragma omp simd
         for (int i = 0; i < 3 * n; ++i) {
             F[i] = blurred ? blurred[i] : 0.0f;
-            final[i] += D[i] + F[i];
+            final[i] += F[i];
         }
         return;
     }
@@ -74,9 +74,9 @@ void finish_row(int n, const float* __restrict d2, const float c[3], const float
         F[3 * u] = surf * forward_weight(g0, c0, d) * blurred[3 * u];
         F[3 * u + 1] = surf * forward_weight(g1, c1, d) * blurred[3 * u + 1];
         F[3 * u + 2] = surf * forward_weight(g2, c2, d) * blurred[3 * u + 2];
-        final[3 * u] += D[3 * u] + F[3 * u];
-        final[3 * u + 1] += D[3 * u + 1] + F[3 * u + 1];
-        final[3 * u + 2] += D[3 * u + 2] + F[3 * u + 2];
+        final[3 * u] += F[3 * u];
+        final[3 * u + 1] += F[3 * u + 1];
+        final[3 * u + 2] += F[3 * u + 2];
     }
 }
 

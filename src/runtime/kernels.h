@@ -16,11 +16,11 @@ void shade_row(int n, const float* x, const float* y, const float* z, const floa
 namespace deepsea::kernels {
 
 /// Per pixel of a row (interleaved RGB), surfaces where d2 > 0: T = exp(-c d2),
-/// w = exp(-G d2) - T, F = w * blurred (all 0 for open water), and final += D + F (final holds
-/// B on entry). blurred may be null (no forward scatter: F = 0); with G null, blurred is F
+/// w = exp(-G d2) - T, F = w * blurred (all 0 for open water), and final += F (final holds
+/// B + D on entry). blurred may be null (no forward scatter: F = 0); with G null, blurred is F
 /// itself, on open water too (the phase-function point spread, weighed before the blur).
 void finish_row(int n, const float* d2, const float c[3], const float G[3], const float* blurred,
-                const float* D, float* T, float* F, float* final);
+                float* T, float* F, float* final);
 
 }  // namespace deepsea::kernels
 

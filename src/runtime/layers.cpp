@@ -15,8 +15,9 @@ void Layers::resize(int width, int height, LayerSet set) {
     };
     if (set == LayerSet::Final) {
         fit(final, 3);
-        fit(direct, 3);
-        for (Image* img : {&forward, &backscatter, &transmission, &depth, &normal}) *img = Image();
+        for (Image* img : {&direct, &forward, &backscatter, &transmission, &depth, &normal}) {
+            *img = Image();
+        }
         return;
     }
     fit(final, 3);
@@ -36,7 +37,7 @@ const std::vector<std::string>& layer_names() {
 
 LayerSet LayerOutput::compositor_set() const {
     for (const std::string& n : names)
-        if (n != "final" && n != "direct") return LayerSet::All;
+        if (n != "final") return LayerSet::All;
     return LayerSet::Final;
 }
 

@@ -152,7 +152,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     ImageMetadata meta;
 
     // A few slots in flight: one being read, one composited, one being written. Each holds its
-    // frame's inputs (a 1080p frame: 33 MB of float), so no more than that.
+    // frame's inputs (a 1080p frame: 6 MB of 8-bit colour codes and 8 MB of float depth), so
+    // no more than that.
     constexpr int kTokens = 3;
     // A slot is taken when a frame is read and given back when it is written: the writers run
     // in parallel and finish out of order, so a slot is reused only once its frame is done.
@@ -189,9 +190,12 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 if (s->skip) return s;
                 try {
                     // Into the slot's buffers: a frame of the same size allocates nothing.
-                    read_color(job.rgb, s->frame.rgb);
+                    // PNG and JPEG colour stays as its codes until the compositor's rows.
+                    read_frame_color(job.rgb, s->frame);
                     read_depth(job.depth, s->frame.depth, opt.depth_read);
-                    require_same_size(s->frame.rgb, s->frame.depth, job.rgb + " and " + job.depth);
+                    require_same_size(s->frame.color_width(), s->frame.color_height(),
+                                      s->frame.depth.width, s->frame.depth.height,
+                                      job.rgb + " and " + job.depth);
                 } catch (const Error& e) {
                     s->error = e.what();
                 }

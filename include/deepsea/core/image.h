@@ -43,5 +43,7 @@ struct Image {
 
 /// Throws InputError naming `what` unless a and b have the same width and height.
 void require_same_size(const Image& a, const Image& b, const std::string& what);
+/// The same for sizes given as numbers (a_w x a_h against b_w x b_h).
+void require_same_size(int a_w, int a_h, int b_w, int b_h, const std::string& what);
 
 }  // namespace deepsea

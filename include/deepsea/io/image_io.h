@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "deepsea/core/frame.h"
 #include "deepsea/core/image.h"
 
 namespace deepsea {
@@ -21,6 +22,12 @@ Image read_color(const std::string& path);
 /// read_color into `out`, reusing its storage when it has the room (a sequence's frames).
 /// PNG is decoded by libspng, other formats by OpenImageIO.
 void read_color(const std::string& path, Image& out);
+
+/// The colour of a frame, reusing its buffers: PNG and JPEG as their sRGB codes
+/// (frame.codes; frame.rgb emptied), which the compositor decodes a row at a time with the
+/// tables read_color uses, so the pixels are the same; other formats as read_color
+/// (frame.rgb; frame.codes emptied).
+void read_frame_color(const std::string& path, Frame& frame);
 
 /// How to read a depth file.
 struct DepthReadOptions {

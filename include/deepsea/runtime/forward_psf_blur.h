@@ -20,7 +20,8 @@ public:
     explicit ForwardPsfBlur(ForwardPsf psf);
 
     /// surface: J/pi E (3 channels); d2: camera-to-surface distance (1 channel, <= 0 for no
-    /// surface, which sends no light).
+    /// surface, which sends no light). Both are read again by row(): they must stay unchanged
+    /// until the frame's rows are taken.
     void prepare(const Image& surface, const Image& d2);
     /// out_rgb[3u + c] = F at (u, v).
     void row(int v, float* out_rgb) const;
@@ -53,10 +54,10 @@ private:
     };
     struct Level {
         int group = 0;
-        std::vector<float> planes;   ///< 3 planes at the group's grid: the weighted image
-        std::vector<float> blurred;  ///< 3 planes
+        std::vector<float> planes;  ///< 3 planes at the group's grid: the weighted image
     };
     void build_table(double d_max);
+    Grid& grid_of(int factor);
     void resize(int W, int H);
     void weigh(const Image& surface, const Image& d2);
 
@@ -64,10 +65,12 @@ private:
     int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride scales
     int m_stride = 0;
     int m_width = 0, m_height = 0;
-    double m_step = 0.0;         ///< distance between table rows, metres
-    int m_bins = 0;              ///< table rows - 1
-    std::vector<float> m_table;  ///< m_table[bin * lanes + c * stride + j] = W_j(d)
-    std::vector<float> m_sharp;  ///< scale 0 (unblurred): 3 planes at full resolution
+    double m_step = 0.0;               ///< distance between table rows, metres
+    int m_bins = 0;                    ///< table rows - 1
+    std::vector<float> m_table;        ///< m_table[bin * lanes + c * stride + j] = W_j(d)
+    const Image* m_surface = nullptr;  ///< prepare()'s frame, for scale 0 (unblurred)
+    const Image* m_d2 = nullptr;
+    std::vector<float> m_full;  ///< scales blurred at full resolution (tiny images): 3 planes
     std::vector<Group> m_groups;
     std::vector<Level> m_levels;  ///< scales 1 .. S-1
     std::vector<Grid> m_grids;    ///< factors 2, 4, .. up to the widest group's

@@ -10,8 +10,8 @@
 
 namespace deepsea {
 
-/// Which layers a compositor fills: all of them, or only what the exposed image needs (final,
-/// and direct, the forward blur's input); the others are then left empty (no memory).
+/// Which layers a compositor fills: all of them, or only the exposed image's (final); the
+/// others are then left empty (no memory).
 enum class LayerSet { All, Final };
 
 /// Per-pixel layers of one rendered frame. final = direct + forward + backscatter.
@@ -39,8 +39,8 @@ struct LayerOutput {
     bool half = false;                               ///< half floats instead of float
 
     bool all() const { return names == layer_names(); }
-    /// The compositor's LayerSet that fills these layers: Final when only final and direct are
-    /// wanted (the others are then not computed).
+    /// The compositor's LayerSet that fills these layers: Final when only final is wanted
+    /// (the others are then not computed).
     LayerSet compositor_set() const;
     /// "all" or the names joined by commas, as the sequence manifest records them.
     std::string describe() const;

@@ -280,6 +280,39 @@ TEST_F(FastCodecs, ReadsReuseTheImagesStorage) {
     EXPECT_EQ(img.data, read_color(path("a.png")).data);
 }
 
+TEST_F(FastCodecs, FrameColourKeepsPngAndJpegAsCodesThatDecodeToReadColour) {
+    write_color(path("a.png"), probe_image(40, 30), 8);
+    write_color(path("a16.png"), probe_image(40, 30), 16);
+    write_color(path("a.jpg"), probe_image(40, 30), 8);
+    write_color(path("a.tif"), probe_image(40, 30), 8);
+    Frame frame;
+    for (const std::string f : {"a.png", "a16.png", "a.jpg"}) {
+        read_frame_color(path(f), frame);
+        ASSERT_TRUE(frame.coded()) << f;
+        EXPECT_TRUE(frame.rgb.empty()) << f;
+        EXPECT_EQ(frame.color_width(), 40) << f;
+        EXPECT_EQ(frame.color_height(), 30) << f;
+        EXPECT_EQ(frame.codes.bits, f == "a16.png" ? 16 : 8) << f;
+        std::vector<float> decoded(3 * 40 * 30);
+        if (frame.codes.bits == 16) {
+            ASSERT_EQ(frame.codes.rgb16.size(), decoded.size());
+            srgb_decode(frame.codes.rgb16.data(), decoded.size(), decoded.data());
+        } else {
+            ASSERT_EQ(frame.codes.rgb8.size(), decoded.size());
+            srgb_decode(frame.codes.rgb8.data(), decoded.size(), decoded.data());
+        }
+        EXPECT_EQ(decoded, read_color(path(f)).data) << f;
+    }
+    // other formats arrive as float, and the codes of the frame before are dropped
+    read_frame_color(path("a.tif"), frame);
+    EXPECT_FALSE(frame.coded());
+    EXPECT_EQ(frame.color_width(), 40);
+    EXPECT_EQ(frame.rgb.data, read_color(path("a.tif")).data);
+    read_frame_color(path("a.png"), frame);
+    EXPECT_TRUE(frame.coded());
+    EXPECT_THROW(read_frame_color(path("none.png"), frame), IoError);
+}
+
 TEST_F(FastCodecs, CorruptOrTruncatedFilesAreOneLineIoErrorsNamingTheFile) {
     write_color(path("ok.png"), probe_image(64, 48), 8);
     write_color(path("ok16.png"), Image(64, 48, 1, 0.5f), 16);

@@ -9,6 +9,7 @@
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
+#include "deepsea/io/image_io.h"
 #include "deepsea/optics/forward_psf.h"
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/lamps.h"
@@ -189,14 +190,54 @@ TEST(Compositor, FinalOnlyGivesTheSameImageWithoutTheOtherLayers) {
     Layers out = all;  // full layers first: Final must free what it does not fill
     comp.composite(out, Frame{f.scene.rgb, f.scene.depth}, LayerSet::Final);
     EXPECT_EQ(out.final.data, all.final.data);
-    EXPECT_EQ(out.direct.data, all.direct.data);
-    for (const Image* img :
-         {&out.forward, &out.backscatter, &out.transmission, &out.depth, &out.normal}) {
+    for (const Image* img : {&out.direct, &out.forward, &out.backscatter, &out.transmission,
+                             &out.depth, &out.normal}) {
         EXPECT_TRUE(img->empty());
     }
     comp.composite(out, Frame{f.scene.rgb, f.scene.depth});  // and back to all layers
     EXPECT_EQ(out.forward.data, all.forward.data);
     EXPECT_EQ(out.final.data, all.final.data);
+}
+
+TEST(Compositor, ColourGivenAsSrgbCodesGivesTheSameImageAsItsFloatDecode) {
+    // A sequence hands PNG and JPEG colour over as codes, decoded a row at a time; the pixels
+    // must be those of the whole image decoded first (read_color), in 8 and 16 bits.
+    const Fixture& f = fixture_psf();
+    const AnalyticLamps lamps(f.rig, f.water);
+    const AssetBackscatter bs(f.asset, f.cam);
+    Compositor comp(f.cam, f.water, lamps, bs);
+    const std::size_t n = f.scene.rgb.data.size();
+    for (const int bits : {8, 16}) {
+        Frame coded(Image(), f.scene.depth);
+        coded.codes.width = f.cam.width;
+        coded.codes.height = f.cam.height;
+        coded.codes.bits = bits;
+        Image decoded(f.cam.width, f.cam.height, 3);
+        if (bits == 8) {
+            coded.codes.rgb8.resize(n);
+            for (std::size_t i = 0; i < n; ++i) coded.codes.rgb8[i] = std::uint8_t((i * 37) % 256);
+            srgb_decode(coded.codes.rgb8.data(), n, decoded.data.data());
+        } else {
+            coded.codes.rgb16.resize(n);
+            for (std::size_t i = 0; i < n; ++i) coded.codes.rgb16[i] = std::uint16_t(i * 997);
+            srgb_decode(coded.codes.rgb16.data(), n, decoded.data.data());
+        }
+        ASSERT_TRUE(coded.coded());
+        Layers from_codes, from_float;
+        comp.composite(from_codes, coded);
+        comp.composite(from_float, Frame{decoded, f.scene.depth});
+        EXPECT_EQ(from_codes.final.data, from_float.final.data) << bits << " bits";
+        EXPECT_EQ(from_codes.direct.data, from_float.direct.data) << bits << " bits";
+
+        // codes that do not fill the frame are refused, not read beyond
+        Frame short_codes = coded;
+        if (bits == 8) {
+            short_codes.codes.rgb8.pop_back();
+        } else {
+            short_codes.codes.rgb16.pop_back();
+        }
+        EXPECT_THROW(comp.composite(from_codes, short_codes), InputError);
+    }
 }
 
 TEST(Compositor, IdenticalAtAnyThreadCount) {

@@ -46,6 +46,30 @@ TEST(ForwardPsfBlur, AUniformSurfaceStaysUniformAtTheTotalWeight) {
     }
 }
 
+TEST(ForwardPsfBlur, ATinyImageBlursAtFullResolutionAndStaysUniform) {
+    // Under 16 px a side no grid is coarse enough, so every scale is blurred at full
+    // resolution and summed there (the path larger images never take).
+    const int W = 12, H = 9;
+    ForwardPsfBlur blur(ForwardPsf(coastal(), 10.0, W, H));
+    ASSERT_EQ(ForwardPsfBlur::level_factor(1.0, W, H), 1);
+    Image surface(W, H, 3), d2(W, H, 1, 2.0f);
+    for (int i = 0; i < W * H; ++i) {
+        surface.data[3 * i] = 0.3f;
+        surface.data[3 * i + 1] = 0.6f;
+        surface.data[3 * i + 2] = 0.9f;
+    }
+    const Image out = spread(blur, surface, d2);
+    const Rgb total = blur.psf().total(2.0);
+    for (int i = 0; i < W * H; ++i) {
+        ASSERT_NEAR(out.data[3 * i], 0.3 * total.r, 2e-3 * total.r) << "pixel " << i;
+        ASSERT_NEAR(out.data[3 * i + 1], 0.6 * total.g, 2e-3 * total.g) << "pixel " << i;
+        ASSERT_NEAR(out.data[3 * i + 2], 0.9 * total.b, 2e-3 * total.b) << "pixel " << i;
+    }
+    // a second frame gives the same: the sums are cleared between frames
+    const Image again = spread(blur, surface, d2);
+    EXPECT_EQ(again.data, out.data);
+}
+
 TEST(ForwardPsfBlur, AnImpulseSpreadsAsTheMixture) {
     const int W = 257, H = 257, c = 128;
     ForwardPsfBlur blur(ForwardPsf(coastal(), 300.0, W, H));
