@@ -270,17 +270,26 @@ public:
             while (k < codes && m_threshold[k + 1] <= bits) ++k;
             m_start[b] = std::uint16_t(k);
         }
+        // The most thresholds any bucket holds (its values' codes run from its start to the
+        // next bucket's start): 1 for 8 bits, so a code is one table read and one comparison.
+        for (std::size_t b = 0; b + 1 < m_start.size(); ++b)
+            m_steps = std::max(m_steps, int(m_start[b + 1]) - int(m_start[b]));
+        m_steps = std::max(m_steps, codes - int(m_start.back()));
     }
 
     /// The code of a linear value: non-finite values and values <= 0 give 0, above 1 the top.
+    /// Without branches on the value (noisy images would mispredict them): out-of-range values
+    /// look up bucket 0 and are replaced at the end.
     int operator()(float v) const {
         std::uint32_t bits;
         std::memcpy(&bits, &v, 4);
-        if ((bits & 0x7f800000u) == 0x7f800000u || bits >= 0x80000000u) return 0;  // NaN, inf, < 0
-        if (bits >= 0x3f800000u) return m_codes;
-        int k = m_start[bits >> m_shift];
-        while (m_threshold[k + 1] <= bits) ++k;
-        return k;
+        const bool bad =
+            (bits & 0x7f800000u) == 0x7f800000u || bits >= 0x80000000u;  // NaN, inf, < 0
+        const bool top = bits >= 0x3f800000u;
+        const std::uint32_t x = bad || top ? 0u : bits;
+        int k = m_start[x >> m_shift];
+        for (int s = 0; s < m_steps; ++s) k += m_threshold[std::size_t(k) + 1] <= x ? 1 : 0;
+        return bad ? 0 : top ? m_codes : k;
     }
 
 private:
@@ -290,6 +299,7 @@ private:
         return f;
     }
     int m_codes, m_shift;
+    int m_steps = 0;
     std::vector<std::uint32_t> m_threshold;  ///< as float bit patterns (ordered like the floats)
     std::vector<std::uint16_t> m_start;
 };

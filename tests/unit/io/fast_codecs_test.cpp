@@ -2,6 +2,7 @@
 // that OpenImageIO decodes with their metadata, and the same guards (one-line errors naming the
 // file, header limits, nothing left behind).
 
+#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -270,6 +271,53 @@ TEST_F(FastCodecs, DepthExrReadsTheDataWindowAndHalfChannels) {
     EXPECT_EQ(d.data, z);
 }
 
+TEST_F(FastCodecs, ZipExrFloatsReadAsWrittenInEveryBlockLayout) {
+    // ZIP (16-line blocks) and ZIPS (1 line) float channels are inflated by deepsea itself;
+    // half channels beside them, other compressions and line orders go through OpenEXR. Odd
+    // sizes (a last block of 5 lines), a data window away from (0, 0), a half channel before
+    // the floats in the file's order, compressible and incompressible (random) values, and
+    // both line orders: every case must read back exactly.
+    const int W = 37, H = 21;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 100.0f);
+    for (const bool random : {false, true}) {
+        std::vector<float> pixels(std::size_t(W) * H * 3);
+        for (std::size_t i = 0; i < pixels.size(); ++i)
+            pixels[i] = random ? u(rng) : 2.0f + 0.01f * float(i % 97) + 0.001f * float(i / 97);
+        for (const std::string compression : {"zip", "zips", "piz", "none"}) {
+            for (const std::string order : {"increasingY", "decreasingY"}) {
+                const std::string p = path("w_" + compression + order + ".exr");
+                OIIO::ImageSpec spec(W, H, 3, OIIO::TypeDesc::FLOAT);
+                spec.channelformats = {OIIO::TypeDesc::HALF, OIIO::TypeDesc::FLOAT,
+                                       OIIO::TypeDesc::FLOAT};
+                spec.channelnames = {"A", "B", "Z"};
+                spec.x = 3;
+                spec.y = 5;
+                spec.attribute("compression", compression);
+                spec.attribute("openexr:lineOrder", order);
+                auto out = OIIO::ImageOutput::create(p);
+                ASSERT_TRUE(out && out->open(p, spec));
+                ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+                out->close();
+                const std::string what = compression + " " + order + (random ? " random" : "");
+                DepthReadOptions z;
+                z.channel = "Z";
+                const Image d = read_depth(p, z);
+                ASSERT_EQ(d.width, W) << what;
+                ASSERT_EQ(d.height, H) << what;
+                for (int i = 0; i < W * H; ++i) ASSERT_EQ(d.data[i], pixels[3 * i + 2]) << what;
+                z.channel = "B";
+                const Image b = read_depth(p, z);
+                for (int i = 0; i < W * H; ++i) ASSERT_EQ(b.data[i], pixels[3 * i + 1]) << what;
+                z.channel = "A";  // half: through OpenEXR
+                const Image a = read_depth(p, z);
+                for (int i = 0; i < W * H; ++i)
+                    ASSERT_EQ(a.data[i], float(Imath::half(pixels[3 * i]))) << what;
+            }
+        }
+    }
+}
+
 TEST_F(FastCodecs, ReadsReuseTheImagesStorage) {
     write_color(path("a.png"), probe_image(40, 30), 8);
     Image img;
@@ -278,6 +326,28 @@ TEST_F(FastCodecs, ReadsReuseTheImagesStorage) {
     read_color(path("a.png"), img);
     EXPECT_EQ(img.data.data(), before);
     EXPECT_EQ(img.data, read_color(path("a.png")).data);
+}
+
+TEST(SrgbEncode, EveryStrideOfFloatsInZeroToOneGetsTheCodeOfTheFormula) {
+    // The table encoder against int(linear_to_srgb(v) * codes + 0.5f), what OpenImageIO
+    // stores, over a million float bit patterns spread evenly through [0, 1] (every
+    // 1009th), with exposure 1.
+    const std::uint32_t one = 0x3f800000u, stride = 1009;
+    Image img(int(one / stride) + 1, 1, 1);
+    for (std::uint32_t i = 0; i <= one / stride; ++i) {
+        const std::uint32_t bits = i * stride;
+        std::memcpy(&img.data[i], &bits, 4);
+    }
+    for (const int bits : {8, 16}) {
+        EncodedImage out;
+        encode_srgb(img, 1.0, bits, "x.png", out);
+        const int codes = bits == 8 ? 255 : 65535;
+        for (std::size_t i = 0; i < img.data.size(); ++i) {
+            const int expect = int(linear_to_srgb(img.data[i]) * float(codes) + 0.5f);
+            const int got = bits == 8 ? out.codes8[i] : out.codes16[i];
+            ASSERT_EQ(got, expect) << bits << " bits, value " << img.data[i];
+        }
+    }
 }
 
 TEST_F(FastCodecs, FrameColourKeepsPngAndJpegAsCodesThatDecodeToReadColour) {
