@@ -309,6 +309,13 @@ TEST_F(FastCodecs, ZipExrFloatsReadAsWrittenInEveryBlockLayout) {
                 z.channel = "B";
                 const Image b = read_depth(p, z);
                 for (int i = 0; i < W * H; ++i) ASSERT_EQ(b.data[i], pixels[3 * i + 1]) << what;
+                // two float channels interleaved, in an order that is not the file's
+                const Image zb = read_exr_layer(p, "", {"Z", "B"});
+                ASSERT_EQ(zb.channels, 2) << what;
+                for (int i = 0; i < W * H; ++i) {
+                    ASSERT_EQ(zb.data[2 * i], pixels[3 * i + 2]) << what;
+                    ASSERT_EQ(zb.data[2 * i + 1], pixels[3 * i + 1]) << what;
+                }
                 z.channel = "A";  // half: through OpenEXR
                 const Image a = read_depth(p, z);
                 for (int i = 0; i < W * H; ++i)
