@@ -323,25 +323,20 @@ void fit(Image& img, int width, int height, int channels) {
 
 thread_local io_detail::PngRgb t_png;
 
-/// read_color of a PNG: libspng, then the decode table straight from the integer codes.
-void read_png_color(const std::string& path, Image& img) {
-    io_detail::PngRgb& p = t_png;
-    io_detail::decode_png_rgb(path, p);
-    fit(img, p.width, p.height, 3);
-    const std::size_t n = std::size_t(p.width) * p.height * 3;
-    const float* lut = srgb_decode_table(p.bits == 16 ? 65535 : 255);
-    float* out = img.data.data();
-    // Isolated: a thread waiting here must not pick up another frame's task that would reuse
-    // this thread's buffers (a sequence runs readers and writers in one arena).
-    tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-            if (p.bits == 16) {
-                for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb16[i]];
-            } else {
-                for (std::size_t i = r.begin(); i < r.end(); ++i) out[i] = lut[p.rgb8[i]];
-            }
-        });
-    });
+/// PNG (libspng) and JPEG (libjpeg-turbo) decoded into `codes`, reusing its buffers: true.
+/// False, having read nothing, for any other format.
+bool read_srgb_codes(const std::string& path, SrgbCodes& codes) {
+    const std::string ext = extension(path);
+    if (ext == ".png") {
+        io_detail::decode_png_rgb(path, codes);
+        return true;
+    }
+    if (ext == ".jpg" || ext == ".jpeg") {
+        io_detail::decode_jpeg_rgb(path, codes.width, codes.height, codes.rgb8);
+        codes.bits = 8;
+        return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -353,34 +348,35 @@ Image read_color(const std::string& path) {
 }
 
 void read_color(const std::string& path, Image& out) {
-    const std::string ext = extension(path);
-    if (ext == ".png") return read_png_color(path, out);
-    if (ext == ".jpg" || ext == ".jpeg") {
-        io_detail::PngRgb& p = t_png;  // its 8-bit buffer, reused
-        int w = 0, h = 0;
-        io_detail::decode_jpeg_rgb(path, w, h, p.rgb8);
-        fit(out, w, h, 3);
-        const float* lut = srgb_decode_table(255);
-        for (std::size_t i = 0; i < out.data.size(); ++i) out.data[i] = lut[p.rgb8[i]];
+    io_detail::PngRgb& p = t_png;
+    if (!read_srgb_codes(path, p)) {
+        out = read_color_oiio(path);
         return;
     }
-    out = read_color_oiio(path);
+    // The decode table straight from the integer codes.
+    fit(out, p.width, p.height, 3);
+    const std::size_t n = std::size_t(p.width) * p.height * 3;
+    float* linear = out.data.data();
+    // Isolated: a thread waiting here must not pick up another frame's task that would reuse
+    // this thread's buffers (a sequence runs readers and writers in one arena).
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
+            if (p.bits == 16) {
+                srgb_decode(p.rgb16.data() + r.begin(), r.size(), linear + r.begin());
+            } else {
+                srgb_decode(p.rgb8.data() + r.begin(), r.size(), linear + r.begin());
+            }
+        });
+    });
 }
 
 void read_frame_color(const std::string& path, Frame& frame) {
-    const std::string ext = extension(path);
-    SrgbCodes& codes = frame.codes;
-    if (ext == ".png") {
-        io_detail::decode_png_rgb(path, codes);
-    } else if (ext == ".jpg" || ext == ".jpeg") {
-        io_detail::decode_jpeg_rgb(path, codes.width, codes.height, codes.rgb8);
-        codes.bits = 8;
-    } else {
-        codes.width = codes.height = 0;
-        read_color(path, frame.rgb);
+    if (read_srgb_codes(path, frame.codes)) {
+        frame.rgb = Image();
         return;
     }
-    frame.rgb = Image();
+    frame.codes.width = frame.codes.height = 0;
+    read_color(path, frame.rgb);
 }
 
 namespace {
@@ -543,7 +539,7 @@ void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::
     }
     std::uint8_t* c8 = out.codes8.data();
     std::uint16_t* c16 = out.codes16.data();
-    // Isolated, as in read_png_color: write_color calls this with a thread-local target.
+    // Isolated, as in read_color: write_color calls this with a thread-local target.
     tbb::this_task_arena::isolate([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
             if (b == 8) {
