@@ -28,6 +28,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cerrno>
 #include <csetjmp>
@@ -541,6 +545,55 @@ struct Decompressor {
     ~Decompressor() { libdeflate_free_decompressor(d); }
 };
 
+/// Undoes OpenEXR's ZIP preprocessing of one inflated block of n bytes: the byte predictor
+/// (each byte stored as its difference from the one before, plus 128), then the split into
+/// halves (bytes 0, 2, 4, .. first, then 1, 3, 5, ..). `in` is overwritten with the prefix
+/// sums; `out` gets the block as it was. The predictor is a running sum over bytes: kept in
+/// a register (and, with SSE2, summed 16 bytes at a time), never read back from memory.
+void unzip_block(unsigned char* __restrict in, std::size_t n, unsigned char* __restrict out) {
+    if (n == 0) return;
+    std::size_t i = 1;
+    unsigned char run = in[0];
+#if defined(__SSE2__)
+    const __m128i bias = _mm_set1_epi8(char(-128));
+    __m128i carry = _mm_set1_epi8(char(run));
+    for (; i + 16 <= n; i += 16) {
+        __m128i x = _mm_sub_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in + i)), bias);
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 1));
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 2));
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 4));
+        x = _mm_add_epi8(x, _mm_slli_si128(x, 8));
+        x = _mm_add_epi8(x, carry);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(in + i), x);
+        // byte 15 to every byte: bytes 8..15 doubled into words, word 7 to the high words,
+        // then dword 3 to every dword
+        carry = _mm_shuffle_epi32(_mm_shufflehi_epi16(_mm_unpackhi_epi8(x, x), 0xff), 0xff);
+    }
+    run = in[i - 1];
+#endif
+    for (; i < n; ++i) {
+        run = (unsigned char)(run + in[i] - 128);
+        in[i] = run;
+    }
+    const std::size_t half = n / 2;
+    const unsigned char* lo = in;
+    const unsigned char* hi = in + (n + 1) / 2;
+    std::size_t k = 0;
+#if defined(__SSE2__)
+    for (; k + 16 <= half; k += 16) {
+        const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(lo + k));
+        const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(hi + k));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 2 * k), _mm_unpacklo_epi8(a, b));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 2 * k + 16), _mm_unpackhi_epi8(a, b));
+    }
+#endif
+    for (; k < half; ++k) {
+        out[2 * k] = lo[k];
+        out[2 * k + 1] = hi[k];
+    }
+    if (n % 2) out[n - 1] = lo[half];
+}
+
 /// A scanline file compressed with ZIP (16 lines a block) or ZIPS (1) whose chosen channels
 /// are all 32-bit float, unsampled (a depth map as deepsea and most renderers write it): its
 /// blocks are read raw through OpenEXR and inflated by libdeflate in parallel, then undone as
@@ -610,7 +663,6 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
             const unsigned char* data = src;  // a block that would not shrink is stored as is
             if (got < expect) {
                 inflated.resize(expect);
-                raw.resize(expect);
                 std::size_t out = 0;
                 if (libdeflate_zlib_decompress(inflater.d, src, got, inflated.data(), expect,
                                                &out) != LIBDEFLATE_SUCCESS ||
@@ -619,15 +671,14 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
                     error = "corrupt ZIP block at line " + std::to_string(y0 + b * lines);
                     return;
                 }
-                for (std::size_t i = 1; i < expect; ++i)
-                    inflated[i] = (unsigned char)(inflated[i - 1] + inflated[i] - 128);
-                const unsigned char* lo = inflated.data();
-                const unsigned char* hi = lo + (expect + 1) / 2;
-                for (std::size_t i = 0; i < expect / 2; ++i) {
-                    raw[2 * i] = lo[i];
-                    raw[2 * i + 1] = hi[i];
-                }
-                if (expect % 2) raw[expect - 1] = lo[expect / 2];
+                // One float channel alone in the file: its lines are the destination's rows.
+                const bool direct = nc == 1 && line_bytes == 4 * w;
+                if (!direct) raw.resize(expect);
+                unsigned char* to =
+                    direct ? reinterpret_cast<unsigned char*>(dst + std::size_t(b) * lines * w)
+                           : raw.data();
+                unzip_block(inflated.data(), expect, to);
+                if (direct) return;
                 data = raw.data();
             } else if (got != expect) {
                 std::lock_guard<std::mutex> lock(mutex);
