@@ -4,9 +4,12 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 
 #include "clones.h"
+#include "column_basis.h"
 #include "deepsea/core/error.h"
 #include "gaussian_planes.h"
 #include "kernels.h"
@@ -18,6 +21,9 @@ namespace {
 constexpr int kTableBins = 1024;
 /// Scales per channel in a table row, padded: 32 holds images of up to 2^30 px a side.
 constexpr int kMaxStride = 32;
+/// What the weight basis may leave out of any scale's weight, as a fraction of the channel's
+/// largest total weight: far below a 16-bit code value of the forward-scatter image.
+constexpr double kBasisTolerance = 1e-6;
 
 /// Bilinear taps into a grid downsampled by two more (n_lo columns), per column of a w-column
 /// grid: column x samples the coarser grid at (x + 0.5) / 2 - 0.5.
@@ -35,30 +41,43 @@ void halving_taps(int w, int n_lo, std::vector<int>& x0, std::vector<int>& x1,
     }
 }
 
-/// x[b * lanes + c * stride + j] = sum over the block's pixels u (b * block .. b * block +
-/// block - 1, fewer at the end) of W_j(d_u) L_u[c], W_j from the table's rows idx[u] and
+/// Four floats as one vector (GCC and Clang vector extensions: SSE or NEON registers, or
+/// plain floats where neither exists), loaded and stored unaligned.
+typedef float Float4 __attribute__((vector_size(16)));
+inline Float4 load4(const float* p) {
+    Float4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline void store4(float* p, Float4 v) { std::memcpy(p, &v, sizeof v); }
+
+/// x[b * lanes + c * stride + r] = sum over the block's pixels u (b * block .. b * block +
+/// block - 1, fewer at the end) of phi_r(d_u) L_u[c], phi_r from the table's rows idx[u] and
 /// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. A
-/// block's sums stay in registers: the stride is a compile-time constant.
+/// block's sums stay in registers, four basis functions to a vector: the stride is a
+/// compile-time multiple of four.
 template <int S>
 [[gnu::always_inline]] inline void weigh_blocks_of(int n, int block, const int* __restrict idx,
                                                    const float* __restrict frac,
                                                    const float* __restrict tab,
                                                    const float* __restrict L, float* __restrict x) {
-    constexpr int lanes = 3 * S;
+    constexpr int lanes = 3 * S, V = S / 4;
     for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
-        float acc[lanes] = {};
+        Float4 acc[3 * V] = {};
         for (int u = u0; u < std::min(u0 + block, n); ++u) {
-            if (idx[u] < 0) continue;
-            const float* ta = tab + std::size_t(idx[u]) * lanes;
+            const bool on = idx[u] >= 0;
+            const float* ta = tab + std::size_t(on ? idx[u] : 0) * lanes;
             const float* tb = ta + lanes;
             const float t = frac[u];
             for (int c = 0; c < 3; ++c) {
-                const float l = L[3 * u + c];
-#pragma GCC unroll 32
-                for (int k = c * S; k < c * S + S; ++k) acc[k] += (ta[k] + t * (tb[k] - ta[k])) * l;
+                const float l = on ? L[3 * u + c] : 0.0f;
+                for (int k = 0; k < V; ++k) {
+                    const Float4 a = load4(ta + c * S + 4 * k), d = load4(tb + c * S + 4 * k) - a;
+                    acc[c * V + k] += (a + t * d) * l;
+                }
             }
         }
-        std::copy(acc, acc + lanes, x + std::size_t(b) * lanes);
+        for (int k = 0; k < 3 * V; ++k) store4(x + std::size_t(b) * lanes + 4 * k, acc[k]);
     }
 }
 
@@ -82,23 +101,62 @@ void weigh_blocks(int n, int block, int stride, const int* idx, const float* fra
 }
 
 /// Scale 0 (light left where it is) of one row: out[c * n + u] = W_0(d_u) L_u[c], 0 where
-/// idx[u] < 0.
+/// idx[u] < 0; tab: 4 floats a row (the channels' W_0 and padding).
 DEEPSEA_CLONES
-void sharp_row(int n, int lanes, int stride, const int* __restrict idx,
-               const float* __restrict frac, const float* __restrict tab, const float* __restrict L,
-               float* __restrict out) {
+void sharp_row(int n, const int* __restrict idx, const float* __restrict frac,
+               const float* __restrict tab, const float* __restrict L, float* __restrict out) {
     for (int u = 0; u < n; ++u) {
-        if (idx[u] < 0) {
-            for (int c = 0; c < 3; ++c) out[c * n + u] = 0.0f;
-            continue;
-        }
-        const float* ta = tab + std::size_t(idx[u]) * lanes;
-        const float* tb = ta + lanes;
+        const bool on = idx[u] >= 0;
+        const float* ta = tab + std::size_t(on ? idx[u] : 0) * 4;
         const float t = frac[u];
         for (int c = 0; c < 3; ++c) {
-            const float a = ta[c * stride];
-            out[c * n + u] = (a + t * (tb[c * stride] - a)) * L[3 * u + c];
+            const float w = ta[c] + t * (ta[c + 4] - ta[c]);
+            out[c * n + u] = on ? w * L[3 * u + c] : 0.0f;
         }
+    }
+}
+
+/// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
+/// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[(c * scales + j) *
+/// stride + r] * acc[b * lanes + c * stride + r], the last block also times `edge`.
+template <int S>
+[[gnu::always_inline]] inline void expand_blocks_of(int n, int scales, const float* __restrict acc,
+                                                    const float* __restrict coef, float* const* dst,
+                                                    float scale, float edge) {
+    constexpr int lanes = 3 * S, V = S / 4;
+    for (int c = 0; c < 3; ++c) {
+        for (int j = 0; j < scales; ++j) {
+            const float* k = coef + std::size_t(c * scales + j) * S;
+            Float4 kv[V];
+            for (int i = 0; i < V; ++i) kv[i] = load4(k + 4 * i);
+            float* __restrict out = dst[c * scales + j];
+            for (int b = 0; b < n; ++b) {
+                const float* a = acc + std::size_t(b) * lanes + c * S;
+                Float4 s = kv[0] * load4(a);
+                for (int i = 1; i < V; ++i) s += kv[i] * load4(a + 4 * i);
+                out[b] = (s[0] + s[1] + s[2] + s[3]) * scale;
+            }
+            out[n - 1] *= edge;
+        }
+    }
+}
+
+DEEPSEA_CLONES
+void expand_blocks(int n, int stride, int scales, const float* acc, const float* coef,
+                   float* const* dst, float scale, float edge) {
+    switch (stride) {
+        case 4:
+            return expand_blocks_of<4>(n, scales, acc, coef, dst, scale, edge);
+        case 8:
+            return expand_blocks_of<8>(n, scales, acc, coef, dst, scale, edge);
+        case 12:
+            return expand_blocks_of<12>(n, scales, acc, coef, dst, scale, edge);
+        case 16:
+            return expand_blocks_of<16>(n, scales, acc, coef, dst, scale, edge);
+        case 20:
+            return expand_blocks_of<20>(n, scales, acc, coef, dst, scale, edge);
+        default:
+            return expand_blocks_of<kMaxStride>(n, scales, acc, coef, dst, scale, edge);
     }
 }
 
@@ -136,10 +194,7 @@ void pair_sums(int n, int lanes, const float* __restrict src, float* __restrict 
 }  // namespace
 
 ForwardPsfBlur::ForwardPsfBlur(ForwardPsf psf) : m_psf(std::move(psf)) {
-    m_stride = (m_psf.scales() + 3) / 4 * 4;
-    if (m_stride > 20) m_stride = kMaxStride;
     if (m_psf.scales() > kMaxStride) throw ConfigError("forward scatter: too many scales");
-    m_lanes = 3 * m_stride;
 }
 
 int ForwardPsfBlur::level_factor(double sigma, int width, int height) {
@@ -179,17 +234,82 @@ double ForwardPsfBlur::resampling_variance(int factor) {
 }
 
 void ForwardPsfBlur::build_table(double d_max) {
-    const int S = m_psf.scales();
+    const int S = m_psf.scales(), blurred = S - 1;
     m_bins = kTableBins;
     m_step = d_max / m_bins;
-    m_table.assign(std::size_t(m_bins + 1) * m_lanes, 0.0f);
-    tbb::parallel_for(0, m_bins + 1, [&](int i) {
-        float* row = m_table.data() + std::size_t(i) * m_lanes;
+    const int rows = m_bins + 1;
+    // Every scale's weight at every table distance, in double: w[(c * S + j) * rows + i].
+    std::vector<double> w(std::size_t(3) * S * rows);
+    tbb::parallel_for(0, rows, [&](int i) {
         for (int j = 0; j < S; ++j) {
-            const Rgb w = m_psf.weight(j, i * m_step);
-            for (int c = 0; c < 3; ++c) row[c * m_stride + j] = float(w[c]);
+            const Rgb x = m_psf.weight(j, i * m_step);
+            for (int c = 0; c < 3; ++c) w[(std::size_t(c) * S + j) * rows + i] = x[c];
         }
     });
+    m_sharp.assign(std::size_t(rows) * 4, 0.0f);
+    for (int i = 0; i < rows; ++i) {
+        for (int c = 0; c < 3; ++c)
+            m_sharp[std::size_t(i) * 4 + c] = float(w[std::size_t(c) * S * rows + i]);
+    }
+    // The blurred scales' weights are smooth in distance and nearly dependent (the same few
+    // scattering orders mixed in different proportions): a few basis functions per channel
+    // span them to kBasisTolerance of the channel's largest total, and pixels are weighed by
+    // those instead of by every scale.
+    std::array<ColumnBasis, 3> basis;
+    int rank = 1;
+    for (int c = 0; c < 3; ++c) {
+        const auto first = w.begin() + (std::ptrdiff_t(c) * S + 1) * rows;
+        const std::vector<double> cols(first, first + std::ptrdiff_t(blurred) * rows);
+        double total = 0.0;
+        for (int i = 0; i < rows; ++i) {
+            double sum = 0.0;
+            for (int j = 0; j < blurred; ++j) sum += cols[std::size_t(j) * rows + i];
+            total = std::max(total, sum);
+        }
+        basis[c] = span_columns(cols, rows, blurred, kBasisTolerance * total);
+        rank = std::max(rank, basis[c].rank);
+    }
+    m_stride = rank <= 20 ? (rank + 3) / 4 * 4 : kMaxStride;
+    m_lanes = 3 * m_stride;
+    m_table.assign(std::size_t(rows) * m_lanes, 0.0f);
+    m_coef.assign(std::size_t(3) * S * m_stride, 0.0f);
+    for (int c = 0; c < 3; ++c) {
+        const ColumnBasis& b = basis[c];
+        for (int r = 0; r < b.rank; ++r) {
+            for (int i = 0; i < rows; ++i) {
+                m_table[std::size_t(i) * m_lanes + c * m_stride + r] =
+                    float(b.basis[std::size_t(r) * rows + i]);
+            }
+            for (int j = 1; j < S; ++j) {
+                m_coef[(std::size_t(c) * S + j) * m_stride + r] =
+                    float(b.coef[std::size_t(j - 1) * b.rank + r]);
+            }
+        }
+    }
+}
+
+Rgb ForwardPsfBlur::applied_weight(int j, double d) const {
+    Rgb out;
+    if (m_table.empty() || !(d >= 0.0) || d >= m_bins * m_step) return out;
+    const int i = std::min(int(d / m_step), m_bins - 1);
+    const double t = d / m_step - i;
+    const int S = m_psf.scales();
+    for (int c = 0; c < 3; ++c) {
+        auto lerp_at = [&](const float* row0, int stride) {
+            return row0[0] + t * (row0[stride] - row0[0]);
+        };
+        if (j == 0) {
+            out[c] = lerp_at(m_sharp.data() + std::size_t(i) * 4 + c, 4);
+            continue;
+        }
+        double sum = 0.0;
+        for (int r = 0; r < m_stride; ++r) {
+            sum += m_coef[(std::size_t(c) * S + j) * m_stride + r] *
+                   lerp_at(m_table.data() + std::size_t(i) * m_lanes + c * m_stride + r, m_lanes);
+        }
+        out[c] = sum;
+    }
+    return out;
 }
 
 void ForwardPsfBlur::resize(int W, int H) {
@@ -234,30 +354,39 @@ void ForwardPsfBlur::resize(int W, int H) {
 
 void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     const int W = m_width, H = m_height, lanes = m_lanes, stride = m_stride;
+    const int S = m_psf.scales();
     const float inv_step = float(1.0 / m_step);
     const float range = float(m_bins * m_step);
+    // Where each group's running block sums start in a task's buffer.
+    std::vector<std::size_t> at(m_groups.size() + 1, 0);
+    for (std::size_t k = 0; k < m_groups.size(); ++k)
+        at[k + 1] = at[k] + std::size_t(m_groups[k].w) * lanes;
     // Bands of rows as high as the widest group's blocks, so that every block is summed by
     // one task, straight into its level's planes.
     const int band = m_groups.empty() ? 1 : m_groups.back().factor;
     tbb::parallel_for(0, (H + band - 1) / band, [&](int t) {
         thread_local std::vector<int> idx;
-        thread_local std::vector<float> frac, x, pyramid;
+        thread_local std::vector<float> frac, x, pyramid, sums, coef;
+        thread_local std::vector<float*> dst;
         idx.resize(W);
         frac.resize(W);
         x.resize(std::size_t(lanes) * W);
         pyramid.resize(std::size_t(lanes) * (W + 16));
+        sums.resize(at.back());
         for (int v = t * band; v < std::min(H, (t + 1) * band); ++v) {
             table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
             // Blocks of two pixels at once unless a group needs single pixels (tiny images).
             int f = m_groups.empty() || m_groups[0].factor == 1 ? 1 : 2;
             weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(), surface.row(v),
                          x.data());
-            // Each group's scales from blocks of its factor (neighbouring blocks summed in
-            // turn), added up over the block's rows and divided by its pixels at the last.
+            // Each group's basis sums from blocks of its factor (neighbouring blocks summed in
+            // turn), added up over the block's rows; at the last, its scales from those, divided
+            // by the block's pixels.
             const float* blocks = x.data();
             float* next = pyramid.data();
             int n = (W + f - 1) / f;
-            for (const Group& g : m_groups) {
+            for (std::size_t k = 0; k < m_groups.size(); ++k) {
+                const Group& g = m_groups[k];
                 while (f < g.factor) {
                     pair_sums(n, lanes, blocks, next);
                     blocks = next;
@@ -266,25 +395,28 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
                     f *= 2;
                 }
                 const int y = v / f, row_in_block = v % f;
-                const bool last = row_in_block == f - 1 || v == H - 1;
-                const float scale = 1.0f / float(f * (row_in_block + 1));
-                const float edge = float(f) / float(W - (g.w - 1) * f);  // last block's columns
-                for (int j = g.j0; j < g.j1; ++j) {
-                    for (int c = 0; c < 3; ++c) {
-                        float* dst =
-                            m_levels[j - 1].planes.data() + (std::size_t(c) * g.h + y) * g.w;
-                        const float* src = blocks + c * stride + j;
-                        if (row_in_block == 0) {
-                            for (int b = 0; b < g.w; ++b) dst[b] = src[std::size_t(b) * lanes];
-                        } else {
-                            for (int b = 0; b < g.w; ++b) dst[b] += src[std::size_t(b) * lanes];
-                        }
-                        if (f > 1 && last) {
-                            for (int b = 0; b < g.w; ++b) dst[b] *= scale;
-                            dst[g.w - 1] *= edge;
-                        }
+                float* acc = sums.data() + at[k];
+                const std::size_t count = std::size_t(g.w) * lanes;
+                if (row_in_block == 0) {
+                    std::copy(blocks, blocks + count, acc);
+                } else {
+                    for (std::size_t i = 0; i < count; ++i) acc[i] += blocks[i];
+                }
+                if (row_in_block != f - 1 && v != H - 1) continue;
+                const int scales = g.j1 - g.j0;
+                coef.resize(std::size_t(3) * scales * stride);
+                dst.resize(std::size_t(3) * scales);
+                for (int c = 0; c < 3; ++c) {
+                    for (int j = g.j0; j < g.j1; ++j) {
+                        const int m = c * scales + (j - g.j0);
+                        std::copy_n(m_coef.data() + (std::size_t(c) * S + j) * stride, stride,
+                                    coef.data() + std::size_t(m) * stride);
+                        dst[m] = m_levels[j - 1].planes.data() + (std::size_t(c) * g.h + y) * g.w;
                     }
                 }
+                const float scale = 1.0f / float(f * (row_in_block + 1));
+                const float edge = float(f) / float(W - (g.w - 1) * f);  // last block's columns
+                expand_blocks(g.w, stride, scales, acc, coef.data(), dst.data(), scale, edge);
             }
         }
     });
@@ -363,8 +495,7 @@ void ForwardPsfBlur::row(int v, float* out_rgb) const {
     std::fill(ones, ones + W, 1.0f);
     table_rows(W, m_d2->row(v), float(1.0 / m_step), float(m_bins * m_step), m_bins, idx.data(),
                frac.data());
-    sharp_row(W, m_lanes, m_stride, idx.data(), frac.data(), m_table.data(), m_surface->row(v),
-              acc);
+    sharp_row(W, idx.data(), frac.data(), m_sharp.data(), m_surface->row(v), acc);
     if (!m_full.empty()) {
         for (int c = 0; c < 3; ++c) {
             const float* src = m_full.data() + (std::size_t(c) * H + v) * W;

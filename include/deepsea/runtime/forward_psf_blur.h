@@ -4,7 +4,9 @@
 /// weighted by that scale's share at each pixel's distance. Wide scales are summed into
 /// box-downsampled images as they are weighted and blurred there; the blurred images are then
 /// added coarse to fine, each grid upsampled by two into the next, so a full-resolution row
-/// costs one upsampling whatever the number of scales.
+/// costs one upsampling whatever the number of scales. Pixels are weighed not by every scale
+/// but by a few functions of distance that span the scales' weights to 1e-6 of their total
+/// (their block sums give each scale's), as few as 3 in clear water.
 
 #include <vector>
 
@@ -27,6 +29,9 @@ public:
     void row(int v, float* out_rgb) const;
 
     const ForwardPsf& psf() const { return m_psf; }
+    /// The weight of scale j at distance d (m) that the last prepare() applied: its tables'
+    /// interpolation, the blurred scales through their basis (zero beyond the tables).
+    Rgb applied_weight(int j, double d) const;
 
     /// Variance (px^2) that box-downsampling by `factor` (a power of two) and upsampling back
     /// through the grids of factors factor/2, ..., 2, 1 add to a pixel's light, averaged over
@@ -62,12 +67,16 @@ private:
     void weigh(const Image& surface, const Image& d2);
 
     ForwardPsf m_psf;
-    int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride scales
+    int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride basis functions
     int m_stride = 0;
     int m_width = 0, m_height = 0;
-    double m_step = 0.0;               ///< distance between table rows, metres
-    int m_bins = 0;                    ///< table rows - 1
-    std::vector<float> m_table;        ///< m_table[bin * lanes + c * stride + j] = W_j(d)
+    double m_step = 0.0;  ///< distance between table rows, metres
+    int m_bins = 0;       ///< table rows - 1
+    /// m_table[bin * lanes + c * stride + r]: basis function r of channel c at the bin's
+    /// distance; W_j(d) of a blurred scale j = sum_r m_coef[(c * S + j) * stride + r] times
+    /// that (column_basis.h).
+    std::vector<float> m_table, m_coef;
+    std::vector<float> m_sharp;        ///< m_sharp[bin * 4 + c] = W_0(d), the unblurred scale
     const Image* m_surface = nullptr;  ///< prepare()'s frame, for scale 0 (unblurred)
     const Image* m_d2 = nullptr;
     std::vector<float> m_full;  ///< scales blurred at full resolution (tiny images): 3 planes

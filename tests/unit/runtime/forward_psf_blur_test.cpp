@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "deepsea/optics/jerlov.h"
@@ -66,6 +67,36 @@ TEST(ForwardPsfBlur, ATinyImageBlursAtFullResolutionAndStaysUniform) {
     // a second frame gives the same: the sums are cleared between frames
     const Image again = expect_uniform(blur, W, H, Rgb(0.3, 0.6, 0.9), 2.0f);
     EXPECT_EQ(again.data, out.data);
+}
+
+TEST(ForwardPsfBlur, EveryScaleIsWeighedAsTheOpticsSay) {
+    // The blurred scales are weighed through a few basis functions (column_basis.h): each
+    // scale's weight must still be the optics' own, to the table's interpolation, at every
+    // distance the frame holds, in clear and turbid water.
+    for (const char* type : {"IB", "3C", "5C"}) {
+        Water w = jerlov_water(type);
+        w.forward = phase_function_forward_scatter();
+        const int W = 400, H = 300;
+        ForwardPsfBlur blur(ForwardPsf(w, 300.0, W, H));
+        Image surface(W, H, 3, 0.5f), d2(W, H, 1, 0.0f);
+        for (int v = 0; v < H; ++v) {
+            for (int u = 0; u < W; ++u) d2.at(u, v) = 0.5f + 9.5f * float(u) / float(W - 1);
+        }
+        blur.prepare(surface, d2);
+        const ForwardPsf& psf = blur.psf();
+        double worst = 0.0;  // |applied - optics| / the channel's total, the largest
+        for (double d = 0.5; d <= 10.0; d += 0.0371) {
+            const Rgb total = psf.total(d);
+            for (int j = 0; j < psf.scales(); ++j) {
+                const Rgb got = blur.applied_weight(j, d), expect = psf.weight(j, d);
+                for (int c = 0; c < 3; ++c) {
+                    worst = std::max(worst, std::abs(got[c] - expect[c]) / total[c]);
+                }
+            }
+        }
+        // (measured 2-4e-6: the table's interpolation and the basis's 1e-6 of the total)
+        EXPECT_LE(worst, 2e-5) << "Jerlov " << type;
+    }
 }
 
 TEST(ForwardPsfBlur, AnImpulseSpreadsAsTheMixture) {
