@@ -357,6 +357,34 @@ TEST(SrgbEncode, EveryStrideOfFloatsInZeroToOneGetsTheCodeOfTheFormula) {
     }
 }
 
+TEST(SrgbEncode, ValuesOutsideZeroToOneAndAnExposureGetTheCodesOfTheFormula) {
+    // Eight values at a time go through the vector path where the CPU has one: every special
+    // value in every one of the eight places, and the exposure multiplied in double first.
+    // Non-finite values and values <= 0 give 0, values >= 1 the top code.
+    const float inf = std::numeric_limits<float>::infinity();
+    const std::vector<float> special = {
+        0.0f,       -0.0f, -1e-30f,     -0.5f,      1.0f,
+        1.0000001f, 3e38f, inf,         -inf,       std::numeric_limits<float>::quiet_NaN(),
+        1e-38f,     0.5f,  0.99999994f, 0.0031308f, 1e-45f,
+        2.0f};
+    Image img(int(special.size()) * 9, 1, 1);
+    for (std::size_t i = 0; i < img.data.size(); ++i) {
+        img.data[i] = i % 9 == 0 ? special[(i / 9) % special.size()] : 0.25f + 1e-3f * i;
+    }
+    for (const double exposure : {1.0, 0.7, 3.3}) {
+        EncodedImage out;
+        encode_srgb(img, exposure, 8, "x.png", out);
+        for (std::size_t i = 0; i < img.data.size(); ++i) {
+            const float v = float(img.data[i] * exposure);
+            const int expect = !std::isfinite(v) || v <= 0.0f ? 0
+                               : v >= 1.0f                    ? 255
+                                           : int(linear_to_srgb(v) * 255.0f + 0.5f);
+            ASSERT_EQ(int(out.codes8[i]), expect)
+                << "value " << img.data[i] << " times " << exposure;
+        }
+    }
+}
+
 TEST_F(FastCodecs, FrameColourKeepsPngAndJpegAsCodesThatDecodeToReadColour) {
     write_color(path("a.png"), probe_image(40, 30), 8);
     write_color(path("a16.png"), probe_image(40, 30), 16);
