@@ -5,6 +5,7 @@
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <libdeflate.h>
 
 #include <cmath>
 #include <cstdint>
@@ -381,6 +382,105 @@ TEST(SrgbEncode, ValuesOutsideZeroToOneAndAnExposureGetTheCodesOfTheFormula) {
                                            : int(linear_to_srgb(v) * 255.0f + 0.5f);
             ASSERT_EQ(int(out.codes8[i]), expect)
                 << "value " << img.data[i] << " times " << exposure;
+        }
+    }
+}
+
+/// A PNG written here rather than by a library, to choose what libraries do not: each row's
+/// filter (row y gets filter y mod 5, so every kind follows every other) and the IDAT stream
+/// split into chunks of `split` bytes. RGB samples (big-endian at 16 bits) from `codes`.
+std::string png_with_every_filter(int w, int h, int bits, const std::vector<std::uint16_t>& codes,
+                                  std::size_t split) {
+    const int bpp = 3 * bits / 8;
+    const std::size_t row = std::size_t(w) * bpp;
+    std::vector<std::uint8_t> raw(row * h), filtered;
+    for (std::size_t i = 0; i < codes.size(); ++i) {
+        if (bits == 8) {
+            raw[i] = std::uint8_t(codes[i]);
+        } else {
+            raw[2 * i] = std::uint8_t(codes[i] >> 8);
+            raw[2 * i + 1] = std::uint8_t(codes[i]);
+        }
+    }
+    for (int y = 0; y < h; ++y) {
+        const int f = y % 5;
+        filtered.push_back(std::uint8_t(f));
+        for (std::size_t i = 0; i < row; ++i) {
+            const int x = raw[y * row + i];
+            const int a = i >= std::size_t(bpp) ? raw[y * row + i - bpp] : 0;
+            const int b = y > 0 ? raw[(y - 1) * row + i] : 0;
+            const int c = y > 0 && i >= std::size_t(bpp) ? raw[(y - 1) * row + i - bpp] : 0;
+            const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b),
+                      pc = std::abs(p - c);
+            const int paeth = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+            const int pred[5] = {0, a, b, (a + b) / 2, paeth};
+            filtered.push_back(std::uint8_t(x - pred[f]));
+        }
+    }
+    libdeflate_compressor* z = libdeflate_alloc_compressor(6);
+    std::vector<std::uint8_t> stream(libdeflate_zlib_compress_bound(z, filtered.size()));
+    stream.resize(libdeflate_zlib_compress(z, filtered.data(), filtered.size(), stream.data(),
+                                           stream.size()));
+    libdeflate_free_compressor(z);
+    std::string png("\x89PNG\r\n\x1a\n", 8);
+    const auto chunk = [&](const char* type, const std::uint8_t* data, std::size_t n) {
+        std::string c;
+        for (const int s : {24, 16, 8, 0}) c += char(std::uint32_t(n) >> s);
+        c.append(type, 4);
+        c.append(reinterpret_cast<const char*>(data), n);
+        const std::uint32_t crc = libdeflate_crc32(0, c.data() + 4, n + 4);
+        for (const int s : {24, 16, 8, 0}) c += char(crc >> s);
+        png += c;
+    };
+    std::uint8_t ihdr[13] = {0,
+                             0,
+                             std::uint8_t(w >> 8),
+                             std::uint8_t(w),
+                             0,
+                             0,
+                             std::uint8_t(h >> 8),
+                             std::uint8_t(h),
+                             std::uint8_t(bits),
+                             2,
+                             0,
+                             0,
+                             0};
+    chunk("IHDR", ihdr, 13);
+    const std::uint8_t text[] = "Comment\0between";
+    chunk("tEXt", text, sizeof text - 1);
+    for (std::size_t at = 0; at < stream.size(); at += split) {
+        chunk("IDAT", stream.data() + at, std::min(split, stream.size() - at));
+    }
+    chunk("IEND", nullptr, 0);
+    return png;
+}
+
+TEST_F(FastCodecs, PngsWithEveryRowFilterDecodeAsOpenImageIODecodesThem) {
+    // Noise (left, up and up-left all matter) at 8 and 16 bits, in one IDAT chunk or many:
+    // the colour codes of read_frame_color are OpenImageIO's (libpng's) samples.
+    std::mt19937 rng(7);
+    for (const int bits : {8, 16}) {
+        for (const std::size_t split : {std::size_t(1) << 30, std::size_t(97)}) {
+            const int w = 37, h = 23;
+            std::vector<std::uint16_t> codes(std::size_t(3) * w * h);
+            for (auto& c : codes) c = std::uint16_t(rng() % (bits == 8 ? 256 : 65536));
+            const std::string p = path("filters" + std::to_string(bits) + "-" +
+                                       std::to_string(split % 1000) + ".png");
+            test::write_bytes(p, png_with_every_filter(w, h, bits, codes, split));
+            Frame frame;
+            read_frame_color(p, frame);
+            ASSERT_EQ(frame.codes.bits, bits) << p;
+            if (bits == 8) {
+                EXPECT_EQ(frame.codes.rgb8, oiio_pixels<std::uint8_t>(p, OIIO::TypeDesc::UINT8))
+                    << p;
+                EXPECT_EQ(
+                    std::vector<std::uint16_t>(frame.codes.rgb8.begin(), frame.codes.rgb8.end()),
+                    codes);
+            } else {
+                EXPECT_EQ(frame.codes.rgb16, oiio_pixels<std::uint16_t>(p, OIIO::TypeDesc::UINT16))
+                    << p;
+                EXPECT_EQ(frame.codes.rgb16, codes);
+            }
         }
     }
 }
