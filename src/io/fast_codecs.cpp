@@ -39,6 +39,7 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
@@ -203,7 +204,9 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
         (ihdr.bit_depth != 8 && ihdr.bit_depth != 16)) {
         return false;
     }
-    t_idat.clear();
+    // The IDAT chunks' data: used where it lies when there is one chunk (as deepsea writes
+    // them), else joined.
+    std::vector<std::pair<const std::uint8_t*, std::size_t>> idat_data;
     bool ended = false, idat_closed = false;
     for (std::size_t at = 8; !ended;) {
         if (file.size() - at < 12) return false;
@@ -216,9 +219,9 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
         const bool idat = std::memcmp(type, "IDAT", 4) == 0;
         if (idat) {
             if (idat_closed) return false;
-            t_idat.insert(t_idat.end(), data, data + len);
+            idat_data.emplace_back(data, len);
         } else {
-            idat_closed = !t_idat.empty();
+            idat_closed = !idat_data.empty();
             ended = std::memcmp(type, "IEND", 4) == 0;
             if (critical && !ended && std::memcmp(type, "IHDR", 4) != 0 &&
                 std::memcmp(type, "PLTE", 4) != 0) {
@@ -233,8 +236,17 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
     if (!inflater.d) return false;
     t_inflated.resize(expect);
     std::size_t got = 0;
-    if (libdeflate_zlib_decompress(inflater.d, t_idat.data(), t_idat.size(), t_inflated.data(),
-                                   expect, &got) != LIBDEFLATE_SUCCESS ||
+    if (idat_data.empty()) return false;
+    const std::uint8_t* stream = idat_data[0].first;
+    std::size_t stream_size = idat_data[0].second;
+    if (idat_data.size() > 1) {
+        t_idat.clear();
+        for (const auto& [p, n] : idat_data) t_idat.insert(t_idat.end(), p, p + n);
+        stream = t_idat.data();
+        stream_size = t_idat.size();
+    }
+    if (libdeflate_zlib_decompress(inflater.d, stream, stream_size, t_inflated.data(), expect,
+                                   &got) != LIBDEFLATE_SUCCESS ||
         got != expect) {
         return false;
     }

@@ -265,6 +265,32 @@ TEST(AssetBackscatter, RefusesAnotherCamera) {
     EXPECT_THROW(AssetBackscatter(f.asset, other), AssetError);
 }
 
+TEST(AssetBackscatter, EveryPixelOfARowIsTheAssetsOwnSample) {
+    // Depths on every kind of place: open water (0, which looks up z_max), beyond z_max, on
+    // and between the depth samples, near the camera; 117 of the 120 pixels, so that the vector
+    // path's groups of 8 and the scalar rest both run. Asset::sample (double) is the reference.
+    const Fixture& f = fixture();
+    const AssetBackscatter bs(f.asset, f.cam);
+    const Lattice& l = f.asset.lattice();
+    const int n = 117, v = 41;
+    std::vector<float> z(n), out(3 * n);
+    for (int u = 0; u < n; ++u) {
+        const int k = u % int(l.z.size());
+        z[u] = u % 11 == 0  ? 0.0f
+               : u % 7 == 0 ? float(l.z_max() * 1.5)
+               : u % 3 == 0 ? float(l.z[k])
+                            : float(0.05 + (l.z_max() - 0.05) * ((u * 37) % 101) / 100.0);
+    }
+    bs.backscatter_row(v, n, z.data(), out.data());
+    for (int u = 0; u < n; ++u) {
+        const Rgb ref = f.asset.sample(u, v, z[u] > 0.0f ? double(z[u]) : HUGE_VAL);
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_NEAR(out[c * n + u], ref[c], 1e-5 * ref[c] + 1e-12)
+                << "pixel " << u << ", z " << z[u];
+        }
+    }
+}
+
 TEST(AssetBackscatter, ResamplesTheSameViewAtAnotherResolution) {
     const Fixture& f = fixture();
     Camera half = f.cam;  // 80x60, the same rays at pixel centres
