@@ -145,20 +145,20 @@ std::uint32_t be32_at(const std::uint8_t* p) {
 
 /// Undoes PNG's row filters: `rows` rows of n bytes, each after its filter byte in src, into
 /// dst (rows of n bytes, the row above read back from dst); bpp bytes per pixel. False for a
-/// filter type PNG does not define.
-bool unfilter_rows(const std::uint8_t* __restrict src, int rows, std::size_t n, int bpp,
-                   std::uint8_t* __restrict dst) {
+/// filter type PNG does not define. dst may be src itself: each byte is written below the
+/// bytes still to be read.
+bool unfilter_rows(const std::uint8_t* src, int rows, std::size_t n, int bpp, std::uint8_t* dst) {
     thread_local std::vector<std::uint8_t> zeros;
     zeros.assign(n, 0);
     for (int y = 0; y < rows; ++y) {
         const std::uint8_t* in = src + std::size_t(y) * (n + 1);
-        const std::uint8_t* __restrict up = y ? dst + std::size_t(y - 1) * n : zeros.data();
-        std::uint8_t* __restrict out = dst + std::size_t(y) * n;
-        const std::uint8_t* __restrict x = in + 1;
+        const std::uint8_t* up = y ? dst + std::size_t(y - 1) * n : zeros.data();
+        std::uint8_t* out = dst + std::size_t(y) * n;
+        const std::uint8_t* x = in + 1;
         const std::size_t b = std::size_t(bpp);
         switch (in[0]) {
             case 0:
-                std::memcpy(out, x, n);
+                std::memmove(out, x, n);
                 break;
             case 1:  // sub: the byte one pixel to the left
                 for (std::size_t i = 0; i < std::min(b, n); ++i) out[i] = x[i];
@@ -234,7 +234,9 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
     const std::size_t row = std::size_t(w) * 3 * bytes, expect = (row + 1) * std::size_t(h);
     thread_local Decompressor inflater;
     if (!inflater.d) return false;
-    t_inflated.resize(expect);
+    // 8 bits: inflated into the codes' own buffer and unfiltered there (no second image).
+    std::vector<std::uint8_t>& inflated = bytes == 1 ? out.rgb8 : t_inflated;
+    inflated.resize(expect);
     std::size_t got = 0;
     if (idat_data.empty()) return false;
     const std::uint8_t* stream = idat_data[0].first;
@@ -245,15 +247,15 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
         stream = t_idat.data();
         stream_size = t_idat.size();
     }
-    if (libdeflate_zlib_decompress(inflater.d, stream, stream_size, t_inflated.data(), expect,
+    if (libdeflate_zlib_decompress(inflater.d, stream, stream_size, inflated.data(), expect,
                                    &got) != LIBDEFLATE_SUCCESS ||
         got != expect) {
         return false;
     }
     const std::size_t n = std::size_t(w) * h * 3;
     if (bytes == 1) {
+        if (!unfilter_rows(out.rgb8.data(), h, row, 3, out.rgb8.data())) return false;
         out.rgb8.resize(n);
-        if (!unfilter_rows(t_inflated.data(), h, row, 3, out.rgb8.data())) return false;
         out.bits = 8;
     } else {
         t_rows16.resize(row * h);
