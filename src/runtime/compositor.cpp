@@ -161,6 +161,13 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     }
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
                         float(m_water.forward.G.b)};
+    // Only the image wanted: final += F straight from the point spread (no T, whose layer is
+    // not kept, and no copy of F); with no forward scatter final is already B + D. The same
+    // additions as below, so final is the same bit for bit whichever layers are kept.
+    if (!all && (psf || !forward)) {
+        if (psf) tbb::parallel_for(0, H, [&](int v) { m_psf_blur->add_row(v, dst.final.row(v)); });
+        return;
+    }
     tbb::parallel_for(0, H, [&](int v) {
         // blurred, and T and F when their layers are not kept
         thread_local std::vector<float> row;

@@ -482,16 +482,13 @@ ForwardPsfBlur::Grid& ForwardPsfBlur::grid_of(int factor) {
     throw Error("forward scatter: no grid of factor " + std::to_string(factor));
 }
 
-void ForwardPsfBlur::row(int v, float* out_rgb) const {
+void ForwardPsfBlur::planar_row(int v, float* acc, float* tmp) const {
     const int W = m_width, H = m_height;
-    thread_local std::vector<float> buf, frac;
+    thread_local std::vector<float> frac;
     thread_local std::vector<int> idx;
-    buf.resize(std::size_t(6) * W);
     idx.resize(W);
     frac.resize(W);
-    float* acc = buf.data();  // 3 planes
-    float* tmp = acc + 3 * W;
-    float* ones = tmp + 2 * W;
+    float* ones = tmp + W;
     std::fill(ones, ones + W, 1.0f);
     table_rows(W, m_d2->row(v), float(1.0 / m_step), float(m_bins * m_step), m_bins, idx.data(),
                frac.data());
@@ -510,7 +507,20 @@ void ForwardPsfBlur::row(int v, float* out_rgb) const {
                                       acc + c * W);
         }
     }
-    kernels::interleave(W, acc, out_rgb);
+}
+
+void ForwardPsfBlur::row(int v, float* out_rgb) const {
+    thread_local std::vector<float> buf;
+    buf.resize(std::size_t(5) * m_width);
+    planar_row(v, buf.data(), buf.data() + 3 * m_width);
+    kernels::interleave(m_width, buf.data(), out_rgb);
+}
+
+void ForwardPsfBlur::add_row(int v, float* sum_rgb) const {
+    thread_local std::vector<float> buf;
+    buf.resize(std::size_t(5) * m_width);
+    planar_row(v, buf.data(), buf.data() + 3 * m_width);
+    kernels::interleave_add(m_width, buf.data(), sum_rgb);
 }
 
 }  // namespace deepsea

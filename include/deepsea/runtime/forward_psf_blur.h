@@ -27,6 +27,8 @@ public:
     void prepare(const Image& surface, const Image& d2);
     /// out_rgb[3u + c] = F at (u, v).
     void row(int v, float* out_rgb) const;
+    /// sum_rgb[3u + c] += F at (u, v): the same F as row(), added where it is wanted.
+    void add_row(int v, float* sum_rgb) const;
 
     const ForwardPsf& psf() const { return m_psf; }
     /// The weight of scale j at distance d (m) that the last prepare() applied: its tables'
@@ -65,6 +67,8 @@ private:
     Grid& grid_of(int factor);
     void resize(int W, int H);
     void weigh(const Image& surface, const Image& d2);
+    /// F of row v as three planes (acc: 3 planes of the row, tmp: 2 more rows of scratch).
+    void planar_row(int v, float* acc, float* tmp) const;
 
     ForwardPsf m_psf;
     int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride basis functions
