@@ -19,7 +19,8 @@ namespace deepsea {
 namespace {
 
 constexpr int kTableBins = 1024;
-/// Scales per channel in a table row, padded: 32 holds images of up to 2^30 px a side.
+/// Basis functions per channel in a table row, padded to a multiple of 4 (at most one per
+/// blurred scale: 32 holds images of up to 2^30 px a side).
 constexpr int kMaxStride = 32;
 /// What the weight basis may leave out of any scale's weight, as a fraction of the channel's
 /// largest total weight: far below a 16-bit code value of the forward-scatter image.
