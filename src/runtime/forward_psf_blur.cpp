@@ -52,53 +52,63 @@ inline Float4 load4(const float* p) {
 }
 inline void store4(float* p, Float4 v) { std::memcpy(p, &v, sizeof v); }
 
+/// Kernel::run<S>(args...) for a table stride S known at compile time: 4, 8, 12, 16, 20, or
+/// kMaxStride for anything else (inlined into each caller, and so into its AVX2 clone).
+template <class Kernel, class... Args>
+[[gnu::always_inline]] inline void by_stride(int stride, Args... args) {
+    switch (stride) {
+        case 4:
+            return Kernel::template run<4>(args...);
+        case 8:
+            return Kernel::template run<8>(args...);
+        case 12:
+            return Kernel::template run<12>(args...);
+        case 16:
+            return Kernel::template run<16>(args...);
+        case 20:
+            return Kernel::template run<20>(args...);
+        default:
+            return Kernel::template run<kMaxStride>(args...);
+    }
+}
+
 /// x[b * lanes + c * stride + r] = sum over the block's pixels u (b * block .. b * block +
 /// block - 1, fewer at the end) of phi_r(d_u) L_u[c], phi_r from the table's rows idx[u] and
 /// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. A
 /// block's sums stay in registers, four basis functions to a vector: the stride is a
 /// compile-time multiple of four.
-template <int S>
-[[gnu::always_inline]] inline void weigh_blocks_of(int n, int block, const int* __restrict idx,
-                                                   const float* __restrict frac,
-                                                   const float* __restrict tab,
-                                                   const float* __restrict L, float* __restrict x) {
-    constexpr int lanes = 3 * S, V = S / 4;
-    for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
-        Float4 acc[3 * V] = {};
-        for (int u = u0; u < std::min(u0 + block, n); ++u) {
-            const bool on = idx[u] >= 0;
-            const float* ta = tab + std::size_t(on ? idx[u] : 0) * lanes;
-            const float* tb = ta + lanes;
-            const float t = frac[u];
-            for (int c = 0; c < 3; ++c) {
-                const float l = on ? L[3 * u + c] : 0.0f;
-                for (int k = 0; k < V; ++k) {
-                    const Float4 a = load4(ta + c * S + 4 * k), d = load4(tb + c * S + 4 * k) - a;
-                    acc[c * V + k] += (a + t * d) * l;
+struct WeighBlocks {
+    template <int S>
+    [[gnu::always_inline]] static void run(int n, int block, const int* __restrict idx,
+                                           const float* __restrict frac,
+                                           const float* __restrict tab, const float* __restrict L,
+                                           float* __restrict x) {
+        constexpr int lanes = 3 * S, V = S / 4;
+        for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
+            Float4 acc[3 * V] = {};
+            for (int u = u0; u < std::min(u0 + block, n); ++u) {
+                const bool on = idx[u] >= 0;
+                const float* ta = tab + std::size_t(on ? idx[u] : 0) * lanes;
+                const float* tb = ta + lanes;
+                const float t = frac[u];
+                for (int c = 0; c < 3; ++c) {
+                    const float l = on ? L[3 * u + c] : 0.0f;
+                    for (int k = 0; k < V; ++k) {
+                        const Float4 a = load4(ta + c * S + 4 * k),
+                                     d = load4(tb + c * S + 4 * k) - a;
+                        acc[c * V + k] += (a + t * d) * l;
+                    }
                 }
             }
+            for (int k = 0; k < 3 * V; ++k) store4(x + std::size_t(b) * lanes + 4 * k, acc[k]);
         }
-        for (int k = 0; k < 3 * V; ++k) store4(x + std::size_t(b) * lanes + 4 * k, acc[k]);
     }
-}
+};
 
 DEEPSEA_CLONES
 void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
                   const float* L, float* x) {
-    switch (stride) {
-        case 4:
-            return weigh_blocks_of<4>(n, block, idx, frac, tab, L, x);
-        case 8:
-            return weigh_blocks_of<8>(n, block, idx, frac, tab, L, x);
-        case 12:
-            return weigh_blocks_of<12>(n, block, idx, frac, tab, L, x);
-        case 16:
-            return weigh_blocks_of<16>(n, block, idx, frac, tab, L, x);
-        case 20:
-            return weigh_blocks_of<20>(n, block, idx, frac, tab, L, x);
-        default:
-            return weigh_blocks_of<kMaxStride>(n, block, idx, frac, tab, L, x);
-    }
+    by_stride<WeighBlocks>(stride, n, block, idx, frac, tab, L, x);
 }
 
 /// Scale 0 (light left where it is) of one row: out[c * n + u] = W_0(d_u) L_u[c], 0 where
@@ -120,45 +130,34 @@ void sharp_row(int n, const int* __restrict idx, const float* __restrict frac,
 /// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
 /// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[(c * scales + j) *
 /// stride + r] * acc[b * lanes + c * stride + r], the last block also times `edge`.
-template <int S>
-[[gnu::always_inline]] inline void expand_blocks_of(int n, int scales, const float* __restrict acc,
-                                                    const float* __restrict coef, float* const* dst,
-                                                    float scale, float edge) {
-    constexpr int lanes = 3 * S, V = S / 4;
-    for (int c = 0; c < 3; ++c) {
-        for (int j = 0; j < scales; ++j) {
-            const float* k = coef + std::size_t(c * scales + j) * S;
-            Float4 kv[V];
-            for (int i = 0; i < V; ++i) kv[i] = load4(k + 4 * i);
-            float* __restrict out = dst[c * scales + j];
-            for (int b = 0; b < n; ++b) {
-                const float* a = acc + std::size_t(b) * lanes + c * S;
-                Float4 s = kv[0] * load4(a);
-                for (int i = 1; i < V; ++i) s += kv[i] * load4(a + 4 * i);
-                out[b] = (s[0] + s[1] + s[2] + s[3]) * scale;
+struct ExpandBlocks {
+    template <int S>
+    [[gnu::always_inline]] static void run(int n, int scales, const float* __restrict acc,
+                                           const float* __restrict coef, float* const* dst,
+                                           float scale, float edge) {
+        constexpr int lanes = 3 * S, V = S / 4;
+        for (int c = 0; c < 3; ++c) {
+            for (int j = 0; j < scales; ++j) {
+                const float* k = coef + std::size_t(c * scales + j) * S;
+                Float4 kv[V];
+                for (int i = 0; i < V; ++i) kv[i] = load4(k + 4 * i);
+                float* __restrict out = dst[c * scales + j];
+                for (int b = 0; b < n; ++b) {
+                    const float* a = acc + std::size_t(b) * lanes + c * S;
+                    Float4 s = kv[0] * load4(a);
+                    for (int i = 1; i < V; ++i) s += kv[i] * load4(a + 4 * i);
+                    out[b] = (s[0] + s[1] + s[2] + s[3]) * scale;
+                }
+                out[n - 1] *= edge;
             }
-            out[n - 1] *= edge;
         }
     }
-}
+};
 
 DEEPSEA_CLONES
 void expand_blocks(int n, int stride, int scales, const float* acc, const float* coef,
                    float* const* dst, float scale, float edge) {
-    switch (stride) {
-        case 4:
-            return expand_blocks_of<4>(n, scales, acc, coef, dst, scale, edge);
-        case 8:
-            return expand_blocks_of<8>(n, scales, acc, coef, dst, scale, edge);
-        case 12:
-            return expand_blocks_of<12>(n, scales, acc, coef, dst, scale, edge);
-        case 16:
-            return expand_blocks_of<16>(n, scales, acc, coef, dst, scale, edge);
-        case 20:
-            return expand_blocks_of<20>(n, scales, acc, coef, dst, scale, edge);
-        default:
-            return expand_blocks_of<kMaxStride>(n, scales, acc, coef, dst, scale, edge);
-    }
+    by_stride<ExpandBlocks>(stride, n, scales, acc, coef, dst, scale, edge);
 }
 
 /// Table rows and fractions of one row of distances: idx[u] = -1 where there is no surface
