@@ -230,6 +230,7 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
         }
         at += std::size_t(len) + 12;
     }
+    if (idat_data.empty()) return false;
     const int w = int(ihdr.width), h = int(ihdr.height), bytes = ihdr.bit_depth / 8;
     const std::size_t row = std::size_t(w) * 3 * bytes, expect = (row + 1) * std::size_t(h);
     thread_local Decompressor inflater;
@@ -238,7 +239,6 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
     std::vector<std::uint8_t>& inflated = bytes == 1 ? out.rgb8 : t_inflated;
     inflated.resize(expect);
     std::size_t got = 0;
-    if (idat_data.empty()) return false;
     const std::uint8_t* stream = idat_data[0].first;
     std::size_t stream_size = idat_data[0].second;
     if (idat_data.size() > 1) {

@@ -128,17 +128,18 @@ void sharp_row(int n, const int* __restrict idx, const float* __restrict frac,
 }
 
 /// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
-/// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[(c * scales + j) *
-/// stride + r] * acc[b * lanes + c * stride + r], the last block also times `edge`.
+/// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[c * channel + j * stride
+/// + r] * acc[b * lanes + c * stride + r], the last block also times `edge` (coef: the
+/// group's first scale in the weight table's coefficients, `channel` floats per channel).
 struct ExpandBlocks {
     template <int S>
     [[gnu::always_inline]] static void run(int n, int scales, const float* __restrict acc,
-                                           const float* __restrict coef, float* const* dst,
-                                           float scale, float edge) {
+                                           const float* __restrict coef, std::size_t channel,
+                                           float* const* dst, float scale, float edge) {
         constexpr int lanes = 3 * S, V = S / 4;
         for (int c = 0; c < 3; ++c) {
             for (int j = 0; j < scales; ++j) {
-                const float* k = coef + std::size_t(c * scales + j) * S;
+                const float* k = coef + c * channel + std::size_t(j) * S;
                 Float4 kv[V];
                 for (int i = 0; i < V; ++i) kv[i] = load4(k + 4 * i);
                 float* __restrict out = dst[c * scales + j];
@@ -156,8 +157,8 @@ struct ExpandBlocks {
 
 DEEPSEA_CLONES
 void expand_blocks(int n, int stride, int scales, const float* acc, const float* coef,
-                   float* const* dst, float scale, float edge) {
-    by_stride<ExpandBlocks>(stride, n, scales, acc, coef, dst, scale, edge);
+                   std::size_t channel, float* const* dst, float scale, float edge) {
+    by_stride<ExpandBlocks>(stride, n, scales, acc, coef, channel, dst, scale, edge);
 }
 
 /// Table rows and fractions of one row of distances: idx[u] = -1 where there is no surface
@@ -366,7 +367,7 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     const int band = m_groups.empty() ? 1 : m_groups.back().factor;
     tbb::parallel_for(0, (H + band - 1) / band, [&](int t) {
         thread_local std::vector<int> idx;
-        thread_local std::vector<float> frac, x, pyramid, sums, coef;
+        thread_local std::vector<float> frac, x, pyramid, sums;
         thread_local std::vector<float*> dst;
         idx.resize(W);
         frac.resize(W);
@@ -404,19 +405,17 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
                 }
                 if (row_in_block != f - 1 && v != H - 1) continue;
                 const int scales = g.j1 - g.j0;
-                coef.resize(std::size_t(3) * scales * stride);
                 dst.resize(std::size_t(3) * scales);
                 for (int c = 0; c < 3; ++c) {
                     for (int j = g.j0; j < g.j1; ++j) {
-                        const int m = c * scales + (j - g.j0);
-                        std::copy_n(m_coef.data() + (std::size_t(c) * S + j) * stride, stride,
-                                    coef.data() + std::size_t(m) * stride);
-                        dst[m] = m_levels[j - 1].planes.data() + (std::size_t(c) * g.h + y) * g.w;
+                        dst[c * scales + (j - g.j0)] =
+                            m_levels[j - 1].planes.data() + (std::size_t(c) * g.h + y) * g.w;
                     }
                 }
                 const float scale = 1.0f / float(f * (row_in_block + 1));
                 const float edge = float(f) / float(W - (g.w - 1) * f);  // last block's columns
-                expand_blocks(g.w, stride, scales, acc, coef.data(), dst.data(), scale, edge);
+                expand_blocks(g.w, stride, scales, acc, m_coef.data() + std::size_t(g.j0) * stride,
+                              std::size_t(S) * stride, dst.data(), scale, edge);
             }
         }
     });
