@@ -33,6 +33,8 @@ install(TARGETS ${DEEPSEA_LAYERS} deepsea_all deepsea_warnings
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS deepsea RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# io's OpenImageIO module, where the installed program and libraries look for it first.
+install(TARGETS deepsea_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/deepsea)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/deepsea
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 install(FILES ${PROJECT_SOURCE_DIR}/tools/blender/open_asset.py
@@ -65,7 +67,7 @@ foreach(_t deepsea_runtime deepsea_bake deepsea_scene deepsea_io deepsea_asset d
 endforeach()
 if(DEEPSEA_STATIC)
   # OpenVDB has no .pc file on Debian: named directly; its headers call Imath (half) inline.
-  set(DEEPSEA_PC_REQUIRES "tbb OpenImageIO OpenEXR yaml-cpp Imath libcrypto spng libdeflate libjpeg")
+  set(DEEPSEA_PC_REQUIRES "tbb OpenEXR yaml-cpp Imath libcrypto spng libdeflate libjpeg")
   string(APPEND DEEPSEA_PC_LIBS " -lopenvdb")
 else()
   set(DEEPSEA_PC_REQUIRES "tbb")

@@ -1,6 +1,5 @@
 #include "deepsea/io/image_io.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -24,6 +23,7 @@
 #include "deepsea/io/depth_formats.h"
 #include "fast_codecs.h"
 #include "file_checks.h"
+#include "oiio_plugin.h"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -98,74 +98,84 @@ private:
     }
 };
 
-std::unique_ptr<OIIO::ImageInput> open_input(const std::string& path) {
-    require_readable(path);
-    check_exr_header(path);
-    // Keep colour unassociated: OIIO would otherwise premultiply RGBA PNG/TIFF by alpha, and
-    // alpha is dropped here, not composited.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    const QuietCodecs quiet;
-    auto in = OIIO::ImageInput::open(path, &config);
-    if (!in) io_fail(path, OIIO::geterror());
-    // The header's size, before any pixel is allocated: a 76-byte PNG can claim 20000x20000.
-    const auto& spec = in->spec();
-    check_image_size(spec.width, spec.height, spec.nchannels, path);
-    if (std::strcmp(in->format_name(), "png") == 0) {
-        std::error_code ec;
-        const auto bytes = fs::file_size(path, ec);
-        if (!ec) check_png_claim(path, spec.width, spec.height, bytes);
+using io_detail::OiioHeader;
+using io_detail::OiioPixel;
+
+/// An image open in OpenImageIO (through the module): its header, checked before any pixel
+/// is allocated (a 76-byte PNG can claim 20000x20000), and its reader.
+class OiioInput {
+public:
+    explicit OiioInput(const std::string& path) : m_path(path) {
+        require_readable(path);
+        check_exr_header(path);
+        m_plugin = &io_detail::oiio(path);
+        std::string error;
+        {
+            const QuietCodecs quiet;
+            m_handle = m_plugin->open(path, m_header, error);
+        }
+        if (!m_handle) io_fail(path, error);
+        check_image_size(m_header.width, m_header.height, m_header.channels, path);
+        if (m_header.format_name == "png") {
+            std::error_code ec;
+            const auto bytes = fs::file_size(path, ec);
+            if (!ec) check_png_claim(path, m_header.width, m_header.height, bytes);
+        }
+        if (m_header.depth > 1)
+            io_fail(path, "a volume image (depth " + std::to_string(m_header.depth) + ")");
     }
-    if (spec.depth > 1) io_fail(path, "a volume image (depth " + std::to_string(spec.depth) + ")");
-    return in;
-}
+    ~OiioInput() { m_plugin->close(m_handle); }
+    OiioInput(const OiioInput&) = delete;
+    OiioInput& operator=(const OiioInput&) = delete;
 
-/// Reads channels [chbegin, chend) of subimage 0 as float (integer formats normalised to
-/// [0, 1] by OIIO).
-std::vector<float> read_float(OIIO::ImageInput& in, const std::string& path, int chbegin,
-                              int chend) {
-    const auto& spec = in.spec();
-    std::vector<float> buf(std::size_t(spec.width) * spec.height * (chend - chbegin));
-    const QuietCodecs quiet;
-    if (!in.read_image(0, 0, chbegin, chend, OIIO::TypeDesc::FLOAT, buf.data()))
-        io_fail(path, in.geterror());
-    return buf;
-}
+    const OiioHeader& header() const { return m_header; }
 
-bool is_float_format(OIIO::TypeDesc t) {
-    return t.basetype == OIIO::TypeDesc::FLOAT || t.basetype == OIIO::TypeDesc::HALF ||
-           t.basetype == OIIO::TypeDesc::DOUBLE;
+    /// Channels [chbegin, chend) of subimage 0 into `out` (pixels x channels values), as float
+    /// (integer formats normalised to [0, 1] by OIIO) or as 16-bit codes.
+    template <typename T>
+    void read(int chbegin, int chend, std::vector<T>& out) {
+        static_assert(std::is_same_v<T, float> || std::is_same_v<T, std::uint16_t>);
+        out.resize(std::size_t(m_header.width) * m_header.height * (chend - chbegin));
+        std::string error;
+        const QuietCodecs quiet;
+        if (!m_plugin->read(m_handle, chbegin, chend, std::is_same_v<T, std::uint16_t>, out.data(),
+                            error))
+            io_fail(m_path, error);
+    }
+
+private:
+    std::string m_path;
+    const io_detail::OiioPlugin* m_plugin = nullptr;
+    void* m_handle = nullptr;
+    OiioHeader m_header;
+};
+
+bool is_float_format(OiioPixel t) {
+    return t == OiioPixel::Float || t == OiioPixel::Half || t == OiioPixel::Double;
 }
 
 [[noreturn]] void fail_no_writer(const std::string& path) {
-    (void)OIIO::geterror();  // clear it: it may name a temporary, not the user's path
     const std::string ext = fs::path(path).extension().string();
     io_fail(path, (ext.empty() ? std::string("no extension to choose an image format by")
                                : "no image writer for the extension '" + ext + "'") +
                       " (use .png, .jpg, .tif or .exr)");
 }
 
-void add_metadata(OIIO::ImageSpec& spec, const ImageMetadata& meta) {
-    for (const auto& [name, value] : meta) spec.attribute(name, value);
-}
-
-/// Writes `data` (interleaved float, spec.nchannels per pixel) atomically; the temporary
-/// keeps the extension, so OIIO picks the same format. IoError names `path`.
-void write_image(const std::string& path, const OIIO::ImageSpec& spec,
+/// Writes `data` (interleaved float, spec.channels per pixel) atomically through OpenImageIO;
+/// the temporary keeps the extension, so OIIO picks the same format. IoError names `path`.
+void write_image(const std::string& path, const io_detail::OiioWriteSpec& spec,
                  const std::vector<float>& data) {
+    const io_detail::OiioPlugin& oiio = io_detail::oiio(path);
     write_atomically(path, [&](const std::string& tmp) {
-        const QuietCodecs quiet;
-        auto out = OIIO::ImageOutput::create(tmp);
-        if (!out) fail_no_writer(path);
-        if (!out->open(tmp, spec)) io_fail(path, out->geterror());
-        errno = 0;
-        bool ok = out->write_image(OIIO::TypeDesc::FLOAT, data.data());
-        ok = out->close() && ok;
-        if (!ok) {
-            std::string why = out->geterror();
-            if (errno != 0) why += std::string(" (") + std::strerror(errno) + ")";
-            io_fail(path, why.empty() ? std::string("write failed (disk full?)") : why);
+        std::string error;
+        io_detail::OiioWritten w;
+        {
+            const QuietCodecs quiet;
+            w = oiio.write(tmp, spec, data.data(), error);
         }
+        if (w == io_detail::OiioWritten::NoWriter) fail_no_writer(path);
+        if (w == io_detail::OiioWritten::Failed)
+            io_fail(path, error.empty() ? std::string("write failed (disk full?)") : error);
     });
 }
 
@@ -448,18 +458,17 @@ Image read_color_oiio(const std::string& path) {
             for (int c = 0; c < 3; ++c) rgb.data[i * 3 + c] = src.data[i];
         return rgb;
     }
-    auto in = open_input(path);
-    const auto spec = in->spec();
-    const int nch = spec.nchannels;
+    OiioInput in(path);
+    const OiioHeader& spec = in.header();
     // 1 = grey, 2 = grey + alpha; otherwise the first three are R, G, B (alpha dropped).
-    const int use = nch >= 3 ? 3 : 1;
-    std::vector<float> buf = read_float(*in, path, 0, use);
-    in->close();
-    const bool encoded = !is_float_format(spec.format);
+    const int use = spec.channels >= 3 ? 3 : 1;
+    std::vector<float> buf;
+    in.read(0, use, buf);
+    const bool encoded = !is_float_format(spec.pixel);
     // 8- and 16-bit files hold one of 2^bits codes: decode through a table of srgb_to_linear.
-    const int codes = spec.format.basetype == OIIO::TypeDesc::UINT8    ? 255
-                      : spec.format.basetype == OIIO::TypeDesc::UINT16 ? 65535
-                                                                       : 0;
+    const int codes = spec.pixel == OiioPixel::UInt8    ? 255
+                      : spec.pixel == OiioPixel::UInt16 ? 65535
+                                                        : 0;
     const float* lut = codes ? srgb_decode_table(codes) : nullptr;
     Image img(spec.width, spec.height, 3);
     const std::size_t n = std::size_t(spec.width) * spec.height;
@@ -529,36 +538,33 @@ Image read_depth_oiio(const std::string& path, const DepthReadOptions& opt) {
         return img;
     }
 
-    auto in = open_input(path);
-    const auto spec = in->spec();
-    const int ch = depth_channel(path, spec.channelnames, opt);
+    OiioInput in(path);
+    const OiioHeader& spec = in.header();
+    const int ch = depth_channel(path, spec.channel_names, opt);
     Image img(spec.width, spec.height, 1);
-    if (is_float_format(spec.format)) {
-        img.data = read_float(*in, path, ch, ch + 1);
-    } else if (spec.format.basetype == OIIO::TypeDesc::UINT16) {
-        std::vector<std::uint16_t> raw(img.data.size());
-        const QuietCodecs quiet;
-        if (!in->read_image(0, 0, ch, ch + 1, OIIO::TypeDesc::UINT16, raw.data()))
-            io_fail(path, in->geterror());
+    if (is_float_format(spec.pixel)) {
+        in.read(ch, ch + 1, img.data);
+    } else if (spec.pixel == OiioPixel::UInt16) {
+        std::vector<std::uint16_t> raw;
+        in.read(ch, ch + 1, raw);
         for (std::size_t i = 0; i < raw.size(); ++i)
             img.data[i] = float(double(raw[i]) * opt.scale);
     } else {
-        throw InputError(path + ": depth must be float or 16-bit integer, not " +
-                         std::string(spec.format.c_str()) +
+        throw InputError(path + ": depth must be float or 16-bit integer, not " + spec.pixel_name +
                          " (8 bits cannot hold a useful depth range)");
     }
-    in->close();
     return img;
 }
 
 }  // namespace
 
 bool has_image_writer(const std::string& path) {
-    if (fs::path(path).extension().empty()) return false;
+    const std::string ext = extension(path);
+    if (ext.empty()) return false;
+    // deepsea's own writers: answered without loading OpenImageIO.
+    if (writes_encoded(path) || ext == ".exr") return true;
     const QuietCodecs quiet;
-    const bool ok = OIIO::ImageOutput::create(path) != nullptr;
-    if (!ok) (void)OIIO::geterror();
-    return ok;
+    return io_detail::oiio(path).has_writer(path);
 }
 
 void require_image_writer(const std::string& path) {
@@ -646,17 +652,12 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
         return;
     }
     std::vector<float> data(n);
-    OIIO::ImageSpec spec;
     if (is_linear_extension(ext)) {
         // Float formats keep radiance above 1 (HDR); only non-finite values are cleaned.
         for (std::size_t i = 0; i < data.size(); ++i) {
             const float v = exposed(i);
             data[i] = std::isfinite(v) ? v : 0.0f;
         }
-        spec = OIIO::ImageSpec(linear_rgb.width, linear_rgb.height, nch,
-                               ext == ".exr" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-        if (ext == ".exr") spec.attribute("compression", "zip");
-        spec.attribute("oiio:ColorSpace", "Linear");
     } else {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, data.size(), 8192),
                           [&](const auto& r) {
@@ -666,12 +667,31 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
                                   data[i] = linear_to_srgb(v);
                               }
                           });
-        spec = OIIO::ImageSpec(linear_rgb.width, linear_rgb.height, nch,
-                               bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
-        spec.attribute("oiio:ColorSpace", "sRGB");
     }
-    if (nch == 3) spec.channelnames = {"R", "G", "B"};
-    add_metadata(spec, meta);
+    const std::vector<std::string> names =
+        nch == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
+    if (ext == ".exr") {
+        // Through OpenEXR itself, as OpenImageIO wrote them: half, ZIP, the metadata as string
+        // attributes.
+        std::vector<io_detail::ExrChannel> channels;
+        for (int c = 0; c < nch; ++c) channels.push_back({names[c], data.data() + c, nch});
+        io_detail::write_exr(path, linear_rgb.width, linear_rgb.height, channels, true, "zip",
+                             meta);
+        return;
+    }
+    io_detail::OiioWriteSpec spec;
+    spec.width = linear_rgb.width;
+    spec.height = linear_rgb.height;
+    spec.channels = nch;
+    spec.channel_names = names;
+    spec.attributes = meta;
+    if (is_linear_extension(ext)) {
+        spec.pixel = OiioPixel::Float;
+        spec.attributes.emplace_back("oiio:ColorSpace", "Linear");
+    } else {
+        spec.pixel = bits == 16 ? OiioPixel::UInt16 : OiioPixel::UInt8;
+        spec.attributes.emplace_back("oiio:ColorSpace", "sRGB");
+    }
     write_image(path, spec, data);
 }
 
@@ -696,10 +716,8 @@ void write_depth_exr(const std::string& path, const Image& depth) {
         throw InputError(path + ": a depth map has 1 channel, got " +
                          std::to_string(depth.channels));
     if (depth.empty()) throw InputError(path + ": empty depth map");
-    OIIO::ImageSpec spec(depth.width, depth.height, 1, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"Z"};
-    spec.attribute("compression", "zip");
-    write_image(path, spec, depth.data);
+    io_detail::write_exr(path, depth.width, depth.height, {{"Z", depth.data.data(), 1}}, false,
+                         "zip", {});
 }
 
 void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& layers,

@@ -52,5 +52,16 @@ PY
 echo "ok Blender script: finds $found"
 
 [[ $("$prefix/bin/deepsea" --version) == "deepsea $version" ]] || fail "--version"
+
+# OpenImageIO's module: installed, and the one the installed binary loads (a .tif output is
+# checked for a writer before the asset is opened).
+[[ -f $libdir/deepsea/libdeepsea_oiio.so ]] || fail "no deepsea/libdeepsea_oiio.so in $libdir"
+rm -f "$prefix"/ld.*
+LD_DEBUG=files LD_DEBUG_OUTPUT="$prefix/ld" "$prefix/bin/deepsea" render --asset "$prefix/no.vdb" \
+  --rgb x.png --depth x.exr -o "$prefix/x.tif" >/dev/null 2>&1 || true
+module=$(grep -h -o "file=[^ ]*libdeepsea_oiio.so" "$prefix"/ld.* | head -1 | cut -d= -f2)
+[[ -n $module && $module -ef $libdir/deepsea/libdeepsea_oiio.so ]] \
+  || fail "the installed binary loaded '${module:-no module}', not the installed one"
+echo "ok OpenImageIO module: $module"
 "$prefix/bin/deepsea" import-config --help >/dev/null
 echo "package install: OK"

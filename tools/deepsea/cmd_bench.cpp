@@ -290,8 +290,8 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
 
 void run(const BenchArgs& a) {
     if (a.repeats < 1) throw ConfigError("--repeats must be >= 1");
-    // Resident memory before any work: mostly the shared libraries that Debian's OpenImageIO
-    // pulls in (about 270 of them), counted in every case's peak.
+    // Resident memory before any work: mostly the shared libraries (OpenVDB, OpenEXR, TBB, the
+    // C++ runtime; OpenImageIO's are loaded only if a case needs it), counted in every peak.
     const double baseline_mb = status_kb("VmRSS: %lf kB") / 1024.0;
     const int threads = a.threads > 0 ? a.threads : tbb::info::default_concurrency();
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
