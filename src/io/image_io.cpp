@@ -108,13 +108,13 @@ public:
     explicit OiioInput(const std::string& path) : m_path(path) {
         require_readable(path);
         check_exr_header(path);
-        m_plugin = &io_detail::oiio(path);
+        m_input.plugin = &io_detail::oiio(path);
         std::string error;
         {
             const QuietCodecs quiet;
-            m_handle = m_plugin->open(path, m_header, error);
+            m_input.handle = m_input.plugin->open(path, m_header, error);
         }
-        if (!m_handle) io_fail(path, error);
+        if (!m_input.handle) io_fail(path, error);
         check_image_size(m_header.width, m_header.height, m_header.channels, path);
         if (m_header.format_name == "png") {
             std::error_code ec;
@@ -124,7 +124,6 @@ public:
         if (m_header.depth > 1)
             io_fail(path, "a volume image (depth " + std::to_string(m_header.depth) + ")");
     }
-    ~OiioInput() { m_plugin->close(m_handle); }
     OiioInput(const OiioInput&) = delete;
     OiioInput& operator=(const OiioInput&) = delete;
 
@@ -138,15 +137,22 @@ public:
         out.resize(std::size_t(m_header.width) * m_header.height * (chend - chbegin));
         std::string error;
         const QuietCodecs quiet;
-        if (!m_plugin->read(m_handle, chbegin, chend, std::is_same_v<T, std::uint16_t>, out.data(),
-                            error))
+        if (!m_input.plugin->read(m_input.handle, chbegin, chend, std::is_same_v<T, std::uint16_t>,
+                                  out.data(), error))
             io_fail(m_path, error);
     }
 
 private:
+    /// Closed by its destructor, also when a header check throws from OiioInput's constructor.
+    struct Handle {
+        const io_detail::OiioPlugin* plugin = nullptr;
+        void* handle = nullptr;
+        ~Handle() {
+            if (handle) plugin->close(handle);
+        }
+    };
     std::string m_path;
-    const io_detail::OiioPlugin* m_plugin = nullptr;
-    void* m_handle = nullptr;
+    Handle m_input;
     OiioHeader m_header;
 };
 
