@@ -21,38 +21,53 @@ int bucket_count(const std::vector<double>& z) {
     return int(std::clamp(n, 1024.0, double(1 << 20)));
 }
 
-/// One image row's slice of the asset: for every lattice column i and sample k, the values of
-/// the row's two lattice rows blended by the row weight w (vertical interpolation done once
-/// per row instead of once per pixel). a, b: the two rows' values, `columns` blocks of `block`
-/// floats each, `stride` floats apart.
+/// Each pixel's slab k and weight wz within it: the slab from the bucket table plus at most one
+/// step. z == 0 (open water) looks up z_max, as does any depth beyond it.
 DEEPSEA_CLONES
-void blend_rows(int columns, int block, std::size_t stride, const float* __restrict a,
-                const float* __restrict b, float w, float* __restrict out) {
-    for (int i = 0; i < columns; ++i) {
-        const float* pa = a + i * stride;
-        const float* pb = b + i * stride;
-        float* o = out + std::size_t(i) * block;
-#pragma omp simd
-        for (int m = 0; m < block; ++m) o[m] = lerp(pa[m], pb[m], w);
-    }
-}
-
-/// B for one image row from its slice (blend_rows), planar RGB out: linear between the two
-/// lattice columns of each pixel and between two depth samples, the slab from the bucket
-/// table plus at most one step.
-DEEPSEA_CLONES
-void lookup_row(int n, const float* __restrict z, const float* __restrict slice,
-                const int* __restrict col0, const int* __restrict col1,
-                const float* __restrict colw, const float* __restrict zs,
-                const float* __restrict znext, const float* __restrict inv_h,
-                const int* __restrict bucket, int last_bucket, float bucket_scale, float z_max,
-                float* __restrict out) {
+void depth_cells(int n, const float* __restrict z, const float* __restrict zs,
+                 const float* __restrict znext, const float* __restrict inv_h,
+                 const int* __restrict bucket, int last_bucket, float bucket_scale, float z_max,
+                 int* __restrict k_out, float* __restrict wz_out) {
     for (int u = 0; u < n; ++u) {
-        // z == 0 (open water) looks up z_max, as does any depth beyond it.
         const float zz = z[u] > 0.0f ? std::min(z[u], z_max) : z_max;
         int k = bucket[std::min(int(zz * bucket_scale), last_bucket)];
         k += znext[k] <= zz ? 1 : 0;
-        const float wz = std::clamp((zz - zs[k]) * inv_h[k], 0.0f, 1.0f);
+        k_out[u] = k;
+        wz_out[u] = std::clamp((zz - zs[k]) * inv_h[k], 0.0f, 1.0f);
+    }
+}
+
+/// The slabs [lo, hi] that pixels [begin, end) use.
+DEEPSEA_CLONES
+void slab_range(int begin, int end, const int* __restrict k, int& lo, int& hi) {
+    int a = lo, b = hi;
+#pragma omp simd reduction(min : a) reduction(max : b)
+    for (int u = begin; u < end; ++u) {
+        a = std::min(a, k[u]);
+        b = std::max(b, k[u]);
+    }
+    lo = a;
+    hi = b;
+}
+
+/// Vertical interpolation once per row rather than per pixel: samples [m0, m1) of one lattice
+/// column, blended between the row's two lattice rows a and b by the row weight w.
+DEEPSEA_CLONES
+void blend_rows(int m0, int m1, const float* __restrict a, const float* __restrict b, float w,
+                float* __restrict out) {
+#pragma omp simd
+    for (int m = m0; m < m1; ++m) out[m] = lerp(a[m], b[m], w);
+}
+
+/// B for one image row from its slice (blend_rows), planar RGB out: linear between the two
+/// lattice columns of each pixel and between the samples of its slab (depth_cells).
+DEEPSEA_CLONES
+void lookup_row(int n, const float* __restrict slice, const int* __restrict col0,
+                const int* __restrict col1, const float* __restrict colw,
+                const int* __restrict slab, const float* __restrict wzs, float* __restrict out) {
+    for (int u = 0; u < n; ++u) {
+        const int k = slab[u];
+        const float wz = wzs[u];
         const float* p0 = slice + col0[u] + 3 * k;
         const float* p1 = slice + col1[u] + 3 * k;
         const float cw = colw[u];
@@ -83,10 +98,15 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
         taps(camera.width, camera.fx, camera.cx, ac.fx, ac.cx, l.ni);
     // Offsets into a row's slice (blend_rows): column i's samples start at 3 nk i.
     const int block = 3 * l.nk();
-    for (const LatticeCell<float>& t : cols) {
+    for (int u = 0; u < camera.width; ++u) {
+        const LatticeCell<float>& t = cols[u];
         m_col0.push_back(t.i0 * block);
         m_col1.push_back(t.i1 * block);
         m_colw.push_back(t.w);
+        if (m_spans.empty() || m_spans.back().i0 != t.i0 || m_spans.back().i1 != t.i1) {
+            m_spans.push_back({u, u, t.i0, t.i1});
+        }
+        m_spans.back().end = u + 1;
     }
 
     const int K = l.slabs();
@@ -112,14 +132,40 @@ void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out)
     const LatticeCell<float> t = m_rows[v];
     const int block = 3 * l.nk();
     const std::size_t stride = std::size_t(l.nj) * block;  // from column i to i + 1
-    thread_local std::vector<float> slice;
-    slice.resize(std::size_t(l.ni) * block);
+    struct Scratch {
+        std::vector<float> slice, wz;
+        std::vector<int> slab, lo, hi;
+    };
+    thread_local Scratch s;
+    s.slice.resize(std::size_t(l.ni) * block);
+    s.wz.resize(n);
+    s.slab.resize(n);
+    depth_cells(n, z, m_z.data(), m_znext.data(), m_inv_h.data(), m_bucket.data(),
+                int(m_bucket.size()) - 1, m_bucket_scale, m_z.back(), s.slab.data(), s.wz.data());
+    // Only the slabs the row's pixels use are blended (a smooth surface uses one to three per
+    // lattice column of the 64 or so): each column's range over the pixels on either side.
+    s.lo.assign(l.ni, l.slabs());
+    s.hi.assign(l.ni, -1);
+    for (const Span& sp : m_spans) {
+        if (sp.begin >= n) break;
+        int lo = l.slabs(), hi = -1;
+        slab_range(sp.begin, std::min(sp.end, n), s.slab.data(), lo, hi);
+        for (const int i : {sp.i0, sp.i1}) {
+            s.lo[i] = std::min(s.lo[i], lo);
+            s.hi[i] = std::max(s.hi[i], hi);
+        }
+    }
     const float* values = m_asset.values.data();
-    blend_rows(l.ni, block, stride, values + std::size_t(t.i0) * block,
-               values + std::size_t(t.i1) * block, t.w, slice.data());
-    lookup_row(n, z, slice.data(), m_col0.data(), m_col1.data(), m_colw.data(), m_z.data(),
-               m_znext.data(), m_inv_h.data(), m_bucket.data(), int(m_bucket.size()) - 1,
-               m_bucket_scale, m_z.back(), out);
+    const float* a = values + std::size_t(t.i0) * block;
+    const float* b = values + std::size_t(t.i1) * block;
+    for (int i = 0; i < l.ni; ++i) {
+        if (s.hi[i] < 0) continue;
+        // samples lo .. hi + 1, three floats each
+        blend_rows(3 * s.lo[i], 3 * (s.hi[i] + 2), a + i * stride, b + i * stride, t.w,
+                   s.slice.data() + std::size_t(i) * block);
+    }
+    lookup_row(n, s.slice.data(), m_col0.data(), m_col1.data(), m_colw.data(), s.slab.data(),
+               s.wz.data(), out);
 }
 
 }  // namespace deepsea

@@ -27,6 +27,11 @@ private:
     /// per column), and the weight of the second.
     std::vector<int> m_col0, m_col1;
     std::vector<float> m_colw;
+    /// Runs of image columns [begin, end) between the same two lattice columns i0, i1.
+    struct Span {
+        int begin, end, i0, i1;
+    };
+    std::vector<Span> m_spans;
     // Depth lookup without a log or a search per pixel: uniform buckets over [0, z_max], no
     // wider than the thinnest slab, each holding the slab its start falls in; the right slab
     // is that one or the next.
