@@ -143,10 +143,44 @@ std::uint32_t be32_at(const std::uint8_t* p) {
     return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
 }
 
+/// One row of PNG's filters "sub", "average" and "Paeth", which read the pixel to the left as
+/// just decoded: B (bytes per pixel) is a constant, so that the left pixel (and for Paeth the
+/// one above it) stays in registers instead of being read back from the row just written, a
+/// store-to-load round trip on every byte's dependency chain. n is a multiple of B.
+template <int B>
+void unfilter_left(int type, const std::uint8_t* x, const std::uint8_t* up, std::uint8_t* out,
+                   std::size_t n) {
+    std::uint8_t a[B], c[B];  // left, and up-left
+    for (int k = 0; k < B; ++k) {
+        a[k] = std::uint8_t(x[k] + (type == 1 ? 0 : type == 3 ? up[k] >> 1 : up[k]));
+        c[k] = up[k];
+        out[k] = a[k];
+    }
+    if (type == 1) {  // sub: the byte one pixel to the left
+        for (std::size_t i = B; i < n; i += B)
+            for (int k = 0; k < B; ++k) out[i + k] = a[k] = std::uint8_t(x[i + k] + a[k]);
+    } else if (type == 3) {  // average of left and up
+        for (std::size_t i = B; i < n; i += B)
+            for (int k = 0; k < B; ++k)
+                out[i + k] = a[k] = std::uint8_t(x[i + k] + ((unsigned(a[k]) + up[i + k]) >> 1));
+    } else {  // Paeth: whichever of left, up and up-left is nearest left + up - up-left
+        for (std::size_t i = B; i < n; i += B) {
+            for (int k = 0; k < B; ++k) {
+                const int l = a[k], ul = c[k], u = up[i + k];
+                const int pa = std::abs(u - ul), pb = std::abs(l - ul),
+                          pc = std::abs(l + u - 2 * ul);
+                const int p = pa <= pb && pa <= pc ? l : pb <= pc ? u : ul;
+                out[i + k] = a[k] = std::uint8_t(x[i + k] + p);
+                c[k] = std::uint8_t(u);
+            }
+        }
+    }
+}
+
 /// Undoes PNG's row filters: `rows` rows of n bytes, each after its filter byte in src, into
-/// dst (rows of n bytes, the row above read back from dst); bpp bytes per pixel. False for a
-/// filter type PNG does not define. dst may be src itself: each byte is written below the
-/// bytes still to be read.
+/// dst (rows of n bytes, the row above read back from dst); bpp (3 or 6) bytes per pixel.
+/// False for a filter type PNG does not define. dst may be src itself: each byte is written
+/// below the bytes still to be read.
 bool unfilter_rows(const std::uint8_t* src, int rows, std::size_t n, int bpp, std::uint8_t* dst) {
     thread_local std::vector<std::uint8_t> zeros;
     zeros.assign(n, 0);
@@ -155,33 +189,22 @@ bool unfilter_rows(const std::uint8_t* src, int rows, std::size_t n, int bpp, st
         const std::uint8_t* up = y ? dst + std::size_t(y - 1) * n : zeros.data();
         std::uint8_t* out = dst + std::size_t(y) * n;
         const std::uint8_t* x = in + 1;
-        const std::size_t b = std::size_t(bpp);
         switch (in[0]) {
             case 0:
                 std::memmove(out, x, n);
                 break;
-            case 1:  // sub: the byte one pixel to the left
-                for (std::size_t i = 0; i < std::min(b, n); ++i) out[i] = x[i];
-                for (std::size_t i = b; i < n; ++i) out[i] = std::uint8_t(x[i] + out[i - b]);
-                break;
             case 2:  // up
                 for (std::size_t i = 0; i < n; ++i) out[i] = std::uint8_t(x[i] + up[i]);
                 break;
-            case 3:  // average of left and up
-                for (std::size_t i = 0; i < std::min(b, n); ++i)
-                    out[i] = std::uint8_t(x[i] + (up[i] >> 1));
-                for (std::size_t i = b; i < n; ++i)
-                    out[i] = std::uint8_t(x[i] + ((unsigned(out[i - b]) + up[i]) >> 1));
-                break;
-            case 4:  // Paeth: whichever of left, up and up-left is nearest left + up - up-left
-                for (std::size_t i = 0; i < std::min(b, n); ++i)
-                    out[i] = std::uint8_t(x[i] + up[i]);
-                for (std::size_t i = b; i < n; ++i) {
-                    const int a = out[i - b], c = up[i - b], u = up[i];
-                    const int pa = std::abs(u - c), pb = std::abs(a - c),
-                              pc = std::abs(a + u - 2 * c);
-                    const int p = pa <= pb && pa <= pc ? a : pb <= pc ? u : c;
-                    out[i] = std::uint8_t(x[i] + p);
+            case 1:
+            case 3:
+            case 4:
+                if (bpp == 3) {
+                    unfilter_left<3>(in[0], x, up, out, n);
+                } else if (bpp == 6) {
+                    unfilter_left<6>(in[0], x, up, out, n);
+                } else {
+                    return false;
                 }
                 break;
             default:
