@@ -143,6 +143,54 @@ std::uint32_t be32_at(const std::uint8_t* p) {
     return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
 }
 
+#if defined(__SSE2__)
+/// PNG's Paeth filter from a row's second pixel on, one pixel (B <= 8 bytes) per step in 16-bit
+/// lanes and without branches: the scalar choice between left, up and up-left mispredicts on
+/// real images (about 30 cycles a pixel on the authors' frames). Each step loads 8 bytes from
+/// the pixel's start, so it stops where that would pass the row's end (the scalar loop does
+/// the rest), and stores exactly the pixel's B bytes: in place, the next pixel's filtered bytes
+/// lie just after it. a and c: the left and up-left pixels, updated. Returns the first byte not
+/// done.
+template <int B>
+std::size_t paeth_sse2(const std::uint8_t* x, const std::uint8_t* up, std::uint8_t* out,
+                       std::size_t n, std::uint8_t* a, std::uint8_t* c) {
+    static_assert(B <= 8);
+    const __m128i zero = _mm_setzero_si128(), bytes = _mm_set1_epi16(0xff);
+    const auto load = [&](const std::uint8_t* p) {
+        return _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), zero);
+    };
+    const auto abs16 = [](__m128i v) {
+        return _mm_max_epi16(v, _mm_sub_epi16(_mm_setzero_si128(), v));
+    };
+    std::uint8_t pa8[8] = {}, pc8[8] = {};
+    std::memcpy(pa8, a, B);
+    std::memcpy(pc8, c, B);
+    __m128i left = load(pa8), upleft = load(pc8);
+    std::size_t i = B;
+    for (; i + 8 <= n; i += B) {
+        const __m128i above = load(up + i);
+        const __m128i bc = _mm_sub_epi16(above, upleft), ac = _mm_sub_epi16(left, upleft);
+        const __m128i pa = abs16(bc), pb = abs16(ac), pc = abs16(_mm_add_epi16(bc, ac));
+        // left if pa <= pb and pa <= pc; else up if pb <= pc; else up-left
+        const __m128i not_left = _mm_or_si128(_mm_cmpgt_epi16(pa, pb), _mm_cmpgt_epi16(pa, pc));
+        const __m128i not_up = _mm_cmpgt_epi16(pb, pc);
+        const __m128i other =
+            _mm_or_si128(_mm_and_si128(not_up, upleft), _mm_andnot_si128(not_up, above));
+        const __m128i pred =
+            _mm_or_si128(_mm_and_si128(not_left, other), _mm_andnot_si128(not_left, left));
+        left = _mm_and_si128(_mm_add_epi16(load(x + i), pred), bytes);
+        upleft = above;
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(pa8), _mm_packus_epi16(left, zero));
+        std::memcpy(out + i, pa8, B);
+    }
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(pa8), _mm_packus_epi16(left, zero));
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(pc8), _mm_packus_epi16(upleft, zero));
+    std::memcpy(a, pa8, B);
+    std::memcpy(c, pc8, B);
+    return i;
+}
+#endif
+
 /// One row of PNG's filters "sub", "average" and "Paeth", which read the pixel to the left as
 /// just decoded: B (bytes per pixel) is a constant, so that the left pixel (and for Paeth the
 /// one above it) stays in registers instead of being read back from the row just written, a
@@ -164,7 +212,11 @@ void unfilter_left(int type, const std::uint8_t* x, const std::uint8_t* up, std:
             for (int k = 0; k < B; ++k)
                 out[i + k] = a[k] = std::uint8_t(x[i + k] + ((unsigned(a[k]) + up[i + k]) >> 1));
     } else {  // Paeth: whichever of left, up and up-left is nearest left + up - up-left
-        for (std::size_t i = B; i < n; i += B) {
+        std::size_t i = B;
+#if defined(__SSE2__)
+        i = paeth_sse2<B>(x, up, out, n, a, c);
+#endif
+        for (; i < n; i += B) {
             for (int k = 0; k < B; ++k) {
                 const int l = a[k], ul = c[k], u = up[i + k];
                 const int pa = std::abs(u - ul), pb = std::abs(l - ul),
