@@ -837,80 +837,90 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
 
     const int blocks = (height + lines - 1) / lines;
     const std::size_t block_bytes = line_bytes * std::size_t(lines);
-    // The compressed blocks one after the other (OpenEXR reads up to a whole block's
-    // uncompressed size into the place it is given: room for that is kept at the end).
-    // (References: the workers below must see this thread's buffers, not their own.)
+    // The compressed blocks of a group one after the other (OpenEXR reads up to a whole
+    // block's uncompressed size into the place it is given: room for that is kept at the end).
+    // Groups of about 2 MB of pixels are read, then inflated in parallel, so that what is held
+    // at once is a group's compressed data, not the file's (10 MB for a 1080p float depth, per
+    // reading thread). (References: the workers below must see this thread's buffers, not
+    // their own.)
     thread_local std::vector<char> t_packed;
     thread_local std::vector<std::size_t> t_start;
     std::vector<char>& packed = t_packed;
     std::vector<std::size_t>& start = t_start;
-    start.assign(std::size_t(blocks) + 1, 0);
-    try {
-        for (int b = 0; b < blocks; ++b) {
-            if (packed.size() < start[b] + block_bytes) packed.resize(start[b] + block_bytes);
-            int size = int(block_bytes);
-            file.rawPixelDataToBuffer(y0 + b * lines, packed.data() + start[b], size);
-            if (size < 0 || std::size_t(size) > block_bytes)
-                io_fail(path, "block at line " + std::to_string(y0 + b * lines) + " is too large");
-            start[b + 1] = start[b] + std::size_t(size);
-        }
-    } catch (const Error&) {
-        throw;
-    } catch (const std::exception& e) {
-        io_fail(path, e.what());
-    }
+    const int group = std::max(1, int((std::size_t(2) << 20) / block_bytes));
     std::mutex mutex;
     std::string error;
     const std::size_t nc = names.size(), w = std::size_t(width);
-    tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(0, blocks, [&](int b) {
-            thread_local Decompressor inflater;
-            thread_local std::vector<unsigned char> inflated, raw;
-            const int n = std::min(lines, height - b * lines);
-            const std::size_t expect = line_bytes * std::size_t(n);
-            const auto* src = reinterpret_cast<const unsigned char*>(packed.data() + start[b]);
-            const std::size_t got = start[b + 1] - start[b];
-            const unsigned char* data = src;  // a block that would not shrink is stored as is
-            if (got < expect) {
-                inflated.resize(expect);
-                std::size_t out = 0;
-                if (libdeflate_zlib_decompress(inflater.d, src, got, inflated.data(), expect,
-                                               &out) != LIBDEFLATE_SUCCESS ||
-                    out != expect) {
+    for (int g0 = 0; g0 < blocks && error.empty(); g0 += group) {
+        const int g1 = std::min(blocks, g0 + group);
+        start.assign(std::size_t(g1 - g0) + 1, 0);
+        try {
+            for (int b = g0; b < g1; ++b) {
+                const std::size_t at = start[b - g0];
+                if (packed.size() < at + block_bytes) packed.resize(at + block_bytes);
+                int size = int(block_bytes);
+                file.rawPixelDataToBuffer(y0 + b * lines, packed.data() + at, size);
+                if (size < 0 || std::size_t(size) > block_bytes)
+                    io_fail(path,
+                            "block at line " + std::to_string(y0 + b * lines) + " is too large");
+                start[b - g0 + 1] = at + std::size_t(size);
+            }
+        } catch (const Error&) {
+            throw;
+        } catch (const std::exception& e) {
+            io_fail(path, e.what());
+        }
+        tbb::this_task_arena::isolate([&] {
+            tbb::parallel_for(g0, g1, [&](int b) {
+                thread_local Decompressor inflater;
+                thread_local std::vector<unsigned char> inflated, raw;
+                const int n = std::min(lines, height - b * lines);
+                const std::size_t expect = line_bytes * std::size_t(n);
+                const auto* src =
+                    reinterpret_cast<const unsigned char*>(packed.data() + start[b - g0]);
+                const std::size_t got = start[b - g0 + 1] - start[b - g0];
+                const unsigned char* data = src;  // a block that would not shrink is stored as is
+                if (got < expect) {
+                    inflated.resize(expect);
+                    std::size_t out = 0;
+                    if (libdeflate_zlib_decompress(inflater.d, src, got, inflated.data(), expect,
+                                                   &out) != LIBDEFLATE_SUCCESS ||
+                        out != expect) {
+                        std::lock_guard<std::mutex> lock(mutex);
+                        error = "corrupt ZIP block at line " + std::to_string(y0 + b * lines);
+                        return;
+                    }
+                    // One float channel alone in the file: its lines are the destination's rows.
+                    const bool direct = nc == 1 && line_bytes == 4 * w;
+                    if (!direct) raw.resize(expect);
+                    unsigned char* to =
+                        direct ? reinterpret_cast<unsigned char*>(dst + std::size_t(b) * lines * w)
+                               : raw.data();
+                    unzip_block(inflated.data(), expect, to);
+                    if (direct) return;
+                    data = raw.data();
+                } else if (got != expect) {
                     std::lock_guard<std::mutex> lock(mutex);
-                    error = "corrupt ZIP block at line " + std::to_string(y0 + b * lines);
+                    error = "block at line " + std::to_string(y0 + b * lines) + " has " +
+                            std::to_string(got) + " bytes, expected " + std::to_string(expect);
                     return;
                 }
-                // One float channel alone in the file: its lines are the destination's rows.
-                const bool direct = nc == 1 && line_bytes == 4 * w;
-                if (!direct) raw.resize(expect);
-                unsigned char* to =
-                    direct ? reinterpret_cast<unsigned char*>(dst + std::size_t(b) * lines * w)
-                           : raw.data();
-                unzip_block(inflated.data(), expect, to);
-                if (direct) return;
-                data = raw.data();
-            } else if (got != expect) {
-                std::lock_guard<std::mutex> lock(mutex);
-                error = "block at line " + std::to_string(y0 + b * lines) + " has " +
-                        std::to_string(got) + " bytes, expected " + std::to_string(expect);
-                return;
-            }
-            for (int l = 0; l < n; ++l) {
-                const std::size_t y = std::size_t(b) * lines + l;
-                for (std::size_t c = 0; c < nc; ++c) {
-                    const unsigned char* in = data + line_bytes * l + offset[c];
-                    float* out = dst + y * w * nc + c;
-                    if (nc == 1) {
-                        std::memcpy(out, in, 4 * w);  // little-endian, as the file
-                    } else {
-                        for (std::size_t x = 0; x < w; ++x)
-                            std::memcpy(out + x * nc, in + 4 * x, 4);
+                for (int l = 0; l < n; ++l) {
+                    const std::size_t y = std::size_t(b) * lines + l;
+                    for (std::size_t c = 0; c < nc; ++c) {
+                        const unsigned char* in = data + line_bytes * l + offset[c];
+                        float* out = dst + y * w * nc + c;
+                        if (nc == 1) {
+                            std::memcpy(out, in, 4 * w);  // little-endian, as the file
+                        } else {
+                            for (std::size_t x = 0; x < w; ++x)
+                                std::memcpy(out + x * nc, in + 4 * x, 4);
+                        }
                     }
                 }
-            }
+            });
         });
-    });
+    }
     if (!error.empty()) io_fail(path, error);
     return true;
 }
