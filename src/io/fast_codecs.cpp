@@ -41,6 +41,7 @@
 #include <thread>
 #include <utility>
 
+#include "buffer_pool.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "file_checks.h"
@@ -132,7 +133,12 @@ spng_ihdr png_header(const std::string& path, SpngCtx& c, const std::vector<std:
     return ihdr;
 }
 
-thread_local std::vector<std::uint8_t> t_file;  // the encoded file, reused frame to frame
+/// A decoder's scratch: the encoded file, and for PNGs the joined IDAT data, the inflated
+/// stream of a 16-bit file and its unfiltered rows.
+struct DecodeScratch {
+    std::vector<std::uint8_t> file, idat, inflated, rows16;
+};
+BufferPool<DecodeScratch> decode_scratch;
 
 struct Decompressor {
     libdeflate_decompressor* d = libdeflate_alloc_decompressor();
@@ -243,15 +249,13 @@ bool unfilter_rows(const std::uint8_t* src, int rows, std::size_t n, int bpp, st
     return true;
 }
 
-thread_local std::vector<std::uint8_t> t_idat, t_inflated, t_rows16;
-
 /// decode_png_rgb's path for the commonest dataset PNG, RGB at 8 or 16 bits and not interlaced:
 /// the IDAT stream inflated whole by libdeflate (about twice zlib's speed; libspng inflates
 /// with zlib) and unfiltered straight into `out`. False, for libspng to decode the file or
 /// name its fault, for anything else: another colour type, a critical chunk with a bad CRC or
 /// of another kind, IDAT chunks apart, no IEND, a stream that is not the image's size.
-bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihdr& ihdr,
-                           PngRgb& out) {
+bool decode_png_rgb_direct(DecodeScratch& s, const spng_ihdr& ihdr, PngRgb& out) {
+    const std::vector<std::uint8_t>& file = s.file;
     if (ihdr.color_type != SPNG_COLOR_TYPE_TRUECOLOR || ihdr.interlace_method != 0 ||
         (ihdr.bit_depth != 8 && ihdr.bit_depth != 16)) {
         return false;
@@ -288,16 +292,16 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
     thread_local Decompressor inflater;
     if (!inflater.d) return false;
     // 8 bits: inflated into the codes' own buffer and unfiltered there (no second image).
-    std::vector<std::uint8_t>& inflated = bytes == 1 ? out.rgb8 : t_inflated;
+    std::vector<std::uint8_t>& inflated = bytes == 1 ? out.rgb8 : s.inflated;
     inflated.resize(expect);
     std::size_t got = 0;
     const std::uint8_t* stream = idat_data[0].first;
     std::size_t stream_size = idat_data[0].second;
     if (idat_data.size() > 1) {
-        t_idat.clear();
-        for (const auto& [p, n] : idat_data) t_idat.insert(t_idat.end(), p, p + n);
-        stream = t_idat.data();
-        stream_size = t_idat.size();
+        s.idat.clear();
+        for (const auto& [p, n] : idat_data) s.idat.insert(s.idat.end(), p, p + n);
+        stream = s.idat.data();
+        stream_size = s.idat.size();
     }
     if (libdeflate_zlib_decompress(inflater.d, stream, stream_size, inflated.data(), expect,
                                    &got) != LIBDEFLATE_SUCCESS ||
@@ -310,10 +314,10 @@ bool decode_png_rgb_direct(const std::vector<std::uint8_t>& file, const spng_ihd
         out.rgb8.resize(n);
         out.bits = 8;
     } else {
-        t_rows16.resize(row * h);
-        if (!unfilter_rows(t_inflated.data(), h, row, 6, t_rows16.data())) return false;
+        s.rows16.resize(row * h);
+        if (!unfilter_rows(s.inflated.data(), h, row, 6, s.rows16.data())) return false;
         out.rgb16.resize(n);
-        const std::uint8_t* b = t_rows16.data();
+        const std::uint8_t* b = s.rows16.data();
         for (std::size_t i = 0; i < n; ++i)
             out.rgb16[i] = std::uint16_t(b[2 * i] << 8 | b[2 * i + 1]);
         out.bits = 16;
@@ -329,10 +333,11 @@ thread_local std::vector<std::uint8_t> t_rgba8;
 }  // namespace
 
 void decode_png_rgb(const std::string& path, PngRgb& out) {
-    read_whole_file(path, t_file);
+    const auto scratch = decode_scratch.take();
+    read_whole_file(path, scratch->file);
     SpngCtx c;
-    const spng_ihdr ihdr = png_header(path, c, t_file);
-    if (decode_png_rgb_direct(t_file, ihdr, out)) return;
+    const spng_ihdr ihdr = png_header(path, c, scratch->file);
+    if (decode_png_rgb_direct(*scratch, ihdr, out)) return;
     out.width = int(ihdr.width);
     out.height = int(ihdr.height);
     const std::size_t n = std::size_t(out.width) * out.height;
@@ -372,9 +377,10 @@ void decode_png_rgb(const std::string& path, PngRgb& out) {
 
 bool decode_png_grey16(const std::string& path, int& width, int& height,
                        std::vector<std::uint16_t>& values) {
-    read_whole_file(path, t_file);
+    const auto scratch = decode_scratch.take();
+    read_whole_file(path, scratch->file);
     SpngCtx c;
-    const spng_ihdr ihdr = png_header(path, c, t_file);
+    const spng_ihdr ihdr = png_header(path, c, scratch->file);
     if (ihdr.color_type != SPNG_COLOR_TYPE_GRAYSCALE || ihdr.bit_depth != 16) return false;
     width = int(ihdr.width);
     height = int(ihdr.height);
@@ -413,8 +419,11 @@ struct Compressor {
     ~Compressor() { libdeflate_free_compressor(c); }
 };
 
-thread_local std::vector<std::uint8_t> t_filtered;
-thread_local std::vector<std::uint8_t> t_png;
+/// write_png's scratch: the filtered rows and the file being built.
+struct EncodeScratch {
+    std::vector<std::uint8_t> filtered, png;
+};
+BufferPool<EncodeScratch> encode_scratch;
 
 }  // namespace
 
@@ -425,7 +434,8 @@ void write_png(const std::string& path, int width, int height, int channels,
     const std::size_t row = std::size_t(width) * channels * bytes;
     // Filter "up" (each byte minus the one above): the cheapest filter that helps, on rendered
     // frames as small as libpng's adaptive choice at a fraction of the time.
-    std::vector<std::uint8_t>& f = t_filtered;
+    const auto scratch = encode_scratch.take();
+    std::vector<std::uint8_t>& f = scratch->filtered;
     f.resize((row + 1) * height);
     std::vector<std::uint8_t> prev(row, 0), cur(row);
     for (int y = 0; y < height; ++y) {
@@ -445,7 +455,7 @@ void write_png(const std::string& path, int width, int height, int channels,
     }
     static thread_local Compressor comp;
     if (!comp.c) io_fail(path, "out of memory");
-    std::vector<std::uint8_t>& png = t_png;
+    std::vector<std::uint8_t>& png = scratch->png;
     png.clear();
     static const std::uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     png.insert(png.end(), sig, sig + 8);
@@ -567,7 +577,9 @@ extern "C" void jpeg_warning_is_error(j_common_ptr cinfo, int level) {
 
 void decode_jpeg_rgb(const std::string& path, int& width, int& height,
                      std::vector<std::uint8_t>& rgb) {
-    read_whole_file(path, t_file);
+    const auto scratch = decode_scratch.take();  // before setjmp: only C objects after it
+    const std::vector<std::uint8_t>& file = scratch->file;
+    read_whole_file(path, scratch->file);
     jpeg_decompress_struct cinfo{};
     JpegError err;
     cinfo.err = jpeg_std_error(&err.mgr);
@@ -581,7 +593,7 @@ void decode_jpeg_rgb(const std::string& path, int& width, int& height,
         io_fail(path, std::string("corrupt or truncated JPEG (") + err.message + ")");
     }
     jpeg_create_decompress(&cinfo);
-    jpeg_mem_src(&cinfo, t_file.data(), static_cast<unsigned long>(t_file.size()));
+    jpeg_mem_src(&cinfo, file.data(), static_cast<unsigned long>(file.size()));
     jpeg_read_header(&cinfo, TRUE);
     w = cinfo.image_width;
     h = cinfo.image_height;
@@ -817,13 +829,15 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
     // The compressed blocks of a group one after the other (OpenEXR reads up to a whole
     // block's uncompressed size into the place it is given: room for that is kept at the end).
     // Groups of about 2 MB of pixels are read, then inflated in parallel, so that what is held
-    // at once is a group's compressed data, not the file's (10 MB for a 1080p float depth, per
-    // reading thread). (References: the workers below must see this thread's buffers, not
-    // their own.)
-    thread_local std::vector<char> t_packed;
-    thread_local std::vector<std::size_t> t_start;
-    std::vector<char>& packed = t_packed;
-    std::vector<std::size_t>& start = t_start;
+    // at once is a group's compressed data, not the file's (10 MB for a 1080p float depth).
+    struct Packed {
+        std::vector<char> bytes;
+        std::vector<std::size_t> start;
+    };
+    static BufferPool<Packed> pool;
+    const auto lease = pool.take();
+    std::vector<char>& packed = lease->bytes;
+    std::vector<std::size_t>& start = lease->start;
     const int group = std::max(1, int((std::size_t(2) << 20) / block_bytes));
     std::mutex mutex;
     std::string error;
