@@ -53,16 +53,19 @@ std::vector<std::string> candidates() {
 
 Loaded load() {
     Loaded l;
+    const auto refused = [&](const std::string& why) {
+        l.why += (l.why.empty() ? "" : "; ") + why;
+    };
     for (const std::string& path : candidates()) {
         std::error_code ec;
         if (!fs::exists(path, ec)) {
-            l.why += (l.why.empty() ? "" : "; ") + path + ": no such file";
+            refused(path + ": no such file");
             continue;
         }
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) {
             const char* e = dlerror();
-            l.why += (l.why.empty() ? "" : "; ") + (e ? std::string(e) : path);
+            refused(e ? std::string(e) : path);
             continue;
         }
         using Entry = const OiioPlugin* (*)();
@@ -72,7 +75,7 @@ Loaded load() {
             l.plugin = p;  // never unloaded: OpenImageIO keeps threads and caches
             return l;
         }
-        l.why += (l.why.empty() ? "" : "; ") + path + ": not a module of this deepsea version";
+        refused(path + ": not a module of this deepsea version");
         dlclose(handle);
     }
     return l;
