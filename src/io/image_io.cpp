@@ -589,39 +589,48 @@ bool writes_encoded(const std::string& path) {
     return ext == ".png" || ext == ".jpg" || ext == ".jpeg";
 }
 
-void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::string& path,
-                 EncodedImage& out) {
-    const std::string ext = extension(path);
-    const int b = ext == ".png" ? bits : 8;
-    out.width = linear_rgb.width;
-    out.height = linear_rgb.height;
-    out.channels = linear_rgb.channels;
-    out.bits = b;
-    const std::size_t n = linear_rgb.data.size();
-    // Integer codes straight from the table (OpenImageIO's float to integer conversion of
-    // linear_to_srgb without a pow per value), times the exposure as apply_exposure rounds it.
-    const SrgbEncoder& enc = srgb_encoder(b);
-    const float* in = linear_rgb.data.data();
-    if (b == 8) {
+void prepare_encoded(int width, int height, int channels, int bits, const std::string& path,
+                     EncodedImage& out) {
+    out.width = width;
+    out.height = height;
+    out.channels = channels;
+    out.bits = extension(path) == ".png" ? bits : 8;
+    const std::size_t n = std::size_t(width) * height * channels;
+    if (out.bits == 8) {
         out.codes8.resize(n);
     } else {
         out.codes16.resize(n);
     }
-    std::uint8_t* c8 = out.codes8.data();
-    std::uint16_t* c16 = out.codes16.data();
+}
+
+void encode_srgb_samples(const float* linear, std::size_t n, double exposure, std::size_t first,
+                         EncodedImage& out) {
+    // Integer codes straight from the table (OpenImageIO's float to integer conversion of
+    // linear_to_srgb without a pow per value), times the exposure as apply_exposure rounds it.
+    const SrgbEncoder& enc = srgb_encoder(out.bits);
+    if (out.bits == 8) {
+        std::uint8_t* c8 = out.codes8.data() + first;
+        const std::size_t done = enc.encode_vector(linear, n, exposure, c8);
+        for (std::size_t i = done; i < n; ++i)
+            c8[i] = std::uint8_t(enc(float(linear[i] * exposure)));
+    } else {
+        std::uint16_t* c16 = out.codes16.data() + first;
+        for (std::size_t i = 0; i < n; ++i)
+            c16[i] = std::uint16_t(enc(float(linear[i] * exposure)));
+    }
+}
+
+void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::string& path,
+                 EncodedImage& out) {
+    prepare_encoded(linear_rgb.width, linear_rgb.height, linear_rgb.channels, bits, path, out);
+    const float* in = linear_rgb.data.data();
     // Isolated, as in read_color: write_color calls this with a thread-local target.
     tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16), [&](const auto& r) {
-            if (b == 8) {
-                const std::size_t done =
-                    enc.encode_vector(in + r.begin(), r.size(), exposure, c8 + r.begin());
-                for (std::size_t i = r.begin() + done; i < r.end(); ++i)
-                    c8[i] = std::uint8_t(enc(float(in[i] * exposure)));
-            } else {
-                for (std::size_t i = r.begin(); i < r.end(); ++i)
-                    c16[i] = std::uint16_t(enc(float(in[i] * exposure)));
-            }
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, linear_rgb.data.size(), 1 << 16),
+                          [&](const auto& r) {
+                              encode_srgb_samples(in + r.begin(), r.size(), exposure, r.begin(),
+                                                  out);
+                          });
     });
 }
 

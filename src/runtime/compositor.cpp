@@ -18,11 +18,11 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, b, d, j;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, b, d, j, f;
     std::vector<unsigned char> irregular;
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz}) v->resize(n);
-        for (auto* v : {&e, &b, &d, &j}) v->resize(3 * std::size_t(n));
+        for (auto* v : {&e, &b, &d, &j, &f}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -37,7 +37,13 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
     }
 }
 
-void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
+void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) { run(dst, f, set, nullptr); }
+
+void Compositor::composite(Layers& dst, const Frame& f, const FinalRows& rows) {
+    run(dst, f, LayerSet::Final, &rows);
+}
+
+void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows* rows) {
     const Camera& cam = m_camera;
     const int W = cam.width, H = cam.height;
     const bool coded = f.coded();
@@ -58,9 +64,15 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
         throw InputError("frame is " + std::to_string(cw) + "x" + std::to_string(ch) +
                          " but the camera is " + std::to_string(W) + "x" + std::to_string(H));
     }
-    dst.resize(W, H, set);
     const bool all = set == LayerSet::All;
     const bool forward = m_water.forward.enabled;
+    // Rows handed over straight from the first pass: no final image at all.
+    const bool stream = rows && !forward;
+    if (stream) {
+        dst = Layers{};
+    } else {
+        dst.resize(W, H, set);
+    }
     if (m_d2.width != W || m_d2.height != H) m_d2 = Image(W, H, 1);
     if (forward && (m_surface.width != W || m_surface.height != H)) m_surface = Image(W, H, 3);
     if (int(m_rx.size()) != W) {
@@ -136,10 +148,11 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
                            forward ? m_surface.row(v) : nullptr);
         // final = B + D here; the second pass adds F (in that order whatever the layer set,
         // so that every set gives the same final bit for bit).
-        float* B = dst.final.row(v);
+        float* B = stream ? s.f.data() : dst.final.row(v);
         kernels::interleave(W, s.b.data(), B);
         if (all) std::copy(B, B + 3 * std::size_t(W), dst.backscatter.row(v));
         for (int i = 0; i < 3 * W; ++i) B[i] += D[i];
+        if (stream) (*rows)(v, B);
         if (!all) return;
         float* N = dst.normal.row(v);
         for (int u = 0; u < W; ++u) {
@@ -165,7 +178,12 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
     // not kept, and no copy of F); with no forward scatter final is already B + D. The same
     // additions as below, so final is the same bit for bit whichever layers are kept.
     if (!all && (psf || !forward)) {
-        if (psf) tbb::parallel_for(0, H, [&](int v) { m_psf_blur->add_row(v, dst.final.row(v)); });
+        if (psf) {
+            tbb::parallel_for(0, H, [&](int v) {
+                m_psf_blur->add_row(v, dst.final.row(v));
+                if (rows) (*rows)(v, dst.final.row(v));
+            });
+        }
         return;
     }
     tbb::parallel_for(0, H, [&](int v) {
@@ -182,6 +200,7 @@ void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
         float* F = all ? dst.forward.row(v) : blurred + 6 * W;
         kernels::finish_row(W, m_d2.row(v), c, psf ? nullptr : G, forward ? blurred : nullptr, T, F,
                             dst.final.row(v));
+        if (rows) (*rows)(v, dst.final.row(v));
     });
 }
 

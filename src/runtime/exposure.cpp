@@ -37,25 +37,29 @@ double upper_quantile(std::vector<float>& values, double fraction) {
 
 double exposure_factor(const Exposure& e, const Image& radiance) {
     if (!e.automatic) return e.factor;
-    // Rec. 709 luminance; the percentile ignores a few specular or near-lamp outliers.
+    // Rec. 709 luminance; the percentile ignores a few specular or near-lamp outliers. Pixels
+    // whose luminance is not finite are left out of every quantile. One buffer serves the four
+    // quantiles in turn (at 1080p, 8 MB instead of 33 MB at once).
     const std::size_t n = std::size_t(radiance.width) * radiance.height;
-    std::vector<float> lum, channel[3];
-    lum.reserve(n);
-    for (auto& c : channel) c.reserve(n);
-    for (std::size_t i = 0; i + 2 < radiance.data.size(); i += radiance.channels) {
-        const float r = radiance.data[i], g = radiance.data[i + 1], b = radiance.data[i + 2];
-        const float y = 0.2126f * r + 0.7152f * g + 0.0722f * b;
-        if (!std::isfinite(y)) continue;
-        lum.push_back(y);
-        channel[0].push_back(r);
-        channel[1].push_back(g);
-        channel[2].push_back(b);
-    }
-    const double p = upper_quantile(lum, 1.0 - e.percentile);
+    std::vector<float> values;
+    values.reserve(n);
+    // k = -1: luminance; 0, 1, 2: that channel.
+    const auto gather = [&](int k) {
+        values.clear();
+        for (std::size_t i = 0; i + 2 < radiance.data.size(); i += radiance.channels) {
+            const float r = radiance.data[i], g = radiance.data[i + 1], b = radiance.data[i + 2];
+            const float y = 0.2126f * r + 0.7152f * g + 0.0722f * b;
+            if (!std::isfinite(y)) continue;
+            values.push_back(k < 0 ? y : radiance.data[i + k]);
+        }
+    };
+    gather(-1);
+    const double p = upper_quantile(values, 1.0 - e.percentile);
     if (!(p > 0.0)) return 1.0;
     double factor = e.target / p;
-    for (auto& c : channel) {
-        const double q = upper_quantile(c, e.max_clipped);
+    for (int c = 0; c < 3; ++c) {
+        gather(c);
+        const double q = upper_quantile(values, e.max_clipped);
         if (q > 0.0) factor = std::min(factor, 1.0 / q);
     }
     return factor;

@@ -218,22 +218,32 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         to_planar_depth(camera, s->frame.depth, opt.depth_kind);
                         const bool all = !jobs[s->index].layers.empty();
                         Layers& out = all ? s->layers : shared;
-                        compositor->composite(
-                            out, s->frame,
-                            all ? opt.layer_output.compositor_set() : LayerSet::Final);
-                        if (exposure == 0.0) {
-                            exposure = exposure_factor(opt.exposure, out.final);
-                            record.exposure_frame = jobs[s->index].rgb;
-                        }
-                        // What the writer needs, kept small: PNG and JPEG codes (a quarter of
-                        // the float image), encoded here while the exposure is known.
-                        // (With layers, the slot's own final layer is written from.)
                         const std::string& o = jobs[s->index].output;
-                        if (!o.empty() && !all) {
-                            if (writes_encoded(o)) {
-                                encode_srgb(out.final, exposure, opt.bits, o, s->encoded);
-                            } else {
-                                s->final = out.final;
+                        // What the writer needs, kept small: PNG and JPEG codes (a quarter of
+                        // the float image). Once the exposure is known, each row is encoded
+                        // as the compositor finishes it, and no float image is kept.
+                        if (!all && exposure != 0.0 && !o.empty() && writes_encoded(o)) {
+                            const int W = camera.width;
+                            prepare_encoded(W, camera.height, 3, opt.bits, o, s->encoded);
+                            compositor->composite(out, s->frame, [&](int v, const float* rgb) {
+                                encode_srgb_samples(rgb, 3 * std::size_t(W), exposure,
+                                                    3 * std::size_t(W) * v, s->encoded);
+                            });
+                        } else {
+                            compositor->composite(
+                                out, s->frame,
+                                all ? opt.layer_output.compositor_set() : LayerSet::Final);
+                            if (exposure == 0.0) {
+                                exposure = exposure_factor(opt.exposure, out.final);
+                                record.exposure_frame = jobs[s->index].rgb;
+                            }
+                            // (With layers, the slot's own final layer is written from.)
+                            if (!o.empty() && !all) {
+                                if (writes_encoded(o)) {
+                                    encode_srgb(out.final, exposure, opt.bits, o, s->encoded);
+                                } else {
+                                    s->final = out.final;
+                                }
                             }
                         }
                     } catch (const AssetError&) {

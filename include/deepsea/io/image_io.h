@@ -93,6 +93,15 @@ bool writes_encoded(const std::string& path);
 void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::string& path,
                  EncodedImage& out);
 
+/// encode_srgb a part at a time: prepare_encoded sizes `out` for width x height x channels in
+/// the format of `path` (PNG: `bits`, JPEG: 8), its storage reused; encode_srgb_samples then
+/// writes the codes of n linear samples times `exposure` from sample `first` on. Parts may be
+/// encoded from several threads at once. encode_srgb is these two over the whole image.
+void prepare_encoded(int width, int height, int channels, int bits, const std::string& path,
+                     EncodedImage& out);
+void encode_srgb_samples(const float* linear, std::size_t n, double exposure, std::size_t first,
+                         EncodedImage& out);
+
 /// Writes encode_srgb's codes as `path` (PNG or JPEG), with `meta`, atomically. Throws IoError.
 void write_encoded(const std::string& path, const EncodedImage& img,
                    const ImageMetadata& meta = {});

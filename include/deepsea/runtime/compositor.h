@@ -1,6 +1,7 @@
 #pragma once
 /// \file The runtime compositor: RGB-D frame in, deep-sea layers out (docs/runtime.md).
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -28,7 +29,19 @@ public:
     /// match the camera.
     void composite(Layers& dst, const Frame& frame, LayerSet set = LayerSet::All);
 
+    /// Takes the final image's rows as they are finished: row v, 3 x width floats of
+    /// interleaved RGB, called from worker threads in any order, each row once.
+    using FinalRows = std::function<void(int v, const float* rgb)>;
+
+    /// The image only, each row handed to `rows` as it is finished instead of being kept (a
+    /// sequence encodes it there, while the row is in cache). The same values as the final
+    /// layer of composite(). dst is scratch: with forward scatter its final layer holds the
+    /// rows between the two passes; without, nothing is kept and its final layer is freed.
+    void composite(Layers& dst, const Frame& frame, const FinalRows& rows);
+
 private:
+    void run(Layers& dst, const Frame& frame, LayerSet set, const FinalRows* rows);
+
     Camera m_camera;
     Water m_water;
     const IrradianceSource& m_lamps;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -197,6 +198,37 @@ TEST(Compositor, FinalOnlyGivesTheSameImageWithoutTheOtherLayers) {
     comp.composite(out, Frame{f.scene.rgb, f.scene.depth});  // and back to all layers
     EXPECT_EQ(out.forward.data, all.forward.data);
     EXPECT_EQ(out.final.data, all.final.data);
+}
+
+TEST(Compositor, RowsHandedOverAreTheFinalImageWhateverTheForwardScatter) {
+    // A sequence encodes each row as it is finished: every row once, the final layer's values
+    // bit for bit; without forward scatter nothing of the image is kept.
+    for (const Fixture* f : {&fixture(), &fixture_psf()}) {
+        for (const bool forward : {true, false}) {
+            Water water = f->water;
+            water.forward.enabled = forward;
+            const AnalyticLamps lamps(f->rig, water);
+            const AssetBackscatter bs(f->asset, f->cam);
+            Compositor comp(f->cam, water, lamps, bs);
+            const Frame frame{f->scene.rgb, f->scene.depth};
+            Layers kept;
+            comp.composite(kept, frame, LayerSet::Final);
+            const int W = f->cam.width, H = f->cam.height;
+            Image rows(W, H, 3);
+            std::vector<std::atomic<int>> seen(H);
+            Layers scratch = kept;
+            comp.composite(scratch, frame, [&](int v, const float* rgb) {
+                ASSERT_TRUE(v >= 0 && v < H);
+                seen[v]++;
+                std::copy(rgb, rgb + 3 * W, rows.row(v));
+            });
+            for (int v = 0; v < H; ++v) ASSERT_EQ(seen[v].load(), 1) << "row " << v;
+            EXPECT_EQ(rows.data, kept.final.data) << (forward ? "forward" : "no forward");
+            if (!forward) {
+                EXPECT_TRUE(scratch.final.empty());
+            }
+        }
+    }
 }
 
 TEST(Compositor, ColourGivenAsSrgbCodesGivesTheSameImageAsItsFloatDecode) {
