@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "clones.h"
@@ -59,21 +60,34 @@ void blend_rows(int m0, int m1, const float* __restrict a, const float* __restri
     for (int m = m0; m < m1; ++m) out[m] = lerp(a[m], b[m], w);
 }
 
-/// B for one image row from its slice (blend_rows), planar RGB out: linear between the two
-/// lattice columns of each pixel and between the samples of its slab (depth_cells).
+/// Four floats as one vector (GCC and Clang vector extensions: SSE or NEON registers, or
+/// plain floats where neither exists), loaded unaligned.
+typedef float Float4 __attribute__((vector_size(16)));
+inline Float4 load4(const float* p) {
+    Float4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+inline Float4 splat(float w) { return Float4{w, w, w, w}; }
+
+/// B for one image row from its slice (blend_rows), interleaved RGB out: linear between the
+/// two lattice columns of each pixel and between the samples of its slab (depth_cells). A
+/// sample's three channels to a vector (the fourth lane, the next sample's first channel, is
+/// carried along and dropped; the slice has a float of room at its end for it).
 DEEPSEA_CLONES
 void lookup_row(int n, const float* __restrict slice, const int* __restrict col0,
                 const int* __restrict col1, const float* __restrict colw,
                 const int* __restrict slab, const float* __restrict wzs, float* __restrict out) {
     for (int u = 0; u < n; ++u) {
         const int k = slab[u];
-        const float wz = wzs[u];
+        const Float4 wz = splat(wzs[u]);
         const float* p0 = slice + col0[u] + 3 * k;
         const float* p1 = slice + col1[u] + 3 * k;
-        const float cw = colw[u];
-        for (int ch = 0; ch < 3; ++ch) {
-            out[ch * n + u] = lerp(lerp(p0[ch], p0[ch + 3], wz), lerp(p1[ch], p1[ch + 3], wz), cw);
-        }
+        const Float4 b = lerp(lerp(load4(p0), load4(p0 + 3), wz),
+                              lerp(load4(p1), load4(p1 + 3), wz), splat(colw[u]));
+        out[3 * u] = b[0];
+        out[3 * u + 1] = b[1];
+        out[3 * u + 2] = b[2];
     }
 }
 
@@ -127,7 +141,7 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
     }
 }
 
-void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out) const {
+void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out_rgb) const {
     const Lattice& l = m_asset.lattice();
     const LatticeCell<float> t = m_rows[v];
     const int block = 3 * l.nk();
@@ -137,7 +151,7 @@ void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out)
         std::vector<int> slab, lo, hi;
     };
     thread_local Scratch s;
-    s.slice.resize(std::size_t(l.ni) * block);
+    s.slice.resize(std::size_t(l.ni) * block + 1);  // + 1: lookup_row's fourth lane
     s.wz.resize(n);
     s.slab.resize(n);
     depth_cells(n, z, m_z.data(), m_znext.data(), m_inv_h.data(), m_bucket.data(),
@@ -165,7 +179,7 @@ void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out)
                    s.slice.data() + std::size_t(i) * block);
     }
     lookup_row(n, s.slice.data(), m_col0.data(), m_col1.data(), m_colw.data(), s.slab.data(),
-               s.wz.data(), out);
+               s.wz.data(), out_rgb);
 }
 
 }  // namespace deepsea

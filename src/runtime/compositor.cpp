@@ -18,11 +18,11 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, b, d, j, f;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d, j, f;
     std::vector<unsigned char> irregular;
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz}) v->resize(n);
-        for (auto* v : {&e, &b, &d, &j, &f}) v->resize(3 * std::size_t(n));
+        for (auto* v : {&e, &d, &j, &f}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -132,7 +132,6 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
         const RowGeometry g{v,          W,           s.x.data(),  s.y.data(),
                             s.z.data(), s.nx.data(), s.ny.data(), s.nz.data()};
         m_lamps.irradiance_row(g, s.e.data());
-        m_backscatter.backscatter_row(v, W, s.z.data(), s.b.data());
 
         const float* J = coded ? s.j.data() : f.rgb.row(v);
         if (coded) {
@@ -149,7 +148,7 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
         // final = B + D here; the second pass adds F (in that order whatever the layer set,
         // so that every set gives the same final bit for bit).
         float* B = stream ? s.f.data() : dst.final.row(v);
-        kernels::interleave(W, s.b.data(), B);
+        m_backscatter.backscatter_row(v, W, s.z.data(), B);
         if (all) std::copy(B, B + 3 * std::size_t(W), dst.backscatter.row(v));
         for (int i = 0; i < 3 * W; ++i) B[i] += D[i];
         if (stream) (*rows)(v, B);

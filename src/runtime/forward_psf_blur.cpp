@@ -12,7 +12,6 @@
 #include "column_basis.h"
 #include "deepsea/core/error.h"
 #include "gaussian_planes.h"
-#include "kernels.h"
 
 namespace deepsea {
 
@@ -26,20 +25,33 @@ constexpr int kMaxStride = 32;
 /// largest total weight: far below a 16-bit code value of the forward-scatter image.
 constexpr double kBasisTolerance = 1e-6;
 
-/// Bilinear taps into a grid downsampled by two more (n_lo columns), per column of a w-column
-/// grid: column x samples the coarser grid at (x + 0.5) / 2 - 0.5.
-void halving_taps(int w, int n_lo, std::vector<int>& x0, std::vector<int>& x1,
-                  std::vector<float>& ax) {
-    x0.resize(w);
-    x1.resize(w);
-    ax.resize(w);
-    for (int x = 0; x < w; ++x) {
-        const float fx = (x + 0.5f) / 2.0f - 0.5f;
-        const int a = std::clamp(int(std::floor(fx)), 0, n_lo - 1);
-        x0[x] = a;
-        x1[x] = std::min(a + 1, n_lo - 1);
-        ax[x] = std::clamp(fx - a, 0.0f, 1.0f);
+/// Upsampling by two, as the grids are built: output column (or row) x samples the grid twice
+/// as coarse at (x + 0.5) / 2 - 0.5, clamped to its n_lo columns. That is 3/4 of the way from
+/// column x/2 - 1 to x/2 for even x, 1/4 from (x - 1)/2 to (x + 1)/2 for odd x. With the
+/// coarse row padded (one column repeated at each end: qp[j + 1] = q[j]), output x reads qp at
+/// x/2 + (x odd) and the next, edges included, without branches or gathers.
+
+/// The two coarse rows that full row y samples, and the weight of the second.
+struct RowTaps {
+    int y0, y1;
+    float w;
+};
+RowTaps doubled_row(int y, int h_lo) {
+    const float fy = (y + 0.5f) / 2.0f - 0.5f;
+    const int y0 = std::clamp(int(std::floor(fy)), 0, h_lo - 1);
+    return {y0, std::min(y0 + 1, h_lo - 1), std::clamp(fy - y0, 0.0f, 1.0f)};
+}
+
+/// dst[x] += the padded coarse row qp upsampled at x, for n columns.
+DEEPSEA_CLONES
+void add_doubled(int n, const float* __restrict qp, float* __restrict dst) {
+    const int pairs = n / 2;
+#pragma omp simd
+    for (int i = 0; i < pairs; ++i) {
+        dst[2 * i] += qp[i] + 0.75f * (qp[i + 1] - qp[i]);
+        dst[2 * i + 1] += qp[i + 1] + 0.25f * (qp[i + 2] - qp[i + 1]);
     }
+    if (n % 2) dst[n - 1] += qp[pairs] + 0.75f * (qp[pairs + 1] - qp[pairs]);
 }
 
 /// Four floats as one vector (GCC and Clang vector extensions: SSE or NEON registers, or
@@ -111,22 +123,6 @@ void weigh_blocks(int n, int block, int stride, const int* idx, const float* fra
     by_stride<WeighBlocks>(stride, n, block, idx, frac, tab, L, x);
 }
 
-/// Scale 0 (light left where it is) of one row: out[c * n + u] = W_0(d_u) L_u[c], 0 where
-/// idx[u] < 0; tab: 4 floats a row (the channels' W_0 and padding).
-DEEPSEA_CLONES
-void sharp_row(int n, const int* __restrict idx, const float* __restrict frac,
-               const float* __restrict tab, const float* __restrict L, float* __restrict out) {
-    for (int u = 0; u < n; ++u) {
-        const bool on = idx[u] >= 0;
-        const float* ta = tab + std::size_t(on ? idx[u] : 0) * 4;
-        const float t = frac[u];
-        for (int c = 0; c < 3; ++c) {
-            const float w = ta[c] + t * (ta[c + 4] - ta[c]);
-            out[c * n + u] = on ? w * L[3 * u + c] : 0.0f;
-        }
-    }
-}
-
 /// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
 /// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[c * channel + j * stride
 /// + r] * acc[b * lanes + c * stride + r], the last block also times `edge` (coef: the
@@ -189,6 +185,31 @@ void pair_sums(int n, int lanes, const float* __restrict src, float* __restrict 
     if (n % 2) {
         std::copy(src + std::size_t(n - 1) * lanes, src + std::size_t(n) * lanes,
                   dst + std::size_t(pairs) * lanes);
+    }
+}
+
+/// Interleaved RGB F of one row: out[3u + c] = (or +=) W_0(d_u) L_u[c] (0 where idx[u] < 0) +
+/// full[c][u] (when full is not null) + the factor-2 grid's row upsampled at u (when coarse is
+/// not null). coarse: that grid's row blended between its two grid rows (doubled_row), padded
+/// as add_doubled's, 4 floats a column (RGB and padding). One pixel's channels to a vector.
+DEEPSEA_CLONES
+void f_row(int n, const int* __restrict idx, const float* __restrict frac,
+           const float* __restrict sharp, const float* __restrict L, const float* const* full,
+           const float* __restrict coarse, bool add, float* __restrict out) {
+    for (int u = 0; u < n; ++u) {
+        const bool on = idx[u] >= 0;
+        const float* ta = sharp + std::size_t(on ? idx[u] : 0) * 4;
+        const Float4 a = load4(ta), b = load4(ta + 4);
+        const Float4 l = {L[3 * u], L[3 * u + 1], L[3 * u + 2], 0.0f};
+        Float4 s = on ? (a + frac[u] * (b - a)) * l : Float4{};
+        if (full) s += Float4{full[0][u], full[1][u], full[2][u], 0.0f};
+        if (coarse) {
+            const int odd = u & 1;
+            const float* q = coarse + 4 * std::size_t((u >> 1) + odd);
+            const Float4 q0 = load4(q), q1 = load4(q + 4);
+            s += q0 + (odd ? 0.25f : 0.75f) * (q1 - q0);
+        }
+        for (int c = 0; c < 3; ++c) out[3 * u + c] = add ? out[3 * u + c] + s[c] : s[c];
     }
 }
 
@@ -347,10 +368,8 @@ void ForwardPsfBlur::resize(int W, int H) {
         G.w = (W + f - 1) / f;
         G.h = (H + f - 1) / f;
         G.acc.assign(std::size_t(3) * G.w * G.h, 0.0f);
-        if (2 * f <= f_max) halving_taps(G.w, (W + 2 * f - 1) / (2 * f), G.x0, G.x1, G.ax);
         m_grids.push_back(std::move(G));
     }
-    if (!m_grids.empty()) halving_taps(W, m_grids[0].w, m_x0, m_x1, m_ax);
 }
 
 void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
@@ -464,13 +483,16 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
         const Grid& coarser = m_grids[k + 1];
         tbb::parallel_for(0, 3 * G.h, [&](int prow) {
             const int c = prow / G.h, y = prow % G.h;
-            float* dst = G.acc.data() + std::size_t(prow) * G.w;
-            thread_local std::vector<float> ones, tmp;
-            ones.assign(G.w, 1.0f);
-            tmp.resize(coarser.w);
-            planes::add_upsampled_row(
-                G.w, y, 2, coarser.acc.data() + std::size_t(c) * coarser.w * coarser.h, coarser.w,
-                coarser.h, G.x0.data(), G.x1.data(), G.ax.data(), ones.data(), tmp.data(), dst);
+            const RowTaps t = doubled_row(y, coarser.h);
+            const float* plane = coarser.acc.data() + std::size_t(c) * coarser.w * coarser.h;
+            const float* r0 = plane + std::size_t(t.y0) * coarser.w;
+            const float* r1 = plane + std::size_t(t.y1) * coarser.w;
+            thread_local std::vector<float> padded;
+            padded.resize(coarser.w + 2);
+            for (int x = 0; x < coarser.w; ++x) padded[x + 1] = r0[x] + t.w * (r1[x] - r0[x]);
+            padded[0] = padded[1];
+            padded[coarser.w + 1] = padded[coarser.w];
+            add_doubled(G.w, padded.data(), G.acc.data() + std::size_t(prow) * G.w);
         });
     }
 }
@@ -481,45 +503,37 @@ ForwardPsfBlur::Grid& ForwardPsfBlur::grid_of(int factor) {
     throw Error("forward scatter: no grid of factor " + std::to_string(factor));
 }
 
-void ForwardPsfBlur::planar_row(int v, float* acc, float* tmp) const {
+void ForwardPsfBlur::rgb_row(int v, float* out, bool add) const {
     const int W = m_width, H = m_height;
-    thread_local std::vector<float> frac;
+    thread_local std::vector<float> frac, coarse;
     thread_local std::vector<int> idx;
     idx.resize(W);
     frac.resize(W);
-    float* ones = tmp + W;
-    std::fill(ones, ones + W, 1.0f);
     table_rows(W, m_d2->row(v), float(1.0 / m_step), float(m_bins * m_step), m_bins, idx.data(),
                frac.data());
-    sharp_row(W, idx.data(), frac.data(), m_sharp.data(), m_surface->row(v), acc);
-    if (!m_full.empty()) {
-        for (int c = 0; c < 3; ++c) {
-            const float* src = m_full.data() + (std::size_t(c) * H + v) * W;
-            for (int u = 0; u < W; ++u) acc[c * W + u] += src[u];
-        }
-    }
+    const float* full[3] = {};
+    for (int c = 0; c < 3 && !m_full.empty(); ++c)
+        full[c] = m_full.data() + (std::size_t(c) * H + v) * W;
     if (!m_grids.empty()) {
+        // The factor-2 grid's row at v: its two grid rows blended, interleaved and padded.
         const Grid& G = m_grids[0];
+        const RowTaps t = doubled_row(v, G.h);
+        coarse.assign(4 * std::size_t(G.w + 2), 0.0f);
         for (int c = 0; c < 3; ++c) {
-            planes::add_upsampled_row(W, v, 2, G.acc.data() + std::size_t(c) * G.w * G.h, G.w, G.h,
-                                      m_x0.data(), m_x1.data(), m_ax.data(), ones, tmp,
-                                      acc + c * W);
+            const float* plane = G.acc.data() + std::size_t(c) * G.w * G.h;
+            const float* r0 = plane + std::size_t(t.y0) * G.w;
+            const float* r1 = plane + std::size_t(t.y1) * G.w;
+            for (int x = 0; x < G.w; ++x) coarse[4 * (x + 1) + c] = r0[x] + t.w * (r1[x] - r0[x]);
         }
+        std::copy_n(coarse.begin() + 4, 4, coarse.begin());
+        std::copy_n(coarse.begin() + 4 * G.w, 4, coarse.begin() + 4 * (G.w + 1));
     }
+    f_row(W, idx.data(), frac.data(), m_sharp.data(), m_surface->row(v),
+          m_full.empty() ? nullptr : full, m_grids.empty() ? nullptr : coarse.data(), add, out);
 }
 
-void ForwardPsfBlur::row(int v, float* out_rgb) const {
-    thread_local std::vector<float> buf;
-    buf.resize(std::size_t(5) * m_width);
-    planar_row(v, buf.data(), buf.data() + 3 * m_width);
-    kernels::interleave(m_width, buf.data(), out_rgb);
-}
+void ForwardPsfBlur::row(int v, float* out_rgb) const { rgb_row(v, out_rgb, false); }
 
-void ForwardPsfBlur::add_row(int v, float* sum_rgb) const {
-    thread_local std::vector<float> buf;
-    buf.resize(std::size_t(5) * m_width);
-    planar_row(v, buf.data(), buf.data() + 3 * m_width);
-    kernels::interleave_add(m_width, buf.data(), sum_rgb);
-}
+void ForwardPsfBlur::add_row(int v, float* sum_rgb) const { rgb_row(v, sum_rgb, true); }
 
 }  // namespace deepsea

@@ -123,14 +123,4 @@ void interleave(int n, const float* __restrict planes, float* __restrict rgb) {
     }
 }
 
-DEEPSEA_CLONES
-void interleave_add(int n, const float* __restrict planes, float* __restrict rgb) {
-#pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        rgb[3 * u] += planes[u];
-        rgb[3 * u + 1] += planes[n + u];
-        rgb[3 * u + 2] += planes[2 * n + u];
-    }
-}
-
 }  // namespace deepsea::kernels

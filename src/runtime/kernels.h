@@ -40,7 +40,5 @@ namespace deepsea::kernels {
 
 /// Planar RGB (planes[c * n + u]) to interleaved rgb[3 * u + c].
 void interleave(int n, const float* planes, float* rgb);
-/// rgb[3 * u + c] += planes[c * n + u].
-void interleave_add(int n, const float* planes, float* rgb);
 
 }  // namespace deepsea::kernels

@@ -18,7 +18,7 @@ namespace deepsea {
 class AssetBackscatter final : public BackscatterSource {
 public:
     AssetBackscatter(const Asset& asset, const Camera& camera);
-    void backscatter_row(int v, int n, const float* z, float* out_rgb_planar) const override;
+    void backscatter_row(int v, int n, const float* z, float* out_rgb) const override;
 
 private:
     const Asset& m_asset;

@@ -50,9 +50,7 @@ private:
     /// One grid of the cascade: the image downsampled by 2^k (k >= 1).
     struct Grid {
         int factor = 2, w = 0, h = 0;
-        std::vector<float> acc;   ///< 3 planes: this grid's blurred scales + coarser grids
-        std::vector<int> x0, x1;  ///< taps into the next coarser grid, per column
-        std::vector<float> ax;
+        std::vector<float> acc;  ///< 3 planes: this grid's blurred scales + coarser grids
     };
     /// Scales sharing one downsampling factor.
     struct Group {
@@ -67,8 +65,8 @@ private:
     Grid& grid_of(int factor);
     void resize(int W, int H);
     void weigh(const Image& surface, const Image& d2);
-    /// F of row v as three planes (acc: 3 planes of the row, tmp: 2 more rows of scratch).
-    void planar_row(int v, float* acc, float* tmp) const;
+    /// F of row v, interleaved RGB, into out or added to it.
+    void rgb_row(int v, float* out, bool add) const;
 
     ForwardPsf m_psf;
     int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride basis functions
@@ -87,8 +85,6 @@ private:
     std::vector<Group> m_groups;
     std::vector<Level> m_levels;  ///< scales 1 .. S-1
     std::vector<Grid> m_grids;    ///< factors 2, 4, .. up to the widest group's
-    std::vector<int> m_x0, m_x1;  ///< full-resolution taps into the factor-2 grid
-    std::vector<float> m_ax;
     std::vector<float> m_kernel, m_norm_x, m_norm_y, m_tmp;  ///< blur scratch
 };
 

@@ -34,11 +34,11 @@ public:
 };
 
 /// Water light added along pixel rays up to planar depth z (z_max for open water), radiance
-/// per channel, written planar as out[c * n + u].
+/// per channel, written interleaved as out[3 * u + c] (as the image's rows hold it).
 class BackscatterSource {
 public:
     virtual ~BackscatterSource() = default;
-    virtual void backscatter_row(int v, int n, const float* z, float* out_rgb_planar) const = 0;
+    virtual void backscatter_row(int v, int n, const float* z, float* out_rgb) const = 0;
 };
 
 }  // namespace deepsea

@@ -317,7 +317,7 @@ TEST(AssetBackscatter, EveryPixelOfARowIsTheAssetsOwnSample) {
     for (int u = 0; u < n; ++u) {
         const Rgb ref = f.asset.sample(u, v, z[u] > 0.0f ? double(z[u]) : HUGE_VAL);
         for (int c = 0; c < 3; ++c) {
-            ASSERT_NEAR(out[c * n + u], ref[c], 1e-5 * ref[c] + 1e-12)
+            ASSERT_NEAR(out[3 * u + c], ref[c], 1e-5 * ref[c] + 1e-12)
                 << "pixel " << u << ", z " << z[u];
         }
     }
@@ -338,7 +338,7 @@ TEST(AssetBackscatter, ResamplesTheSameViewAtAnotherResolution) {
     for (int u : {0, 13, 40, half.width - 1}) {
         // pixel (u, 17) of the half camera is image point (2u + 0.5, 34.5) of the asset camera
         const Rgb ref = f.asset.sample(2 * u + 0.5, 2 * 17 + 0.5, 4.0);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c * half.width + u], ref[c], 1e-5 * ref[c]);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[3 * u + c], ref[c], 1e-5 * ref[c]);
     }
 }
 
