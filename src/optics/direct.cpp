@@ -35,8 +35,8 @@ Rgb direct_radiance(const Rig& rig, const Water& water, const Vec3& P, const Vec
 Rgb surface_radiance(const Rig& rig, const Water& water, const Vec3& P, const Vec3& n,
                      const Rgb& J) {
     const Rgb E = lamp_irradiance(rig, water, P, n);
-    return {direct_signal(J.r, E.r, water.c.r, 0.0), direct_signal(J.g, E.g, water.c.g, 0.0),
-            direct_signal(J.b, E.b, water.c.b, 0.0)};
+    return {lambertian_radiance(J.r, E.r), lambertian_radiance(J.g, E.g),
+            lambertian_radiance(J.b, E.b)};
 }
 
 }  // namespace deepsea

@@ -18,11 +18,11 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d, j, f;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, j, d2, l, t, d, f, out;
     std::vector<unsigned char> irregular;
     void fit(int n) {
-        for (auto* v : {&x, &y, &z, &nx, &ny, &nz}) v->resize(n);
-        for (auto* v : {&e, &d, &j, &f}) v->resize(3 * std::size_t(n));
+        for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2}) v->resize(n);
+        for (auto* v : {&e, &j, &l, &t, &d, &f, &out}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -66,14 +66,16 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
     }
     const bool all = set == LayerSet::All;
     const bool forward = m_water.forward.enabled;
-    // Rows handed over straight from the first pass: no final image at all.
-    const bool stream = rows && !forward;
-    if (stream) {
+    const bool psf = forward && m_psf_blur.has_value();
+    // Rows handed over are never kept: no final image at all.
+    if (rows) {
         dst = Layers{};
     } else {
         dst.resize(W, H, set);
     }
-    if (m_d2.width != W || m_d2.height != H) m_d2 = Image(W, H, 1);
+    // Forward scatter needs every pixel's distance and surface radiance before any row can
+    // be finished; without it each row is finished where it is shaded, from row buffers.
+    if (forward && (m_d2.width != W || m_d2.height != H)) m_d2 = Image(W, H, 1);
     if (forward && (m_surface.width != W || m_surface.height != H)) m_surface = Image(W, H, 3);
     if (int(m_rx.size()) != W) {
         m_rx.resize(W);
@@ -82,8 +84,35 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
 
     static tbb::enumerable_thread_specific<RowScratch> scratch;
     const float c[3] = {float(m_water.c.r), float(m_water.c.g), float(m_water.c.b)};
-    const double sigma_per_m = forward_sigma_px(m_water.forward, cam.fx, 1.0);
+    const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
+                        float(m_water.forward.G.b)};
     const Image& depth = f.depth;
+
+    // Row v of the image from its planar depth z (open water 0), distance d2 and surface
+    // radiance L: final = B + D + F, added in that order whatever the layer set, so that every
+    // set gives the same final bit for bit.
+    auto finish = [&](RowScratch& s, int v, const float* z, const float* d2, const float* L) {
+        float* out = rows ? s.out.data() : dst.final.row(v);
+        m_backscatter.backscatter_row(v, W, z, out);
+        if (all) std::copy(out, out + 3 * std::size_t(W), dst.backscatter.row(v));
+        kernels::direct_row(W, d2, c, L, all ? dst.transmission.row(v) : s.t.data(),
+                            all ? dst.direct.row(v) : s.d.data(), out);
+        if (psf && !all) {
+            m_psf_blur->add_row(v, out);  // F straight into the image, no copy of it
+        } else if (forward) {
+            float* blurred = s.f.data();
+            if (psf) {
+                m_psf_blur->row(v, blurred);
+            } else {
+                m_blur.blend_row(v, d2, blurred);
+            }
+            kernels::forward_row(W, d2, c, psf ? nullptr : G, blurred,
+                                 all ? dst.forward.row(v) : s.d.data(), out);
+        } else if (all) {
+            std::fill_n(dst.forward.row(v), 3 * std::size_t(W), 0.0f);
+        }
+        if (rows) (*rows)(v, out);
+    };
 
     m_lamps.begin_frame(cam, depth);
     tbb::parallel_for(0, H, [&](int v) {
@@ -142,64 +171,36 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
                 srgb_decode(f.codes.rgb8.data() + row, 3 * std::size_t(W), s.j.data());
             }
         }
-        float* D = all ? dst.direct.row(v) : s.d.data();
-        kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, c, D, m_d2.row(v),
-                           forward ? m_surface.row(v) : nullptr);
-        // final = B + D here; the second pass adds F (in that order whatever the layer set,
-        // so that every set gives the same final bit for bit).
-        float* B = stream ? s.f.data() : dst.final.row(v);
-        m_backscatter.backscatter_row(v, W, s.z.data(), B);
-        if (all) std::copy(B, B + 3 * std::size_t(W), dst.backscatter.row(v));
-        for (int i = 0; i < 3 * W; ++i) B[i] += D[i];
-        if (stream) (*rows)(v, B);
-        if (!all) return;
-        float* N = dst.normal.row(v);
-        for (int u = 0; u < W; ++u) {
-            N[3 * u] = s.nx[u];
-            N[3 * u + 1] = s.ny[u];
-            N[3 * u + 2] = s.nz[u];
+        float* d2 = forward ? m_d2.row(v) : s.d2.data();
+        float* L = forward ? m_surface.row(v) : s.l.data();
+        kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, d2, L);
+        if (all) {
+            float* N = dst.normal.row(v);
+            for (int u = 0; u < W; ++u) {
+                N[3 * u] = s.nx[u];
+                N[3 * u + 1] = s.ny[u];
+                N[3 * u + 2] = s.nz[u];
+            }
+            std::copy(s.z.begin(), s.z.begin() + W, dst.depth.row(v));
         }
-        std::copy(s.z.begin(), s.z.begin() + W, dst.depth.row(v));
+        if (!forward) finish(s, v, s.z.data(), d2, L);
     });
+    if (!forward) return;
 
     // Forward scatter blurs the surface radiance (not D: w(d2) carries the path to the camera,
     // D's own exp(-c d2) would attenuate it twice) by sigma = sigma_per_m * d2 pixels; d2 is 0
     // for open water.
-    const bool psf = forward && m_psf_blur;
     if (psf) {
         m_psf_blur->prepare(m_surface, m_d2);
-    } else if (forward) {
-        m_blur.prepare(m_surface, m_d2, float(sigma_per_m));
-    }
-    const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
-                        float(m_water.forward.G.b)};
-    // Only the image wanted: final += F straight from the point spread (no T, whose layer is
-    // not kept, and no copy of F); with no forward scatter final is already B + D. The same
-    // additions as below, so final is the same bit for bit whichever layers are kept.
-    if (!all && (psf || !forward)) {
-        if (psf) {
-            tbb::parallel_for(0, H, [&](int v) {
-                m_psf_blur->add_row(v, dst.final.row(v));
-                if (rows) (*rows)(v, dst.final.row(v));
-            });
-        }
-        return;
+    } else {
+        m_blur.prepare(m_surface, m_d2, float(forward_sigma_px(m_water.forward, cam.fx, 1.0)));
     }
     tbb::parallel_for(0, H, [&](int v) {
-        // blurred, and T and F when their layers are not kept
-        thread_local std::vector<float> row;
-        row.resize(9 * std::size_t(W));
-        float* blurred = row.data();
-        if (psf) {
-            m_psf_blur->row(v, blurred);
-        } else if (forward) {
-            m_blur.blend_row(v, m_d2.row(v), blurred);
-        }
-        float* T = all ? dst.transmission.row(v) : blurred + 3 * W;
-        float* F = all ? dst.forward.row(v) : blurred + 6 * W;
-        kernels::finish_row(W, m_d2.row(v), c, psf ? nullptr : G, forward ? blurred : nullptr, T, F,
-                            dst.final.row(v));
-        if (rows) (*rows)(v, dst.final.row(v));
+        RowScratch& s = scratch.local();
+        s.fit(W);
+        const float* zr = depth.row(v);
+        for (int u = 0; u < W; ++u) s.z[u] = has_surface(zr[u]) ? zr[u] : 0.0f;
+        finish(s, v, s.z.data(), m_d2.row(v), m_surface.row(v));
     });
 }
 

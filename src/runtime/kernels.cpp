@@ -15,25 +15,35 @@ namespace deepsea::kernels {
 DEEPSEA_CLONES
 void shade_row(int n, const float* __restrict x, const float* __restrict y,
                const float* __restrict z, const float* __restrict e, const float* __restrict J,
-               const float c[3], float* __restrict D, float* __restrict d2out,
-               float* __restrict L) {
-    const float cr = c[0], cg = c[1], cb = c[2];
+               float* __restrict d2out, float* __restrict L) {
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
-        const float d2 = std::sqrt(x[u] * x[u] + y[u] * y[u] + z[u] * z[u]);
         const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
-        d2out[u] = d2;
-        D[3 * u] = surf * direct_signal(J[3 * u], e[u], cr, d2);
-        D[3 * u + 1] = surf * direct_signal(J[3 * u + 1], e[n + u], cg, d2);
-        D[3 * u + 2] = surf * direct_signal(J[3 * u + 2], e[2 * n + u], cb, d2);
+        d2out[u] = std::sqrt(x[u] * x[u] + y[u] * y[u] + z[u] * z[u]);
+        L[3 * u] = surf * lambertian_radiance(J[3 * u], e[u]);
+        L[3 * u + 1] = surf * lambertian_radiance(J[3 * u + 1], e[n + u]);
+        L[3 * u + 2] = surf * lambertian_radiance(J[3 * u + 2], e[2 * n + u]);
     }
-    if (!L) return;
+}
+
+DEEPSEA_CLONES
+void direct_row(int n, const float* __restrict d2, const float c[3], const float* __restrict L,
+                float* __restrict T, float* __restrict D, float* __restrict final) {
+    const float c0 = c[0], c1 = c[1], c2 = c[2];
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
-        const float surf = z[u] > 0.0f ? 1.0f : 0.0f;
-        L[3 * u] = surf * direct_signal(J[3 * u], e[u], cr, 0.0f);
-        L[3 * u + 1] = surf * direct_signal(J[3 * u + 1], e[n + u], cg, 0.0f);
-        L[3 * u + 2] = surf * direct_signal(J[3 * u + 2], e[2 * n + u], cb, 0.0f);
+        const float d = d2[u];
+        const float surf = d > 0.0f ? 1.0f : 0.0f;
+        T[3 * u] = surf * transmission(c0, d);
+        T[3 * u + 1] = surf * transmission(c1, d);
+        T[3 * u + 2] = surf * transmission(c2, d);
+        // direct_signal (lamp.h) from its two factors: L is lambertian_radiance
+        D[3 * u] = L[3 * u] * T[3 * u];
+        D[3 * u + 1] = L[3 * u + 1] * T[3 * u + 1];
+        D[3 * u + 2] = L[3 * u + 2] * T[3 * u + 2];
+        final[3 * u] += D[3 * u];
+        final[3 * u + 1] += D[3 * u + 1];
+        final[3 * u + 2] += D[3 * u + 2];
     }
 }
 
@@ -42,35 +52,23 @@ void shade_row(int n, const float* __restrict x, const float* __restrict y,
 namespace deepsea::kernels {
 
 DEEPSEA_CLONES
-void finish_row(int n, const float* __restrict d2, const float c[3], const float G[3],
-                const float* __restrict blurred, float* __restrict T, float* __restrict F,
-                float* __restrict final) {
-    const float c0 = c[0], c1 = c[1], c2 = c[2];
-    if (!blurred || !G) {
-        // No forward scatter (F = 0), or blurred is F itself (the phase-function point spread
-        // weighs before blurring).
-#pragma omp simd
-        for (int u = 0; u < n; ++u) {
-            const float surf = d2[u] > 0.0f ? 1.0f : 0.0f;
-            T[3 * u] = surf * transmission(c0, d2[u]);
-            T[3 * u + 1] = surf * transmission(c1, d2[u]);
-            T[3 * u + 2] = surf * transmission(c2, d2[u]);
-        }
+void forward_row(int n, const float* __restrict d2, const float c[3], const float G[3],
+                 const float* __restrict blurred, float* __restrict F, float* __restrict final) {
+    if (!G) {
+        // The phase-function point spread: blurred is F itself (weighed before the blur).
 #pragma omp simd
         for (int i = 0; i < 3 * n; ++i) {
-            F[i] = blurred ? blurred[i] : 0.0f;
+            F[i] = blurred[i];
             final[i] += F[i];
         }
         return;
     }
+    const float c0 = c[0], c1 = c[1], c2 = c[2];
     const float g0 = G[0], g1 = G[1], g2 = G[2];
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
         const float d = d2[u];
         const float surf = d > 0.0f ? 1.0f : 0.0f;
-        T[3 * u] = surf * transmission(c0, d);
-        T[3 * u + 1] = surf * transmission(c1, d);
-        T[3 * u + 2] = surf * transmission(c2, d);
         F[3 * u] = surf * forward_weight(g0, c0, d) * blurred[3 * u];
         F[3 * u + 1] = surf * forward_weight(g1, c1, d) * blurred[3 * u + 1];
         F[3 * u + 2] = surf * forward_weight(g2, c2, d) * blurred[3 * u + 2];

@@ -5,22 +5,27 @@
 
 namespace deepsea::kernels {
 
-/// Per pixel of a row: d2 = |P| (0 for open water, where P = 0), D = J/pi * E * exp(-c d2)
-/// (0 for open water). E is planar RGB irradiance; J, D interleaved RGB; d2 out. If L is not
-/// null it receives the surface radiance J/pi * E (interleaved), what forward scatter blurs.
+/// Per pixel of a row: d2 = |P| (0 for open water, where P = 0) and the surface radiance
+/// L = J/pi * E (lamp.h's lambertian_radiance; 0 for open water). E is planar RGB
+/// irradiance; J, L interleaved RGB.
 void shade_row(int n, const float* x, const float* y, const float* z, const float* e_planar,
-               const float* J, const float c[3], float* D, float* d2, float* L = nullptr);
+               const float* J, float* d2, float* L);
+
+/// Per pixel of a row (interleaved RGB), surfaces where d2 > 0: T = exp(-c d2), the direct
+/// signal D = L * T (all 0 for open water), and final += D (final holds B on entry).
+void direct_row(int n, const float* d2, const float c[3], const float* L, float* T, float* D,
+                float* final);
 
 }  // namespace deepsea::kernels
 
 namespace deepsea::kernels {
 
-/// Per pixel of a row (interleaved RGB), surfaces where d2 > 0: T = exp(-c d2),
-/// w = exp(-G d2) - T, F = w * blurred (all 0 for open water), and final += F (final holds
-/// B + D on entry). blurred may be null (no forward scatter: F = 0); with G null, blurred is F
-/// itself, on open water too (the phase-function point spread, weighed before the blur).
-void finish_row(int n, const float* d2, const float c[3], const float G[3], const float* blurred,
-                float* T, float* F, float* final);
+/// Per pixel of a row (interleaved RGB), surfaces where d2 > 0: w = exp(-G d2) - exp(-c d2),
+/// F = w * blurred (0 for open water), and final += F (final holds B + D on entry). With G
+/// null, blurred is F itself, on open water too (the phase-function point spread, weighed
+/// before the blur).
+void forward_row(int n, const float* d2, const float c[3], const float G[3], const float* blurred,
+                 float* F, float* final);
 
 }  // namespace deepsea::kernels
 

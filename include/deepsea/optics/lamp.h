@@ -64,12 +64,20 @@ inline T lamp_term(T I0, T rid, T spread, T c, T d1) {
     return (rid * spread) * I0 * transmission(c, d1);
 }
 
-/// One channel of the direct signal D = (J / pi) E exp(-c d2) (radiance, W/(m^2 sr)) of a
-/// Lambertian surface of linear albedo J under irradiance E (the sum of lamp_term over the
-/// lamps, W/m^2), seen over d2 metres of water.
+/// One channel of the radiance J E / pi (W/(m^2 sr)) leaving a Lambertian surface of linear
+/// albedo J under irradiance E (the sum of lamp_term over the lamps, W/m^2): the surface as
+/// seen through no water, and what forward scatter spreads.
+template <class T>
+inline T lambertian_radiance(T J, T E) {
+    return J * E * T(1.0 / M_PI);
+}
+
+/// One channel of the direct signal D = (J / pi) E exp(-c d2) (radiance, W/(m^2 sr)): the
+/// surface's lambertian_radiance seen over d2 metres of water. The runtime forms it in this
+/// order too, radiance first (kept for forward scatter), then times its transmission.
 template <class T>
 inline T direct_signal(T J, T E, T c, T d2) {
-    return J * E * transmission(c, d2) * T(1.0 / M_PI);
+    return lambertian_radiance(J, E) * transmission(c, d2);
 }
 
 }  // namespace deepsea

@@ -35,8 +35,8 @@ public:
 
     /// The image only, each row handed to `rows` as it is finished instead of being kept (a
     /// sequence encodes it there, while the row is in cache). The same values as the final
-    /// layer of composite(). dst is scratch: with forward scatter its final layer holds the
-    /// rows between the two passes; without, nothing is kept and its final layer is freed.
+    /// layer of composite(). dst is scratch: nothing of the image is kept, and its layers are
+    /// freed.
     void composite(Layers& dst, const Frame& frame, const FinalRows& rows);
 
 private:
@@ -49,8 +49,9 @@ private:
     ForwardBlur m_blur;                        ///< Jaffe-McGlamery forward scatter
     std::optional<ForwardPsfBlur> m_psf_blur;  ///< forward scatter from the phase function
     std::vector<float> m_rx;                   ///< (u - cx) / fx per column
+    // With forward scatter on (without, rows keep their own):
     Image m_d2;       ///< camera-to-surface distance per pixel, metres (0 for open water)
-    Image m_surface;  ///< surface radiance J/pi E (forward scatter on): what the blur spreads
+    Image m_surface;  ///< surface radiance J/pi E: what the blur spreads
 };
 
 }  // namespace deepsea
