@@ -18,11 +18,11 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, j, d2, l, t, d, f, out;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, j, d2, l, t, d, f, out, dx;
     std::vector<unsigned char> irregular;
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2}) v->resize(n);
-        for (auto* v : {&e, &j, &l, &t, &d, &f, &out}) v->resize(3 * std::size_t(n));
+        for (auto* v : {&e, &j, &l, &t, &d, &f, &out, &dx}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -80,6 +80,8 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
     if (int(m_rx.size()) != W) {
         m_rx.resize(W);
         for (int u = 0; u < W; ++u) m_rx[u] = float((u - cam.cx) / cam.fx);
+        m_c3.resize(3 * std::size_t(W));
+        for (std::size_t k = 0; k < m_c3.size(); ++k) m_c3[k] = float(m_water.c[int(k % 3)]);
     }
 
     static tbb::enumerable_thread_specific<RowScratch> scratch;
@@ -95,7 +97,8 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
         float* out = rows ? s.out.data() : dst.final.row(v);
         m_backscatter.backscatter_row(v, W, z, out);
         if (all) std::copy(out, out + 3 * std::size_t(W), dst.backscatter.row(v));
-        kernels::direct_row(W, d2, c, L, all ? dst.transmission.row(v) : s.t.data(),
+        kernels::direct_row(W, d2, m_c3.data(), L, s.dx.data(),
+                            all ? dst.transmission.row(v) : s.t.data(),
                             all ? dst.direct.row(v) : s.d.data(), out);
         if (psf && !all) {
             m_psf_blur->add_row(v, out);  // F straight into the image, no copy of it

@@ -27,29 +27,20 @@ void shade_row(int n, const float* __restrict x, const float* __restrict y,
 }
 
 DEEPSEA_CLONES
-void direct_row(int n, const float* __restrict d2, const float c[3], const float* __restrict L,
-                float* __restrict T, float* __restrict D, float* __restrict final) {
-    const float c0 = c[0], c1 = c[1], c2 = c[2];
+void direct_row(int n, const float* __restrict d2, const float* __restrict c3,
+                const float* __restrict L, float* __restrict dx, float* __restrict T,
+                float* __restrict D, float* __restrict final) {
+    // Every channel's distance where the rows hold its value, so that the loop below reads
+    // and writes whole vectors (a loop over pixels stores three strided values a pixel).
+    for (int u = 0; u < n; ++u) dx[3 * u] = dx[3 * u + 1] = dx[3 * u + 2] = d2[u];
 #pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        const float d = d2[u];
-        const float surf = d > 0.0f ? 1.0f : 0.0f;
-        T[3 * u] = surf * transmission(c0, d);
-        T[3 * u + 1] = surf * transmission(c1, d);
-        T[3 * u + 2] = surf * transmission(c2, d);
-        // direct_signal (lamp.h) from its two factors: L is lambertian_radiance
-        D[3 * u] = L[3 * u] * T[3 * u];
-        D[3 * u + 1] = L[3 * u + 1] * T[3 * u + 1];
-        D[3 * u + 2] = L[3 * u + 2] * T[3 * u + 2];
-        final[3 * u] += D[3 * u];
-        final[3 * u + 1] += D[3 * u + 1];
-        final[3 * u + 2] += D[3 * u + 2];
+    for (int i = 0; i < 3 * n; ++i) {
+        const float surf = dx[i] > 0.0f ? 1.0f : 0.0f;
+        T[i] = surf * transmission(c3[i], dx[i]);
+        D[i] = L[i] * T[i];  // direct_signal (lamp.h) from its two factors: L is lambertian_radiance
+        final[i] += D[i];
     }
 }
-
-}  // namespace deepsea::kernels
-
-namespace deepsea::kernels {
 
 DEEPSEA_CLONES
 void forward_row(int n, const float* __restrict d2, const float c[3], const float G[3],

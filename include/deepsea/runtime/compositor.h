@@ -49,6 +49,7 @@ private:
     ForwardBlur m_blur;                        ///< Jaffe-McGlamery forward scatter
     std::optional<ForwardPsfBlur> m_psf_blur;  ///< forward scatter from the phase function
     std::vector<float> m_rx;                   ///< (u - cx) / fx per column
+    std::vector<float> m_c3;                   ///< c per channel, as a row holds it (3 x width)
     // With forward scatter on (without, rows keep their own):
     Image m_d2;       ///< camera-to-surface distance per pixel, metres (0 for open water)
     Image m_surface;  ///< surface radiance J/pi E: what the blur spreads
