@@ -29,6 +29,7 @@ void depth_cells(int n, const float* __restrict z, const float* __restrict zs,
                  const float* __restrict znext, const float* __restrict inv_h,
                  const int* __restrict bucket, int last_bucket, float bucket_scale, float z_max,
                  int* __restrict k_out, float* __restrict wz_out) {
+#pragma omp simd
     for (int u = 0; u < n; ++u) {
         const float zz = z[u] > 0.0f ? std::min(z[u], z_max) : z_max;
         int k = bucket[std::min(int(zz * bucket_scale), last_bucket)];
