@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "clones.h"
+#include "float4.h"
 
 namespace deepsea {
 
@@ -60,16 +60,6 @@ void blend_rows(int m0, int m1, const float* __restrict a, const float* __restri
 #pragma omp simd
     for (int m = m0; m < m1; ++m) out[m] = lerp(a[m], b[m], w);
 }
-
-/// Four floats as one vector (GCC and Clang vector extensions: SSE or NEON registers, or
-/// plain floats where neither exists), loaded unaligned.
-typedef float Float4 __attribute__((vector_size(16)));
-inline Float4 load4(const float* p) {
-    Float4 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline Float4 splat(float w) { return Float4{w, w, w, w}; }
 
 /// B for one image row from its slice (blend_rows), interleaved RGB out: linear between the
 /// two lattice columns of each pixel and between the samples of its slab (depth_cells). A

@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 
 #include "clones.h"
 #include "column_basis.h"
 #include "deepsea/core/error.h"
+#include "float4.h"
 #include "gaussian_planes.h"
 
 namespace deepsea {
@@ -53,16 +53,6 @@ void add_doubled(int n, const float* __restrict qp, float* __restrict dst) {
     }
     if (n % 2) dst[n - 1] += qp[pairs] + 0.75f * (qp[pairs + 1] - qp[pairs]);
 }
-
-/// Four floats as one vector (GCC and Clang vector extensions: SSE or NEON registers, or
-/// plain floats where neither exists), loaded and stored unaligned.
-typedef float Float4 __attribute__((vector_size(16)));
-inline Float4 load4(const float* p) {
-    Float4 v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-}
-inline void store4(float* p, Float4 v) { std::memcpy(p, &v, sizeof v); }
 
 /// Kernel::run<S>(args...) for a table stride S known at compile time: 4, 8, 12, 16, 20, or
 /// kMaxStride for anything else (inlined into each caller, and so into its AVX2 clone).

@@ -37,7 +37,8 @@ void direct_row(int n, const float* __restrict d2, const float* __restrict c3,
     for (int i = 0; i < 3 * n; ++i) {
         const float surf = dx[i] > 0.0f ? 1.0f : 0.0f;
         T[i] = surf * transmission(c3[i], dx[i]);
-        D[i] = L[i] * T[i];  // direct_signal (lamp.h) from its two factors: L is lambertian_radiance
+        // direct_signal (lamp.h) from its two factors: L is lambertian_radiance
+        D[i] = L[i] * T[i];
         final[i] += D[i];
     }
 }
