@@ -27,6 +27,12 @@ struct RowScratch {
     }
 };
 
+/// A row of planar depth as the kernels take it: open water 0 (the fast-math kernels must
+/// never see NaN or inf).
+void sanitise_row(int n, const float* raw, float* z) {
+    for (int u = 0; u < n; ++u) z[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
+}
+
 }  // namespace
 
 Compositor::Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
@@ -109,6 +115,7 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
             } else {
                 m_blur.blend_row(v, d2, blurred);
             }
+            // F into its layer, or into D's row buffer, spent by now
             kernels::forward_row(W, d2, c, psf ? nullptr : G, blurred,
                                  all ? dst.forward.row(v) : s.d.data(), out);
         } else if (all) {
@@ -137,12 +144,8 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
         if (v > 0 && v + 1 < H) {
             s.zu.resize(W);
             s.zd.resize(W);
-            const float* zu_raw = depth.row(v - 1);
-            const float* zd_raw = depth.row(v + 1);
-            for (int u = 0; u < W; ++u) {
-                s.zu[u] = has_surface(zu_raw[u]) ? zu_raw[u] : 0.0f;
-                s.zd[u] = has_surface(zd_raw[u]) ? zd_raw[u] : 0.0f;
-            }
+            sanitise_row(W, depth.row(v - 1), s.zu.data());
+            sanitise_row(W, depth.row(v + 1), s.zd.data());
             kernels::normals_row(W, m_rx.data(), float((v - 1 - cam.cy) / cam.fy), ry,
                                  float((v + 1 - cam.cy) / cam.fy), s.zu.data(), s.z.data(),
                                  s.zd.data(), s.nx.data(), s.ny.data(), s.nz.data(),
@@ -201,8 +204,7 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
     tbb::parallel_for(0, H, [&](int v) {
         RowScratch& s = scratch.local();
         s.fit(W);
-        const float* zr = depth.row(v);
-        for (int u = 0; u < W; ++u) s.z[u] = has_surface(zr[u]) ? zr[u] : 0.0f;
+        sanitise_row(W, depth.row(v), s.z.data());
         finish(s, v, s.z.data(), m_d2.row(v), m_surface.row(v));
     });
 }
