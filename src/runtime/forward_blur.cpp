@@ -59,7 +59,7 @@ void ForwardBlur::build_level(const Image& in, Level& L) {
     // (f^2 - 1)/12 + f^2/12 px^2; the level's Gaussian supplies the rest of the variance.
     const double spent = f > 1 ? (2.0 * f * f - 1.0) / 12.0 : 0.0;
     const double rest = std::sqrt(std::max(L.sigma * L.sigma - spent, 0.09)) / f;
-    planes::blur_planes(src, L.blurred.data.data(), rest, m_kernel, m_norm_x, m_norm_y, m_tmp);
+    planes::blur_planes(src, L.blurred.data.data(), rest, m_kernel, m_norm_x, m_norm_y);
     // Horizontal bilinear taps, kept while the frame width and the factor stay the same.
     const int W = in.width;
     if (f > 1 && (L.taps_width != W || L.taps_factor != f)) {

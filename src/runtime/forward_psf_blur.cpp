@@ -464,7 +464,7 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
         const double rest = std::sqrt(std::max(sigma * sigma - g.spent, 0.09)) / g.factor;
         float* sum = g.factor == 1 ? m_full.data() : grid_of(g.factor).acc.data();
         planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), sum, rest, m_kernel,
-                            m_norm_x, m_norm_y, m_tmp, planes::Store::Add);
+                            m_norm_x, m_norm_y, planes::Store::Add);
     }
 
     // Coarse to fine: each grid holds its own scales plus the next coarser grid upsampled.

@@ -46,8 +46,7 @@ Source planar(const float* data, int w, int h) {
 }
 
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
-                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp,
-                 Store store) {
+                 std::vector<float>& nx, std::vector<float>& ny, Store store) {
     const int w = src.w, h = src.h;
     const int r = std::max(1, int(std::ceil(3.0 * sigma)));
     g.resize(2 * r + 1);
@@ -55,37 +54,39 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
     inside_weights(w, g, r, nx);
     inside_weights(h, g, r, ny);
     const std::size_t plane = std::size_t(w) * h;
-    tmp.resize(3 * plane);
-    tbb::parallel_for(0, 3 * h, [&](int prow) {
-        const int c = prow / h, y = prow % h;
-        thread_local std::vector<float> padded;
+    // Strips of rows, each through a ring of its 2r + 1 latest rows of the horizontal pass, so
+    // that the horizontal pass is never written out and read back (a strip computes the r rows
+    // on either side of it again). The sums are the two passes' own, in the same order.
+    const int ring = 2 * r + 1, strip = std::max(32, 4 * r), strips = (h + strip - 1) / strip;
+    tbb::parallel_for(0, 3 * strips, [&](int t) {
+        const int c = t / strips, y0 = t % strips * strip, y1 = std::min(h, y0 + strip);
+        thread_local std::vector<float> padded, rows, sum;
         padded.assign(w + 2 * r, 0.0f);
-        const float* in = src.at(c, y);
-        for (int x = 0; x < w; ++x) padded[r + x] = in[x * src.pixel];
-        float* dst = tmp.data() + std::size_t(prow) * w;
-        convolve_row(padded.data(), dst, w, g.data(), r);
-        for (int x = 0; x < w; ++x) dst[x] *= nx[x];
-    });
-    tbb::parallel_for(0, 3 * h, [&](int prow) {
-        const int p = prow / h, y = prow % h;
-        float* out = dst_planes + p * plane + std::size_t(y) * w;
-        thread_local std::vector<float> row;
-        float* dst = out;
-        if (store == Store::Add) {
-            row.resize(w);
-            dst = row.data();
-        }
-        std::fill(dst, dst + w, 0.0f);
-        const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
-        for (int k = k0; k <= k1; ++k) {
-            const float gk = g[k + r] * ny[y];
-            const float* in = tmp.data() + p * plane + std::size_t(y + k) * w;
+        rows.resize(std::size_t(ring) * w);
+        sum.resize(w);
+        for (int y = y0, next = std::max(0, y0 - r); y < y1; ++y) {
+            // the horizontal pass up to row y + r, each row into its ring slot
+            for (; next <= std::min(h - 1, y + r); ++next) {
+                const float* in = src.at(c, next);
+                for (int x = 0; x < w; ++x) padded[r + x] = in[x * src.pixel];
+                float* dst = rows.data() + std::size_t(next % ring) * w;
+                convolve_row(padded.data(), dst, w, g.data(), r);
+                for (int x = 0; x < w; ++x) dst[x] *= nx[x];
+            }
+            float* out = dst_planes + c * plane + std::size_t(y) * w;
+            float* dst = store == Store::Add ? sum.data() : out;
+            std::fill(dst, dst + w, 0.0f);
+            const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
+            for (int k = k0; k <= k1; ++k) {
+                const float gk = g[k + r] * ny[y];
+                const float* in = rows.data() + std::size_t((y + k) % ring) * w;
 #pragma omp simd
-            for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
-        }
-        if (store == Store::Add) {
+                for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
+            }
+            if (store == Store::Add) {
 #pragma omp simd
-            for (int x = 0; x < w; ++x) out[x] += dst[x];
+                for (int x = 0; x < w; ++x) out[x] += dst[x];
+            }
         }
     });
 }

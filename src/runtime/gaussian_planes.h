@@ -27,11 +27,10 @@ enum class Store { Set, Add };
 
 /// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to
 /// planar dst (stored or added), normalised over in-image pixels. g, nx, ny (kernel, row and
-/// column normalisation) and tmp (horizontal pass) are the caller's, kept between frames so
-/// that nothing is allocated once they have grown.
+/// column normalisation) are the caller's, kept between frames so that nothing is allocated
+/// once they have grown (each worker keeps its own few rows of the horizontal pass).
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
-                 std::vector<float>& nx, std::vector<float>& ny, std::vector<float>& tmp,
-                 Store store = Store::Set);
+                 std::vector<float>& nx, std::vector<float>& ny, Store store = Store::Set);
 
 /// dst = a + t (b - a), n floats.
 void lerp_rows(int n, const float* a, const float* b, float t, float* dst);

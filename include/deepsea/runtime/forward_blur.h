@@ -51,7 +51,6 @@ private:
     int m_count = 0;                ///< levels in use; 0 when no pixel is blurred
     std::vector<double> m_sigmas;   ///< this frame's level sigmas
     std::vector<float> m_kernel, m_norm_x, m_norm_y;  ///< blur_planes' scratch
-    std::vector<float> m_tmp;
     std::vector<std::pair<float, float>> m_row_range;  ///< range of s over each row
 };
 
