@@ -50,7 +50,7 @@ private:
     std::vector<Level> m_levels;    ///< the first m_count are this frame's
     int m_count = 0;                ///< levels in use; 0 when no pixel is blurred
     std::vector<double> m_sigmas;   ///< this frame's level sigmas
-    std::vector<float> m_kernel, m_norm_x, m_norm_y;  ///< blur_planes' scratch
+    std::vector<float> m_kernel, m_norm_x, m_norm_y;   ///< blur_planes' scratch
     std::vector<std::pair<float, float>> m_row_range;  ///< range of s over each row
 };
 

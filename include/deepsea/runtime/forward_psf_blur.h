@@ -85,7 +85,8 @@ private:
     std::vector<Group> m_groups;
     std::vector<Level> m_levels;  ///< scales 1 .. S-1
     std::vector<Grid> m_grids;    ///< factors 2, 4, .. up to the widest group's
-    std::vector<float> m_kernel, m_norm_x, m_norm_y;  ///< blur scratch
+    /// blur_planes' scratch
+    std::vector<float> m_kernel, m_norm_x, m_norm_y;
 };
 
 }  // namespace deepsea
