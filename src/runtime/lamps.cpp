@@ -28,15 +28,15 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-/// Adds one lamp's irradiance to the planar RGB row. Gaussian RID in-loop; tabulated RIDs
-/// take the scalar interpolation after the vector part.
-DEEPSEA_CLONES
-void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restrict e,
-              float* __restrict scratch_theta) {
+/// Adds one lamp's irradiance to the planar RGB row: with its Gaussian RID (one exponential a
+/// channel, lamp.h's gaussian_lamp_term), or with RID 1 (tabulated RIDs: the caller scales by
+/// the RID at scratch_theta). Inlined into each clone below.
+template <bool Gaussian>
+[[gnu::always_inline]] inline void lamp_rows(const Light& L, const Rgb& c, const RowGeometry& g,
+                                             float* __restrict e, float* __restrict scratch_theta) {
     const int n = g.n;
     const float lx = float(L.position.x), ly = float(L.position.y), lz = float(L.position.z);
     const Vec3T<float> axis{float(L.direction.x), float(L.direction.y), float(L.direction.z)};
-    const bool gaussian = L.rid.kind == Rid::Kind::Gaussian;
     const float sig = float(L.rid.sigma_deg * kDegToRad);
     const float cutoff = float(L.rid.cutoff_deg * kDegToRad);
     const float cr = float(c.r), cg = float(c.g), cb = float(c.b);
@@ -56,14 +56,30 @@ void add_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* __restr
         const LampGeometry<float> lg =
             lamp_geometry({lx - px[u], ly - py[u], lz - pz[u]}, {nx[u], ny[u], nz[u]}, axis);
         const float theta = lamp_angle(lg.cos_theta);
-        scratch_theta[u] = theta;
-        float rid = gaussian ? gaussian_rid(theta, sig) : 1.0f;
-        rid = theta > cutoff ? 0.0f : rid;
-        const float spread = pz[u] > 0.0f ? lamp_spread(lg.d1, lg.cos_n) : 0.0f;
-        er[u] += lamp_term(ir, rid, spread, cr, lg.d1);
-        eg[u] += lamp_term(ig, rid, spread, cg, lg.d1);
-        eb[u] += lamp_term(ib, rid, spread, cb, lg.d1);
+        float spread = pz[u] > 0.0f ? lamp_spread(lg.d1, lg.cos_n) : 0.0f;
+        spread = theta > cutoff ? 0.0f : spread;
+        if constexpr (Gaussian) {
+            er[u] += gaussian_lamp_term(ir, theta, sig, spread, cr, lg.d1);
+            eg[u] += gaussian_lamp_term(ig, theta, sig, spread, cg, lg.d1);
+            eb[u] += gaussian_lamp_term(ib, theta, sig, spread, cb, lg.d1);
+        } else {
+            scratch_theta[u] = theta;
+            er[u] += lamp_term(ir, 1.0f, spread, cr, lg.d1);
+            eg[u] += lamp_term(ig, 1.0f, spread, cg, lg.d1);
+            eb[u] += lamp_term(ib, 1.0f, spread, cb, lg.d1);
+        }
     }
+}
+
+DEEPSEA_CLONES
+void add_gaussian_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* e) {
+    lamp_rows<true>(L, c, g, e, nullptr);
+}
+
+DEEPSEA_CLONES
+void add_unit_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* e,
+                   float* scratch_theta) {
+    lamp_rows<false>(L, c, g, e, scratch_theta);
 }
 
 /// Spacing of the points where the scattered light's coefficients are computed, as an angle
@@ -269,10 +285,10 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
     theta.resize(n);
     for (const Light& L : m_rig.lights) {
         if (L.rid.kind == Rid::Kind::Gaussian) {
-            add_lamp(L, m_water.c, g, out, theta.data());
+            add_gaussian_lamp(L, m_water.c, g, out);
         } else {
             part.assign(3 * std::size_t(n), 0.0f);
-            add_lamp(L, m_water.c, g, part.data(), theta.data());
+            add_unit_lamp(L, m_water.c, g, part.data(), theta.data());
             for (int u = 0; u < n; ++u) {
                 const float s = float(L.rid(theta[u]));
                 out[u] += s * part[u];

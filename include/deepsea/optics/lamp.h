@@ -64,6 +64,15 @@ inline T lamp_term(T I0, T rid, T spread, T c, T d1) {
     return (rid * spread) * I0 * transmission(c, d1);
 }
 
+/// lamp_term for a Gaussian RID, the RID's exponential and the transmission's taken as one:
+/// I0 spread exp(-theta^2 / (2 sigma^2) - c d1) = lamp_term(I0, gaussian_rid(theta, sigma),
+/// spread, c, d1). The runtime's rows evaluate this form: one exponential a channel, not two.
+template <class T>
+inline T gaussian_lamp_term(T I0, T theta, T sigma, T spread, T c, T d1) {
+    using std::exp;
+    return spread * I0 * exp(-theta * theta / (T(2) * sigma * sigma) - c * d1);
+}
+
 /// One channel of the radiance J E / pi (W/(m^2 sr)) leaving a Lambertian surface of linear
 /// albedo J under irradiance E (the sum of lamp_term over the lamps, W/m^2): the surface as
 /// seen through no water, and what forward scatter spreads.

@@ -59,6 +59,27 @@ TEST(LampTerm, InverseSquareLambertAndBeerLambert) {
     EXPECT_NEAR(far / near, 0.25 * std::exp(-2.0 * c), 1e-15);
 }
 
+TEST(LampTerm, GaussianFormIsTheRidTimesTheLampTerm) {
+    // one exponential for the Gaussian RID and the transmission: the same value in double,
+    // and in float within the float form's own rounding
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int i = 0; i < 1000; ++i) {
+        const double I0 = 5.0 * unit(rng), theta = unit(rng) * M_PI, sigma = 0.1 + unit(rng);
+        const double spread = unit(rng), c = unit(rng), d1 = 0.3 + 12.0 * unit(rng);
+        const double split = lamp_term(I0, gaussian_rid(theta, sigma), spread, c, d1);
+        EXPECT_NEAR(gaussian_lamp_term(I0, theta, sigma, spread, c, d1), split, 1e-13 * split);
+        expect_close(gaussian_lamp_term(float(I0), float(theta), float(sigma), float(spread),
+                                        float(c), float(d1)),
+                     split);
+    }
+    // on the axis it is the lamp term with RID 1; at theta = sigma, exp(-1/2) of that
+    EXPECT_DOUBLE_EQ(gaussian_lamp_term(2.0, 0.0, 0.4, 0.1, 0.3, 4.0),
+                     lamp_term(2.0, 1.0, 0.1, 0.3, 4.0));
+    EXPECT_NEAR(gaussian_lamp_term(2.0, 0.4, 0.4, 0.1, 0.3, 4.0),
+                std::exp(-0.5) * lamp_term(2.0, 1.0, 0.1, 0.3, 4.0), 1e-15);
+}
+
 TEST(DirectSignal, LambertianRadianceWithThePathBack) {
     // J / pi * E * exp(-c d2); clear water gives the in-air Lambertian radiance J E / pi
     EXPECT_NEAR(direct_signal(0.5, 3.0, 0.0, 7.0), 0.5 * 3.0 / M_PI, 1e-15);
