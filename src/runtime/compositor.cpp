@@ -18,11 +18,11 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, j, d2, l, t, d, f, out, dx;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, j, d2, l, d, f, out, dx;
     std::vector<unsigned char> irregular;
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2}) v->resize(n);
-        for (auto* v : {&e, &j, &l, &t, &d, &f, &out, &dx}) v->resize(3 * std::size_t(n));
+        for (auto* v : {&e, &j, &l, &d, &f, &out, &dx}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -104,8 +104,8 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
         m_backscatter.backscatter_row(v, W, z, out);
         if (all) std::copy(out, out + 3 * std::size_t(W), dst.backscatter.row(v));
         kernels::direct_row(W, d2, m_c3.data(), L, s.dx.data(),
-                            all ? dst.transmission.row(v) : s.t.data(),
-                            all ? dst.direct.row(v) : s.d.data(), out);
+                            all ? dst.transmission.row(v) : nullptr,
+                            all ? dst.direct.row(v) : nullptr, out);
         if (psf && !all) {
             m_psf_blur->add_row(v, out);  // F straight into the image, no copy of it
         } else if (forward) {

@@ -33,6 +33,15 @@ void direct_row(int n, const float* __restrict d2, const float* __restrict c3,
     // Every channel's distance where the rows hold its value, so that the loop below reads
     // and writes whole vectors (a loop over pixels stores three strided values a pixel).
     for (int u = 0; u < n; ++u) dx[3 * u] = dx[3 * u + 1] = dx[3 * u + 2] = d2[u];
+    if (!T) {
+        // only the image: D goes straight into it
+#pragma omp simd
+        for (int i = 0; i < 3 * n; ++i) {
+            const float surf = dx[i] > 0.0f ? 1.0f : 0.0f;
+            final[i] += L[i] * (surf * transmission(c3[i], dx[i]));
+        }
+        return;
+    }
 #pragma omp simd
     for (int i = 0; i < 3 * n; ++i) {
         const float surf = dx[i] > 0.0f ? 1.0f : 0.0f;

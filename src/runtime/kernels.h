@@ -13,7 +13,7 @@ void shade_row(int n, const float* x, const float* y, const float* z, const floa
 
 /// Per pixel of a row (interleaved RGB), surfaces where d2 > 0: T = exp(-c d2), the direct
 /// signal D = L * T (all 0 for open water), and final += D (final holds B on entry). c3 holds
-/// c[k % 3] at k (3n floats); dx is scratch of 3n floats.
+/// c[k % 3] at k (3n floats); dx is scratch of 3n floats. T and D null: final += D only.
 void direct_row(int n, const float* d2, const float* c3, const float* L, float* dx, float* T,
                 float* D, float* final);
 
