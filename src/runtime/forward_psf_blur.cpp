@@ -74,17 +74,17 @@ template <class Kernel, class... Args>
     }
 }
 
-/// x[b * lanes + c * stride + r] = sum over the block's pixels u (b * block .. b * block +
-/// block - 1, fewer at the end) of phi_r(d_u) L_u[c], phi_r from the table's rows idx[u] and
-/// idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing. A
-/// block's sums stay in registers, four basis functions to a vector: the stride is a
-/// compile-time multiple of four.
+/// x[b * lanes + c * stride + r] = (or, with add, +=) the sum over the block's pixels u (b * block
+/// .. b * block + block - 1, fewer at the end) of phi_r(d_u) L_u[c], phi_r from the table's rows
+/// idx[u] and idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing.
+/// A block's sums stay in registers, four basis functions to a vector: the stride is a compile-time
+/// multiple of four.
 struct WeighBlocks {
     template <int S>
     [[gnu::always_inline]] static void run(int n, int block, const int* __restrict idx,
                                            const float* __restrict frac,
                                            const float* __restrict tab, const float* __restrict L,
-                                           float* __restrict x) {
+                                           bool add, float* __restrict x) {
         constexpr int lanes = 3 * S, V = S / 4;
         for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
             Float4 acc[3 * V] = {};
@@ -102,15 +102,17 @@ struct WeighBlocks {
                     }
                 }
             }
-            for (int k = 0; k < 3 * V; ++k) store4(x + std::size_t(b) * lanes + 4 * k, acc[k]);
+            float* out = x + std::size_t(b) * lanes;
+            for (int k = 0; k < 3 * V; ++k)
+                store4(out + 4 * k, add ? load4(out + 4 * k) + acc[k] : acc[k]);
         }
     }
 };
 
 DEEPSEA_CLONES
 void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
-                  const float* L, float* x) {
-    by_stride<WeighBlocks>(stride, n, block, idx, frac, tab, L, x);
+                  const float* L, bool add, float* x) {
+    by_stride<WeighBlocks>(stride, n, block, idx, frac, tab, L, add, x);
 }
 
 /// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
@@ -161,20 +163,26 @@ void table_rows(int n, const float* d2, float inv_step, float range, int bins, i
     }
 }
 
-/// Sums of neighbouring blocks: dst block i = src blocks 2i and 2i + 1 (the last alone when
-/// n is odd), each block `lanes` floats.
+/// Sums of neighbouring blocks: dst block i = (or, with add, +=) src blocks 2i and 2i + 1 (the
+/// last alone when n is odd), each block `lanes` floats.
 DEEPSEA_CLONES
-void pair_sums(int n, int lanes, const float* __restrict src, float* __restrict dst) {
+void pair_sums(int n, int lanes, const float* __restrict src, bool add, float* __restrict dst) {
     const int pairs = n / 2;
     for (int i = 0; i < pairs; ++i) {
         const float* s = src + std::size_t(2 * i) * lanes;
         float* d = dst + std::size_t(i) * lanes;
+        if (add) {
 #pragma omp simd
-        for (int k = 0; k < lanes; ++k) d[k] = s[k] + s[k + lanes];
+            for (int k = 0; k < lanes; ++k) d[k] += s[k] + s[k + lanes];
+        } else {
+#pragma omp simd
+            for (int k = 0; k < lanes; ++k) d[k] = s[k] + s[k + lanes];
+        }
     }
     if (n % 2) {
-        std::copy(src + std::size_t(n - 1) * lanes, src + std::size_t(n) * lanes,
-                  dst + std::size_t(pairs) * lanes);
+        const float* s = src + std::size_t(n - 1) * lanes;
+        float* d = dst + std::size_t(pairs) * lanes;
+        for (int k = 0; k < lanes; ++k) d[k] = add ? d[k] + s[k] : s[k];
     }
 }
 
@@ -367,53 +375,49 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     const int S = m_psf.scales();
     const float inv_step = float(1.0 / m_step);
     const float range = float(m_bins * m_step);
-    // Where each group's running block sums start in a task's buffer.
-    std::vector<std::size_t> at(m_groups.size() + 1, 0);
-    for (std::size_t k = 0; k < m_groups.size(); ++k)
-        at[k + 1] = at[k] + std::size_t(m_groups[k].w) * lanes;
+    // A pyramid of block sums, one level per factor from the finest blocks (two pixels unless
+    // a group needs single pixels, on tiny images) to the widest group's: each level's block
+    // row is summed over its rows (the finest) or from the two block rows below it (pairs of
+    // neighbouring blocks), and expanded into the levels' planes of its group, if it has one.
+    const int f0 = m_groups.empty() || m_groups[0].factor == 1 ? 1 : 2;
+    const int f_max = m_groups.empty() ? 1 : m_groups.back().factor;
+    std::vector<int> group_at;       // group_at[i]: the group of level i's factor, or -1
+    std::vector<std::size_t> at{0};  // where level i's block sums start in a task's buffer
+    for (int f = f0; f <= f_max; f *= 2) {
+        int k = -1;
+        for (std::size_t g = 0; g < m_groups.size(); ++g)
+            if (m_groups[g].factor == f) k = int(g);
+        group_at.push_back(k);
+        at.push_back(at.back() + std::size_t((W + f - 1) / f) * lanes);
+    }
     // Bands of rows as high as the widest group's blocks, so that every block is summed by
     // one task, straight into its level's planes.
-    const int band = m_groups.empty() ? 1 : m_groups.back().factor;
-    tbb::parallel_for(0, (H + band - 1) / band, [&](int t) {
+    tbb::parallel_for(0, (H + f_max - 1) / f_max, [&](int t) {
         thread_local std::vector<int> idx;
-        thread_local std::vector<float> frac, x, pyramid, sums;
+        thread_local std::vector<float> frac, sums;
         thread_local std::vector<float*> dst;
         idx.resize(W);
         frac.resize(W);
-        x.resize(std::size_t(lanes) * W);
-        pyramid.resize(std::size_t(lanes) * (W + 16));
         sums.resize(at.back());
-        for (int v = t * band; v < std::min(H, (t + 1) * band); ++v) {
+        for (int v = t * f_max; v < std::min(H, (t + 1) * f_max); ++v) {
             table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
-            // Blocks of two pixels at once unless a group needs single pixels (tiny images).
-            int f = m_groups.empty() || m_groups[0].factor == 1 ? 1 : 2;
-            weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(), surface.row(v),
-                         x.data());
-            // Each group's basis sums from blocks of its factor (neighbouring blocks summed in
-            // turn), added up over the block's rows; at the last, its scales from those, divided
-            // by the block's pixels.
-            const float* blocks = x.data();
-            float* next = pyramid.data();
-            int n = (W + f - 1) / f;
-            for (std::size_t k = 0; k < m_groups.size(); ++k) {
-                const Group& g = m_groups[k];
-                while (f < g.factor) {
-                    pair_sums(n, lanes, blocks, next);
-                    blocks = next;
-                    n = (n + 1) / 2;
-                    next += std::size_t(n) * lanes;
-                    f *= 2;
-                }
-                const int y = v / f, row_in_block = v % f;
-                float* acc = sums.data() + at[k];
-                const std::size_t count = std::size_t(g.w) * lanes;
-                if (row_in_block == 0) {
-                    std::copy(blocks, blocks + count, acc);
+            for (std::size_t i = 0, f = f0; i < group_at.size(); ++i, f *= 2) {
+                // level i takes a block row of level i - 1 (this image row for the finest)
+                // when that one is complete; the first it takes starts its sums
+                const bool first = i == 0 ? v % f == 0 : v % f < f / 2;
+                float* acc = sums.data() + at[i];
+                if (i == 0) {
+                    weigh_blocks(W, int(f), stride, idx.data(), frac.data(), m_table.data(),
+                                 surface.row(v), !first, acc);
                 } else {
-                    for (std::size_t i = 0; i < count; ++i) acc[i] += blocks[i];
+                    pair_sums(int((W + f / 2 - 1) / (f / 2)), lanes, sums.data() + at[i - 1],
+                              !first, acc);
                 }
-                if (row_in_block != f - 1 && v != H - 1) continue;
-                const int scales = g.j1 - g.j0;
+                const int rows = int(v % f) + 1;
+                if (int(rows) != int(f) && v != H - 1) break;  // coarser levels wait for this one
+                if (group_at[i] < 0) continue;
+                const Group& g = m_groups[group_at[i]];
+                const int y = v / int(f), scales = g.j1 - g.j0;
                 dst.resize(std::size_t(3) * scales);
                 for (int c = 0; c < 3; ++c) {
                     for (int j = g.j0; j < g.j1; ++j) {
@@ -421,8 +425,9 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
                             m_levels[j - 1].planes.data() + (std::size_t(c) * g.h + y) * g.w;
                     }
                 }
-                const float scale = 1.0f / float(f * (row_in_block + 1));
-                const float edge = float(f) / float(W - (g.w - 1) * f);  // last block's columns
+                const float scale = 1.0f / float(int(f) * rows);
+                const float edge =
+                    float(f) / float(W - (g.w - 1) * int(f));  // last block's columns
                 expand_blocks(g.w, stride, scales, acc, m_coef.data() + std::size_t(g.j0) * stride,
                               std::size_t(S) * stride, dst.data(), scale, edge);
             }
