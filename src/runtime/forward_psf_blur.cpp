@@ -131,11 +131,27 @@ struct ExpandBlocks {
                 Float4 kv[V];
                 for (int i = 0; i < V; ++i) kv[i] = load4(k + 4 * i);
                 float* __restrict out = dst[c * scales + j];
-                for (int b = 0; b < n; ++b) {
+                const auto dot = [&](int b) {
                     const float* a = acc + std::size_t(b) * lanes + c * S;
                     Float4 s = kv[0] * load4(a);
                     for (int i = 1; i < V; ++i) s += kv[i] * load4(a + 4 * i);
-                    out[b] = (s[0] + s[1] + s[2] + s[3]) * scale;
+                    return s;
+                };
+                int b = 0;
+                for (; b + 4 <= n; b += 4) {
+                    // four blocks' sums at once: their vectors transposed and added
+                    const Float4 s0 = dot(b), s1 = dot(b + 1), s2 = dot(b + 2), s3 = dot(b + 3);
+                    const Float4 u01 = __builtin_shufflevector(s0, s1, 0, 4, 1, 5) +
+                                       __builtin_shufflevector(s0, s1, 2, 6, 3, 7);
+                    const Float4 u23 = __builtin_shufflevector(s2, s3, 0, 4, 1, 5) +
+                                       __builtin_shufflevector(s2, s3, 2, 6, 3, 7);
+                    store4(out + b, (__builtin_shufflevector(u01, u23, 0, 1, 4, 5) +
+                                     __builtin_shufflevector(u01, u23, 2, 3, 6, 7)) *
+                                        scale);
+                }
+                for (; b < n; ++b) {
+                    const Float4 s = dot(b);
+                    out[b] = ((s[0] + s[2]) + (s[1] + s[3])) * scale;
                 }
                 out[n - 1] *= edge;
             }
@@ -189,24 +205,55 @@ void pair_sums(int n, int lanes, const float* __restrict src, bool add, float* _
 /// Interleaved RGB F of one row: out[3u + c] = (or +=) W_0(d_u) L_u[c] (0 where idx[u] < 0) +
 /// full[c][u] (when full is not null) + the factor-2 grid's row upsampled at u (when coarse is
 /// not null). coarse: that grid's row blended between its two grid rows (doubled_row), padded
-/// as add_doubled's, 4 floats a column (RGB and padding). One pixel's channels to a vector.
+/// as add_doubled's, 4 floats a column (RGB and padding). A pixel's weights are a vector, four
+/// pixels' twelve floats are three (whole vectors loaded and stored: a vector a pixel would
+/// overlap the last store and stall).
 DEEPSEA_CLONES
 void f_row(int n, const int* __restrict idx, const float* __restrict frac,
            const float* __restrict sharp, const float* __restrict L, const float* const* full,
            const float* __restrict coarse, bool add, float* __restrict out) {
-    for (int u = 0; u < n; ++u) {
+    // One pixel's sum before L: its sharp weights (RGB, 0 where idx < 0) and its upsampled grid
+    // value (the fourth lane padding).
+    const auto weights = [&](int u) {
         const bool on = idx[u] >= 0;
         const float* ta = sharp + std::size_t(on ? idx[u] : 0) * 4;
         const Float4 a = load4(ta), b = load4(ta + 4);
-        const Float4 l = {L[3 * u], L[3 * u + 1], L[3 * u + 2], 0.0f};
-        Float4 s = on ? (a + frac[u] * (b - a)) * l : Float4{};
-        if (full) s += Float4{full[0][u], full[1][u], full[2][u], 0.0f};
-        if (coarse) {
-            const int odd = u & 1;
-            const float* q = coarse + 4 * std::size_t((u >> 1) + odd);
-            const Float4 q0 = load4(q), q1 = load4(q + 4);
-            s += q0 + (odd ? 0.25f : 0.75f) * (q1 - q0);
+        return on ? a + frac[u] * (b - a) : Float4{};
+    };
+    const auto grid = [&](int u) {
+        const int odd = u & 1;
+        const float* q = coarse + 4 * std::size_t((u >> 1) + odd);
+        const Float4 q0 = load4(q), q1 = load4(q + 4);
+        return q0 + (odd ? 0.25f : 0.75f) * (q1 - q0);
+    };
+    int u = 0;
+    if (!full && coarse) {
+        // Four pixels at a time: their twelve interleaved floats as three whole vectors.
+        for (; u + 4 <= n; u += 4) {
+            const Float4 w0 = weights(u), w1 = weights(u + 1), w2 = weights(u + 2),
+                         w3 = weights(u + 3);
+            const Float4 g0 = grid(u), g1 = grid(u + 1), g2 = grid(u + 2), g3 = grid(u + 3);
+            // [r0 g0 b0 r1] [g1 b1 r2 g2] [b2 r3 g3 b3]
+            const Float4 wa = __builtin_shufflevector(w0, w1, 0, 1, 2, 4),
+                         wb = __builtin_shufflevector(w1, w2, 1, 2, 4, 5),
+                         wc = __builtin_shufflevector(w2, w3, 2, 4, 5, 6);
+            const Float4 ga = __builtin_shufflevector(g0, g1, 0, 1, 2, 4),
+                         gb = __builtin_shufflevector(g1, g2, 1, 2, 4, 5),
+                         gc = __builtin_shufflevector(g2, g3, 2, 4, 5, 6);
+            float* o = out + 3 * std::size_t(u);
+            const float* l = L + 3 * std::size_t(u);
+            const Float4 fa = wa * load4(l) + ga, fb = wb * load4(l + 4) + gb,
+                         fc = wc * load4(l + 8) + gc;
+            store4(o, add ? load4(o) + fa : fa);
+            store4(o + 4, add ? load4(o + 4) + fb : fb);
+            store4(o + 8, add ? load4(o + 8) + fc : fc);
         }
+    }
+    for (; u < n; ++u) {
+        const Float4 l = {L[3 * u], L[3 * u + 1], L[3 * u + 2], 0.0f};
+        Float4 s = weights(u) * l;
+        if (full) s += Float4{full[0][u], full[1][u], full[2][u], 0.0f};
+        if (coarse) s += grid(u);
         for (int c = 0; c < 3; ++c) out[3 * u + c] = add ? out[3 * u + c] + s[c] : s[c];
     }
 }

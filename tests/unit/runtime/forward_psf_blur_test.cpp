@@ -57,6 +57,14 @@ TEST(ForwardPsfBlur, AUniformSurfaceStaysUniformAtTheTotalWeight) {
     expect_uniform(blur, W, H, Rgb(0.2, 0.5, 1.0), 3.0f);
 }
 
+TEST(ForwardPsfBlur, OddSizesStayUniformToo) {
+    // Rows of four pixels at a time and their remainder, blocks cut short at the right and
+    // bottom edges at every level of the block sums: 161 x 91 px.
+    const int W = 161, H = 91;
+    ForwardPsfBlur blur(ForwardPsf(coastal(), 120.0, W, H));
+    expect_uniform(blur, W, H, Rgb(1.0, 0.4, 0.1), 4.0f);
+}
+
 TEST(ForwardPsfBlur, ATinyImageBlursAtFullResolutionAndStaysUniform) {
     // Under 16 px a side no grid is coarse enough, so every scale is blurred at full
     // resolution and summed there (the path larger images never take).
