@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "clones.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/forward.h"
@@ -28,9 +29,22 @@ struct RowScratch {
 };
 
 /// A row of planar depth as the kernels take it: open water 0 (the fast-math kernels must
-/// never see NaN or inf).
-void sanitise_row(int n, const float* raw, float* z) {
+/// never see NaN or inf). This file is compiled without fast-math: the test sees NaN.
+DEEPSEA_CLONES
+void sanitise_row(int n, const float* __restrict raw, float* __restrict z) {
     for (int u = 0; u < n; ++u) z[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
+}
+
+/// A row's sanitised depth z and its back-projected x = rx z, y = ry z (camera frame).
+DEEPSEA_CLONES
+void back_project_row(int n, const float* __restrict raw, const float* __restrict rx, float ry,
+                      float* __restrict x, float* __restrict y, float* __restrict z) {
+    for (int u = 0; u < n; ++u) {
+        const float zs = has_surface(raw[u]) ? raw[u] : 0.0f;
+        x[u] = rx[u] * zs;
+        y[u] = ry * zs;
+        z[u] = zs;
+    }
 }
 
 }  // namespace
@@ -130,15 +144,8 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
         s.fit(W);
         const float ry = float((v - cam.cy) / cam.fy);
         const float* zr = depth.row(v);
-        for (int u = 0; u < W; ++u) {
-            const float z = zr[u];
-            const float rx = m_rx[u];
-            // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
-            const float zs = has_surface(z) ? z : 0.0f;
-            s.x[u] = rx * zs;
-            s.y[u] = ry * zs;
-            s.z[u] = zs;
-        }
+        // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
+        back_project_row(W, zr, m_rx.data(), ry, s.x.data(), s.y.data(), s.z.data());
         // Normals: central differences where all four neighbours are the same surface (the
         // common case, vectorised in float); elsewhere the optics rule, one-sided.
         if (v > 0 && v + 1 < H) {

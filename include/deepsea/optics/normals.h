@@ -21,6 +21,10 @@ inline constexpr double kFarDepth = 1e6;
 /// True where a depth value is a surface: > 0 and < kFarDepth. Anything else (NaN, inf, <= 0,
 /// sentinels) is open water.
 inline bool has_surface(double z) { return z > 0.0 && z < kFarDepth; }
+/// The same test on a float, without widening it (kFarDepth is exact in float), so that row
+/// loops compare whole vectors of floats.
+inline bool has_surface(float z) { return z > 0.0f && z < float(kFarDepth); }
+static_assert(double(float(kFarDepth)) == kFarDepth, "kFarDepth must be exact in float");
 
 /// True where neighbour depth zn lies on the same surface as the centre depth zc (both > 0,
 /// metres): |zn - zc| <= kDepthDiscontinuity zc. Central differences across a larger jump
