@@ -448,23 +448,24 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
         sums.resize(at.back());
         for (int v = t * f_max; v < std::min(H, (t + 1) * f_max); ++v) {
             table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
-            for (std::size_t i = 0, f = f0; i < group_at.size(); ++i, f *= 2) {
+            int f = f0;
+            for (std::size_t i = 0; i < group_at.size(); ++i, f *= 2) {
                 // level i takes a block row of level i - 1 (this image row for the finest)
                 // when that one is complete; the first it takes starts its sums
                 const bool first = i == 0 ? v % f == 0 : v % f < f / 2;
                 float* acc = sums.data() + at[i];
                 if (i == 0) {
-                    weigh_blocks(W, int(f), stride, idx.data(), frac.data(), m_table.data(),
+                    weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(),
                                  surface.row(v), !first, acc);
                 } else {
-                    pair_sums(int((W + f / 2 - 1) / (f / 2)), lanes, sums.data() + at[i - 1],
-                              !first, acc);
+                    pair_sums((W + f / 2 - 1) / (f / 2), lanes, sums.data() + at[i - 1], !first,
+                              acc);
                 }
-                const int rows = int(v % f) + 1;
-                if (int(rows) != int(f) && v != H - 1) break;  // coarser levels wait for this one
+                const int rows = v % f + 1;
+                if (rows != f && v != H - 1) break;  // coarser levels wait for this one
                 if (group_at[i] < 0) continue;
                 const Group& g = m_groups[group_at[i]];
-                const int y = v / int(f), scales = g.j1 - g.j0;
+                const int y = v / f, scales = g.j1 - g.j0;
                 dst.resize(std::size_t(3) * scales);
                 for (int c = 0; c < 3; ++c) {
                     for (int j = g.j0; j < g.j1; ++j) {
@@ -472,9 +473,8 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
                             m_levels[j - 1].planes.data() + (std::size_t(c) * g.h + y) * g.w;
                     }
                 }
-                const float scale = 1.0f / float(int(f) * rows);
-                const float edge =
-                    float(f) / float(W - (g.w - 1) * int(f));  // last block's columns
+                const float scale = 1.0f / float(f * rows);
+                const float edge = float(f) / float(W - (g.w - 1) * f);  // last block's columns
                 expand_blocks(g.w, stride, scales, acc, m_coef.data() + std::size_t(g.j0) * stride,
                               std::size_t(S) * stride, dst.data(), scale, edge);
             }
