@@ -60,3 +60,81 @@ TEST(Exposure, AutoClipsNoChannelBeyondTheStatedFraction) {
 }
 
 }  // namespace deepsea
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace deepsea {
+namespace {
+
+/// The quantiles as a sort defines them (the implementation before the counting passes): the
+/// value of ascending rank count - 1 - floor(fraction count) among the pixels whose luminance
+/// is finite.
+double sorted_exposure(const Exposure& e, const Image& img) {
+    std::vector<float> q[4];
+    for (std::size_t i = 0; i + 2 < img.data.size(); i += img.channels) {
+        const float r = img.data[i], g = img.data[i + 1], b = img.data[i + 2];
+        const float y = 0.2126f * r + 0.7152f * g + 0.0722f * b;
+        if (!std::isfinite(y)) continue;
+        q[0].push_back(y), q[1].push_back(r), q[2].push_back(g), q[3].push_back(b);
+    }
+    const auto value = [](std::vector<float> v, double fraction) {
+        if (v.empty()) return 0.0;
+        const std::size_t over = std::size_t(fraction * double(v.size()));
+        std::sort(v.begin(), v.end());
+        return double(v[v.size() - 1 - std::min(over, v.size() - 1)]);
+    };
+    const double p = value(q[0], 1.0 - e.percentile);
+    if (!(p > 0.0)) return 1.0;
+    double f = e.target / p;
+    for (int c = 1; c < 4; ++c) {
+        const double v = value(q[c], e.max_clipped);
+        if (v > 0.0) f = std::min(f, 1.0 / v);
+    }
+    return f;
+}
+
+}  // namespace
+
+TEST(Exposure, CountingSelectsExactlyTheSortedQuantiles) {
+    // Images of every kind of value: spread over many decades, negative, +0 and -0, NaN and
+    // inf (left out), and long runs of one value (ties), at sizes down to one pixel. The
+    // factor must be the sorted quantiles' to the bit.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    for (int trial = 0; trial < 60; ++trial) {
+        const int w = 1 + int(unit(rng) * 90), h = 1 + int(unit(rng) * 40);
+        Image img(w, h, 3);
+        const double tie = unit(rng);
+        for (float& v : img.data) {
+            const double u = unit(rng);
+            if (u < 0.02) {
+                v = nan;
+            } else if (u < 0.03) {
+                v = inf;
+            } else if (u < 0.06) {
+                v = u < 0.045 ? 0.0f : -0.0f;
+            } else if (u < 0.1) {
+                v = -float(unit(rng));
+            } else if (u < 0.1 + 0.5 * tie) {
+                v = 0.375f;  // ties
+            } else {
+                v = float(std::pow(10.0, -6.0 + 8.0 * unit(rng)));
+            }
+        }
+        Exposure e;
+        e.percentile = trial % 3 == 0 ? 0.5 : 0.995;
+        e.max_clipped = trial % 4 == 0 ? 0.0 : 0.005;
+        EXPECT_EQ(exposure_factor(e, img), sorted_exposure(e, img)) << "trial " << trial;
+    }
+    // every pixel left out: the factor for a black image
+    Image bad(3, 2, 3, std::numeric_limits<float>::quiet_NaN());
+    EXPECT_EQ(exposure_factor(Exposure{}, bad), 1.0);
+}
+
+}  // namespace deepsea
