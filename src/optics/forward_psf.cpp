@@ -51,21 +51,28 @@ struct KernelTable {
     }
 };
 
-/// Adds weight w to the two grid widths around sigma (linear in log sigma), clamped at the ends.
-void place(const std::vector<double>& grid, double sigma, double w, std::vector<double>& out) {
+/// Where a weight at width sigma goes on a grid of widths: 1 - f of it to width lo, f to hi
+/// (linear in log sigma between the two widths around sigma; all to the end width beyond
+/// either end).
+struct Placement {
+    std::size_t lo = 0, hi = 0;
+    double f = 0.0;
+};
+Placement placement(const std::vector<double>& grid, double sigma) {
     const std::size_t n = grid.size();
-    if (sigma <= grid.front()) {
-        out.front() += w;
-        return;
-    }
-    if (sigma >= grid.back()) {
-        out.back() += w;
-        return;
-    }
+    if (sigma <= grid.front()) return {0, 0, 0.0};
+    if (sigma >= grid.back()) return {n - 1, n - 1, 0.0};
     const std::size_t k = std::upper_bound(grid.begin(), grid.end(), sigma) - grid.begin() - 1;
-    const double f = std::log(sigma / grid[k]) / std::log(grid[k + 1] / grid[k]);
-    out[k] += w * (1.0 - f);
-    out[std::min(k + 1, n - 1)] += w * f;
+    return {k, std::min(k + 1, n - 1), std::log(sigma / grid[k]) / std::log(grid[k + 1] / grid[k])};
+}
+
+/// Adds weight w at width sigma to the grid's widths (placement).
+void add_placed(const Placement& p, double w, std::vector<double>& out) {
+    out[p.lo] += w * (1.0 - p.f);
+    out[p.hi] += w * p.f;
+}
+void place(const std::vector<double>& grid, double sigma, double w, std::vector<double>& out) {
+    add_placed(placement(grid, sigma), w, out);
 }
 
 }  // namespace
@@ -116,23 +123,35 @@ ForwardSpread forward_spread(const Phase& phase, int orders) {
         first[j] = std::max(within - below, 1e-12);
         below = within;
     }
-    std::vector<double> model(rings), next(kWidths);
+    std::vector<double> model(rings), ratio(rings), next(kWidths);
     for (int iter = 0; iter < 400; ++iter) {
         std::fill(model.begin(), model.end(), 0.0);
         for (int j = 0; j < kWidths; ++j) {
             for (int i = 0; i < rings; ++i)
                 model[i] += first[j] * share[std::size_t(j) * rings + i];
         }
-        for (int j = 0; j < kWidths; ++j) {
-            double sum = 0.0;
+        // each ring's target over its model, once a ring rather than once a ring and width
+        for (int i = 0; i < rings; ++i) ratio[i] = model[i] > 0.0 ? target[i] / model[i] : 0.0;
+        // four widths' sums side by side, each over the rings in order (independent chains)
+        static_assert(kWidths % 4 == 0, "widths in fours");
+        for (int j = 0; j < kWidths; j += 4) {
+            const double* s0 = &share[std::size_t(j) * rings];
+            double sum[4] = {};
             for (int i = 0; i < rings; ++i) {
-                if (model[i] > 0.0) sum += target[i] * share[std::size_t(j) * rings + i] / model[i];
+                for (int m = 0; m < 4; ++m) sum[m] += ratio[i] * s0[std::size_t(m) * rings + i];
             }
-            next[j] = first[j] * sum;
+            for (int m = 0; m < 4; ++m) next[j + m] = first[j + m] * sum[m];
         }
         first.swap(next);
     }
-    // K_{n+1} = K_n * K_1: Gaussians convolve by adding variances.
+    // K_{n+1} = K_n * K_1: Gaussians convolve by adding variances. Where each pair of widths
+    // lands is the same for every order: found once.
+    std::vector<Placement> pair(std::size_t(kWidths) * kWidths);
+    for (int i = 0; i < kWidths; ++i) {
+        for (int k = 0; k < kWidths; ++k)
+            pair[std::size_t(i) * kWidths + k] =
+                placement(s.sigma, std::hypot(s.sigma[i], s.sigma[k]));
+    }
     s.mass.assign(std::max(orders, 1), std::vector<double>(kWidths, 0.0));
     s.mass[0] = first;
     for (int n = 1; n < orders; ++n) {
@@ -142,7 +161,7 @@ ForwardSpread forward_spread(const Phase& phase, int orders) {
             if (prev[i] < 1e-300) continue;
             for (int k = 0; k < kWidths; ++k) {
                 if (first[k] <= 0.0) continue;
-                place(s.sigma, std::hypot(s.sigma[i], s.sigma[k]), prev[i] * first[k], next);
+                add_placed(pair[std::size_t(i) * kWidths + k], prev[i] * first[k], next);
             }
         }
     }
