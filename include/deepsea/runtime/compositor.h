@@ -21,9 +21,10 @@ namespace deepsea {
 /// size nothing is allocated. Output is identical at any thread count (rows are independent).
 class Compositor {
 public:
-    /// The sources must outlive the compositor.
+    /// The sources must outlive the compositor. `spread`: the water's forward_spread, where the
+    /// caller computed it already (it is computed here otherwise).
     Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
-               const BackscatterSource& backscatter);
+               const BackscatterSource& backscatter, const ForwardSpread* spread = nullptr);
 
     /// Fills the layers of dst that `set` names. Throws InputError when the frame does not
     /// match the camera.
