@@ -178,16 +178,13 @@ double mixture_within(const std::vector<double>& sigma, const std::vector<double
 }
 
 ForwardPsf::ForwardPsf(const Water& water, double fx, int width, int height)
-    : ForwardPsf(water, fx, width, height, forward_spread(water.phase)) {}
-
-ForwardPsf::ForwardPsf(const Water& water, double fx, int width, int height,
-                       const ForwardSpread& spread)
     : m_c(water.c), m_b(water.b) {
     const double cap = max_forward_sigma_px(width, height);
     m_sigma_px = {0.0};
     for (double s = 1.0; s < cap; s *= 2.0) m_sigma_px.push_back(s);
     m_sigma_px.push_back(cap);
     const std::vector<double> blurred(m_sigma_px.begin() + 1, m_sigma_px.end());
+    const ForwardSpread spread = forward_spread(water.phase);
     for (const double m : spread.mass[0]) m_forward += m;
     m_mass.assign(spread.mass.size(), std::vector<double>(m_sigma_px.size(), 0.0));
     for (std::size_t n = 0; n < spread.mass.size(); ++n) {

@@ -50,12 +50,10 @@ void back_project_row(int n, const float* __restrict raw, const float* __restric
 }  // namespace
 
 Compositor::Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
-                       const BackscatterSource& backscatter, const ForwardSpread* spread)
+                       const BackscatterSource& backscatter)
     : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter) {
     if (water.forward.enabled && water.forward.model == ForwardModel::PhaseFunction) {
-        m_psf_blur.emplace(spread
-                               ? ForwardPsf(water, camera.fx, camera.width, camera.height, *spread)
-                               : ForwardPsf(water, camera.fx, camera.width, camera.height));
+        m_psf_blur.emplace(ForwardPsf(water, camera.fx, camera.width, camera.height));
     }
 }
 

@@ -1,7 +1,6 @@
 #include "deepsea/runtime/sequence.h"
 
 #include <tbb/parallel_pipeline.h>
-#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
@@ -144,12 +143,6 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
 
     Water water = asset.info.water;
     if (!opt.forward) water.forward.enabled = false;
-    // The phase function's spread (10-20 ms on one thread) is computed while the first frame
-    // is read; the compositor, made once that frame's size is known, takes it.
-    ForwardSpread spread;
-    tbb::task_group spread_task;  // after `spread`: destroyed (and waited for) before it
-    if (water.forward.enabled && water.forward.model == ForwardModel::PhaseFunction)
-        spread_task.run([&] { spread = forward_spread(water.phase); });
     const AnalyticLamps lamps(asset.info.rig, water, asset.lamp_fields);
     std::unique_ptr<AssetBackscatter> backscatter;
     std::unique_ptr<Compositor> compositor;
@@ -219,10 +212,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         if (!compositor || camera.width != d.width || camera.height != d.height) {
                             camera = frame_camera(asset.info.camera, opt.camera, d.width, d.height);
                             backscatter = std::make_unique<AssetBackscatter>(asset, camera);
-                            spread_task.wait();
-                            compositor = std::make_unique<Compositor>(
-                                camera, water, lamps, *backscatter,
-                                spread.sigma.empty() ? nullptr : &spread);
+                            compositor =
+                                std::make_unique<Compositor>(camera, water, lamps, *backscatter);
                         }
                         to_planar_depth(camera, s->frame.depth, opt.depth_kind);
                         const bool all = !jobs[s->index].layers.empty();
@@ -306,7 +297,6 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 if (opt.progress && !opt.progress(done, int(jobs.size()))) stop = true;
             }));
 
-    spread_task.wait();  // (every frame skipped or failed: no compositor waited for it)
     if (recorded) write_manifests();
     result.interrupted = done < int(jobs.size());
     result.exposure = exposure;

@@ -52,9 +52,6 @@ double mixture_within(const std::vector<double>& sigma, const std::vector<double
 class ForwardPsf {
 public:
     ForwardPsf(const Water& water, double fx, int width, int height);
-    /// The same from the phase function's spread computed beforehand (forward_spread of
-    /// water.phase: 10-20 ms, which a sequence computes while its first frame is read).
-    ForwardPsf(const Water& water, double fx, int width, int height, const ForwardSpread& spread);
 
     int scales() const { return int(m_sigma_px.size()); }
     double sigma_px(int j) const { return m_sigma_px[j]; }

@@ -21,10 +21,9 @@ namespace deepsea {
 /// size nothing is allocated. Output is identical at any thread count (rows are independent).
 class Compositor {
 public:
-    /// The sources must outlive the compositor. `spread`: the water's forward_spread, where the
-    /// caller computed it already (it is computed here otherwise).
+    /// The sources must outlive the compositor.
     Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
-               const BackscatterSource& backscatter, const ForwardSpread* spread = nullptr);
+               const BackscatterSource& backscatter);
 
     /// Fills the layers of dst that `set` names. Throws InputError when the frame does not
     /// match the camera.
