@@ -315,6 +315,36 @@ double ForwardPsfBlur::resampling_variance(int factor) {
     return measured_resampling_variance(factor);
 }
 
+double ForwardPsfBlur::table_span(int rung) { return std::pow(2.0, 0.25 * rung); }
+
+void ForwardPsfBlur::use_table(int rung) {
+    if (rung == m_rung) return;
+    if (m_rung >= 0) {
+        m_kept[m_rung] = {m_step,
+                          m_bins,
+                          m_stride,
+                          m_lanes,
+                          std::move(m_table),
+                          std::move(m_coef),
+                          std::move(m_sharp)};
+    }
+    m_rung = rung;
+    const auto it = m_kept.find(rung);
+    if (it == m_kept.end()) {
+        build_table(table_span(rung));
+        return;
+    }
+    KeptTable& k = it->second;
+    m_step = k.step;
+    m_bins = k.bins;
+    m_stride = k.stride;
+    m_lanes = k.lanes;
+    m_table = std::move(k.table);
+    m_coef = std::move(k.coef);
+    m_sharp = std::move(k.sharp);
+    m_kept.erase(it);
+}
+
 void ForwardPsfBlur::build_table(double d_max) {
     const int S = m_psf.scales(), blurred = S - 1;
     m_bins = kTableBins;
@@ -499,8 +529,8 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
 
 void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
     const int W = surface.width, H = surface.height;
-    // The table spans the frame's farthest surface (rebuilt only when a frame reaches beyond
-    // it) but no farther than where every weight is below 1e-17 of a surface's radiance.
+    // The frame's farthest surface, but no farther than where every weight is below 1e-17 of
+    // a surface's radiance.
     const double d_frame = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, H), 0.0,
         [&](const tbb::blocked_range<int>& r, double m) {
@@ -511,8 +541,13 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
             return m;
         },
         [](double a, double b) { return std::max(a, b); });
+    // The table spans the first length of a fixed ladder (1 m, then steps of 2^(1/4)) beyond
+    // this frame's farthest surface, so that a frame's F depends on that frame alone, never on
+    // the frames a renderer saw before it (a resumed or sharded sequence gives the same bits).
     const double d_max = std::min(d_frame, m_psf.negligible_beyond());
-    if (m_table.empty() || d_max > m_bins * m_step) build_table(std::max(d_max * 1.25, 1.0));
+    int rung = 0;
+    while (table_span(rung) <= d_max) ++rung;
+    use_table(rung);
     if (m_width != W || m_height != H) resize(W, H);
 
     weigh(surface, d2);

@@ -8,6 +8,7 @@
 /// but by a few functions of distance that span the scales' weights to 1e-6 of their total
 /// (their block sums give each scale's), as few as 3 in clear water.
 
+#include <map>
 #include <vector>
 
 #include "deepsea/core/image.h"
@@ -61,6 +62,10 @@ private:
         int group = 0;
         std::vector<float> planes;  ///< 3 planes at the group's grid: the weighted image
     };
+    /// The distance (m) the table of ladder rung `rung` spans: 2^(rung / 4).
+    static double table_span(int rung);
+    /// Makes the table of `rung` current: kept from an earlier frame, or built.
+    void use_table(int rung);
     void build_table(double d_max);
     Grid& grid_of(int factor);
     void resize(int W, int H);
@@ -78,7 +83,16 @@ private:
     /// distance; W_j(d) of a blurred scale j = sum_r m_coef[(c * S + j) * stride + r] times
     /// that (column_basis.h).
     std::vector<float> m_table, m_coef;
-    std::vector<float> m_sharp;        ///< m_sharp[bin * 4 + c] = W_0(d), the unblurred scale
+    std::vector<float> m_sharp;  ///< m_sharp[bin * 4 + c] = W_0(d), the unblurred scale
+    int m_rung = -1;             ///< ladder rung of the current table (-1: none yet)
+    /// Tables of other rungs that earlier frames needed, kept (a few kB each; at most one per
+    /// rung up to the distance where every weight is negligible, about a hundred).
+    struct KeptTable {
+        double step = 0.0;
+        int bins = 0, stride = 0, lanes = 0;
+        std::vector<float> table, coef, sharp;
+    };
+    std::map<int, KeptTable> m_kept;
     const Image* m_surface = nullptr;  ///< prepare()'s frame, for scale 0 (unblurred)
     const Image* m_d2 = nullptr;
     std::vector<float> m_full;  ///< scales blurred at full resolution (tiny images): 3 planes
