@@ -10,7 +10,7 @@ ds=$(realpath "$1") out=$2
 src=$(cd "$(dirname "$0")/.." && pwd)
 v=$src/volumes
 rm -rf "$out"
-mkdir -p "$out"/{config,asset,depth,image,work}
+mkdir -p "$out"/{config,asset,depth,image,paths,work}
 w=$out/work
 
 # config: every YAML file under volumes/, and whole setups (camera + rig + water in one file),
@@ -74,5 +74,12 @@ pfm(f"{out}/depth/depth.pfm", depth)
 pfm(f"{out}/depth/depth-be.pfm", depth, little=False)
 pfm(f"{out}/image/colour.pfm", np.stack([depth, depth * 0.5, depth * 0.25], axis=2))
 PY
+# paths (fuzz_paths.cpp): a sequence bit, a count and component indices for -o, then the same
+# for --layers: in/nosuch/.., out, link-in/a/.., in/nosuch/../frame_0001.png, out/link-frame
+i=0
+for seed in '\x01\x02\x00\x04\x02\x00' '\x01\x00\x01\x00' '\x01\x02\x06\x05\x02\x00' \
+            '\x00\x03\x00\x04\x02\x09\x00' '\x00\x01\x01\x08\x00' '\x01\x00\x01\x01\x00\x01'; do
+  printf "$seed" >"$out/paths/seed-$i"; i=$((i + 1))
+done
 rm -rf "$w"
 for d in "$out"/*/; do echo "$(basename "$d"): $(ls "$d" | wc -l) seeds, $(du -sk "$d" | cut -f1) KB"; done

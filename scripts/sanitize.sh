@@ -92,7 +92,7 @@ if ((fuzz)); then
   # replay, which uses the same limit) has the allocating stack.
   declare -A extra=([asset]="-use_cmp=0"
     [asset_sealed]="-fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 -malloc_limit_mb=1024")
-  for target in config asset asset_sealed depth image; do
+  for target in config asset asset_sealed depth image paths; do
     seeds=$corpus/${target%_sealed}
     work=$b/fuzz-work/$target
     rm -rf "$work"

@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -30,12 +32,62 @@ namespace {
 
 constexpr const char* kTmpTag = ".tmp-";
 
+/// The longest file name Linux file systems take (NAME_MAX).
+constexpr std::size_t kNameMax = 255;
+/// What a temporary adds to its target's stem: ".", ".tmp-", a pid (at most 7 digits on Linux)
+/// and "-" and a serial of at most 10 digits.
+constexpr std::size_t kTmpOverhead = 1 + 5 + 7 + 1 + 10;
+
+/// The stem a temporary carries: the target's, or, where that would make the temporary's name
+/// longer than a file name may be, its start and a hash of the whole (FNV-1a, the same in every
+/// build), so that a legal 250-character output still gets a temporary.
+std::string temporary_stem(const std::string& stem, const std::string& ext) {
+    const std::size_t budget =
+        kNameMax > kTmpOverhead + ext.size() + 24 ? kNameMax - kTmpOverhead - ext.size() : 24;
+    if (stem.size() <= budget) return stem;
+    std::uint64_t h = 1469598103934665603ull;
+    for (const unsigned char ch : stem) h = (h ^ ch) * 1099511628211ull;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return stem.substr(0, budget - 17) + "~" + hex;
+}
+
 /// The temporary for `target`: hidden, unique per process and call, and keeps the extension
 /// for format-by-name writers. parse_temporary_name reads it back.
 fs::path temporary_for(const fs::path& target, unsigned serial) {
-    return target.parent_path() /
-           ("." + target.stem().string() + kTmpTag + std::to_string(::getpid()) + "-" +
-            std::to_string(serial) + target.extension().string());
+    const std::string ext = target.extension().string();
+    return target.parent_path() / ("." + temporary_stem(target.stem().string(), ext) + kTmpTag +
+                                   std::to_string(::getpid()) + "-" + std::to_string(serial) + ext);
+}
+
+/// Where a write to `path` lands: `path` itself, or the regular file a symbolic link at `path`
+/// leads to (so that a link to a shared config is written through, not replaced). IoError for
+/// a link to anything but a regular file (/dev/stdout, a folder, a link that leads nowhere) and
+/// for an existing path that is not a regular file (a device, a pipe): renaming over those
+/// would replace them with a file.
+fs::path write_target(const std::string& path) {
+    if (path.empty()) throw IoError("an empty file name was given for an output");
+    if (path.find('\0') != std::string::npos)
+        throw IoError(path.substr(0, path.find('\0')) + "...: the file name holds a NUL character");
+    std::error_code ec;
+    const fs::file_status own = fs::symlink_status(path, ec);
+    if (ec || !fs::exists(own)) return path;
+    if (fs::is_symlink(own)) {
+        const fs::path target = fs::canonical(path, ec);
+        if (ec) throw IoError(path + ": is a symbolic link that leads nowhere; not written");
+        if (!fs::is_regular_file(target, ec)) {
+            throw IoError(path + ": is a symbolic link to " + target.string() +
+                          ", which is not a regular file; deepsea writes only files");
+        }
+        return target;
+    }
+    if (!fs::is_regular_file(own)) {
+        throw IoError(
+            path + ": exists and is not a regular file (" +
+            (fs::is_directory(own) ? std::string("a folder") : "a device, pipe or socket") +
+            "); deepsea writes only files");
+    }
+    return path;
 }
 
 bool all_digits(const std::string& s) {
@@ -63,11 +115,26 @@ std::optional<TemporaryName> parse_temporary_name(const std::string& file_name) 
     return TemporaryName{file_name.substr(1, tag - 1) + ext, std::stol(pid)};
 }
 
+std::string temporary_key(const std::string& file_name) {
+    const fs::path p(file_name);
+    const std::string ext = p.extension().string();
+    return temporary_stem(p.stem().string(), ext) + ext;
+}
+
+fs::path resolved_path(const std::string& path) {
+    std::error_code ec;
+    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    if (ec) p = fs::absolute(path, ec).lexically_normal();
+    // "in/x/.." resolves to "in/": the same folder as "in".
+    if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();
+    return p;
+}
+
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& tmp)>& write) {
-    require_writable_folder(path);
+    const fs::path target = write_target(path);
+    require_writable_folder(target.string());
     static std::atomic<unsigned> serial{0};
-    const fs::path target(path);
     const fs::path tmp = temporary_for(target, serial++);
     const auto cleanup = [&] {
         std::error_code rm;
@@ -127,21 +194,19 @@ void write_fully(const std::string& file, std::string_view bytes, const std::str
 
 void require_distinct(const std::string& output,
                       const std::vector<std::pair<std::string, std::string>>& others) {
-    std::error_code ec;
-    const bool exists = fs::exists(output, ec);
-    const fs::path canonical = fs::weakly_canonical(output, ec);
     for (const auto& [other, what] : others) {
-        if (other.empty()) continue;
-        std::error_code e2;
-        // An existing file: the same inode, through links and relative paths alike; two files
-        // still to be written: the same place.
-        const bool same = exists ? fs::equivalent(output, other, e2)
-                                 : !ec && fs::weakly_canonical(other, e2) == canonical && !e2;
-        if (same) {
+        if (!other.empty() && same_file(output, other)) {
             throw IoError(output + ": is the same file as " + what + " " + other +
                           " (choose another output)");
         }
     }
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+    std::error_code ea, eb;
+    // Existing files: the same inode, through links and relative paths alike.
+    if (fs::exists(a, ea) && fs::exists(b, eb)) return fs::equivalent(a, b, ea) && !ea;
+    return resolved_path(a) == resolved_path(b);
 }
 
 }  // namespace deepsea

@@ -1,6 +1,7 @@
 #include "deepsea/runtime/frame_jobs.h"
 
 #include <glob.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -100,14 +101,6 @@ std::string list(const std::vector<std::string>& files) {
     return out;
 }
 
-/// Same file, whether or not it exists yet: equivalent if both exist, else the same absolute
-/// path once symbolic links and dots are resolved.
-bool same_file(const std::string& a, const std::string& b) {
-    std::error_code ea, eb;
-    if (fs::exists(a, ea) && fs::exists(b, eb)) return fs::equivalent(a, b, ea);
-    return fs::weakly_canonical(fs::absolute(a), ea) == fs::weakly_canonical(fs::absolute(b), eb);
-}
-
 void check_not_input(const std::string& out, const char* flag, const FrameFiles& f) {
     for (const auto& [input, what] : {std::pair{f.rgb, "colour"}, std::pair{f.depth, "depth"}}) {
         if (same_file(out, input)) {
@@ -138,20 +131,25 @@ void check_output_file(const std::string& path, const char* flag, const FrameFil
 void check_output_folder(const std::string& dir, const char* flag,
                          const std::vector<FrameJob>& jobs) {
     if (dir.empty()) return;
+    // Compared as the system resolves them, whether or not the folder exists yet: "in/x/..",
+    // "./in/" and a link to "in" are all "in".
+    const fs::path folder = resolved_path(dir);
+    for (const FrameJob& j : jobs) {
+        for (const std::string& in : {j.rgb, j.depth}) {
+            // The folder the input is named in, and the one it is in (if it is a link).
+            const std::string named = fs::path(in).parent_path().string();
+            if (resolved_path(named.empty() ? "." : named) == folder ||
+                resolved_path(in).parent_path() == folder) {
+                throw ConfigError(dir + ": " + flag + " is the folder of the input " + in +
+                                  "; write the sequence into another folder");
+            }
+        }
+    }
     std::error_code ec;
     if (fs::exists(dir, ec)) {
         if (!fs::is_directory(dir, ec)) {
             throw ConfigError(dir + ": " + flag +
                               " of a sequence must be a folder, and this is a file");
-        }
-        for (const FrameJob& j : jobs) {
-            for (const std::string& in : {j.rgb, j.depth}) {
-                const fs::path parent = fs::absolute(in).parent_path();
-                if (fs::equivalent(parent, dir, ec)) {
-                    throw ConfigError(dir + ": " + flag + " is the folder of the input " + in +
-                                      "; write the sequence into another folder");
-                }
-            }
         }
         if (::access(dir.c_str(), W_OK) != 0) {
             throw IoError(dir + ": cannot write into the folder: " + std::strerror(errno));
@@ -171,6 +169,27 @@ void check_output_folder(const std::string& dir, const char* flag,
     if (::access(p.c_str(), W_OK) != 0) {
         throw IoError(dir + ": cannot create the folder in " + p.string() + ": " +
                       std::strerror(errno));
+    }
+}
+
+/// No output may be an input under another name (a link in the output folder to a frame, a
+/// hard link): the files' identities, device and inode, are compared, n log n for any count.
+void check_outputs_are_not_inputs(const std::vector<FrameJob>& jobs) {
+    std::set<std::pair<dev_t, ino_t>> inputs;
+    struct stat st {};
+    for (const FrameJob& j : jobs) {
+        for (const std::string* in : {&j.rgb, &j.depth})
+            if (::stat(in->c_str(), &st) == 0) inputs.emplace(st.st_dev, st.st_ino);
+    }
+    for (const FrameJob& j : jobs) {
+        for (const std::string* out : {&j.output, &j.layers}) {
+            if (!out->empty() && ::stat(out->c_str(), &st) == 0 &&
+                inputs.count({st.st_dev, st.st_ino})) {
+                throw ConfigError(*out +
+                                  ": is one of this render's input files (under another "
+                                  "name or through a link); it would be overwritten");
+            }
+        }
     }
 }
 
@@ -201,7 +220,9 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
         if (!f.output.empty() && !f.layers.empty() && same_file(f.output, f.layers)) {
             throw ConfigError(f.output + ": -o and --layers name the same file");
         }
-        return {{f.rgb, f.depth, f.output, f.layers}};
+        std::vector<FrameJob> one{{f.rgb, f.depth, f.output, f.layers}};
+        check_outputs_are_not_inputs(one);
+        return one;
     }
     std::vector<FrameJob> jobs =
         pair_frames(glob_files(f.rgb), glob_files(f.depth), f.rgb, f.depth);
@@ -221,6 +242,7 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
             }
         }
     }
+    check_outputs_are_not_inputs(jobs);
     return jobs;
 }
 

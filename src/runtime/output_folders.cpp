@@ -40,7 +40,7 @@ OutputFolders::OutputFolders(const FrameFiles& files, const std::vector<FrameJob
     std::set<std::string> ours{kManifestName};
     for (const FrameJob& j : jobs) {
         for (const std::string& out : {j.output, j.layers}) {
-            if (!out.empty()) ours.insert(fs::path(out).filename().string());
+            if (!out.empty()) ours.insert(temporary_key(fs::path(out).filename().string()));
         }
     }
     for (const std::string& dir : m_folders) {

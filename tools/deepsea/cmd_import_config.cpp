@@ -15,7 +15,7 @@ struct ImportArgs {
 };
 
 void run(const ImportArgs& a) {
-    if (a.output.empty()) {
+    if (a.output.empty() || a.output == "-") {
         std::fputs(import_config(a.input).c_str(), stdout);
         return;
     }
@@ -28,7 +28,9 @@ void run(const ImportArgs& a) {
 void setup_import_config(CLI::App& sub) {
     auto a = std::make_shared<ImportArgs>();
     sub.add_option("config", a->input, "DeepSeaRenderer config (YAML)")->required();
-    sub.add_option("-o,--output", a->output, "deepsea setup YAML to write (default: stdout)");
+    sub.add_option("-o,--output", a->output,
+                   "deepsea setup YAML to write ('-' or none: standard output; a link to a file is "
+                   "written through)");
     sub.callback([a] { run(*a); });
 }
 

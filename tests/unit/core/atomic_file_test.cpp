@@ -1,6 +1,7 @@
 #include "deepsea/core/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -145,6 +146,85 @@ TEST_F(AtomicFile, TemporaryNamesAreRecognisedWithTheirTargetAndWriter) {
                                    ".a.tmp-12.png", ".tmp-1-2.png", ".a.tmp-1-2x.png"}) {
         EXPECT_FALSE(parse_temporary_name(name)) << name;
     }
+}
+
+}  // namespace deepsea
+
+namespace deepsea {
+
+TEST_F(AtomicFile, ALinkToAFileIsWrittenThroughAndStaysALink) {
+    put(path("shared.yaml"), "old");
+    fs::create_symlink(path("shared.yaml"), path("setup.yaml"));
+    write_text_atomically(path("setup.yaml"), "new");
+    EXPECT_TRUE(fs::is_symlink(path("setup.yaml")));
+    EXPECT_EQ(get(path("shared.yaml")), "new");
+    // A link to a link to a file: the file at the end.
+    fs::create_symlink(path("setup.yaml"), path("again.yaml"));
+    write_text_atomically(path("again.yaml"), "newer");
+    EXPECT_TRUE(fs::is_symlink(path("again.yaml")) && fs::is_symlink(path("setup.yaml")));
+    EXPECT_EQ(get(path("shared.yaml")), "newer");
+}
+
+TEST_F(AtomicFile, LinksToAnythingButAFileAndNonFilesAreRefusedUntouched) {
+    if (!fs::exists("/dev/null")) GTEST_SKIP() << "no /dev/null";
+    fs::create_symlink("/dev/null", path("null.yaml"));
+    fs::create_symlink(path("nowhere"), path("dangling.yaml"));
+    fs::create_directory(path("dir"));
+    fs::create_symlink(path("dir"), path("dirlink.yaml"));
+    ASSERT_EQ(::mkfifo(path("pipe.yaml").c_str(), 0644), 0);
+    for (const std::string name : {"null.yaml", "dangling.yaml", "dirlink.yaml", "pipe.yaml"}) {
+        bool called = false;
+        try {
+            write_atomically(path(name), [&](const std::string& tmp) {
+                called = true;
+                put(tmp, "x");
+            });
+            ADD_FAILURE() << name << ": no exception";
+        } catch (const IoError& e) {
+            EXPECT_NE(std::string(e.what()).find(path(name)), std::string::npos) << e.what();
+        }
+        EXPECT_FALSE(called) << name;
+    }
+    EXPECT_TRUE(fs::is_symlink(path("null.yaml")));
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+    EXPECT_TRUE(fs::is_symlink(path("dangling.yaml")));
+    EXPECT_TRUE(fs::is_fifo(path("pipe.yaml")));
+    EXPECT_FALSE(fs::exists(path("nowhere")));
+    EXPECT_THROW(write_text_atomically(std::string("a\0b", 3), "x"), IoError);
+}
+
+TEST_F(AtomicFile, ALegalLongNameGetsATemporaryThatIsRecognised) {
+    for (const std::size_t stem : {200u, 230u, 246u, 251u}) {
+        const std::string name = std::string(stem, 'n') + ".png";
+        ASSERT_LE(name.size(), 255u);
+        std::string tmp_name;
+        write_atomically(path(name), [&](const std::string& tmp) {
+            tmp_name = fs::path(tmp).filename();
+            put(tmp, "x");
+        });
+        EXPECT_LE(tmp_name.size(), 255u);
+        EXPECT_EQ(get(path(name)), "x");
+        const auto parsed = parse_temporary_name(tmp_name);
+        ASSERT_TRUE(parsed) << tmp_name;
+        EXPECT_EQ(parsed->target, temporary_key(name));
+        EXPECT_EQ(fs::path(tmp_name).extension(), ".png");
+    }
+    // Two long names that differ only at their end get different keys.
+    EXPECT_NE(temporary_key(std::string(250, 'a') + "1.png"),
+              temporary_key(std::string(250, 'a') + "2.png"));
+    EXPECT_EQ(temporary_key("frame_0001.png"), "frame_0001.png");
+}
+
+TEST_F(AtomicFile, ResolvedPathsApplyDotsAfterMissingFolders) {
+    fs::create_directory(path("in"));
+    fs::create_symlink(path("in"), path("link"));
+    const fs::path in = resolved_path(path("in"));
+    for (const std::string p :
+         {"in/nosuch/..", "in/a/b/../..", "in/./x/../", "in/", "link", "link/nosuch/.."})
+        EXPECT_EQ(resolved_path(path(p)), in) << p;
+    EXPECT_NE(resolved_path(path("in/nosuch")), in);
+    EXPECT_TRUE(same_file(path("in/nosuch/../f.png"), path("link/f.png")));
+    EXPECT_FALSE(same_file(path("in/f.png"), path("in/g.png")));
 }
 
 }  // namespace deepsea

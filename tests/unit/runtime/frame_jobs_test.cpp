@@ -162,4 +162,43 @@ TEST_F(FrameJobsTest, FormatNamesTheSequencesImagesAndMustMatchOneFramesOutput) 
     }
 }
 
+TEST_F(FrameJobsTest, OutputFoldersAreComparedAsTheSystemResolvesThem) {
+    for (const char* f : {"in/f1.png", "in/f1_depth.exr", "in/f2.png", "in/f2_depth.exr"}) touch(f);
+    fs::create_directory_symlink(path("in"), path("in-link"));
+    const std::string seq = path("in/*.png"), seq_depth = path("in/*_depth.exr");
+    // Missing components before "..": the kernel reaches in/ once they are made.
+    for (const std::string o :
+         {"in/nosuch/..", "in/a/b/../..", "in/x/../", "in/", "in-link", "in-link/y/.."}) {
+        EXPECT_THROW(frame_jobs({seq, seq_depth, path(o), "", ""}), ConfigError) << o;
+        EXPECT_THROW(frame_jobs({seq, seq_depth, "", path(o), ""}), ConfigError) << o;
+    }
+    // The same from the working folder, with relative names.
+    const fs::path cwd = fs::current_path();
+    fs::current_path(dir_);
+    EXPECT_THROW(frame_jobs({"in/*.png", "in/*_depth.exr", "./in/x/../", "", ""}), ConfigError);
+    EXPECT_THROW(frame_jobs({"./in/f1.png", "in/f1_depth.exr", "in/nosuch/../f1.png", "", ""}),
+                 ConfigError);
+    EXPECT_NO_THROW(frame_jobs({"in/*.png", "in/*_depth.exr", "in/nosuch", "", ""}));
+    fs::current_path(cwd);
+    EXPECT_NO_THROW(frame_jobs({seq, seq_depth, path("in/sub"), "", ""}));
+    EXPECT_EQ(listing().size(), 2u);  // in/ and in-link: nothing made
+}
+
+TEST_F(FrameJobsTest, AnOutputThatIsAnInputUnderAnotherNameIsRefused) {
+    for (const char* f : {"in/f1.png", "in/f1_depth.exr", "in/f2.png", "in/f2_depth.exr"}) touch(f);
+    fs::create_directories(path("out"));
+    // A link in the output folder to another frame's input, and a hard link to a depth file.
+    fs::create_symlink(path("in/f1.png"), path("out/f2.png"));
+    const std::string seq = path("in/*.png"), seq_depth = path("in/*_depth.exr");
+    EXPECT_THROW(frame_jobs({seq, seq_depth, path("out"), "", ""}), ConfigError);
+    fs::remove(path("out/f2.png"));
+    EXPECT_NO_THROW(frame_jobs({seq, seq_depth, path("out"), "", ""}));
+    fs::create_directories(path("layers"));
+    fs::create_hard_link(path("in/f2_depth.exr"), path("layers/f1.exr"));
+    EXPECT_THROW(frame_jobs({seq, seq_depth, "", path("layers"), ""}), ConfigError);
+    fs::create_symlink(path("in/f1.png"), path("one.png"));
+    EXPECT_THROW(frame_jobs({path("in/f1.png"), path("in/f1_depth.exr"), path("one.png"), "", ""}),
+                 ConfigError);
+}
+
 }  // namespace deepsea
