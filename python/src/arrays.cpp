@@ -112,7 +112,7 @@ ArrayIn inspect_depth(const py::handle& obj, const std::string& what) {
     return inspect(obj, what, false);
 }
 
-void fill_color(const ArrayIn& in, Image& out, int threads) {
+void fill_color(const ArrayIn& in, Image& out, int threads, bool albedo) {
     reshape(out, in.width, in.height, 3);
     const int c = in.channels;
     const std::size_t row_in = std::size_t(in.width) * c;
@@ -135,6 +135,8 @@ void fill_color(const ArrayIn& in, Image& out, int threads) {
                      }
                  },
                  {threads, kRowGrain});
+    // Float colour is linear albedo: one NaN would darken the whole frame (core/image.h).
+    if (albedo && (in.elem == Elem::F32 || in.elem == Elem::F64)) require_finite_color(out, "rgb");
 }
 
 void fill_depth(const ArrayIn& in, double scale, Image& out, int threads) {

@@ -42,8 +42,9 @@ ArrayIn inspect_depth(const py::handle& obj, const std::string& what);
 
 /// Fills `out` with linear RGB (3 channels) as read_color would decode the same pixels from a
 /// file. Reuses out's memory. Parallel over rows on `threads` workers (0: all cores). No Python
-/// calls: may run without the GIL.
-void fill_color(const ArrayIn& in, Image& out, int threads = 0);
+/// calls: may run without the GIL. As albedo (a frame's colour), float values must be finite:
+/// InputError "rgb: pixel (u, v) ..." otherwise (require_finite_color).
+void fill_color(const ArrayIn& in, Image& out, int threads = 0, bool albedo = true);
 
 /// Fills `out` with one-channel depth in metres: floats as they are, uint16 times `scale` (as
 /// a 16-bit PNG depth image). Reuses out's memory. Parallel as fill_color. No Python calls.

@@ -9,8 +9,10 @@
 
 #include <atomic>
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <string>
 
@@ -49,6 +51,7 @@ struct ErrorTypes {
     PyObject* asset = nullptr;
     PyObject* accuracy = nullptr;
     PyObject* cancelled = nullptr;
+    PyObject* memory = nullptr;
 };
 ErrorTypes g_errors;  // owned by the module (its attributes); never freed
 
@@ -80,9 +83,20 @@ void register_errors(py::module_& m) {
                                   "A strict bake check missed the accuracy bar.");
     g_errors.cancelled = add_error(m, "Cancelled", g_errors.error, PyExc_RuntimeError,
                                    "A long operation was stopped.");
+    g_errors.memory = add_error(m, "OutOfMemoryError", g_errors.error, PyExc_MemoryError,
+                                "The work needs more memory than the machine has left.");
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const std::bad_alloc&) {
+            PyErr_SetString(g_errors.memory,
+                            "out of memory (the inputs or settings need more "
+                            "memory than this machine has left)");
+        } catch (const std::filesystem::filesystem_error& e) {
+            const std::string path = e.path1().empty() ? "a path" : e.path1().string();
+            PyErr_SetString(g_errors.io, one_line(path + ": " + e.code().message(), 1000).c_str());
+        } catch (const OutOfMemory& e) {
+            PyErr_SetString(g_errors.memory, one_line(e.what(), 1000).c_str());
         } catch (const ConfigError& e) {
             PyErr_SetString(g_errors.config, one_line(e.what(), 1000).c_str());
         } catch (const InputError& e) {
@@ -124,9 +138,16 @@ bool is_path(const py::handle& h) {
     return py::isinstance(h, py::module_::import("os").attr("PathLike"));
 }
 
-/// A str or os.PathLike as a path (TypeError from os.fspath otherwise).
+/// A str or os.PathLike as a path (TypeError from os.fspath otherwise). A NUL character is a
+/// ConfigError (a ValueError, as Python's own file functions raise): the C library would end
+/// the name there and open another file.
 std::string path_text(const py::handle& h) {
-    return py::module_::import("os").attr("fspath")(h).cast<std::string>();
+    std::string path = py::module_::import("os").attr("fspath")(h).cast<std::string>();
+    if (path.find('\0') != std::string::npos) {
+        throw ConfigError(path.substr(0, path.find('\0')) +
+                          "...: the file name holds a NUL character");
+    }
+    return path;
 }
 
 /// Adds `more`'s sections to `into`; a section given twice is an error.
@@ -211,13 +232,6 @@ DepthKind parse_depth_kind(const std::string& kind) {
     if (kind == "range") return DepthKind::Range;
     throw ConfigError("depth_kind: expected 'z' (planar) or 'range' (along the ray), got '" + kind +
                       "'");
-}
-
-void check_threads(int threads) {
-    if (threads < 0) {
-        throw ConfigError("threads: must be an integer >= 0 (0: all cores), got " +
-                          std::to_string(threads));
-    }
 }
 
 void check_depth_scale(double scale) {
@@ -467,7 +481,7 @@ double exposure_of(const py::object& radiance, const py::object& exposure) {
     }
     py::gil_scoped_release nogil;
     Image img;
-    fill_color(in, img);
+    fill_color(in, img, 0, /*albedo=*/false);  // radiance: the exposure skips what is not finite
     return exposure_factor(e, img);
 }
 

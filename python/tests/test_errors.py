@@ -79,7 +79,8 @@ def test_asset_for_another_camera(asset_path, asset, frame, work):
                         "--depth", work / "err_depth.npy", "-o", work / "err.png")
     with pytest.raises(deepsea.AssetError) as e:
         deepsea.render(asset, rgb[:40], depth[:40])
-    assert str(e.value) == cli_msg
+    # the CLI's line names the frame's file first, then says the same
+    assert cli_msg == str(work / "err_rgb.pfm") + ": " + str(e.value)
 
 
 def test_missing_and_corrupt_assets(work):
@@ -128,3 +129,51 @@ def test_bad_setups(work):
         deepsea.bake(42)
     with pytest.raises(TypeError):
         deepsea.bake({"camera": dict(CAMERA, fx=object())}, rig=RIG, water="jerlov:IB")
+
+
+def test_non_finite_colour_names_the_pixel(asset, frame):
+    rgb = np.full(frame[0].shape, 0.3, np.float32)
+    rgb[5, 7, 1] = np.nan
+    with pytest.raises(deepsea.InputError) as e:
+        deepsea.Renderer(asset).render(rgb, frame[1])
+    assert str(e.value).startswith("rgb: pixel (7, 5) G is NaN"), str(e.value)
+    rgb[5, 7, 1] = 0.3
+    rgb[40, 2, 2] = np.inf
+    with pytest.raises(deepsea.InputError, match=r"pixel \(2, 40\) B is \+inf"):
+        deepsea.render(asset, rgb.astype(np.float64), frame[1])
+
+
+def test_paths_with_nul_and_thread_counts_beyond_the_limit(asset, work):
+    with pytest.raises(deepsea.ConfigError, match="NUL"):
+        deepsea.load_asset(str(work / "a.vdb") + "\0.png")
+    with pytest.raises(ValueError):
+        deepsea.info("x\0y")
+    with pytest.raises(deepsea.ConfigError, match="threads"):
+        deepsea.Renderer(asset, threads=1025)
+    with pytest.raises(deepsea.ConfigError, match="threads"):
+        deepsea.load_asset(str(work / "a.vdb"), threads=10**6)
+
+
+def test_out_of_memory_is_a_deepsea_error(asset_path, work):
+    # A child process with its address space capped just above what it holds: the render's
+    # allocations fail, and the error is deepsea.OutOfMemoryError (a MemoryError), not a bare
+    # MemoryError from std::bad_alloc.
+    import subprocess, sys, textwrap
+    code = textwrap.dedent(f"""
+        import resource, numpy as np, deepsea
+        asset = deepsea.load_asset({str(asset_path)!r})
+        rgb = np.zeros((3000, 4000, 3), np.uint8)
+        depth = np.full((3000, 4000), 3.0, np.float32)
+        vm = [int(l.split()[1]) for l in open('/proc/self/status') if l.startswith('VmSize')][0]
+        limit = vm * 1024 + (200 << 20)
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+        try:
+            deepsea.Renderer(asset, threads=1).render(rgb, depth)
+        except deepsea.OutOfMemoryError as e:
+            assert isinstance(e, MemoryError) and isinstance(e, deepsea.Error)
+            print("OOM:", e)
+        """)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("OOM: out of memory"), out.stdout + out.stderr

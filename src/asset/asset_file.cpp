@@ -22,6 +22,7 @@
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/input_file.h"
 #include "preview.h"
 
 namespace deepsea {
@@ -154,6 +155,14 @@ public:
     }
 };
 
+/// `path` once it names a regular asset file: a device or a pipe would never end, and a name
+/// with a NUL character (from Python) would open another file. Assets beyond 64 GB are
+/// refused: a 4K camera's lattice with every grid is a few hundred megabytes.
+const std::string& checked(const std::string& path) {
+    require_input_file(path, std::uintmax_t(64) << 30, "an asset");
+    return path;
+}
+
 /// An open file and its deepsea metadata (file-level first, else the backscatter grid's,
 /// which survives when Houdini re-saves the grid).
 struct OpenAsset {
@@ -164,7 +173,7 @@ struct OpenAsset {
     double value_scale = 1.0;
     IntegrityRecord record;
 
-    explicit OpenAsset(const std::string& path) : file(path) {
+    explicit OpenAsset(const std::string& path) : file(checked(path)) {
         init_openvdb();
         // Every byte is checked before OpenVDB parses any: its decoders trust lengths in the
         // file (a changed byte can make them overflow a buffer or allocate gigabytes).

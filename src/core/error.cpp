@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "deepsea/core/parallel.h"
+
 namespace deepsea {
 
 std::string one_line(const std::string& text, std::size_t max_chars) {
@@ -23,6 +25,29 @@ std::string one_line(const std::string& text, std::size_t max_chars) {
         out += ch;
     }
     return out;
+}
+
+void throw_error(int exit_code, const std::string& message) {
+    switch (exit_code) {
+        case 2:
+            throw ConfigError(message);
+        case 3:
+            throw InputError(message);
+        case 4:
+            throw IoError(message);
+        case 5:
+            throw AssetError(message);
+        case 6:
+            throw FramesFailed(message);
+        case 7:
+            throw AccuracyError(message);
+        case 8:
+            throw OutOfMemory(message);
+        case 130:
+            throw Cancelled(message);
+        default:
+            throw Error(message);
+    }
 }
 
 }  // namespace deepsea

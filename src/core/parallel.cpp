@@ -1,6 +1,7 @@
 #include "deepsea/core/parallel.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
@@ -12,18 +13,17 @@
 
 namespace deepsea {
 
-namespace {
-
 void check_threads(int threads) {
-    if (threads < 0) throw ConfigError("threads must be >= 0, got " + std::to_string(threads));
+    if (threads < 0 || threads > kMaxThreads) {
+        throw ConfigError("threads: must be an integer from 0 (all cores) to " +
+                          std::to_string(kMaxThreads) + ", got " + std::to_string(threads));
+    }
 }
-
-}  // namespace
 
 void in_arena(int threads, const std::function<void()>& f) {
     check_threads(threads);
     if (threads > 0) {
-        tbb::task_arena arena(threads);
+        tbb::task_arena arena(std::min(threads, tbb::info::default_concurrency()));
         arena.execute(f);
     } else {
         f();

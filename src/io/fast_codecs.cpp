@@ -38,12 +38,14 @@
 #include <cstring>
 #include <exception>
 #include <mutex>
+#include <new>
 #include <thread>
 #include <utility>
 
 #include "buffer_pool.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
+#include "exif.h"
 #include "file_checks.h"
 
 namespace deepsea::io_detail {
@@ -580,13 +582,20 @@ void decode_jpeg_rgb(const std::string& path, int& width, int& height,
     const auto scratch = decode_scratch.take();  // before setjmp: only C objects after it
     const std::vector<std::uint8_t>& file = scratch->file;
     read_whole_file(path, scratch->file);
+    const int orientation = jpeg_orientation(file.data(), file.size());
+    if (orientation != 1) {
+        throw InputError(path + ": its EXIF orientation " + std::to_string(orientation) + " (" +
+                         describe_orientation(orientation) +
+                         ") would turn the colour against the depth, which deepsea pairs pixel "
+                         "by pixel as stored; store the frame upright (exiftran -ai) or remove "
+                         "the tag");
+    }
     jpeg_decompress_struct cinfo{};
     JpegError err;
     cinfo.err = jpeg_std_error(&err.mgr);
     err.mgr.error_exit = jpeg_error_exit;
     err.mgr.emit_message = jpeg_warning_is_error;
     // Only C objects between here and the longjmp; the exception is thrown after it.
-    bool too_big = false;
     long long w = 0, h = 0;
     if (setjmp(err.jump)) {
         jpeg_destroy_decompress(&cinfo);
@@ -597,11 +606,11 @@ void decode_jpeg_rgb(const std::string& path, int& width, int& height,
     jpeg_read_header(&cinfo, TRUE);
     w = cinfo.image_width;
     h = cinfo.image_height;
-    too_big = w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide ||
-              (long double)w * h > kMaxImagePixels;
-    if (too_big) {
+    try {
+        check_image_size(w, h, 3, path);  // and an ExpectImageSize of the caller's
+    } catch (...) {
         jpeg_destroy_decompress(&cinfo);
-        check_image_size(w, h, 3, path);  // throws
+        throw;
     }
     cinfo.out_color_space = JCS_RGB;  // grey and YCbCr alike; CMYK is refused below
     if (cinfo.jpeg_color_space == JCS_CMYK || cinfo.jpeg_color_space == JCS_YCCK) {
@@ -675,6 +684,8 @@ void write_exr(const std::string& path, int width, int height,
             out.writePixels(height);
         } catch (const Error&) {
             throw;
+        } catch (const std::bad_alloc&) {
+            throw;  // out of memory, not a damaged file
         } catch (const std::exception& e) {
             io_fail(path, e.what());
         }
@@ -691,6 +702,8 @@ ExrReader::ExrReader(const std::string& path) : m_impl(new Impl), m_path(path) {
     check_exr_header(path);
     try {
         m_impl->file = std::make_unique<Imf::InputFile>(path.c_str(), exr_threads());
+    } catch (const std::bad_alloc&) {
+        throw;
     } catch (const std::exception& e) {
         io_fail(path, e.what());
     }
@@ -858,6 +871,8 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
             }
         } catch (const Error&) {
             throw;
+        } catch (const std::bad_alloc&) {
+            throw;  // out of memory, not a damaged file
         } catch (const std::exception& e) {
             io_fail(path, e.what());
         }
@@ -936,6 +951,8 @@ void ExrReader::read(const std::vector<int>& channels, float* dst) {
     try {
         m_impl->file->setFrameBuffer(fb);
         m_impl->file->readPixels(m_impl->y0, m_impl->y0 + m_height - 1);
+    } catch (const std::bad_alloc&) {
+        throw;
     } catch (const std::exception& e) {
         io_fail(m_path, e.what());
     }

@@ -1,8 +1,10 @@
 #include "file_checks.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -64,3 +66,23 @@ void check_png_claim(const std::string& path, long long width, long long height,
 }
 
 }  // namespace deepsea::io_detail
+
+namespace deepsea {
+
+bool image_file_ends(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    // PNG's last chunk is IEND: length 0, its type and its fixed CRC. JPEG ends with EOI.
+    static const char kIend[] = "\0\0\0\0IEND\xAE\x42\x60\x82";
+    static const char kEoi[] = "\xFF\xD9";
+    const bool png = ext == ".png", jpeg = ext == ".jpg" || ext == ".jpeg";
+    if (!png && !jpeg) return true;
+    const std::size_t n = png ? sizeof kIend - 1 : sizeof kEoi - 1;
+    std::ifstream in(path, std::ios::binary);
+    char tail[12];
+    if (!in.seekg(-std::streamoff(n), std::ios::end) || !in.read(tail, std::streamsize(n)))
+        return false;
+    return std::memcmp(tail, png ? kIend : kEoi, n) == 0;
+}
+
+}  // namespace deepsea

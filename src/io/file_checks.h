@@ -11,6 +11,7 @@
 #include <string>
 
 #include "deepsea/core/error.h"
+#include "deepsea/core/input_file.h"
 
 namespace deepsea::io_detail {
 
@@ -22,14 +23,10 @@ namespace deepsea::io_detail {
 }
 
 /// Missing files get a plain reason instead of OIIO's "could not find a format reader".
+/// Devices (/dev/zero), pipes and files beyond kMaxImageFileBytes are refused before a codec
+/// reads from them.
 inline void require_readable(const std::string& path) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const auto st = fs::status(path, ec);
-    if (ec || !fs::exists(st)) io_fail(path, "no such file");
-    if (fs::is_directory(st)) io_fail(path, "is a folder, not an image");
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) io_fail(path, std::strerror(errno));
+    require_input_file(path, kMaxImageFileBytes, "an image");
 }
 
 /// OpenEXR allocates each header attribute at the size the file states before reading it: a

@@ -458,15 +458,24 @@ namespace {
 Image read_color_oiio(const std::string& path) {
     if (extension(path) == ".pfm") {
         Image src = read_pfm(path);
-        if (src.channels == 3) return src;
-        Image rgb(src.width, src.height, 3);
-        for (std::size_t i = 0; i < src.data.size(); ++i)
-            for (int c = 0; c < 3; ++c) rgb.data[i * 3 + c] = src.data[i];
+        Image rgb = src;
+        if (src.channels != 3) {
+            rgb = Image(src.width, src.height, 3);
+            for (std::size_t i = 0; i < src.data.size(); ++i)
+                for (int c = 0; c < 3; ++c) rgb.data[i * 3 + c] = src.data[i];
+        }
+        require_finite_color(rgb, path);
         return rgb;
     }
     OiioInput in(path);
     const OiioHeader& spec = in.header();
-    // 1 = grey, 2 = grey + alpha; otherwise the first three are R, G, B (alpha dropped).
+    // 1 = grey, 2 = grey + alpha; otherwise the first three are R, G, B (alpha dropped). Two
+    // channels that are not grey and alpha (an EXR's R and G, or Z and A) are no colour image.
+    if (spec.channels == 2 &&
+        (spec.channel_names.size() != 2 || lower(spec.channel_names[1]) != "a")) {
+        throw InputError(path + ": its 2 channels (" + join(spec.channel_names) +
+                         ") are not a colour image: deepsea reads R, G, B (+ A) or grey (+ A)");
+    }
     const int use = spec.channels >= 3 ? 3 : 1;
     std::vector<float> buf;
     in.read(0, use, buf);
@@ -493,6 +502,7 @@ Image read_color_oiio(const std::string& path) {
             }
         }
     });
+    if (!encoded) require_finite_color(img, path);
     return img;
 }
 
@@ -509,11 +519,13 @@ void read_depth(const std::string& path, Image& out, const DepthReadOptions& opt
     if (ext == ".exr") {
         io_detail::ExrReader in(path);
         const int ch = depth_channel(path, in.channels(), opt);
-        if (in.is_float(ch)) {
-            fit(out, in.width(), in.height(), 1);
-            in.read(ch, out.data.data());
-            return;
-        }
+        fit(out, in.width(), in.height(), 1);
+        in.read(ch, out.data.data());
+        // An integer channel (OpenEXR's 32-bit UINT) counts units of --depth-scale, millimetres
+        // by default, as a 16-bit PNG does; half and float channels are metres.
+        if (!in.is_float(ch))
+            for (float& v : out.data) v = float(double(v) * opt.scale);
+        return;
     } else if (ext == ".png" && (opt.channel.empty() || opt.channel == "Y")) {
         thread_local std::vector<std::uint16_t> raw;
         int w = 0, h = 0;

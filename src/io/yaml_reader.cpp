@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "deepsea/core/error.h"
+#include "deepsea/core/input_file.h"
 #include "deepsea/optics/schema.h"
 
 namespace deepsea::yaml {
@@ -36,18 +37,7 @@ std::string describe(const YAML::Node& n) {
     }
 }
 
-std::string read_text(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw IoError(path + ": no such file");
-    if (std::filesystem::is_directory(path, ec))
-        throw IoError(path + ": is a folder, not a YAML file");
-    std::ifstream is(path, std::ios::binary);
-    if (!is) throw IoError(path + ": cannot read: " + std::strerror(errno));
-    std::ostringstream ss;
-    ss << is.rdbuf();
-    if (is.bad()) throw IoError(path + ": read error");
-    return ss.str();
-}
+std::string read_text(const std::string& path) { return read_text_file(path, "a YAML file"); }
 
 }  // namespace
 

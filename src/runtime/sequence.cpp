@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <new>
 
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
@@ -28,6 +29,7 @@ struct Slot {
     int index = -1;
     bool skip = false;
     std::string error;
+    int error_code = 0;  ///< the exit code of the error's kind
     Frame frame;
     Layers layers;         ///< filled only for jobs that write layers
     EncodedImage encoded;  ///< the exposed image's codes (PNG, JPEG outputs)
@@ -51,6 +53,8 @@ bool complete(const std::string& path, const LayerOutput* layers) {
                                  : first == "normal" ? std::vector<std::string>{"X", "Y", "Z"}
                                                      : std::vector<std::string>{"R", "G", "B"});
         } else {
+            // A PNG cut short by its last chunk still decodes every row.
+            if (!image_file_ends(path)) return false;
             (void)read_color(path);
         }
         return true;
@@ -92,6 +96,24 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.depth_scale = opt.depth_read.scale;
     m.frames_total = int(jobs.size());
     return m;
+}
+
+/// Records the exception being handled as the slot's error: deepsea's errors with their
+/// message (after `name` and ": " when given) and kind; running out of memory as OutOfMemory
+/// naming the frame. Anything else propagates.
+void record_failure(Slot& s, const std::string& name) {
+    try {
+        throw;
+    } catch (const Error& e) {
+        s.error = (name.empty() ? "" : name + ": ") + e.what();
+        s.error_code = e.exit_code();
+    } catch (const std::bad_alloc&) {
+        const OutOfMemory oom(
+            (name.empty() ? std::string("a frame") : name) +
+            ": out of memory (this frame needs more memory than the machine has left)");
+        s.error = oom.what();
+        s.error_code = oom.exit_code();
+    }
 }
 
 }  // namespace
@@ -187,19 +209,26 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 }
                 s->index = next;
                 s->error.clear();
+                s->error_code = 0;
                 const FrameJob& job = jobs[next++];
                 s->skip = opt.resume && done_already(job, opt.layer_output);
                 if (s->skip) return s;
                 try {
                     // Into the slot's buffers: a frame of the same size allocates nothing.
                     // PNG and JPEG colour stays as its codes until the compositor's rows.
-                    read_frame_color(job.rgb, s->frame);
+                    // Depth first: the colour file's header is held to its size before the
+                    // colour is decoded.
                     read_depth(job.depth, s->frame.depth, opt.depth_read);
+                    {
+                        const ExpectImageSize same(s->frame.depth.width, s->frame.depth.height,
+                                                   job.rgb + " and " + job.depth);
+                        read_frame_color(job.rgb, s->frame);
+                    }
                     require_same_size(s->frame.color_width(), s->frame.color_height(),
                                       s->frame.depth.width, s->frame.depth.height,
                                       job.rgb + " and " + job.depth);
-                } catch (const Error& e) {
-                    s->error = e.what();
+                } catch (...) {
+                    record_failure(*s, "");
                 }
                 return s;
             }) &
@@ -246,10 +275,14 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                                 }
                             }
                         }
-                    } catch (const AssetError&) {
-                        throw;  // the asset does not fit these frames: stop everything
-                    } catch (const Error& e) {
-                        s->error = jobs[s->index].rgb + ": " + e.what();
+                    } catch (const AssetError& e) {
+                        // The asset does not fit the first frame composited: it fits none of
+                        // the sequence, stop everything. A later frame of another shape fails
+                        // alone.
+                        if (meta.empty()) throw AssetError(jobs[s->index].rgb + ": " + e.what());
+                        record_failure(*s, jobs[s->index].rgb);
+                    } catch (...) {
+                        record_failure(*s, jobs[s->index].rgb);
                     }
                     if (s->error.empty() && meta.empty()) {
                         meta = output_metadata(asset, exposure, opt.version);
@@ -279,8 +312,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                                             opt.bits, meta, exposure);
                             }
                         }
-                    } catch (const Error& e) {
-                        s->error = e.what();
+                    } catch (...) {
+                        record_failure(*s, "");
                     }
                 }
                 std::lock_guard<std::mutex> lock(mutex);
@@ -291,6 +324,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     write_manifests();
                 } else {
                     result.errors.push_back(s->error);
+                    result.error_codes.push_back(s->error_code);
                 }
                 ++done;
                 free_slots.push_back(s);

@@ -7,6 +7,7 @@
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/input_file.h"
 
 namespace deepsea {
 
@@ -113,10 +114,7 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
 }
 
 SequenceManifest read_manifest(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw IoError(path + ": cannot read the sequence manifest");
-    const std::string text{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-    return manifest_from_json(text, path);
+    return manifest_from_json(read_text_file(path, "a sequence manifest"), path);
 }
 
 void write_manifest(const std::string& path, const SequenceManifest& m) {

@@ -35,6 +35,12 @@ void validate(const FlightParams& f, int index) {
         bad("image size must be positive, got " + std::to_string(cam.width) + "x" +
             std::to_string(cam.height));
     }
+    if (cam.width > kMaxFlightSide || cam.height > kMaxFlightSide ||
+        (long long)cam.width * cam.height > kMaxFlightPixels) {
+        bad("image size " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+            " is larger than the scene's limit of " + std::to_string(kMaxFlightPixels >> 20) +
+            " megapixels (at most " + std::to_string(kMaxFlightSide) + " on a side)");
+    }
     if (!(cam.fx > 0.0) || !(cam.fy > 0.0) || !std::isfinite(cam.fx) || !std::isfinite(cam.fy)) {
         bad("focal lengths fx, fy must be positive");
     }
@@ -43,7 +49,8 @@ void validate(const FlightParams& f, int index) {
     if (!std::isfinite(f.speed)) bad("speed must be finite");
     if (!(std::fabs(f.pitch_deg) < 90.0)) bad("pitch must be within (-90, 90) degrees");
     if (!(f.relief >= 0.0) || !std::isfinite(f.relief)) bad("relief must be >= 0");
-    if (!(f.max_range > 0.0)) bad("max range must be > 0 m");
+    if (!(f.max_range > 0.0 && f.max_range <= kMaxFlightRange))
+        bad("max range must be in (0, " + std::to_string(int(kMaxFlightRange)) + "] m");
     if (index < 0) bad("frame index must be >= 0");
 }
 
@@ -64,8 +71,9 @@ void check_clearance(const FlightParams& f, const Seafloor& floor, int index) {
 }  // namespace
 
 void validate_flight(const FlightParams& flight) {
-    if (flight.frames < 1) {
-        throw ConfigError("scene: frames must be >= 1, got " + std::to_string(flight.frames));
+    if (flight.frames < 1 || flight.frames > kMaxFlightFrames) {
+        throw ConfigError("scene: frames must be from 1 to " + std::to_string(kMaxFlightFrames) +
+                          ", got " + std::to_string(flight.frames));
     }
     validate(flight, 0);
     const Seafloor floor(flight.seed, flight.relief);

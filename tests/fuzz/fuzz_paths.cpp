@@ -27,9 +27,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* const kParts[] = {"in", "out", "..", ".", "nosuch", "a", "link-in", "link-out",
-                              "link-frame", "frame_0001.png", "frame_0002.png", "x.png",
-                              "frame_0001.exr", "hard.png", "", "in/", "out/", "dangling"};
+const char* const kParts[] = {"in",
+                              "out",
+                              "..",
+                              ".",
+                              "nosuch",
+                              "a",
+                              "link-in",
+                              "link-out",
+                              "link-frame",
+                              "frame_0001.png",
+                              "frame_0002.png",
+                              "x.png",
+                              "frame_0001.exr",
+                              "hard.png",
+                              "",
+                              "in/",
+                              "out/",
+                              "dangling"};
 constexpr int kPartCount = int(sizeof kParts / sizeof kParts[0]);
 
 /// The tree, made once: in/ (two frames), out/, and links into it.
@@ -38,8 +53,8 @@ const fs::path& tree() {
         const fs::path r = fs::path(deepsea::fuzz::scratch()) / "tree";
         fs::create_directories(r / "in");
         fs::create_directories(r / "out");
-        for (const char* f : {"frame_0001.png", "frame_0002.png", "frame_0001_depth.exr",
-                              "frame_0002_depth.exr"})
+        for (const char* f :
+             {"frame_0001.png", "frame_0002.png", "frame_0001_depth.exr", "frame_0002_depth.exr"})
             std::ofstream(r / "in" / f) << "x";
         fs::create_directory_symlink(r / "in", r / "link-in");
         fs::create_directory_symlink(r / "out", r / "link-out");
@@ -55,8 +70,8 @@ const fs::path& tree() {
 /// Every path under the tree (links not followed), to find and undo what a case created.
 std::set<std::string> listing() {
     std::set<std::string> out;
-    for (auto it = fs::recursive_directory_iterator(tree()); it != fs::recursive_directory_iterator();
-         ++it)
+    for (auto it = fs::recursive_directory_iterator(tree());
+         it != fs::recursive_directory_iterator(); ++it)
         out.insert(it->path().string());
     return out;
 }
@@ -105,7 +120,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             fs::path target = out;
             if (fs::is_symlink(out, ec)) target = fs::canonical(out, ec);
             if (ec) continue;  // write_atomically refuses a link that leads nowhere
-            struct stat so {}, si {};
+            struct stat so {
+            }, si{};
             const bool exists = ::stat(target.c_str(), &so) == 0;
             for (const deepsea::FrameJob& k : jobs) {
                 for (const std::string& input : {k.rgb, k.depth}) {

@@ -30,7 +30,7 @@ done
 for want in "bake:--xy-step INT=0" "bake:--depth-scheme TEXT=log" "bake:--z-max TEXT=auto" \
             "bake:--scattering TEXT=single" "render:--exposure TEXT=auto" "render:--bits INT:{8,16}=8" \
             "render:--depth-scale FLOAT:POSITIVE=0.001" "scene:--fx FLOAT=0.75\*width" \
-            "scene:--frames INT=8" "demo:--scattering TEXT=multiple" "bench:--repeats INT=21" \
+            "scene:--frames INT:INT in \[1 - 100000\]=8" "demo:--scattering TEXT=multiple" "bench:--repeats INT=21" \
             "reference:--rel-tol FLOAT:POSITIVE=1e-07" "bake-library:--out TEXT=volumes/baked"; do
   grep -q -- "${want#*:}" "$work/help-${want%%:*}.txt" || { echo "FAIL: ${want%%:*} --help lacks '${want#*:}'"; cat "$work/help-${want%%:*}.txt"; exit 1; }
 done
@@ -46,7 +46,7 @@ expect_usage bad-number "$ds" scene --out "$work/s" --frames abc
 expect_usage bad-choice "$ds" render --asset a.vdb --rgb a.png --depth d.exr -o x.png --bits 9
 expect_usage bad-threads "$ds" bake --config x.yaml -o x.vdb --threads -1
 expect_usage bad-threads-text "$ds" render --asset a.vdb --rgb a.png --depth d.exr -o x.png --threads many
-grep -q -- "--threads: must be an integer >= 0" "$work/err.txt"
+grep -q -- "--threads: must be an integer from 0" "$work/err.txt"
 expect_absent "$work/s" x.vdb x.png
 
 # --threads is honoured, and the result does not depend on it.

@@ -8,6 +8,7 @@
 
 #include "deepsea/bake/lattice_rule.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/parallel.h"
 
 namespace deepsea::cli {
 
@@ -38,8 +39,9 @@ CLI::Option* add_threads(CLI::App& sub, int& threads) {
         [](std::string& text) -> std::string {
             char* end = nullptr;
             const long v = std::strtol(text.c_str(), &end, 10);
-            if (text.empty() || *end != '\0' || v < 0 || v > 1 << 20)
-                return "must be an integer >= 0 (0: all cores), got '" + text + "'";
+            if (text.empty() || *end != '\0' || v < 0 || v > kMaxThreads)
+                return "must be an integer from 0 (all cores) to " + std::to_string(kMaxThreads) +
+                       " (more than the cores run as the cores), got '" + text + "'";
             return "";
         },
         "");

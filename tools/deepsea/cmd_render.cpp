@@ -69,8 +69,9 @@ void run(const RenderArgs& a) {
         in_arena(a.threads, [&] { r = render_sequence(asset, jobs, opt); });
     }
     bar.finish();
-    // One frame that failed: its error is the one line (main prints it), no summary.
-    if (jobs.size() == 1 && !r.errors.empty()) throw FramesFailed(r.errors.front());
+    // One frame that failed: its error is the one line (main prints it), with its own exit code
+    // (4 for a missing file, 3 for sizes that differ, as `reference`), no summary.
+    if (jobs.size() == 1 && !r.errors.empty()) throw_error(r.error_codes.front(), r.errors.front());
     for (const std::string& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
     if (folders && folders->stale_removed() > 0) {
         std::printf("removed %d stale temporary file(s) of an interrupted run\n",

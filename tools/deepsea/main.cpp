@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <new>
 #include <string>
 
@@ -22,6 +23,23 @@ int main(int argc, char** argv) {
     for (const auto& cmd : deepsea::cli::kCommands) {
         CLI::App* sub = app.add_subcommand(cmd.name, cmd.help);
         cmd.setup(*sub);
+    }
+    // An empty argument is an unset shell variable far more often than a wish (`--shard ''`
+    // would bake the whole library, `--rgb ''` name no file): a usage error naming the option.
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        const std::size_t eq = arg.find('=');
+        const bool empty_inline = arg.rfind("--", 0) == 0 && eq == arg.size() - 1;
+        if (!arg.empty() && !empty_inline) continue;
+        const std::string option = empty_inline ? arg.substr(0, eq)
+                                   : i > 1 && argv[i - 1][0] == '-'
+                                       ? std::string(argv[i - 1])
+                                       : "argument " + std::to_string(i);
+        std::fprintf(stderr,
+                     "deepsea: error: %s: an empty value (an unset shell variable?); give a "
+                     "value or leave the option out\n",
+                     deepsea::one_line(option, 200).c_str());
+        return 2;
     }
     try {
         app.parse(argc, argv);
@@ -49,7 +67,14 @@ int main(int argc, char** argv) {
         std::fprintf(stderr,
                      "deepsea: error: out of memory (the inputs or settings need more memory "
                      "than this machine has)\n");
-        return 1;
+        return deepsea::OutOfMemory("").exit_code();
+    } catch (const std::filesystem::filesystem_error& e) {
+        // A path the system refuses (too long, a loop of links): the path and the reason, as
+        // every other file error.
+        const std::string path = e.path1().empty() ? std::string("a path") : e.path1().string();
+        std::fprintf(stderr, "deepsea: error: %s: %s\n", deepsea::one_line(path, 300).c_str(),
+                     e.code().message().c_str());
+        return deepsea::IoError("").exit_code();
     } catch (const deepsea::Error& e) {
         std::fprintf(stderr, "deepsea: error: %s\n", deepsea::one_line(e.what(), 1000).c_str());
         return e.exit_code();

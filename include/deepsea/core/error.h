@@ -74,3 +74,25 @@ public:
 };
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+/// The work needs more memory than the machine gives (std::bad_alloc, named): exit code 8.
+/// Inputs and settings are size-checked before work, so this is what is left when the machine
+/// is smaller than those limits allow.
+class OutOfMemory : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 8; }
+};
+
+}  // namespace deepsea
+
+namespace deepsea {
+
+/// Throws the deepsea error whose exit_code() is `exit_code` (Error for a code no kind has),
+/// with `message`: an error kept as text and code (a sequence's failed frame) thrown again as
+/// what it was.
+[[noreturn]] void throw_error(int exit_code, const std::string& message);
+
+}  // namespace deepsea

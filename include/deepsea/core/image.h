@@ -19,6 +19,31 @@ inline constexpr int kMaxImageChannels = 64;
 void check_image_size(long long width, long long height, long long channels,
                       const std::string& what);
 
+/// InputError "`what`: pixel (u, v) G is NaN: ..." naming the first non-finite value (row by
+/// row) of a linear RGB colour image. Float colour is linear albedo: one NaN or infinity would
+/// spread through the forward scatter to every pixel of the frame and end the automatic
+/// exposure, so float colour from files and arrays is checked where it enters.
+struct Image;
+void require_finite_color(const Image& rgb, const std::string& what);
+
+/// While one is alive, check_image_size on this thread (every decoder calls it on the header,
+/// before allocating) also refuses a size other than width x height, with require_same_size's
+/// message for `what`: a colour file is checked against its depth before it is decoded (a
+/// 777 KB PNG can hold 10000 x 10000 16-bit RGBA, 1.4 GB decoded). Scopes nest.
+class ExpectImageSize {
+public:
+    ExpectImageSize(int width, int height, std::string what);
+    ~ExpectImageSize();
+    ExpectImageSize(const ExpectImageSize&) = delete;
+    ExpectImageSize& operator=(const ExpectImageSize&) = delete;
+
+private:
+    friend void check_image_size(long long, long long, long long, const std::string&);
+    int m_width, m_height;
+    std::string m_what;
+    const ExpectImageSize* m_outer;
+};
+
 /// A width x height image of `channels` interleaved floats per pixel, rows top to bottom.
 /// Colour is linear RGB; depth is one channel in metres.
 struct Image {

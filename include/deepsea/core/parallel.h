@@ -11,6 +11,13 @@
 
 namespace deepsea {
 
+/// The most worker threads a caller may ask for. More than the machine's cores are run as the
+/// cores (TBB would only warn and time-slice them).
+inline constexpr int kMaxThreads = 1024;
+
+/// ConfigError "threads: ..." unless 0 <= threads <= kMaxThreads.
+void check_threads(int threads);
+
 /// Called with (items done, items total) from one thread at a time, counts non-decreasing.
 /// Return false to cancel: the running work stops at the next grain and parallel_for throws
 /// Cancelled.
@@ -19,7 +26,7 @@ using Progress = std::function<bool(long done, long total)>;
 /// How to run a long parallel operation. Library functions take it last, defaulted, so that a
 /// caller names only what it cares about: `bake(cam, rig, water, settings, {threads, 0, bar})`.
 struct Parallel {
-    int threads = 0;        ///< worker threads, >= 0; 0: all cores
+    int threads = 0;        ///< worker threads, 0 to kMaxThreads; 0: all cores
     std::size_t grain = 0;  ///< items per task; 0: the operation's own choice
     Progress progress;      ///< optional
 

@@ -33,11 +33,12 @@ void read_frame_color(const std::string& path, Frame& frame);
 struct DepthReadOptions {
     std::string channel;   ///< channel name to use; empty: the only channel, or else the one
                            ///< channel named Z, depth or depth.Z (case-insensitive)
-    double scale = 0.001;  ///< metres per unit for integer images (ROS 16UC1)
+    double scale = 0.001;  ///< metres per unit for integer images (ROS 16UC1, EXR UINT)
 };
 
 /// One-channel depth in metres from EXR/TIFF float (any single channel: Z, Y, R, depth, or
-/// `channel`), 16-bit PNG (times scale), PFM or .npy (float32/float64, 2-D).
+/// `channel`), 16-bit PNG and 32-bit unsigned EXR channels (integer units times scale), PFM or
+/// .npy (float32/float64, 2-D).
 /// Values are copied as they are; non-finite or <= 0 means open water.
 /// Throws InputError for a file with several candidate channels and none chosen (the message
 /// lists them), for a chosen channel that is absent, and for 8-bit images; IoError for a
@@ -52,6 +53,11 @@ void read_depth(const std::string& path, Image& out, const DepthReadOptions& opt
 /// Text attributes stored with an image: PNG text chunks, EXR header string attributes
 /// (name, value), e.g. {"deepsea:exposure", "1.25"}.
 using ImageMetadata = std::vector<std::pair<std::string, std::string>>;
+
+/// False if `path` is a PNG without its closing IEND chunk or a JPEG without its end-of-image
+/// marker (a file cut short: decoders may still read every row of it), or cannot be read; true
+/// for any other file (other formats' decoders notice a short file themselves).
+bool image_file_ends(const std::string& path);
 
 /// True if OpenImageIO can write an image with the extension of `path`.
 bool has_image_writer(const std::string& path);

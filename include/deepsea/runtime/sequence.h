@@ -46,6 +46,7 @@ struct SequenceResult {
     int written = 0;                  ///< frames rendered and written by this run
     int skipped = 0;                  ///< --resume: frames whose outputs were complete
     std::vector<std::string> errors;  ///< one line per failed frame
+    std::vector<int> error_codes;     ///< each error's exit code (Error::exit_code of its kind)
     bool interrupted = false;         ///< progress said stop before every frame was done
     double seconds = 0.0;
     double exposure = 0.0;  ///< the factor used (0 if no frame was composited or kept)
@@ -59,7 +60,8 @@ ImageMetadata output_metadata(const Asset& asset, double exposure, const std::st
 /// skipped, the rest are written. With manifests, reads them first (check_same_inputs, and
 /// check_resumable with --resume, whose exposure it keeps), writes them once the exposure is
 /// known, before the first output, and after every frame. Throws only for problems that stop
-/// every frame: the asset does not fit the frames' camera, a manifest refuses the run, or
+/// every frame: the asset does not fit the first frame's camera (AssetError naming the frame; a
+/// later frame that does not fit fails alone), a manifest refuses the run, or
 /// --resume finds frames but no manifest to take their exposure from.
 SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
                                const SequenceOptions& opt);

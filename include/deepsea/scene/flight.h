@@ -16,6 +16,15 @@ namespace deepsea {
 
 /// A camera flying a straight path over a procedural seafloor. The defaults are the demo
 /// flight: 3 m up, looking straight down, 0.25 m per frame (docs/scene.md).
+/// The scene's limits, checked before a frame is rendered: a frame costs about 0.7 s a
+/// megapixel on two cores (docs/scene.md), so 16 megapixels (4096 x 4096; a 4K frame is 8.3)
+/// keep a frame near ten seconds, and 100000 frames (an hour of 30 Hz video) bound a flight.
+inline constexpr long long kMaxFlightPixels = 16ll << 20;
+inline constexpr int kMaxFlightSide = 8192;
+inline constexpr int kMaxFlightFrames = 100000;
+/// The farthest a ray is marched, metres: far beyond what any lamp lights.
+inline constexpr double kMaxFlightRange = 1000.0;
+
 struct FlightParams {
     Camera camera;            ///< intrinsics of the rendered frames
     int frames = 8;           ///< frames in the flight (validate_flight checks them all)

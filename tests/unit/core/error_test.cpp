@@ -21,3 +21,20 @@ TEST(OneLine, CutsHugeMessages) {
 }
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+TEST(Error, ThrowErrorGivesBackTheKindOfEachExitCode) {
+    for (const int code : {1, 2, 3, 4, 5, 6, 7, 8, 130, 99}) {
+        try {
+            throw_error(code, "frame.png: why");
+        } catch (const Error& e) {
+            EXPECT_EQ(e.exit_code(), code == 99 ? 1 : code);
+            EXPECT_STREQ(e.what(), "frame.png: why");
+        }
+    }
+    EXPECT_THROW(throw_error(4, "x"), IoError);
+    EXPECT_THROW(throw_error(8, "x"), OutOfMemory);
+}
+
+}  // namespace deepsea

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "deepsea/core/error.h"
 
 namespace deepsea {
@@ -35,6 +37,58 @@ TEST(Image, SizeLimitsAreStatedAndChecked) {
     EXPECT_THROW(check_image_size(0, 5, 1, "a.png"), InputError);
     EXPECT_THROW(check_image_size(5, 5, 0, "a.png"), InputError);
     EXPECT_THROW(check_image_size(5, 5, kMaxImageChannels + 1, "a.png"), InputError);
+}
+
+}  // namespace deepsea
+
+namespace deepsea {
+
+TEST(Image, NonFiniteColourIsAnInputErrorNamingTheFirstPixel) {
+    Image rgb(7, 5, 3, 0.25f);
+    EXPECT_NO_THROW(require_finite_color(rgb, "a.exr"));
+    rgb.at(6, 4, 2) = -std::numeric_limits<float>::infinity();
+    rgb.at(3, 2, 1) = std::numeric_limits<float>::quiet_NaN();
+    try {
+        require_finite_color(rgb, "a.exr");
+        FAIL() << "no exception";
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(),
+                     "a.exr: pixel (3, 2) G is NaN: float colour is linear albedo and must be "
+                     "finite");
+    }
+    rgb.at(3, 2, 1) = 0.0f;
+    EXPECT_THROW(require_finite_color(rgb, "a.exr"), InputError);  // the -inf alone
+    // A large image: the first bad value wins whatever the split of the work.
+    Image big(1000, 700, 3, 0.5f);
+    big.at(999, 699, 0) = std::numeric_limits<float>::infinity();
+    big.at(10, 400, 2) = std::numeric_limits<float>::infinity();
+    try {
+        require_finite_color(big, "b");
+        FAIL() << "no exception";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("pixel (10, 400) B is +inf"), std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(Image, AnExpectedSizeRefusesAnotherAtTheHeaderCheck) {
+    EXPECT_NO_THROW(check_image_size(10000, 10000, 4, "big.png"));
+    {
+        const ExpectImageSize expect(32, 24, "c.png and d.exr");
+        EXPECT_NO_THROW(check_image_size(32, 24, 3, "c.png"));
+        try {
+            check_image_size(10000, 10000, 4, "c.png");
+            FAIL() << "no exception";
+        } catch (const InputError& e) {
+            EXPECT_STREQ(e.what(), "c.png and d.exr: sizes differ (10000x10000 vs 32x24)");
+        }
+        {
+            const ExpectImageSize inner(8, 8, "inner");
+            EXPECT_THROW(check_image_size(32, 24, 3, "c.png"), InputError);
+        }
+        EXPECT_NO_THROW(check_image_size(32, 24, 3, "c.png"));  // the outer one again
+    }
+    EXPECT_NO_THROW(check_image_size(10000, 10000, 4, "big.png"));  // none after the scope
 }
 
 }  // namespace deepsea

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
@@ -165,6 +166,61 @@ TEST(Sequence, ProgressSayingStopEndsAfterTheFramesInFlight) {
     const SequenceResult none = render_sequence(d.asset, d.jobs, opt);
     EXPECT_TRUE(none.interrupted);
     EXPECT_EQ(none.written, 0);
+}
+
+TEST(Sequence, AFrameOfAnotherShapeFailsAloneNamingItsFileWithItsExitCode) {
+    SequenceDir d("shape");
+    // Frame 1 is square: no scaling of the asset's 4:3 camera gives its view.
+    const Camera square{90, 90, 90.0, 90.0, 44.5, 44.5};
+    const testing::PlaneScene sq = testing::plane_scene(square);
+    write_color(d.jobs[1].rgb, sq.rgb);
+    write_depth_exr(d.jobs[1].depth, sq.depth);
+    const SequenceResult r = render_sequence(d.asset, d.jobs, SequenceOptions{});
+    EXPECT_EQ(r.written, 2);
+    ASSERT_EQ(r.errors.size(), 1u);
+    ASSERT_EQ(r.error_codes.size(), 1u);
+    EXPECT_NE(r.errors[0].find(d.jobs[1].rgb + ": frames are 90x90"), std::string::npos)
+        << r.errors[0];
+    EXPECT_EQ(r.error_codes[0], AssetError("").exit_code());
+    // As the first frame it fits nothing of the sequence: everything stops, naming it.
+    try {
+        render_sequence(d.asset, {d.jobs[1], d.jobs[0]}, SequenceOptions{});
+        FAIL() << "no exception";
+    } catch (const AssetError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(d.jobs[1].rgb + ": ", 0), 0u) << e.what();
+    }
+}
+
+TEST(Sequence, EachFailedFrameKeepsTheExitCodeOfItsError) {
+    SequenceDir d("codes");
+    fs::remove(d.jobs[0].depth);  // a missing file: an IoError
+    const testing::PlaneScene other = testing::plane_scene(Camera{60, 45, 45.0, 45.0, 29.5, 22});
+    write_depth_exr(d.jobs[2].depth, other.depth);  // sizes differ: an InputError
+    const SequenceResult r = render_sequence(d.asset, d.jobs, SequenceOptions{});
+    ASSERT_EQ(r.error_codes.size(), 2u);
+    EXPECT_EQ(r.error_codes[0], IoError("").exit_code());
+    EXPECT_EQ(r.error_codes[1], InputError("").exit_code());
+    EXPECT_NE(r.errors[1].find("sizes differ (120x90 vs 60x45)"), std::string::npos) << r.errors[1];
+}
+
+TEST(Sequence, ResumeRendersAgainAFrameCutShort) {
+    SequenceDir d("cut", 2);
+    render_sequence(d.asset, d.jobs, SequenceOptions{});
+    const std::string whole = [&] {
+        std::ifstream f(d.jobs[1].output, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    }();
+    // The last chunk (IEND, 12 bytes) gone: every row still decodes.
+    std::ofstream(d.jobs[1].output, std::ios::binary | std::ios::trunc)
+        << whole.substr(0, whole.size() - 12);
+    EXPECT_FALSE(image_file_ends(d.jobs[1].output));
+    EXPECT_TRUE(image_file_ends(d.jobs[0].output));
+    SequenceOptions opt;
+    opt.resume = true;
+    const SequenceResult r = render_sequence(d.asset, d.jobs, opt);
+    EXPECT_EQ(r.skipped, 1);
+    EXPECT_EQ(r.written, 1);
+    EXPECT_TRUE(image_file_ends(d.jobs[1].output));
 }
 
 }  // namespace deepsea
