@@ -19,3 +19,18 @@ expect_absent() {
     if [[ -e $p ]]; then echo "FAIL: $p was written"; exit 1; fi
   done
 }
+
+# their INTRINSICS ATTENUATION VSF_TYPE: a DeepSeaRenderer (the authors' renderer) config on stdout.
+their() {
+  cat <<YAML
+image_width_height: [640, 480]
+camera_intrinsic_matrix: $1
+water_attenuation_RGB: $2
+vsf_type: $3
+light_spectrum_RGB: [0.25, 0.35, 0.4]
+light_RID_type: 0
+num_lights: 1
+light_positions_XYZ: [[0.5, 0.0, 0.0]]
+light_orientations_RollPitchYaw: [[0.0, -0.536, 0.0]]
+YAML
+}

@@ -56,17 +56,7 @@ rm -rf "$work/out" "$work/in/nosuch" "$work/in/a" "$work/in/x"
 [[ ! -e $work/in/nosuch && $(ls "$work/in" | wc -l) -eq 5 ]] || { echo "FAIL: in/ changed"; exit 1; }
 
 # --- -o through links: a link to a file is written through, anything else is refused ---
-cat >"$work/theirs.yaml" <<'YAML'
-image_width_height: [640, 480]
-camera_intrinsic_matrix: [1.2]
-water_attenuation_RGB: [0.4, 0.071, 0.06]
-vsf_type: 4
-light_spectrum_RGB: [0.25, 0.35, 0.4]
-light_RID_type: 0
-num_lights: 1
-light_positions_XYZ: [[0.5, 0.0, 0.0]]
-light_orientations_RollPitchYaw: [[0.0, -0.536, 0.0]]
-YAML
+their "[1.2]" "[0.4, 0.071, 0.06]" 4 >"$work/theirs.yaml"
 theirs=$work/theirs.yaml
 (cd "$work" && "$ds" import-config "$theirs" -o - >"$work/stdout.yaml")
 grep -q "^camera:" "$work/stdout.yaml" || { echo "FAIL: -o - wrote no YAML to stdout"; exit 1; }

@@ -7,20 +7,6 @@ ds=$1 work=$2 src=$3
 rm -rf "$work"; mkdir -p "$work"
 source "$(dirname "$0")/cli_lib.sh"
 
-their() {  # their(intrinsics, attenuation, vsf_type): a DeepSeaRenderer config on stdout
-  cat <<YAML
-image_width_height: [640, 480]
-camera_intrinsic_matrix: $1
-water_attenuation_RGB: $2
-vsf_type: $3
-light_spectrum_RGB: [0.25, 0.35, 0.4]
-light_RID_type: 0
-num_lights: 1
-light_positions_XYZ: [[0.5, 0.0, 0.0]]
-light_orientations_RollPitchYaw: [[0.0, -0.536, 0.0]]
-YAML
-}
-
 # A horizontal field of view of 1.2 rad: f = 320 / tan(0.6) = 467.7427..., centre (320, 240).
 their "[1.2]" "[0.4, 0.071, 0.06]" 4 >"$work/fov.yaml"
 "$ds" import-config "$work/fov.yaml" -o "$work/fov-setup.yaml" >/dev/null

@@ -112,6 +112,6 @@ for bad in "final,bogus" "final,final" ""; do
   [[ $rc -eq 2 && $(wc -l <"$work/err.txt") -eq 1 ]] || { echo "FAIL --layer-set '$bad': exit $rc"; cat "$work/err.txt"; exit 1; }
   echo "ok --layer-set '$bad' (exit 2): $(cat "$work/err.txt")"
 done
-grep -q "unknown layer\|no layer\|twice" "$work/err.txt"
+grep -q "unknown layer\|no layer\|twice\|an empty value" "$work/err.txt"
 expect_absent "$work/bad6.exr"
 echo "render CLI: OK"
