@@ -23,11 +23,9 @@
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/config.h"
-#include "deepsea/runtime/asset_backscatter.h"
-#include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/runtime/lamps.h"
 #include "deepsea/runtime/reference.h"
+#include "deepsea/runtime/renderer.h"
 
 namespace deepsea::python {
 
@@ -282,15 +280,15 @@ py::object json_loads(const std::string& text) { return json_module().attr("load
 /// Composites frames of one asset, keeping its scratch buffers between frames of one size.
 /// One frame at a time (a lock); Python threads may share it, or use one renderer each to
 /// render in parallel.
-class Renderer {
+class PyRenderer {
 public:
-    Renderer(PyAsset asset, const py::handle& camera, bool forward, int threads)
-        : m_asset(std::move(asset)), m_water(m_asset.asset->info.water), m_threads(threads) {
+    PyRenderer(PyAsset asset, const py::handle& camera, bool forward, int threads)
+        : m_asset(std::move(asset)), m_threads(threads) {
         check_threads(threads);
-        if (!camera.is_none()) m_requested = *section_from(camera, "camera").camera;
-        if (!forward) m_water.forward.enabled = false;
-        m_lamps = std::make_unique<AnalyticLamps>(m_asset.asset->info.rig, m_water,
-                                                  m_asset.asset->lamp_fields);
+        RenderSettings settings;
+        if (!camera.is_none()) settings.camera = *section_from(camera, "camera").camera;
+        settings.forward = forward;
+        m_renderer = std::make_unique<deepsea::Renderer>(*m_asset.asset, settings);
     }
 
     py::dict render(const py::object& rgb, const py::object& depth, const std::string& depth_kind,
@@ -315,15 +313,6 @@ public:
             require_same_size(m_frame.rgb, m_frame.depth, "rgb and depth");
             in_arena(m_threads, [&] {
                 const Image& z = m_frame.depth;
-                if (!m_compositor || m_camera.width != z.width || m_camera.height != z.height) {
-                    m_compositor.reset();
-                    m_camera =
-                        frame_camera(m_asset.asset->info.camera, m_requested, z.width, z.height);
-                    m_backscatter = std::make_unique<AssetBackscatter>(*m_asset.asset, m_camera);
-                    m_compositor =
-                        std::make_unique<Compositor>(m_camera, m_water, *m_lamps, *m_backscatter);
-                }
-                to_planar_depth(m_camera, m_frame.depth, kind);
                 // Last frames' buffers, if their arrays are gone: Layers::resize keeps them.
                 const int w = z.width, h = z.height;
                 reuse(out.final, w, h, 3, *m_pool);
@@ -335,7 +324,7 @@ public:
                     reuse(out.depth, w, h, 1, *m_pool);
                 }
                 const auto tc = Clock::now();
-                m_compositor->composite(out, m_frame, set);
+                m_renderer->render(out, m_frame, set, kind);
                 m_composite_s = seconds_since(tc);
             });
         }
@@ -344,10 +333,7 @@ public:
         return result;
     }
 
-    py::dict camera() const {
-        if (m_camera.width > 0) return camera_dict(m_camera);
-        return camera_dict(m_requested.width > 0 ? m_requested : m_asset.asset->info.camera);
-    }
+    py::dict camera() const { return camera_dict(m_renderer->camera()); }
     py::dict timing() const {
         py::dict d;
         d["composite_s"] = m_composite_s.load();
@@ -358,14 +344,9 @@ public:
 
 private:
     PyAsset m_asset;
-    Camera m_requested;  ///< the frames' camera; width 0: the asset's, resampled
-    Water m_water;
     int m_threads = 0;
-    std::unique_ptr<AnalyticLamps> m_lamps;
-    std::unique_ptr<AssetBackscatter> m_backscatter;
-    std::unique_ptr<Compositor> m_compositor;
-    Camera m_camera;  ///< the compositor's
-    Frame m_frame;    ///< input pixels, reused between frames
+    std::unique_ptr<deepsea::Renderer> m_renderer;  ///< on m_asset's asset, which it keeps alive
+    Frame m_frame;                                  ///< input pixels, reused between frames
     std::shared_ptr<BufferPool> m_pool = std::make_shared<BufferPool>();
     std::mutex m_mutex;
     std::atomic<double> m_composite_s{0.0}, m_total_s{0.0};  // the last frame's, any thread
@@ -538,19 +519,19 @@ PYBIND11_MODULE(deepsea, m) {
           "Loads a baked asset (.vdb). Raises IoError (unreadable) or AssetError (not an "
           "asset, truncated, unknown format).");
 
-    py::class_<Renderer>(m, "Renderer",
-                         "Composites RGB-D frames with one asset; keeps its buffers between "
-                         "frames of one size. One frame at a time per renderer.")
+    py::class_<PyRenderer>(m, "Renderer",
+                           "Composites RGB-D frames with one asset; keeps its buffers between "
+                           "frames of one size. One frame at a time per renderer.")
         .def(
             py::init([](const PyAsset& asset, const py::object& camera, bool forward, int threads) {
-                return std::make_unique<Renderer>(asset, camera, forward, threads);
+                return std::make_unique<PyRenderer>(asset, camera, forward, threads);
             }),
             py::arg("asset"), py::kw_only(), py::arg("camera") = py::none(),
             py::arg("forward") = true, py::arg("threads") = 0,
             "camera: the frames' camera (dict, YAML text or file; default: the asset's, "
             "resampled to the frame size); forward=False leaves forward scatter out; "
             "threads: worker threads (0: all cores)")
-        .def("render", &Renderer::render, py::arg("rgb"), py::arg("depth"), py::kw_only(),
+        .def("render", &PyRenderer::render, py::arg("rgb"), py::arg("depth"), py::kw_only(),
              py::arg("depth_kind") = "z", py::arg("depth_scale") = 0.001, py::arg("layers") = "all",
              "Renders one frame. rgb: (H, W, 3) uint8/uint16 sRGB or float linear albedo "
              "((H, W, 4): alpha dropped; (H, W): grey). depth: (H, W) float metres, planar "
@@ -558,10 +539,10 @@ PYBIND11_MODULE(deepsea, m) {
              "is open water. Returns a dict of float32 arrays: final, direct, forward, "
              "backscatter, transmission (H, W, 3), depth (H, W, planar z), normal (H, W, 3); "
              "layers='final' computes only final.")
-        .def_property_readonly("camera", &Renderer::camera,
+        .def_property_readonly("camera", &PyRenderer::camera,
                                "the frames' camera (after the first frame: the one in use)")
-        .def_property_readonly("asset", [](const Renderer& r) { return r.asset(); })
-        .def_property_readonly("timing", &Renderer::timing,
+        .def_property_readonly("asset", [](const PyRenderer& r) { return r.asset(); })
+        .def_property_readonly("timing", &PyRenderer::timing,
                                "the last render: composite_s (the compositor alone) and call_s "
                                "(the whole call inside the module)");
 
@@ -570,7 +551,7 @@ PYBIND11_MODULE(deepsea, m) {
         [](const PyAsset& asset, const py::object& rgb, const py::object& depth,
            const py::object& camera, const std::string& depth_kind, double depth_scale,
            bool forward, const std::string& layers, int threads) {
-            Renderer r(asset, camera, forward, threads);
+            PyRenderer r(asset, camera, forward, threads);
             return r.render(rgb, depth, depth_kind, depth_scale, layers);
         },
         py::arg("asset"), py::arg("rgb"), py::arg("depth"), py::kw_only(),

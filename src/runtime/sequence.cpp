@@ -14,9 +14,7 @@
 
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
-#include "deepsea/runtime/asset_backscatter.h"
-#include "deepsea/runtime/compositor.h"
-#include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/renderer.h"
 #include "deepsea/runtime/sequence_manifest.h"
 
 namespace deepsea {
@@ -163,13 +161,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
         }
     }
 
-    Water water = asset.info.water;
-    if (!opt.forward) water.forward.enabled = false;
-    const AnalyticLamps lamps(asset.info.rig, water, asset.lamp_fields);
-    std::unique_ptr<AssetBackscatter> backscatter;
-    std::unique_ptr<Compositor> compositor;
+    Renderer renderer(asset, {opt.camera, opt.forward});
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy
-    Camera camera;
     double exposure = record.exposure;
     ImageMetadata meta;
 
@@ -237,14 +230,6 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 [&](Slot* s) -> Slot* {
                     if (s->skip || !s->error.empty()) return s;
                     try {
-                        const Image& d = s->frame.depth;
-                        if (!compositor || camera.width != d.width || camera.height != d.height) {
-                            camera = frame_camera(asset.info.camera, opt.camera, d.width, d.height);
-                            backscatter = std::make_unique<AssetBackscatter>(asset, camera);
-                            compositor =
-                                std::make_unique<Compositor>(camera, water, lamps, *backscatter);
-                        }
-                        to_planar_depth(camera, s->frame.depth, opt.depth_kind);
                         const bool all = !jobs[s->index].layers.empty();
                         Layers& out = all ? s->layers : shared;
                         const std::string& o = jobs[s->index].output;
@@ -252,16 +237,20 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         // the float image). Once the exposure is known, each row is encoded
                         // as the compositor finishes it, and no float image is kept.
                         if (!all && exposure != 0.0 && !o.empty() && writes_encoded(o)) {
-                            const int W = camera.width;
-                            prepare_encoded(W, camera.height, 3, opt.bits, o, s->encoded);
-                            compositor->composite(out, s->frame, [&](int v, const float* rgb) {
-                                encode_srgb_samples(rgb, 3 * std::size_t(W), exposure,
-                                                    3 * std::size_t(W) * v, s->encoded);
-                            });
-                        } else {
-                            compositor->composite(
+                            const int W = s->frame.depth.width;
+                            prepare_encoded(W, s->frame.depth.height, 3, opt.bits, o, s->encoded);
+                            renderer.render(
                                 out, s->frame,
-                                all ? opt.layer_output.compositor_set() : LayerSet::Final);
+                                [&](int v, const float* rgb) {
+                                    encode_srgb_samples(rgb, 3 * std::size_t(W), exposure,
+                                                        3 * std::size_t(W) * v, s->encoded);
+                                },
+                                opt.depth_kind);
+                        } else {
+                            renderer.render(
+                                out, s->frame,
+                                all ? opt.layer_output.compositor_set() : LayerSet::Final,
+                                opt.depth_kind);
                             if (exposure == 0.0) {
                                 exposure = exposure_factor(opt.exposure, out.final);
                                 record.exposure_frame = jobs[s->index].rgb;

@@ -19,7 +19,8 @@ for f in cmake/deepsea/deepseaConfig.cmake cmake/deepsea/deepseaConfigVersion.cm
   [[ -f $libdir/$f ]] || fail "no $f"
 done
 [[ -f $prefix/share/deepsea/blender/open_asset.py ]] || fail "no Blender script"
-(cd "$src/include" && find deepsea -name '*.h' | sort) >"$prefix/want.txt"
+# every header of the source tree, and deepsea/version.h, which CMake configures
+{ (cd "$src/include" && find deepsea -name '*.h'); echo deepsea/version.h; } | sort >"$prefix/want.txt"
 (cd "$prefix/include" && find deepsea -name '*.h' | sort) >"$prefix/got.txt"
 cmp -s "$prefix/want.txt" "$prefix/got.txt" || { diff "$prefix/want.txt" "$prefix/got.txt"; fail "headers differ"; }
 echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers, 7 libraries, CMake package, pkg-config, Blender script"

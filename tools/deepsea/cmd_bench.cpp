@@ -22,10 +22,8 @@
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/jerlov.h"
-#include "deepsea/runtime/asset_backscatter.h"
-#include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/renderer.h"
 #include "deepsea/runtime/sequence.h"
 #include "deepsea/scene/flight.h"
 
@@ -149,25 +147,23 @@ Camera scaled(const Camera& base, int w, int h) {
 
 /// Composites one generated frame repeatedly, for each layer set (all layers, then only the
 /// image): one bake and one frame per camera, a fresh compositor and peak window per case.
-std::vector<Case> time_compositor(const Setup& setup, const Asset& asset, const Camera& cam,
-                                  const BenchArgs& a, int threads) {
-    const Water& water = asset.info.water;
+std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const BenchArgs& a,
+                                  int threads) {
     FlightParams flight;
     flight.camera = cam;
-    const Frame frame = render_flight_frame(flight, 0);
-    const AnalyticLamps lamps(*setup.rig, water, asset.lamp_fields);
-    const AssetBackscatter backscatter(asset, cam);
+    Frame frame = render_flight_frame(flight, 0);
     std::vector<Case> cases;
     for (LayerSet set : {LayerSet::All, LayerSet::Final}) {
-        // From here on only what the runtime holds: the asset, one frame, the compositor.
+        Renderer renderer(asset, {cam});
+        // From here on only what the runtime holds: the asset, one frame, the compositor (made
+        // by the first frame, which also allocates).
         reset_peak_rss();
-        Compositor comp(cam, water, lamps, backscatter);
         Layers layers;
-        comp.composite(layers, frame, set);  // first frame allocates
+        renderer.render(layers, frame, set);
         std::vector<double> t, cpu;
         for (int r = 0; r < a.repeats; ++r) {
             const double t0 = now_ms(), c0 = cpu_ms();
-            comp.composite(layers, frame, set);
+            renderer.render(layers, frame, set);
             t.push_back(now_ms() - t0);
             cpu.push_back(cpu_ms() - c0);
         }
@@ -197,21 +193,18 @@ struct TempFolder {
 /// decoding the colour PNG (with the sRGB decode to linear float), decoding the depth EXR,
 /// compositing the image only, and encoding the exposed image to PNG and to JPEG (with the
 /// sRGB encode, written to disk).
-std::vector<Case> time_stages(const Setup& setup, const Asset& asset, const Camera& cam,
-                              const BenchArgs& a, int threads) {
-    const Water& water = asset.info.water;
+std::vector<Case> time_stages(const Asset& asset, const Camera& cam, const BenchArgs& a,
+                              int threads) {
     FlightParams flight;
     flight.camera = cam;
-    const Frame frame = render_flight_frame(flight, 0);
+    Frame frame = render_flight_frame(flight, 0);
     const TempFolder tmp("stages");
     const std::string png = (tmp.dir / "f.png").string(), exr = (tmp.dir / "f_depth.exr").string();
     write_color(png, frame.rgb);
     write_depth_exr(exr, frame.depth);
-    const AnalyticLamps lamps(*setup.rig, water, asset.lamp_fields);
-    const AssetBackscatter backscatter(asset, cam);
-    Compositor comp(cam, water, lamps, backscatter);
+    Renderer renderer(asset, {cam});
     Layers layers;
-    comp.composite(layers, frame, LayerSet::Final);
+    renderer.render(layers, frame, LayerSet::Final);
     const double factor = exposure_factor(Exposure{}, layers.final);
     const Image exposed = apply_exposure(layers.final, factor);
     const auto time = [&](const std::string& name, const std::function<void()>& f) {
@@ -229,7 +222,7 @@ std::vector<Case> time_stages(const Setup& setup, const Asset& asset, const Came
     cases.push_back(time("stage-decode-color-png", [&] { (void)read_color(png); }));
     cases.push_back(time("stage-decode-depth-exr", [&] { (void)read_depth(exr); }));
     cases.push_back(
-        time("stage-composite", [&] { comp.composite(layers, frame, LayerSet::Final); }));
+        time("stage-composite", [&] { renderer.render(layers, frame, LayerSet::Final); }));
     cases.push_back(time("stage-expose", [&] { (void)apply_exposure(layers.final, factor); }));
     cases.push_back(
         time("stage-encode-png", [&] { write_color((tmp.dir / "o.png").string(), exposed); }));
@@ -306,10 +299,10 @@ void run(const BenchArgs& a) {
         if (a.no_forward) water.forward.enabled = false;
         const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
         if (wanted(a.cases, "composite")) {
-            for (Case& c : time_compositor(setup, asset, cam, a, threads)) cases.push_back(c);
+            for (Case& c : time_compositor(asset, cam, a, threads)) cases.push_back(c);
         }
         if (wanted(a.cases, "stage")) {
-            for (Case& c : time_stages(setup, asset, cam, a, threads)) cases.push_back(c);
+            for (Case& c : time_stages(asset, cam, a, threads)) cases.push_back(c);
         }
         for (Case& c : time_sequences(asset, cam, a, threads)) cases.push_back(c);
     }

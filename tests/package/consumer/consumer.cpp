@@ -1,20 +1,15 @@
 // The package test's consumer (tests/package): bakes a tiny asset, writes and reloads it, and
-// composites one frame of a tilted plane, through the installed headers and libraries only.
-// Usage: consumer WORK_DIR. Prints the mean final radiance; exits 1 if the frame is wrong.
+// renders one frame of a tilted plane from its own buffers through the front door, with only
+// <deepsea/deepsea.h> and the installed libraries. Writes the frame's inputs (colour.exr,
+// depth.exr) and its layers (layers.exr), which cmake_consumer_test.sh holds to `deepsea render`
+// of the same files. Usage: consumer WORK_DIR. Exits 1 if the frame is wrong.
+
+#include <deepsea/deepsea.h>
 
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <string>
-
-#include "deepsea/asset/asset_file.h"
-#include "deepsea/bake/bake.h"
-#include "deepsea/core/error.h"
-#include "deepsea/io/config.h"
-#include "deepsea/io/image_io.h"
-#include "deepsea/runtime/asset_backscatter.h"
-#include "deepsea/runtime/compositor.h"
-#include "deepsea/runtime/lamps.h"
 
 namespace {
 
@@ -53,12 +48,15 @@ int run(const std::string& dir) {
                 u < 2 * cam.width / 3 ? float(2.0 + 2.0 * v / cam.height) : INFINITY;
         }
     }
-    const AnalyticLamps lamps(asset.info.rig, asset.info.water, asset.lamp_fields);
-    const AssetBackscatter backscatter(asset, cam);
-    Compositor compositor(cam, asset.info.water, lamps, backscatter);
+    write_color(dir + "/colour.exr", frame.rgb);  // 0.5: exact in the EXR's half floats too
+    write_depth_exr(dir + "/depth.exr", frame.depth);
+    Renderer renderer(asset);
     Layers layers;
-    compositor.composite(layers, frame);
+    renderer.render(layers, frame);
     write_color(dir + "/final.png", layers.final);
+    write_layers(dir + "/layers.exr", layers);
+    std::printf("consumer: deepsea %s (%d.%d.%d)\n", DEEPSEA_VERSION_STRING, DEEPSEA_VERSION_MAJOR,
+                DEEPSEA_VERSION_MINOR, DEEPSEA_VERSION_PATCH);
 
     // Open water shows only backscatter; the lit plane shows its direct signal on top.
     const float water = layers.final.at(cam.width - 2, cam.height / 2, 1);

@@ -1,0 +1,22 @@
+#pragma once
+/// \file The front door: one include for a program that bakes, loads and renders with deepsea
+/// (link deepsea::deepsea). A frame is rendered by a Renderer made from an asset:
+///
+///     const deepsea::Asset asset = deepsea::load_asset("rig__water.vdb");
+///     deepsea::Renderer renderer(asset);
+///     deepsea::Layers layers;
+///     renderer.render(layers, frame);  // frame: colour + depth, deepsea::Frame
+///
+/// Setups (camera, rig, water) come from YAML (io/config.h); images from files (io/image_io.h).
+
+#include "deepsea/asset/asset_file.h"
+#include "deepsea/bake/bake.h"
+#include "deepsea/core/error.h"
+#include "deepsea/core/frame.h"
+#include "deepsea/core/image.h"
+#include "deepsea/io/config.h"
+#include "deepsea/io/image_io.h"
+#include "deepsea/runtime/exposure.h"
+#include "deepsea/runtime/layers.h"
+#include "deepsea/runtime/renderer.h"
+#include "deepsea/version.h"
