@@ -123,8 +123,18 @@ std::string temporary_key(const std::string& file_name) {
 
 fs::path resolved_path(const std::string& path) {
     std::error_code ec;
-    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
-    if (ec) p = fs::absolute(path, ec).lexically_normal();
+    fs::path p = fs::absolute(path, ec).lexically_normal();
+    // weakly_canonical follows links only up to the first missing component and applies the
+    // rest lexically: "x/nosuch/../link" comes back as "x/link" with the link unresolved. Once
+    // the missing folders are made, the kernel goes on through that link, so again until
+    // nothing changes (bounded: a loop of links ends it).
+    for (int i = 0; i < 40; ++i) {
+        fs::path q = fs::weakly_canonical(p, ec);
+        if (ec) break;
+        q = q.lexically_normal();
+        if (q == p) break;
+        p = std::move(q);
+    }
     // "in/x/.." resolves to "in/": the same folder as "in".
     if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();
     return p;

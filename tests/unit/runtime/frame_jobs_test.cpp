@@ -167,8 +167,8 @@ TEST_F(FrameJobsTest, OutputFoldersAreComparedAsTheSystemResolvesThem) {
     fs::create_directory_symlink(path("in"), path("in-link"));
     const std::string seq = path("in/*.png"), seq_depth = path("in/*_depth.exr");
     // Missing components before "..": the kernel reaches in/ once they are made.
-    for (const std::string o :
-         {"in/nosuch/..", "in/a/b/../..", "in/x/../", "in/", "in-link", "in-link/y/.."}) {
+    for (const std::string o : {"in/nosuch/..", "in/a/b/../..", "in/x/../", "in/", "in-link",
+                                "in-link/y/..", "f1.png/../in-link", "nosuch/../in-link/"}) {
         EXPECT_THROW(frame_jobs({seq, seq_depth, path(o), "", ""}), ConfigError) << o;
         EXPECT_THROW(frame_jobs({seq, seq_depth, "", path(o), ""}), ConfigError) << o;
     }
