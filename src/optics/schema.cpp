@@ -1,7 +1,9 @@
 #include "deepsea/optics/schema.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "deepsea/core/image.h"
@@ -73,6 +75,23 @@ void validate(const Camera& c) {
         throw SchemaError("camera.fy", "must be > 0, got " + fmt(c.fy));
     if (!std::isfinite(c.cx)) throw SchemaError("camera.cx", "must be a finite number");
     if (!std::isfinite(c.cy)) throw SchemaError("camera.cy", "must be a finite number");
+    // The ray through a pixel edge, per axis: tan(angle) = |edge - centre| / focal length.
+    const double tan_max = std::tan(kMaxRayAngleDeg * M_PI / 180.0);
+    const auto check_axis = [&](const char* key, const char* f, double focal, double centre,
+                                int size) {
+        const double off = std::max(std::fabs(-0.5 - centre), std::fabs(size - 0.5 - centre));
+        if (!(off <= tan_max * focal)) {
+            char deg[32];  // 89.99, not 89.9999641901378
+            std::snprintf(deg, sizeof deg, "%.4g", std::atan2(off, focal) * 180.0 / M_PI);
+            throw SchemaError(key, "rays through the image's edges reach " + std::string(deg) +
+                                       " degrees from the axis (" + f + " = " + fmt(focal) +
+                                       ", centre " + fmt(centre) + ", " + std::to_string(size) +
+                                       " pixels); deepsea's limit is " + fmt(kMaxRayAngleDeg) +
+                                       " degrees per axis: give a longer focal length");
+        }
+    };
+    check_axis("camera.fx", "fx", c.fx, c.cx, c.width);
+    check_axis("camera.fy", "fy", c.fy, c.cy, c.height);
 }
 
 void validate(const Rig& rig) {
@@ -92,9 +111,23 @@ void validate(const Rig& rig) {
                                   " m from the camera centre, inside the near-field limit of " +
                                   fmt(kLampNearFieldRadius) +
                                   " m (single-scattering backscatter diverges there)");
-        if (!(length(l.direction) > 1e-12))
-            throw SchemaError(key + ".direction", "must not be the zero vector");
+        if (!(length(p) <= kMaxLampDistance))
+            throw SchemaError(key + ".position",
+                              "lamp '" + l.name + "' at " + where + " is " + fmt(length(p)) +
+                                  " m from the camera centre, beyond the limit of " +
+                                  fmt(kMaxLampDistance) + " m (a rig's lamps move with it)");
+        const Vec3& d = l.direction;
+        if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
+            throw SchemaError(key + ".direction", "coordinates must be finite");
+        if (!(length(d) > 1e-12) || !std::isfinite(length(d)))
+            throw SchemaError(key + ".direction", "must be a non-zero vector of finite length");
         require_non_negative(l.intensity, key + ".intensity");
+        for (int c = 0; c < 3; ++c)
+            if (!(l.intensity[c] <= kMaxLampIntensity))
+                throw SchemaError(key + ".intensity", std::string("must be at most ") +
+                                                          fmt(kMaxLampIntensity) +
+                                                          " W/sr per channel (" + kChannel[c] +
+                                                          " is " + fmt(l.intensity[c]) + ")");
         validate_rid(l.rid, key);
         const auto [it, fresh] = seen.emplace(l.name, i);
         if (!fresh)

@@ -55,12 +55,39 @@ inline const std::vector<std::string> kForwardScatter = {"G", "k"};
 /// mistake (a position forgotten at [0, 0, 0]), not a rig.
 inline constexpr double kLampNearFieldRadius = 0.02;
 
-/// width, height > 0; fx, fy > 0; cx, cy finite. Throws SchemaError.
+/// The widest angle, per image axis, between the optical axis and the ray through any pixel
+/// edge (u from -0.5 to width - 0.5, v from -0.5 to height - 0.5), degrees. A pinhole (a
+/// rectilinear lens) of 160 degrees across is already wider than any real one (the widest
+/// rectilinear lenses cover about 120 to 130 degrees; wider ones are fisheyes, which this
+/// camera model does not describe), and every cost of a bake grows without bound toward 90
+/// degrees: a ray's path is its depth / cos(phi) (8x at the corner of an 80 x 80 degree
+/// camera, 1e4x at fx = 1e-4 on a 320-pixel image), the quadrature follows that path and the
+/// frustum's width grows as tan. So fx 1e-4 .. 5e-324 and a cx far outside the image, which
+/// ran for minutes and reached 12 GB, are refused here, before any work. The cameras of
+/// volumes/ and the tests are at most 55 degrees per half axis.
+inline constexpr double kMaxRayAngleDeg = 80.0;
+
+/// Largest radiant intensity of a lamp per channel, W/sr. Real underwater lamps give 1 to 1e4
+/// W/sr on their axis (a 1 kW HMI spot about 1e4); 1e9 leaves five orders of magnitude above
+/// that and keeps every radiance the bake and the runtime form (intensity / d^2 with d >= 2 cm,
+/// times a phase function and an exposure) far inside float range: 1e39 overflowed float to
+/// inf and rendered NaN, 1e308 wrote an asset that render refused.
+inline constexpr double kMaxLampIntensity = 1e9;
+
+/// Farthest a lamp may be from the camera centre, metres. A rig is rigid hardware that moves
+/// with the camera: lamps of ROVs, landers and towed sleds sit within a few metres, 100 m is far
+/// beyond any of them, and even the clearest water (c about 0.02 / m) has attenuated a lamp's
+/// light by e^-2 at that distance. A lamp at 1e300 m squared its distance to inf and rendered NaN.
+inline constexpr double kMaxLampDistance = 100.0;
+
+/// width, height > 0 (within core/image.h's limits); fx, fy > 0 and finite; cx, cy finite; and
+/// every pixel edge's ray within kMaxRayAngleDeg of the axis per image axis. Throws SchemaError.
 void validate(const Camera& camera);
 
 /// At least one light, unique names; per light: a finite position at least kLampNearFieldRadius
-/// from the camera centre, a non-zero direction (it need not be unit: the
-/// YAML reader normalises after this check), intensity >= 0, a Gaussian sigma > 0 or a table of
+/// and at most kMaxLampDistance from the camera centre, a finite non-zero direction (it need not
+/// be unit: the YAML reader normalises after this check), intensity in [0, kMaxLampIntensity]
+/// per channel, a Gaussian sigma > 0 or a table of
 /// >= 2 strictly ascending angles in [0, 180] with as many values >= 0, cutoff in (0, 180].
 void validate(const Rig& rig);
 

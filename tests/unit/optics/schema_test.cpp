@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace deepsea {
 namespace {
@@ -102,6 +103,56 @@ TEST(Schema, LampInTheCamerasNearFieldIsRefused) {
     r.lights[1].name = "b";
     r.lights[1].position = {0, 0, 0};
     EXPECT_EQ(key_of(r), "rig.lights[1].position");
+}
+
+TEST(Schema, CameraFieldOfViewIsBoundedPerAxis) {
+    // Issue 29: fx 1e-4 .. 5e-324 baked for minutes into 12 GB; a huge cx likewise.
+    for (const double fx : {1e-4, 1.0, 5e-324}) {
+        EXPECT_EQ(key_of(Camera{320, 240, fx, 240.0, 159.5, 119.5}), "camera.fx") << fx;
+        EXPECT_EQ(key_of(Camera{320, 240, 240.0, fx, 159.5, 119.5}), "camera.fy") << fx;
+    }
+    EXPECT_EQ(key_of(Camera{320, 240, 240.0, 240.0, 1e6, 119.5}), "camera.fx");
+    EXPECT_EQ(key_of(Camera{320, 240, 240.0, 240.0, 159.5, -1e6}), "camera.fy");
+    // The limit itself: the edge ray of a centred 320-pixel image at exactly 80 degrees.
+    const double tan_max = std::tan(kMaxRayAngleDeg * M_PI / 180.0);
+    const double f_min = 160.0 / tan_max;
+    EXPECT_EQ(key_of(Camera{320, 240, f_min * (1 + 1e-9), 240.0, 159.5, 119.5}), "");
+    EXPECT_EQ(key_of(Camera{320, 240, f_min * (1 - 1e-6), 240.0, 159.5, 119.5}), "camera.fx");
+    // An off-centre principal point counts its far edge.
+    EXPECT_EQ(key_of(Camera{320, 240, 40.0, 240.0, 319.5, 119.5}), "camera.fx");
+    // The widest cameras of the tests (110 degrees across, a 3-pixel fx = 1 strip) pass.
+    EXPECT_EQ(key_of(Camera{96, 72, 33.61, 33.61, 47.5, 35.5}), "");
+    EXPECT_EQ(key_of(Camera{3, 1, 1.0, 1.0, 1.0, 0.0}), "");
+    try {
+        validate(Camera{320, 240, 1e-4, 1e-4, 159.5, 119.5});
+        FAIL();
+    } catch (const SchemaError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("80 degrees"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+}
+
+TEST(Schema, LampIntensityAndDistanceAreBounded) {
+    Rig r = one_lamp();
+    for (const double v :
+         {1e39, 1e308, 1e10, std::numeric_limits<double>::infinity(), std::nan("")}) {
+        r.lights[0].intensity = {1.0, v, 1.0};
+        EXPECT_EQ(key_of(r), "rig.lights[0].intensity") << v;
+    }
+    r.lights[0].intensity = Rgb(kMaxLampIntensity);
+    EXPECT_EQ(key_of(r), "");
+    r = one_lamp();
+    for (const Vec3 p : {Vec3{1e300, 0, 0}, Vec3{1e308, 1e308, 0}, Vec3{0, 0, -100.5}}) {
+        r.lights[0].position = p;
+        EXPECT_EQ(key_of(r), "rig.lights[0].position") << p.x << " " << p.y << " " << p.z;
+    }
+    r.lights[0].position = {0, 0, kMaxLampDistance};
+    EXPECT_EQ(key_of(r), "");
+    r.lights[0].direction = {1e300, 1e300, 0};  // its length is not finite
+    EXPECT_EQ(key_of(r), "rig.lights[0].direction");
+    r.lights[0].direction = {0, std::numeric_limits<double>::infinity(), 0};
+    EXPECT_EQ(key_of(r), "rig.lights[0].direction");
 }
 
 TEST(Schema, WaterRanges) {
