@@ -18,6 +18,9 @@ inline double luminance(double r, double g, double b) {
 
 constexpr double kDepthCut = 1e-2;    // preview depth: in-scatter below 1 % of the max beyond
 constexpr double kDensityCut = 1e-3;  // voxels below this density stay background (sparse)
+// Finest preview voxel, metres: a tenth of a millimetre shows nothing more in a viewer, and
+// OpenVDB refuses a linear transform of voxels below about 14 micrometres (ArithmeticError).
+constexpr double kMinPreviewVoxel = 1e-4;
 
 /// Leaf-safe index range [lo, hi] of one axis: voxels a = lo .. hi at world a * h whose whole
 /// 8-voxel leaf node [8q, 8q + 7] lies in [wmin, wmax]. Blender frames a grid by its leaf nodes.
@@ -29,13 +32,25 @@ void leaf_safe_range(double wmin, double wmax, double h, int& lo, int& hi) {
 
 }  // namespace
 
-double preview_voxel_size(const Camera& cam, double depth, int max_depth, int max_across) {
+double preview_voxel_size(const Camera& cam, double z_max, int max_depth, int max_across,
+                          double& depth) {
     const double pixels = std::max(1.0, double(std::max(cam.width, cam.height)) / max_across);
     const double footprint = pixels * depth / std::min(cam.fx, cam.fy);
-    const double h = std::max(footprint, depth / max_depth);
-    // Whole leaf nodes along the depth, rounded down: voxels no smaller than both bounds.
-    const double leaves = std::floor(depth / h / 8.0 + 1e-9);
-    return depth / (8.0 * std::max(leaves, 1.0));
+    const double h = std::max({footprint, depth / max_depth, kMinPreviewVoxel});
+    if (8.0 * h <= depth * (1.0 + 1e-9)) {
+        // Whole leaf nodes along the depth, rounded down: voxels no smaller than both bounds.
+        const double leaves = std::floor(depth / h / 8.0 + 1e-9);
+        return depth / (8.0 * std::max(leaves, 1.0));
+    }
+    // Less than one leaf node deep (a wide field of view): keep the footprint's coarse voxel,
+    // but at least 2 of them deep so that the light near the camera shows, and cover the depth
+    // in fewer than 8 of them, as long as their leaf node (8 voxels from the camera) stays
+    // within z_max; else depth / 8, 8 deep. Shrinking the voxel to depth / 8 always (as before)
+    // put 8 W / fx x 8 H / fy voxels in the far slab: 741 MB at fx 1 on a 320x240 image.
+    double voxel = std::max(std::min(h, 0.5 * depth), kMinPreviewVoxel);
+    if (8.0 * voxel > z_max * (1.0 + 1e-9)) voxel = std::max(depth / 8.0, kMinPreviewVoxel);
+    depth = voxel * std::ceil(depth / voxel - 1e-9);
+    return voxel;
 }
 
 Preview make_preview(const Asset& asset, int max_depth, int max_across) {
@@ -71,10 +86,10 @@ Preview make_preview(const Asset& asset, int max_depth, int max_across) {
         }
     }
     out.depth = l.z[k_last + 1];
-    out.voxel_size = preview_voxel_size(cam, out.depth, max_depth, max_across);
+    out.voxel_size = preview_voxel_size(cam, l.z_max(), max_depth, max_across, out.depth);
     out.density_scale = lum_max;
     const double h = out.voxel_size;
-    const int slabs = int(std::lround(out.depth / h));  // a multiple of 8
+    const int slabs = int(std::lround(out.depth / h));  // a multiple of 8, or below 8
 
     std::vector<double> mid(K);
     for (int k = 0; k < K; ++k) mid[k] = 0.5 * (l.z[k] + l.z[k + 1]);

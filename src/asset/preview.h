@@ -25,12 +25,18 @@ struct Preview {
     std::vector<PreviewVoxel> voxels;  ///< in a fixed order (deterministic files)
 };
 
-/// The preview's voxel size for a preview `depth` (metres): the footprint of
-/// max(1, longer side / max_across) pixels at that depth, but at least depth / max_depth;
-/// then grown so that depth is a whole number of 8-voxel leaf nodes (at least one). So there
-/// are at most about min(pixels, max_across^2) x max_depth / 3 voxels, whatever the field of
-/// view.
-double preview_voxel_size(const Camera& camera, double depth, int max_depth, int max_across);
+/// The preview's voxel size for a preview `depth` (metres) in a lattice of depth z_max: the
+/// footprint of p = max(1, longer side / max_across) pixels at that depth, but at least
+/// depth / max_depth and 0.1 mm; then, if that is at most depth / 8, shrunk so that depth is a
+/// whole number of 8-voxel leaf nodes. A coarser voxel (a wide field of view) is kept, but at
+/// most depth / 2, and the depth becomes the fewest such voxels that cover it (2 to 8), unless
+/// their leaf node would reach beyond z_max: then the voxel is depth / 8. So there are at most
+/// about min(pixels, max_across^2) x max_depth / 3 voxels when the voxel is fine, and at most 8
+/// slabs of (W / p + 8 W / fx + 1) x (H / p + 8 H / fy + 1) when it is coarse: the field of
+/// view enters only through W / fx and H / fy, which validate(Camera) bounds (2 tan 80 degrees
+/// = 11.3). Updates `depth` to what the preview covers.
+double preview_voxel_size(const Camera& camera, double z_max, int max_depth, int max_across,
+                          double& depth);
 
 /// Builds the preview: voxels where density >= 1e-3, up to the depth beyond which every
 /// lattice cell's in-scatter is below 1 % of the brightest, inside the image's frustum, with
