@@ -187,6 +187,16 @@ printf 'cameras: [%s]\nrigs: [%s]\nwaters: [jerlov:IB]\nbake: {xy_stepp: 8}\n' \
   "$cam" "$rig" > "$work/lib2.yaml"
 bad "bake-library: misspelt key" "lib2.yaml:4" "$ds" bake-library "$work/lib2.yaml" \
   --out "$work/res.lib"
+printf 'cameras: [%s]\nrigs: [%s]\nwaters: [jerlov:IB]\nbake: {xy_step: 32, depth_samples: 8}\n' \
+  "$cam" "$rig" > "$work/lib3.yaml"
+# --shard "$UNSET": it used to bake the whole library on every task of an array job.
+for sh in "" "1" "a/b" "1/2/3" " 0/2" "0/0" "2/2" "99999999999/2"; do
+  bad "bake-library: --shard '$sh'" "shard" "$ds" bake-library "$work/lib3.yaml" \
+    --out "$work/res.lib" --shard "$sh"
+  rc=$(set +e; "$ds" bake-library "$work/lib3.yaml" --out "$work/res.lib" --shard "$sh" \
+    >/dev/null 2>&1; echo $?)
+  [[ $rc -eq 2 ]] || { echo "FAIL: --shard '$sh' exit $rc, expected 2"; exit 1; }
+done
 
 # --- a full disk: a 1 MB tmpfs (root only) ---
 full=$work/full

@@ -2,6 +2,9 @@
 // inputs are unchanged; shardable so that array jobs split a large library without overlap.
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -22,15 +25,22 @@ namespace fs = std::filesystem;
 
 /// (index, count) of this shard: --shard i/n, else SLURM_ARRAY_TASK_ID/_COUNT (minus
 /// SLURM_ARRAY_TASK_MIN), else JOB_COMPLETION_INDEX with --shard-count, else (0, 1).
-std::pair<int, int> shard_of(const std::string& flag, int k8s_count) {
+/// `given`: --shard was on the command line, even as '' (an unset shell variable), which is a
+/// usage error, not "no shard": it used to bake the whole library on every array task.
+std::pair<int, int> shard_of(const std::string& flag, bool given, int k8s_count) {
     auto parse_int = [](const char* s, const char* what) {
         char* end = nullptr;
+        errno = 0;
         const long v = std::strtol(s, &end, 10);
-        if (!*s || *end) throw ConfigError(std::string(what) + ": not an integer: '" + s + "'");
+        if (!*s || *end || std::isspace(static_cast<unsigned char>(*s)) || errno == ERANGE ||
+            v < INT_MIN || v > INT_MAX)
+            throw ConfigError(std::string(what) + ": not an integer: '" + s + "'");
         return int(v);
     };
     int i = 0, n = 1;
-    if (!flag.empty()) {
+    if (given && flag.empty())
+        throw ConfigError("--shard: expected i/n (e.g. 0/4), got '' (an unset variable?)");
+    if (given) {
         const auto slash = flag.find('/');
         if (slash == std::string::npos)
             throw ConfigError("--shard: expected i/n, got '" + flag + "'");
@@ -58,6 +68,7 @@ std::pair<int, int> shard_of(const std::string& flag, int k8s_count) {
 
 struct LibraryArgs {
     std::string manifest, out = "volumes/baked", shard;
+    bool shard_given = false;  ///< --shard on the command line, even empty
     int shard_count = 0;
     bool force = false, dry_run = false;
     int threads = 0;
@@ -88,7 +99,7 @@ void run(const LibraryArgs& a) {
     for (const std::string& f : manifest.cameras) load_setup({f});
     for (const std::string& f : manifest.rigs) load_setup({f});
     for (const std::string& w : manifest.waters) load_water(w);
-    const auto [index, count] = shard_of(a.shard, a.shard_count);
+    const auto [index, count] = shard_of(a.shard, a.shard_given, a.shard_count);
     std::error_code ec;
     fs::create_directories(a.out, ec);
     if (ec) throw IoError("cannot create " + a.out + ": " + ec.message());
@@ -148,12 +159,16 @@ void setup_bake_library(CLI::App& sub) {
     auto a = std::make_shared<LibraryArgs>();
     sub.add_option("manifest", a->manifest, "library manifest (volumes/library.yaml)")->required();
     sub.add_option("--out", a->out, "folder for the assets");
-    sub.add_option("--shard", a->shard, "i/n: bake only assets with index % n == i (0-based)");
+    CLI::Option* shard = sub.add_option(
+        "--shard", a->shard, "i/n: bake only assets with index % n == i (0-based); not empty");
     sub.add_option("--shard-count", a->shard_count, "shards when JOB_COMPLETION_INDEX is used");
     sub.add_flag("--force", a->force, "bake even if an asset is up to date");
     sub.add_flag("--dry-run", a->dry_run, "list what would be baked");
     add_threads(sub, a->threads);
-    sub.callback([a] { run(*a); });
+    sub.callback([a, shard] {
+        a->shard_given = shard->count() > 0;
+        run(*a);
+    });
 }
 
 }  // namespace deepsea::cli
