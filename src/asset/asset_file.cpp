@@ -79,13 +79,24 @@ double half_scale(const std::vector<float>& v) {
 /// 0 .. n - 1 span: Blender frames a grid by its leaf nodes, not by its active voxels.
 int leaf_cells(int n) { return (n + 7) / 8 * 8; }
 
-/// A diagonal affine transform: world = origin + scale * index, per axis.
+/// A diagonal affine transform: world = origin + scale * index, per axis. OpenVDB refuses a map
+/// whose determinant is below about 3e-15 (cells of 14 micrometres) with an ArithmeticError
+/// ("Tried to initialize an affine transform from a nearly singular matrix"): that becomes an
+/// AssetError naming the cells, never a raw library message.
 vdb::math::Transform::Ptr axis_transform(const Vec3& scale, const Vec3& origin) {
     const vdb::math::Mat4d m(scale.x, 0.0, 0.0, 0.0,  //
                              0.0, scale.y, 0.0, 0.0,  //
                              0.0, 0.0, scale.z, 0.0,  //
                              origin.x, origin.y, origin.z, 1.0);
-    return vdb::math::Transform::createLinearTransform(m);
+    try {
+        return vdb::math::Transform::createLinearTransform(m);
+    } catch (const vdb::Exception&) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "cells of %.3g x %.3g x %.3g m are too small for an OpenVDB transform",
+                      std::fabs(scale.x), std::fabs(scale.y), std::fabs(scale.z));
+        throw AssetError(buf);
+    }
 }
 
 /// The backscatter grid's transform (every depth scheme): its index box, rounded up to whole
@@ -337,6 +348,23 @@ void require_writable(const std::string& path) {
     if (fs::is_directory(path, ec)) throw IoError("cannot write " + path + ": it is a directory");
 }
 
+void check_storable(const Camera& camera, const Lattice& lattice) {
+    init_openvdb();
+    try {
+        lattice_transform(camera, lattice);
+        LampField f;
+        const LampFieldSettings ls;
+        f.nr = ls.nr;
+        f.ntheta = ls.ntheta;
+        lamp_field_transform(f, frustum_extent(camera, lattice.z_max()));
+    } catch (const AssetError& e) {
+        throw ConfigError("the lattice cannot be stored (z_max " + std::to_string(lattice.z_max()) +
+                          " m, " + std::to_string(lattice.ni) + " x " + std::to_string(lattice.nj) +
+                          " columns x " + std::to_string(lattice.nk()) + " samples): " + e.what() +
+                          "; give a larger z_max or xy_step or fewer depth samples");
+    }
+}
+
 void write_asset(const std::string& path, const Asset& asset, const WriteOptions& opt) {
     const Lattice& l = asset.lattice();
     if (l.ni < 1 || l.nj < 1 || l.nk() < 2) throw AssetError("write_asset: empty lattice");
@@ -404,7 +432,14 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
                 da.setValue(ijk, v.density);
                 ca.setValue(ijk, vdb::Vec3s(v.color[0], v.color[1], v.color[2]));
             }
-            const auto xform = vdb::math::Transform::createLinearTransform(pv.voxel_size);
+            vdb::math::Transform::Ptr xform;
+            try {
+                xform = vdb::math::Transform::createLinearTransform(pv.voxel_size);
+            } catch (const vdb::Exception&) {
+                throw AssetError("cannot write " + path + ": preview voxels of " +
+                                 std::to_string(pv.voxel_size) +
+                                 " m are too small for an OpenVDB transform");
+            }
             density->setTransform(xform);
             color->setTransform(xform->copy());
             density->setName(kDensityGrid);

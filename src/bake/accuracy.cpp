@@ -90,7 +90,7 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
                     t.assign(1, 0.0);
                     for (std::size_t r : order) t.push_back(path(r));
                     const auto C = backscatter_cumulative(info.rig, info.water, ray / stretch, t,
-                                                          opt.quadrature);
+                                                          opt.quadrature, par.stop);
                     for (std::size_t n = 0; n < R; ++n) {
                         const std::size_t r = order[n];
                         const Rgb lookup = asset.sample(u, v, rows[r].z);

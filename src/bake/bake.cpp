@@ -1,10 +1,12 @@
 #include "deepsea/bake/bake.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
+#include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/bake/accuracy.h"
 #include "deepsea/bake/higher_orders.h"
@@ -15,6 +17,13 @@
 namespace deepsea {
 
 namespace {
+
+/// Shortest text that reads back to exactly v (std::to_string prints 1e-300 as 0.000000).
+std::string short_number(double v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
 
 /// par for one stage of a bake: the stage's `done` is reported as offset + done of `total`,
 /// so that the stages fill one progress bar.
@@ -51,8 +60,10 @@ void validate(const BakeSettings& s) {
     if (s.max_refinements < 0) throw ConfigError("max_refinements must be >= 0");
     if (s.strict && !s.check)
         throw ConfigError("a strict check needs the check: not with --no-check");
-    if (s.z_max < 0.0 || !std::isfinite(s.z_max)) {
-        throw ConfigError("z_max must be > 0 metres or auto, got " + std::to_string(s.z_max));
+    if (s.z_max != 0.0 && !(s.z_max >= kMinZMax && s.z_max <= kMaxZMax)) {
+        throw ConfigError("z_max must be in [" + short_number(kMinZMax) + ", " +
+                          short_number(kMaxZMax) + "] metres (or auto), got " +
+                          short_number(s.z_max));
     }
     if (!(s.tolerance > 0.0 && s.tolerance < 0.5)) {
         throw ConfigError("tolerance must be in (0, 0.5), got " + std::to_string(s.tolerance));
@@ -61,6 +72,16 @@ void validate(const BakeSettings& s) {
         (s.higher_orders.paths < 1 || s.higher_orders.stride < 0 ||
          s.higher_orders.lamp_samples < 1)) {
         throw ConfigError("multiple scattering: paths, stride and lamp samples must be >= 1");
+    }
+    // Checked whatever the scattering: a library's settings are validated once for all.
+    if (s.higher_orders.paths > kMaxPaths) {
+        throw ConfigError("paths must be in [1, " + std::to_string(kMaxPaths) +
+                          "] (64 times the default), got " + std::to_string(s.higher_orders.paths));
+    }
+    if (s.higher_orders.lamp_samples > kMaxLampSamples) {
+        throw ConfigError("lamp samples must be in [1, " + std::to_string(kMaxLampSamples) +
+                          "] (64 times the default), got " +
+                          std::to_string(s.higher_orders.lamp_samples));
     }
     if (s.scheme == DepthScheme::Log && !(s.z0 > 0.0)) {
         throw ConfigError("log depth scheme: z0 must be > 0 metres, got " + std::to_string(s.z0));
@@ -94,7 +115,7 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
             for (std::size_t n = begin; n != end; ++n) {
                 const Vec3 ray = cam.ray(double(n / nj) * step, double(n % nj) * step);
                 const double stretch = length(ray);
-                const auto C = backscatter_cumulative(rig, water, ray / stretch, t, q);
+                const auto C = backscatter_cumulative(rig, water, ray / stretch, t, q, par.stop);
                 const Rgb total = C.back();
                 // Fraction of the total still to come beyond t[m], worst channel.
                 const auto tail = [&](std::size_t m) {
@@ -120,7 +141,7 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
         par.or_grain(16));
     const double z_max = *std::max_element(z_cross.begin(), z_cross.end());
     // A ray with no light at all gives 0; a lattice must still have some depth.
-    return std::max(std::ceil(z_max * 1000.0) / 1000.0, 1e-3);
+    return std::clamp(std::ceil(z_max * 1000.0) / 1000.0, kMinZMax, kMaxZMax);
 }
 
 namespace {
@@ -183,6 +204,7 @@ Asset bake_single(const Camera& cam, const Rig& rig, const Water& water, const B
                                    : s.z_max;
     Asset asset;
     asset.info = make_info(cam, rig, water, s, r, z_max);
+    check_storable(cam, asset.info.lattice);  // before the columns, not at writing
     asset.allocate();
     const Lattice& l = asset.info.lattice;
     // Column n = i * nj + j owns values[n * nk * 3 ...]: fixed slots, any thread count.
@@ -195,7 +217,8 @@ Asset bake_single(const Camera& cam, const Rig& rig, const Water& water, const B
                 const Vec3 ray = cam.ray(l.u(i), l.v(j));
                 const double stretch = length(ray);  // t = z / cos(phi) = z |r|
                 for (std::size_t k = 0; k < t.size(); ++k) t[k] = l.z[k] * stretch;
-                const auto C = backscatter_cumulative(rig, water, ray / stretch, t, s.quadrature);
+                const auto C =
+                    backscatter_cumulative(rig, water, ray / stretch, t, s.quadrature, par.stop);
                 float* out = asset.values.data() + asset.index(i, j, 0);
                 for (std::size_t k = 0; k < C.size(); ++k) {
                     out[3 * k] = float(C[k].r);
@@ -243,7 +266,7 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
         if (!s.check) break;
         // The check is not on the bar (it keeps its progress strictly increasing and counting
         // columns): a few hundred test pixels, under a second; a cancel waits for it.
-        LatticeCheck check = check_lattice(asset, Parallel{par.threads});
+        LatticeCheck check = check_lattice(asset, Parallel{par.threads}.with_stop(par.stop));
         check.refinements = attempt;
         asset.info.check = check;
         if (meets_bar(check) || attempt == s.max_refinements) break;
@@ -269,7 +292,7 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
                                higher_order_columns(l.ni, l.nj, asset.info.higher_orders.stride);
         const long total = (s.z_max == 0.0 ? 2 * columns : columns) + mc_weight;
         add_higher_orders(asset, stage(par, total - mc_weight, total, kMonteCarloColumnWeight));
-        add_lamp_fields(asset, Parallel{par.threads});
+        add_lamp_fields(asset, Parallel{par.threads}.with_stop(par.stop));
     }
     return asset;
 }

@@ -106,7 +106,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
                 const std::uint64_t stream =
                     std::uint64_t(i) * std::uint64_t(l.nj) + std::uint64_t(j);
                 const Estimate e =
-                    higher_orders_cumulative(transport, ray / stretch, t, mc, stream);
+                    higher_orders_cumulative(transport, ray / stretch, t, mc, stream, par.stop);
                 std::copy(e.value.begin(), e.value.end(), coarse.begin() + std::ptrdiff_t(n * nk));
                 const Rgb single = asset.at(i, j, int(nk) - 1);
                 double err = 0.0, frac = 0.0;
@@ -121,7 +121,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
                 fraction[n] = frac;
             }
         },
-        Parallel{par.threads, 1, par.progress});
+        Parallel{par.threads, 1, par.progress}.with_stop(par.stop));
 
     for (int i = 0; i < l.ni; ++i) {
         std::size_t a;

@@ -74,12 +74,14 @@ void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size
             tbb::blocked_range<std::size_t>(0, n, grain),
             [&](const tbb::blocked_range<std::size_t>& r) {
                 if (counter.stopped()) return;
+                throw_if_stopped(par.stop);
                 body(r.begin(), r.end());
                 if (!counter.add(long(r.size()))) ctx.cancel_group_execution();
             },
             tbb::simple_partitioner(), ctx);
     });
     if (counter.stopped()) throw Cancelled("cancelled");
+    throw_if_stopped(par.stop);
 }
 
 }  // namespace deepsea

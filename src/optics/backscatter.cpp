@@ -47,33 +47,50 @@ Rgb abs_diff(const Rgb& a, const Rgb& b) {
     return {std::fabs(a.r - b.r), std::fabs(a.g - b.g), std::fabs(a.b - b.b)};
 }
 
-/// Recursive bisection until every channel's error estimate is within its share of tol.
-void adapt(const Rig& rig, const Water& water, const Vec3& dir, double a, double b, const Rgb& tol,
-           int depth, Integral& out) {
-    const auto f = [&](double t) { return in_scatter(rig, water, dir, t); };
-    Rgb k, e;
-    detail::gk15<Rgb>(f, a, b, k, e, abs_diff);
-    const bool ok = e.r <= tol.r && e.g <= tol.g && e.b <= tol.b;
-    if (ok || depth <= 0) {
-        out.value += k;
-        out.error += e;
-        return;
+/// One ray's adaptive integration: the integrand, the panels it may still spend and the stop
+/// it polls.
+struct Adaptive {
+    const Rig& rig;
+    const Water& water;
+    const Vec3& dir;
+    const StopFlag* stop;
+    long panels_left = kMaxQuadraturePanels;
+
+    Rgb f(double t) const { return in_scatter(rig, water, dir, t); }
+
+    /// One GK15 panel on [a, b]: its value and error estimate, counted and polled.
+    void panel(double a, double b, Rgb& k, Rgb& e) {
+        throw_if_stopped(stop);
+        --panels_left;
+        detail::gk15<Rgb>([this](double t) { return f(t); }, a, b, k, e, abs_diff);
     }
-    const double m = 0.5 * (a + b);
-    adapt(rig, water, dir, a, m, tol * 0.5, depth - 1, out);
-    adapt(rig, water, dir, m, b, tol * 0.5, depth - 1, out);
-}
+
+    /// Recursive bisection until every channel's error estimate is within its share of tol, the
+    /// depth is spent or the ray's panels are.
+    void adapt(double a, double b, const Rgb& tol, int depth, Integral& out) {
+        Rgb k, e;
+        panel(a, b, k, e);
+        const bool ok = e.r <= tol.r && e.g <= tol.g && e.b <= tol.b;
+        // Both halves cost a panel: split only if both can be paid.
+        if (ok || depth <= 0 || panels_left < 2) {
+            out.value += k;
+            out.error += e;
+            return;
+        }
+        const double m = 0.5 * (a + b);
+        adapt(a, m, tol * 0.5, depth - 1, out);
+        adapt(m, b, tol * 0.5, depth - 1, out);
+    }
+};
 
 /// Absolute tolerance per channel from a rough estimate of the integral over [t0, t1].
-Rgb tolerance_for(const Rig& rig, const Water& water, const Vec3& dir, double t0, double t1,
-                  const Quadrature& q) {
+Rgb tolerance_for(Adaptive& ray, double t0, double t1, const Quadrature& q) {
     Rgb est, e;
     const int panels = 4;
     for (int i = 0; i < panels; ++i) {
         const double a = t0 + (t1 - t0) * i / panels, b = t0 + (t1 - t0) * (i + 1) / panels;
         Rgb k;
-        detail::gk15<Rgb>([&](double t) { return in_scatter(rig, water, dir, t); }, a, b, k, e,
-                          abs_diff);
+        ray.panel(a, b, k, e);
         est += k;
     }
     Rgb tol;
@@ -84,29 +101,32 @@ Rgb tolerance_for(const Rig& rig, const Water& water, const Vec3& dir, double t0
 }  // namespace
 
 Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& dir, double t0,
-                              double t1, const Quadrature& q) {
+                              double t1, const Quadrature& q, const StopFlag* stop) {
     Integral out;
     if (!(t1 > t0)) return out;
-    adapt(rig, water, dir, t0, t1, tolerance_for(rig, water, dir, t0, t1, q), q.max_depth, out);
+    Adaptive ray{rig, water, dir, stop};
+    const Rgb tol = tolerance_for(ray, t0, t1, q);
+    ray.adapt(t0, t1, tol, q.max_depth, out);
     return out;
 }
 
 std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, const Vec3& dir,
-                                        const std::vector<double>& t, const Quadrature& q) {
+                                        const std::vector<double>& t, const Quadrature& q,
+                                        const StopFlag* stop) {
     std::vector<Rgb> out(t.size());
     if (t.empty()) return out;
+    Adaptive ray{rig, water, dir, stop};
     // One tolerance for the whole ray, shared among segments by length: the error of the
     // cumulative value at any sample stays within rel_tol of the ray's total.
     const double t_end = t.back();
-    const Rgb total_tol =
-        t_end > 0.0 ? tolerance_for(rig, water, dir, 0.0, t_end, q) : Rgb(q.abs_tol);
+    const Rgb total_tol = t_end > 0.0 ? tolerance_for(ray, 0.0, t_end, q) : Rgb(q.abs_tol);
     Rgb acc;
     double prev = 0.0;
     for (std::size_t k = 0; k < t.size(); ++k) {
         if (t[k] > prev) {
             Integral seg;
             const Rgb tol = total_tol * ((t[k] - prev) / t_end);
-            adapt(rig, water, dir, prev, t[k], tol, q.max_depth, seg);
+            ray.adapt(prev, t[k], tol, q.max_depth, seg);
             acc += seg.value;
             prev = t[k];
         }

@@ -41,7 +41,7 @@ LampField bake_lamp_field(const Light& lamp, const Water& water, const LampField
                 const double theta = M_PI * j / (s.ntheta - 1);
                 const Vec3 X(r * std::sin(theta), 0.0, r * std::cos(theta));
                 Rng rng(mix_seed(s.seed, n, 0x6c616d70));
-                const ShEstimate e = scattered_radiance_sh(tr, X, s.samples, rng);
+                const ShEstimate e = scattered_radiance_sh(tr, X, s.samples, rng, par.stop);
                 float* out = f.sh.data() + n * kShCount * 3;
                 for (int k = 0; k < kShCount * 3; ++k) out[k] = float(e.value[k]);
                 // Error of the irradiance facing the lamp (n = -X / r), green channel.

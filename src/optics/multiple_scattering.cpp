@@ -140,7 +140,7 @@ Rgb Transport::scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const {
 
 Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
                                   const std::vector<double>& t, const MonteCarlo& mc,
-                                  std::uint64_t stream) {
+                                  std::uint64_t stream, const StopFlag* stop) {
     const std::size_t nk = t.size();
     Estimate out;
     out.value.assign(nk, Rgb());
@@ -155,6 +155,7 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
     const double norm = a * T > 1e-9 ? -std::expm1(-a * T) : 0.0;
     std::vector<Rgb> s1(nk), s2(nk);
     for (int i = 0; i < mc.paths; ++i) {
+        throw_if_stopped(stop);
         const double u = (i + rng.uniform()) / mc.paths;
         double s, pdf;
         if (norm > 0.0) {
@@ -193,11 +194,13 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
 
 namespace deepsea {
 
-ShEstimate scattered_radiance_sh(const Transport& tr, const Vec3& X, int samples, Rng& rng) {
+ShEstimate scattered_radiance_sh(const Transport& tr, const Vec3& X, int samples, Rng& rng,
+                                 const StopFlag* stop) {
     ShEstimate out;
     if (samples < 1) return out;
     double s2[27] = {};
     for (int i = 0; i < samples; ++i) {
+        throw_if_stopped(stop);
         const PhaseSample ps = tr.any_direction(X, rng);
         const Rgb L = tr.scattered_radiance(X, ps.direction, rng) * ps.weight;
         double Y[kShCount];

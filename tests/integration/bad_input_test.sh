@@ -90,6 +90,42 @@ bad "bake: negative attenuation" "negwater.yaml" "$ds" bake --camera "$cam" --ri
 printf 'rig:\n  lights: []\n' > "$work/nolamps.yaml"
 bad "bake: zero lamps" "nolamps.yaml" "$ds" bake --camera "$cam" --rig "$work/nolamps.yaml" \
   --water jerlov:IB -o "$work/res.vdb"
+# Stated limits, checked before any work (issue 29): each used to run for minutes, take
+# gigabytes, bake NaN into an asset or end in OpenVDB's raw ArithmeticError with exit 1.
+for c in "fx: 1.0e-4, fy: 1.0e-4, cx: 159.5, cy: 119.5" "fx: 5.0e-324, fy: 240, cx: 159.5, cy: 119.5" \
+         "fx: 240, fy: 240, cx: 1.0e6, cy: 119.5" "fx: 240, fy: 1.0, cx: 159.5, cy: 119.5"; do
+  printf 'camera: {width: 320, height: 240, %s}\n' "$c" > "$work/wide.yaml"
+  t0=$SECONDS
+  bad "bake: camera beyond 80 degrees ($c)" "limit is 80 degrees per axis" "$ds" bake \
+    --camera "$work/wide.yaml" --rig "$rig" --water jerlov:IB -o "$work/res.vdb"
+  (( SECONDS - t0 < 5 )) || { echo "FAIL: the wide camera took $((SECONDS - t0)) s"; exit 1; }
+done
+lamp() {  # lamp FILE POSITION INTENSITY
+  printf 'rig:\n  lights:\n    - position: %s\n      direction: [0, 0, 1]\n      intensity: %s\n' \
+    "$2" "$3" > "$1"
+}
+for i in "[1.0e39, 1, 1]" "[1, 1.0e308, 1]" "[1, 1, 1.0e10]"; do
+  lamp "$work/bright.yaml" "[0.5, 0, 0]" "$i"
+  bad "bake: lamp intensity $i" "bright.yaml:6: rig.lights[0].intensity: must be at most 1e+09 W/sr" \
+    "$ds" bake --camera "$cam" --rig "$work/bright.yaml" --water jerlov:IB -o "$work/res.vdb"
+done
+for p in "[1.0e300, 0, 0]" "[0, 0, 100.5]" "[1.0e308, 1.0e308, 0]"; do
+  lamp "$work/far.yaml" "$p" "[1, 1, 1]"
+  bad "bake: lamp at $p" "beyond the limit of 100 m" "$ds" bake --camera "$cam" \
+    --rig "$work/far.yaml" --water jerlov:IB -o "$work/res.vdb"
+done
+for z in 1e6 1e-300 0.001 1001; do
+  bad "bake: --z-max $z" "--z-max: must be in [0.01, 1000] metres" "$ds" bake "${small[@]}" \
+    --z-max "$z" -o "$work/res.vdb"
+done
+bad "bake: --paths 2147483647" "paths must be in [1, 4194304]" "$ds" bake "${small[@]}" \
+  --scattering multiple --paths 2147483647 -o "$work/res.vdb"
+# A narrow camera, 1 cm deep, 4096 samples: cells OpenVDB cannot transform, before any column.
+printf 'camera: {width: 64, height: 48, fx: 1.0e5, fy: 1.0e5, cx: 31.5, cy: 23.5}\n' > "$work/tele.yaml"
+bad "bake: lattice below OpenVDB's smallest transform" "too small for an OpenVDB transform" \
+  "$ds" bake --camera "$work/tele.yaml" --rig "$rig" --water jerlov:IB --z-max 0.01 \
+  --depth-samples 4096 --xy-step 8 -o "$work/res.vdb"
+! grep -q ArithmeticError "$work/err.txt" || { echo "FAIL: OpenVDB's message reached the user"; exit 1; }
 mkdir -p "$work/ro" && chmod 555 "$work/ro"
 if [[ ! -w "$work/ro" ]] || [[ $(id -u) -ne 0 ]]; then
   bad "bake: unwritable folder" "ro/out.vdb" "$ds" bake "${small[@]}" -o "$work/ro/out.vdb"

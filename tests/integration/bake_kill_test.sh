@@ -32,7 +32,8 @@ PY
   "$ds" info "$2" >/dev/null
 }
 
-# 1. bake, killed while it computes (1.5 s in; it takes several seconds).
+# 1. bake, killed while it computes (1.5 s in; it takes several seconds); a stop lands within
+# a second and a half (the stop flag is polled inside each column's quadrature).
 for sig in INT TERM KILL; do
   mkdir -p "$work/bake-$sig"
   set +e
@@ -40,11 +41,16 @@ for sig in INT TERM KILL; do
     -o "$work/bake-$sig/a.vdb" >"$work/bake-$sig.out" 2>"$work/bake-$sig.err") &
   pid=$!
   sleep 1.5
+  t0=$(date +%s.%N)
   kill -"$sig" "$pid"
   wait "$pid"; rc=$?
+  t1=$(date +%s.%N)
   set -e
   left=$(find "$work/bake-$sig" -type f | wc -l)
-  echo "bake SIG$sig: exit $rc, $left file(s) left"
+  took=$(python3 -c "print(f'{$t1 - $t0:.2f}')")
+  echo "bake SIG$sig: exit $rc, $left file(s) left, stopped in $took s"
+  python3 -c "import sys; sys.exit(0 if $took < 1.5 else 1)" \
+    || { echo "FAIL SIG$sig: took $took s to stop (limit 1.5 s)"; exit 1; }
   [[ $rc -ne 0 ]] || { echo "FAIL SIG$sig: the bake finished before the signal"; exit 1; }
   [[ $left -eq 0 ]] || { echo "FAIL SIG$sig: files left:"; find "$work/bake-$sig"; exit 1; }
   if [[ $sig != KILL ]]; then
@@ -52,6 +58,39 @@ for sig in INT TERM KILL; do
     [[ $(wc -l <"$work/bake-$sig.err") -eq 1 ]] && grep -q "stopped by signal.*nothing was written" \
       "$work/bake-$sig.err" || { echo "FAIL SIG$sig: stderr:"; cat "$work/bake-$sig.err"; exit 1; }
   fi
+done
+
+# 1b. The multiple-scattering stages (issue 29): a bake in its Monte Carlo columns, or in its
+# lamp tables, that receives SIGTERM or SIGINT stops within a second, writes nothing and exits
+# 130. It used to finish, write the asset and exit 0. The exact stage takes a fraction of a
+# second here (coarse lattice, fixed z_max), so 1.5 s in the bake is in the Monte Carlo stage.
+ms=(bake --camera "$cam" --rig "$rig" --water jerlov:IB --xy-step 32 --depth-samples 8
+    --z-max 10 --no-check --scattering multiple)
+for stage in "monte-carlo:--paths 4000000" "lamp-tables:--paths 1"; do
+  for sig in TERM INT; do
+    name=${stage%%:*}-$sig
+    mkdir -p "$work/$name"
+    set +e
+    # shellcheck disable=SC2086
+    (exec "$ds" "${ms[@]}" ${stage#*:} -o "$work/$name/a.vdb" >"$work/$name.out" \
+      2>"$work/$name.err") &
+    pid=$!
+    sleep 1.5
+    t0=$(date +%s.%N)
+    kill -"$sig" "$pid"
+    wait "$pid"; rc=$?
+    t1=$(date +%s.%N)
+    set -e
+    took=$(python3 -c "print(f'{$t1 - $t0:.2f}')")
+    left=$(find "$work/$name" -type f | wc -l)
+    echo "bake, $name: exit $rc, $left file(s) left, stopped in $took s"
+    [[ $rc -eq 130 ]] || { echo "FAIL $name: exit $rc, expected 130"; cat "$work/$name.err"; exit 1; }
+    [[ $left -eq 0 ]] || { echo "FAIL $name: files left:"; find "$work/$name"; exit 1; }
+    [[ $(wc -l <"$work/$name.err") -eq 1 ]] && grep -q "stopped by signal.*nothing was written" \
+      "$work/$name.err" || { echo "FAIL $name: stderr:"; cat "$work/$name.err"; exit 1; }
+    python3 -c "import sys; sys.exit(0 if $took < 1.5 else 1)" \
+      || { echo "FAIL $name: took $took s to stop (limit 1.5 s)"; exit 1; }
+  done
 done
 
 # 2. bake-library: killed once its first asset is written, then run again.

@@ -13,10 +13,11 @@
 namespace deepsea::cli {
 
 namespace {
-volatile std::sig_atomic_t g_signal = 0;
+/// Lock-free (parallel.h), so the handler may set it and long work polls it directly.
+StopFlag g_signal{0};
 }  // namespace
 
-extern "C" void deepsea_on_stop_signal(int sig) { g_signal = sig; }
+extern "C" void deepsea_on_stop_signal(int sig) { g_signal.store(sig); }
 
 StopOnSignals::StopOnSignals() {
     struct sigaction sa {};
@@ -32,7 +33,9 @@ StopOnSignals::~StopOnSignals() {
     sigaction(SIGTERM, &m_term, nullptr);
 }
 
-int stop_signal() { return int(g_signal); }
+int stop_signal() { return g_signal.load(); }
+
+const StopFlag& stop_flag() { return g_signal; }
 
 CLI::Option* add_threads(CLI::App& sub, int& threads) {
     const CLI::Validator non_negative(
@@ -106,18 +109,24 @@ void BakeFlags::add_to(CLI::App& sub) {
     sub.add_flag("--strict-check", settings.strict,
                  "fail (exit 7, nothing written) if the bake's check misses the accuracy bar");
     sub.add_option("--depth-scheme", scheme, "uniform | taylor | sqrt | log");
-    sub.add_option("--z-max", z_max, "planar depth of the last sample in metres, or 'auto'");
+    sub.add_option("--z-max", z_max,
+                   "planar depth of the last sample in metres, 0.01 .. 1000, or 'auto'");
     sub.add_option("--tolerance", settings.tolerance,
                    "auto z-max: remaining backscatter / total beyond it");
     add_threads(sub, threads);
     sub.add_option("--scattering", scattering,
                    "single (the paper's model, exact) | multiple (all orders, Monte Carlo)");
     sub.add_option("--paths", settings.higher_orders.paths,
-                   "multiple scattering: Monte Carlo paths per computed column");
+                   "multiple scattering: Monte Carlo paths per computed column, 1 .. " +
+                       std::to_string(kMaxPaths) + " (64 x the default)");
     sub.add_option("--ms-stride", settings.higher_orders.stride,
                    "multiple scattering: computed on every n-th lattice column and row "
                    "(default 0: auto, columns about 64 px apart)");
     sub.add_option("--seed", settings.higher_orders.seed, "multiple scattering: random seed");
+}
+
+Parallel BakeFlags::parallel(deepsea::Progress progress) const {
+    return Parallel{threads, 0, std::move(progress)}.with_stop(&stop_flag());
 }
 
 BakeSettings BakeFlags::resolve() const {
@@ -132,6 +141,11 @@ BakeSettings BakeFlags::resolve() const {
         const double v = std::strtod(z_max.c_str(), &end);
         if (*end != '\0' || !(v > 0.0)) {
             throw ConfigError("--z-max: expected a depth > 0 in metres or 'auto', got '" + z_max +
+                              "'");
+        }
+        static_assert(kMinZMax == 0.01 && kMaxZMax == 1000.0, "the message below");
+        if (!(v >= kMinZMax && v <= kMaxZMax)) {
+            throw ConfigError("--z-max: must be in [0.01, 1000] metres or 'auto', got '" + z_max +
                               "'");
         }
         s.z_max = v;

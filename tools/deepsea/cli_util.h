@@ -51,10 +51,9 @@ struct BakeFlags {
     void add_to(CLI::App& sub);
     /// Settings with the flags applied; ConfigError for a bad value.
     BakeSettings resolve() const;
-    /// --threads, with `progress` (may be empty).
-    Parallel parallel(deepsea::Progress progress = {}) const {
-        return {threads, 0, std::move(progress)};
-    }
+    /// --threads, with `progress` (may be empty), stopping when stop_flag() is set (a signal
+    /// while StopOnSignals is in scope).
+    Parallel parallel(deepsea::Progress progress = {}) const;
 };
 
 /// One line on an asset's own accuracy check (BakeInfo::check) for bake and info: the
@@ -78,6 +77,11 @@ private:
 
 /// The signal that asked to stop, 0 if none.
 int stop_signal();
+
+/// The same as a flag for long work to poll (Parallel::stop): set by the first SIGINT or
+/// SIGTERM while a StopOnSignals is in scope, so that a stop reaches inside one long item
+/// (a lattice column, a Monte Carlo column) instead of waiting for it to end.
+const StopFlag& stop_flag();
 
 /// A one-line progress bar on stderr when it is a terminal; silent otherwise.
 class Progress {

@@ -36,6 +36,10 @@ void run(const BakeArgs& a) {
     Progress bar("bake", 1);
     const auto t0 = std::chrono::steady_clock::now();
     const StopOnSignals stop;
+    const auto stopped = [&] {
+        return Cancelled("stopped by signal " + std::to_string(stop_signal()) + " before writing " +
+                         a.output + "; nothing was written");
+    };
     const Asset asset = [&] {
         try {
             return bake(*setup.camera, *setup.rig, *setup.water, settings,
@@ -45,10 +49,11 @@ void run(const BakeArgs& a) {
                             return stop_signal() == 0;
                         }));
         } catch (const Cancelled&) {
-            throw Cancelled("stopped by signal " + std::to_string(stop_signal()) +
-                            " before writing " + a.output + "; nothing was written");
+            throw stopped();
         }
     }();
+    // A signal after the last poll (the stages between parallel loops): still nothing written.
+    if (stop_signal() != 0) throw stopped();
     bar.finish();
     const double bake_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -86,7 +91,15 @@ void run(const BakeArgs& a) {
         opt.stride = a.check_stride;
         LatticeCheck full;
         full.done = true;
-        for (const AccuracyRow& r : evaluate_asset_accuracy(loaded, opt, a.bake.parallel())) {
+        const std::vector<AccuracyRow> rows = [&] {
+            try {
+                return evaluate_asset_accuracy(loaded, opt, a.bake.parallel());
+            } catch (const Cancelled&) {
+                throw Cancelled("stopped by signal " + std::to_string(stop_signal()) +
+                                " during --check; " + a.output + " was written and is complete");
+            }
+        }();
+        for (const AccuracyRow& r : rows) {
             std::printf("%-22s %8.3f %11.4f%% %11.4f%% %8ld\n", r.scene.c_str(), r.z,
                         100.0 * r.mean_rel, 100.0 * r.max_rel, r.pixels);
             full.mean_rel = std::max(full.mean_rel, r.mean_rel);

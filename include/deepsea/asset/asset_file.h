@@ -37,6 +37,13 @@ struct WriteOptions {
     int preview_across = 192;
 };
 
+/// ConfigError unless OpenVDB can store an asset of this camera and lattice: the backscatter
+/// grid's and the lamp tables' transforms (OpenVDB refuses a linear map whose cells are below
+/// about 14 micrometres on average as "nearly singular"). bake() calls it before it computes
+/// any column, so that such a lattice costs no work; write_asset reports the same as an
+/// AssetError.
+void check_storable(const Camera& camera, const Lattice& lattice);
+
 /// Writes the asset atomically: to a temporary file in the same directory, then a rename, so
 /// readers never see a partial file and a failure leaves none. Throws IoError when the
 /// directory is missing or unwritable or the disk is full, AssetError when the asset is

@@ -24,6 +24,21 @@ inline constexpr const char* kBakerVersion = "deepsea-bake/1";
 inline constexpr int kMaxXyStep = 4096;
 inline constexpr int kMaxDepthSamples = 4096;
 
+/// Range of z_max, metres (a given one, and an automatic one is clamped to it). Below 1 cm a
+/// lattice's cells shrink toward OpenVDB's smallest transform (a determinant of 3e-15 m^3:
+/// z_max 1e-300 ended in "ArithmeticError: Tried to initialize an affine transform") and no
+/// camera sees anything of the water; beyond 1 km even the clearest ocean water (c about
+/// 0.02 / m in blue) has taken the lamps' light down by e^-40 on the way out and back, while the
+/// quadrature's work grows with the path (z_max 1e6 ran on without end).
+inline constexpr double kMinZMax = 0.01;
+inline constexpr double kMaxZMax = 1000.0;
+
+/// Most Monte Carlo paths per computed column, and lamp-table samples per node: 64 times the
+/// defaults (HigherOrderSettings), 8 times less noise, already hours of baking on a small camera.
+/// --paths 2147483647 would have run for years.
+inline constexpr int kMaxPaths = 64 * 65536;
+inline constexpr int kMaxLampSamples = 64 * 4096;
+
 /// Multiple scattering's automatic stride: Monte Carlo columns about this many pixels apart
 /// (every 4th column of a 16 px lattice), whatever the lattice step.
 inline constexpr int kMonteCarloSpacing = 64;
@@ -54,7 +69,8 @@ struct BakeSettings {
 };
 
 /// Throws ConfigError naming the setting unless the settings can be baked (step in
-/// [1, kMaxXyStep] or auto, K in [2, kMaxDepthSamples] or auto, z_max > 0 or auto,
+/// [1, kMaxXyStep] or auto, K in [2, kMaxDepthSamples] or auto, z_max in [kMinZMax, kMaxZMax]
+/// or auto, paths in [1, kMaxPaths] and lamp samples in [1, kMaxLampSamples],
 /// 0 < tolerance < 0.5, z0 > 0, the quadrature within its bounds, strict only with check). The
 /// lattice size (kMaxLatticePoints) needs the camera: bake() checks it before each attempt.
 void validate(const BakeSettings& settings);
@@ -78,7 +94,8 @@ Asset bake(const Camera& camera, const Rig& rig, const Water& water, const BakeS
 
 /// The smallest planar depth beyond which, for every column of the lattice with this step and
 /// every channel, the backscatter still to come (to where exp(-2 c_min t) is negligible) is at
-/// most `tolerance` of the column's total (the paper's Fig. 6 argument). Rounded up to 1 mm.
+/// most `tolerance` of the column's total (the paper's Fig. 6 argument). Rounded up to 1 mm,
+/// within [kMinZMax, kMaxZMax].
 /// Progress counts lattice columns.
 double auto_z_max(const Camera& camera, const Rig& rig, const Water& water, int step,
                   double tolerance, const Quadrature& q = {1e-6, 1e-14, 40},

@@ -3,6 +3,7 @@
 /// progress/cancel callback (as OpenVDB's tools take an interrupter). Results never depend on
 /// the thread count: bodies write disjoint outputs.
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <utility>
@@ -23,12 +24,33 @@ void check_threads(int threads);
 /// Cancelled.
 using Progress = std::function<bool(long done, long total)>;
 
+/// A request to stop long work: non-zero once set, from any thread or a signal handler (it is
+/// lock-free). Long operations poll it inside their items as well as between them (an adaptive
+/// integral per panel, a Monte Carlo estimate per path), so that a stop lands within a small
+/// fraction of a second however expensive one item is; the progress callback alone is asked
+/// only when a whole grain of items is done.
+using StopFlag = std::atomic<int>;
+static_assert(StopFlag::is_always_lock_free, "a signal handler sets it");
+
+/// The user (or a Progress callback) stopped a long operation.
+class Cancelled : public Error {
+public:
+    using Error::Error;
+    int exit_code() const override { return 130; }
+};
+
+/// Throws Cancelled when `stop` is set (null: never). Cheap: one relaxed atomic load.
+inline void throw_if_stopped(const StopFlag* stop) {
+    if (stop && stop->load(std::memory_order_relaxed) != 0) throw Cancelled("cancelled");
+}
+
 /// How to run a long parallel operation. Library functions take it last, defaulted, so that a
 /// caller names only what it cares about: `bake(cam, rig, water, settings, {threads, 0, bar})`.
 struct Parallel {
-    int threads = 0;        ///< worker threads, 0 to kMaxThreads; 0: all cores
-    std::size_t grain = 0;  ///< items per task; 0: the operation's own choice
-    Progress progress;      ///< optional
+    int threads = 0;                 ///< worker threads, 0 to kMaxThreads; 0: all cores
+    std::size_t grain = 0;           ///< items per task; 0: the operation's own choice
+    Progress progress;               ///< optional
+    const StopFlag* stop = nullptr;  ///< optional: polled inside and between items
 
     Parallel() = default;
     /// Not explicit: a call can pass `{threads}` or `{threads, grain, progress}`.
@@ -42,18 +64,20 @@ struct Parallel {
         if (p.grain == 0) p.grain = g;
         return p;
     }
-};
 
-/// The user (or a Progress callback) stopped a long operation.
-class Cancelled : public Error {
-public:
-    using Error::Error;
-    int exit_code() const override { return 130; }
+    /// A copy that also stops when `flag` is set.
+    Parallel with_stop(const StopFlag* flag) const {
+        Parallel p = *this;
+        p.stop = flag;
+        return p;
+    }
 };
 
 /// Runs body(begin, end) over disjoint sub-ranges of [0, n), each at most par.grain items
 /// (grain 0 counts as 1), on par.threads workers, reporting progress in items. Exceptions
-/// thrown by body propagate (the first one wins); ConfigError for threads < 0.
+/// thrown by body propagate (the first one wins); Cancelled when the progress callback returns
+/// false or par.stop is set (checked before every grain and at the end); ConfigError for
+/// threads < 0.
 void parallel_for(std::size_t n, const std::function<void(std::size_t, std::size_t)>& body,
                   const Parallel& par = {});
 

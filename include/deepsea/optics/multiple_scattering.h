@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "deepsea/core/parallel.h"
 #include "deepsea/core/random.h"
 #include "deepsea/core/vec.h"
 #include "deepsea/optics/light.h"
@@ -81,9 +82,10 @@ struct Estimate {
 /// Radiance reaching the viewer at the origin along unit direction dir from light that
 /// scattered two or more times, collected from path length 0 to t[k] (t ascending, t[0] >= 0):
 /// add backscatter_cumulative for all orders. `stream` picks the ray's random stream.
+/// Polls `stop` (may be null) before every path: Cancelled once it is set.
 Estimate higher_orders_cumulative(const Transport& transport, const Vec3& dir,
                                   const std::vector<double>& t, const MonteCarlo& mc,
-                                  std::uint64_t stream);
+                                  std::uint64_t stream, const StopFlag* stop = nullptr);
 
 }  // namespace deepsea
 
@@ -97,6 +99,8 @@ struct ShEstimate {
     double value[27] = {};
     double std_error[27] = {};
 };
-ShEstimate scattered_radiance_sh(const Transport& transport, const Vec3& X, int samples, Rng& rng);
+/// Polls `stop` (may be null) before every sample: Cancelled once it is set.
+ShEstimate scattered_radiance_sh(const Transport& transport, const Vec3& X, int samples, Rng& rng,
+                                 const StopFlag* stop = nullptr);
 
 }  // namespace deepsea

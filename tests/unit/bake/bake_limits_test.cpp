@@ -1,0 +1,247 @@
+// The baker's stated limits and stops (issue 29): z_max and path counts have ranges, a lattice
+// OpenVDB cannot store is refused before any column, no OpenVDB exception reaches a caller
+// raw, every stage of a bake (the exact columns, the Monte Carlo columns, the lamp tables)
+// stops within a fraction of a second of its StopFlag, and one ray's quadrature is bounded.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+#include "deepsea/asset/asset_file.h"
+#include "deepsea/bake/bake.h"
+#include "deepsea/core/error.h"
+#include "deepsea/optics/backscatter.h"
+#include "deepsea/optics/jerlov.h"
+#include "deepsea/optics/lamp_field.h"
+
+namespace deepsea {
+namespace {
+
+namespace fs = std::filesystem;
+
+const Camera kCam{64, 48, 50.0, 52.0, 31.5, 23.0};
+
+Rig two_lamps() {
+    Rig rig;
+    rig.name = "two-lamps";
+    for (int s : {-1, 1}) {
+        Light l;
+        l.name = s < 0 ? "left" : "right";
+        l.position = {0.5 * s, 0.0, 0.0};
+        l.direction = normalize(Vec3{-0.51 * s, 0.0, 0.86});
+        l.intensity = {1.0, 0.9, 0.8};
+        l.rid.sigma_deg = 35.0;
+        rig.lights.push_back(l);
+    }
+    return rig;
+}
+
+BakeSettings small_settings() {
+    BakeSettings s;
+    s.step = 8;
+    s.depth_samples = 12;
+    s.scheme = DepthScheme::Uniform;
+    s.z_max = 6.0;
+    return s;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Runs f, sets `stop` after `delay` s from another thread, and returns how long f went on
+/// after that; f must throw Cancelled (a failure otherwise).
+template <class F>
+double seconds_to_stop(StopFlag& stop, double delay, const F& f) {
+    std::atomic<bool> done{false};
+    std::chrono::steady_clock::time_point set_at{};
+    std::thread setter([&] {
+        const auto t0 = std::chrono::steady_clock::now();
+        while (!done && seconds_since(t0) < delay)
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        set_at = std::chrono::steady_clock::now();
+        stop = SIGTERM;
+    });
+    bool cancelled = false;
+    try {
+        f();
+    } catch (const Cancelled&) {
+        cancelled = true;
+    }
+    const auto end = std::chrono::steady_clock::now();
+    done = true;
+    setter.join();
+    EXPECT_TRUE(cancelled) << "finished before the stop (make the work longer)";
+    return std::chrono::duration<double>(end - set_at).count();
+}
+
+TEST(BakeLimits, ZMaxHasARange) {
+    const auto rejects = [](double z) {
+        BakeSettings s;
+        s.z_max = z;
+        try {
+            validate(s);
+            ADD_FAILURE() << "accepted z_max " << z;
+        } catch (const ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find("z_max must be in [0.01, 1000] metres"),
+                      std::string::npos)
+                << e.what();
+        }
+    };
+    for (double z : {1e-300, 1e-3, 0.0099, 1000.5, 1e6, -1.0, std::nan(""), HUGE_VAL}) rejects(z);
+    for (double z : {0.0 /* auto */, kMinZMax, 1.0, kMaxZMax}) {
+        BakeSettings s;
+        s.z_max = z;
+        EXPECT_NO_THROW(validate(s)) << z;
+    }
+}
+
+TEST(BakeLimits, PathsAndLampSamplesHaveAnUpperBound) {
+    BakeSettings s;
+    s.higher_orders.paths = 2147483647;
+    EXPECT_THROW(validate(s), ConfigError);  // single scattering too: a library checks once
+    s.scattering = Scattering::Multiple;
+    try {
+        validate(s);
+        ADD_FAILURE();
+    } catch (const ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("paths must be in [1, 4194304]"), std::string::npos)
+            << e.what();
+    }
+    s.higher_orders.paths = kMaxPaths;
+    EXPECT_NO_THROW(validate(s));
+    s.higher_orders.lamp_samples = kMaxLampSamples + 1;
+    EXPECT_THROW(validate(s), ConfigError);
+    EXPECT_EQ(kMaxPaths, 64 * HigherOrderSettings{}.paths);
+    EXPECT_EQ(kMaxLampSamples, 64 * HigherOrderSettings{}.lamp_samples);
+}
+
+TEST(BakeLimits, ALatticeOpenVdbCannotStoreIsRefusedBeforeAnyColumn) {
+    // A narrow camera (0.04 degrees across), 1 cm deep, 4096 samples: cells of 0.4 x 0.6 x 2.4
+    // micrometres, below OpenVDB's smallest transform.
+    const Camera tele{64, 48, 1e5, 1e5, 31.5, 23.5};
+    BakeSettings s = small_settings();
+    s.z_max = kMinZMax;
+    s.depth_samples = kMaxDepthSamples;
+    s.check = false;
+    long calls = 0;
+    const Parallel par{0, 0, [&](long, long) { return ++calls > 0; }};
+    try {
+        bake(tele, two_lamps(), jerlov_water("IB"), s, par);
+        ADD_FAILURE() << "baked an unstorable lattice";
+    } catch (const ConfigError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("cannot be stored"), std::string::npos) << what;
+        EXPECT_NE(what.find("too small for an OpenVDB transform"), std::string::npos) << what;
+    }
+    EXPECT_EQ(calls, 0);  // no column was computed
+
+    // Writing such an asset anyway is an AssetError naming the cells, not OpenVDB's
+    // ArithmeticError.
+    Asset a;
+    a.info.camera = tele;
+    a.info.rig = two_lamps();
+    a.info.water = jerlov_water("IB");
+    a.info.lattice = make_lattice(tele, 8, DepthScheme::Uniform,
+                                  depth_samples(DepthScheme::Uniform, kMaxDepthSamples, kMinZMax));
+    a.info.baker_version = "test";
+    a.info.input_hash = "fnv1a64:0000000000000000";
+    a.allocate();
+    const fs::path dir =
+        fs::temp_directory_path() / ("deepsea-bake-limits-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string path = (dir / "tiny.vdb").string();
+    try {
+        write_asset(path, a);
+        ADD_FAILURE() << "wrote an unstorable lattice";
+    } catch (const AssetError& e) {
+        EXPECT_NE(std::string(e.what()).find("too small for an OpenVDB transform"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_FALSE(fs::exists(path));
+    fs::remove_all(dir);
+}
+
+TEST(BakeLimits, AStopSetBeforehandComputesNothing) {
+    StopFlag stop{SIGINT};
+    long calls = 0;
+    Parallel par{0, 0, [&](long, long) { return ++calls > 0; }};
+    EXPECT_THROW(
+        bake(kCam, two_lamps(), jerlov_water("IB"), small_settings(), par.with_stop(&stop)),
+        Cancelled);
+    EXPECT_EQ(calls, 0);
+}
+
+TEST(BakeLimits, TheExactStageStopsWithinASecond) {
+    // One column of a 1 px lattice is a few milliseconds; a whole grain of 16 of them with the
+    // strictest quadrature is longer. The stop must land well within a second either way.
+    BakeSettings s = small_settings();
+    s.step = 1;
+    s.depth_samples = 256;
+    s.quadrature = Quadrature{kMinRelTol, 0.0, kMaxQuadratureDepth};
+    s.check = false;
+    StopFlag stop{0};
+    const double after = seconds_to_stop(stop, 0.3, [&] {
+        bake(kCam, two_lamps(), jerlov_water("IB"), s, Parallel{2}.with_stop(&stop));
+    });
+    std::printf("exact stage: stopped %.3f s after the flag\n", after);
+    EXPECT_LT(after, 0.5);
+}
+
+TEST(BakeLimits, TheMonteCarloStagesStopWithinASecond) {
+    // With the most paths, one Monte Carlo column takes minutes: the stop must reach inside it,
+    // with no progress callback at all (the CLI's signal flag alone).
+    BakeSettings s = small_settings();
+    s.scattering = Scattering::Multiple;
+    s.higher_orders.paths = kMaxPaths;
+    s.check = false;
+    StopFlag stop{0};
+    const double after = seconds_to_stop(stop, 0.5, [&] {
+        bake(kCam, two_lamps(), jerlov_water("IB"), s, Parallel{2}.with_stop(&stop));
+    });
+    std::printf("Monte Carlo stage: stopped %.3f s after the flag\n", after);
+    EXPECT_LT(after, 0.5);
+    // The lamp tables (the stage after it) as well: many samples per node.
+    LampFieldSettings ls;
+    ls.samples = kMaxLampSamples;
+    StopFlag stop2{0};
+    const double after2 = seconds_to_stop(stop2, 0.3, [&] {
+        bake_lamp_field(two_lamps().lights[0], jerlov_water("IB"), ls,
+                        Parallel{2}.with_stop(&stop2));
+    });
+    std::printf("lamp tables: stopped %.3f s after the flag\n", after2);
+    EXPECT_LT(after2, 0.5);
+}
+
+TEST(BakeLimits, OneRaysQuadratureIsBounded) {
+    // The strictest accepted tolerance and depth on a ray passing 2 cm from a lamp, 200 m
+    // long: without a bound on its panels the bisection goes on toward 2^60 of them.
+    Rig rig = two_lamps();
+    rig.lights[0].position = {0.05, 0.02, 1.0};
+    const Vec3 dir = normalize(Vec3{0.05, 0.0, 1.0});
+    std::vector<double> t;
+    for (int k = 0; k <= 64; ++k) t.push_back(200.0 * k / 64);
+    const Quadrature strict{kMinRelTol, 0.0, kMaxQuadratureDepth};
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<Rgb> C = backscatter_cumulative(rig, jerlov_water("IB"), dir, t, strict);
+    const double took = seconds_since(t0);
+    std::printf("strict grazing ray: %.3f s\n", took);
+    EXPECT_LT(took, 1.0);
+    const std::vector<Rgb> ref = backscatter_cumulative(rig, jerlov_water("IB"), dir, t);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_TRUE(std::isfinite(C.back()[c]));
+        EXPECT_NEAR(C.back()[c], ref.back()[c], 1e-4 * ref.back()[c])
+            << "strict " << C.back()[c] << ", default " << ref.back()[c];
+    }
+}
+
+}  // namespace
+}  // namespace deepsea
