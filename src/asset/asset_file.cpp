@@ -358,8 +358,10 @@ void check_storable(const Camera& camera, const Lattice& lattice) {
         f.ntheta = ls.ntheta;
         lamp_field_transform(f, frustum_extent(camera, lattice.z_max()));
     } catch (const AssetError& e) {
-        throw ConfigError("the lattice cannot be stored (z_max " + std::to_string(lattice.z_max()) +
-                          " m, " + std::to_string(lattice.ni) + " x " + std::to_string(lattice.nj) +
+        char z[32];
+        std::snprintf(z, sizeof z, "%g", lattice.z_max());
+        throw ConfigError("the lattice cannot be stored (z_max " + std::string(z) + " m, " +
+                          std::to_string(lattice.ni) + " x " + std::to_string(lattice.nj) +
                           " columns x " + std::to_string(lattice.nk()) + " samples): " + e.what() +
                           "; give a larger z_max or xy_step or fewer depth samples");
     }

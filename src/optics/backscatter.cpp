@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -47,6 +48,9 @@ Rgb abs_diff(const Rgb& a, const Rgb& b) {
     return {std::fabs(a.r - b.r), std::fabs(a.g - b.g), std::fabs(a.b - b.b)};
 }
 
+/// 50 x double's epsilon: a panel's error estimate below this share of its value is rounding.
+constexpr double kRoundoff = 50.0 * std::numeric_limits<double>::epsilon();
+
 /// One ray's adaptive integration: the integrand, the panels it may still spend and the stop
 /// it polls.
 struct Adaptive {
@@ -55,6 +59,7 @@ struct Adaptive {
     const Vec3& dir;
     const StopFlag* stop;
     long panels_left = kMaxQuadraturePanels;
+    bool exhausted = false;  ///< a panel short of its tolerance was left unsplit
 
     Rgb f(double t) const { return in_scatter(rig, water, dir, t); }
 
@@ -70,8 +75,16 @@ struct Adaptive {
     void adapt(double a, double b, const Rgb& tol, int depth, Integral& out) {
         Rgb k, e;
         panel(a, b, k, e);
-        const bool ok = e.r <= tol.r && e.g <= tol.g && e.b <= tol.b;
+        // A channel is done when its error is within its share of tol, or down at the
+        // rounding error of its value (QUADPACK's test): no bisection improves on that, and a
+        // tolerance below it (a strict rel_tol, or a first estimate that missed a lamp's peak)
+        // used to bisect to max_depth around the peak.
+        const auto done = [&](int c) {
+            return e[c] <= tol[c] || e[c] <= kRoundoff * std::fabs(k[c]);
+        };
+        const bool ok = done(0) && done(1) && done(2);
         // Both halves cost a panel: split only if both can be paid.
+        if (!ok && depth > 0 && panels_left < 2) exhausted = true;
         if (ok || depth <= 0 || panels_left < 2) {
             out.value += k;
             out.error += e;
@@ -82,6 +95,66 @@ struct Adaptive {
         adapt(m, b, tol * 0.5, depth - 1, out);
     }
 };
+
+/// A panel of the greedy pass.
+struct Panel {
+    double a, b;
+    Rgb k, e, tol;
+    int depth;
+    std::size_t segment;
+    double excess;  ///< the largest error / tolerance over the channels not yet done
+};
+
+/// Integrals of the segments [edges[s], edges[s + 1]] (tolerance tols[s]) within the panel
+/// budget, always bisecting the panel whose error exceeds its tolerance the most (QUADPACK's
+/// global strategy), for rays on which the depth-first bisection ran out of panels: it spent
+/// them from the start of the ray on, and left whatever came after (a lamp's peak) coarse, 13 %
+/// off on a strict ray. Deterministic: ties go to the nearer panel, sums run in ray order.
+std::vector<Integral> greedy(Adaptive& ray, const std::vector<double>& edges,
+                             const std::vector<Rgb>& tols, int max_depth) {
+    const auto make = [&](double a, double b, const Rgb& tol, int depth, std::size_t seg) {
+        Panel p{a, b, {}, {}, tol, depth, seg, 0.0};
+        ray.panel(a, b, p.k, p.e);
+        for (int c = 0; c < 3; ++c) {
+            if (p.e[c] <= tol[c] || p.e[c] <= kRoundoff * std::fabs(p.k[c])) continue;
+            p.excess = std::max(p.excess, tol[c] > 0.0 ? p.e[c] / tol[c] : HUGE_VAL);
+        }
+        return p;
+    };
+    const auto later = [](const Panel& x, const Panel& y) {
+        return x.excess != y.excess ? x.excess < y.excess : x.a > y.a;
+    };
+    std::vector<Panel> open, closed;  // open: a heap by excess
+    const auto add = [&](Panel p) {
+        if (p.excess > 0.0 && p.depth > 0) {
+            open.push_back(p);
+            std::push_heap(open.begin(), open.end(), later);
+        } else {
+            closed.push_back(p);
+        }
+    };
+    for (std::size_t s = 0; s + 1 < edges.size(); ++s) {
+        if (edges[s + 1] > edges[s]) add(make(edges[s], edges[s + 1], tols[s], max_depth, s));
+    }
+    while (!open.empty() && ray.panels_left >= 2) {
+        std::pop_heap(open.begin(), open.end(), later);
+        const Panel p = open.back();
+        open.pop_back();
+        const double m = 0.5 * (p.a + p.b);
+        add(make(p.a, m, p.tol * 0.5, p.depth - 1, p.segment));
+        add(make(m, p.b, p.tol * 0.5, p.depth - 1, p.segment));
+    }
+    closed.insert(closed.end(), open.begin(), open.end());
+    std::sort(closed.begin(), closed.end(), [](const Panel& x, const Panel& y) {
+        return x.segment != y.segment ? x.segment < y.segment : x.a < y.a;
+    });
+    std::vector<Integral> out(edges.size() > 0 ? edges.size() - 1 : 0);
+    for (const Panel& p : closed) {
+        out[p.segment].value += p.k;
+        out[p.segment].error += p.e;
+    }
+    return out;
+}
 
 /// Absolute tolerance per channel from a rough estimate of the integral over [t0, t1].
 Rgb tolerance_for(Adaptive& ray, double t0, double t1, const Quadrature& q) {
@@ -107,6 +180,10 @@ Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& di
     Adaptive ray{rig, water, dir, stop};
     const Rgb tol = tolerance_for(ray, t0, t1, q);
     ray.adapt(t0, t1, tol, q.max_depth, out);
+    if (ray.exhausted) {
+        ray.panels_left = kMaxQuadraturePanels;
+        return greedy(ray, {t0, t1}, {tol}, q.max_depth)[0];
+    }
     return out;
 }
 
@@ -120,16 +197,27 @@ std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, cons
     // cumulative value at any sample stays within rel_tol of the ray's total.
     const double t_end = t.back();
     const Rgb total_tol = t_end > 0.0 ? tolerance_for(ray, 0.0, t_end, q) : Rgb(q.abs_tol);
-    Rgb acc;
-    double prev = 0.0;
+    // Segments between the distinct samples: edges[s] .. edges[s + 1] ends at sample ends[s].
+    std::vector<double> edges{0.0};
+    std::vector<std::size_t> ends;
+    std::vector<Rgb> tols;
     for (std::size_t k = 0; k < t.size(); ++k) {
-        if (t[k] > prev) {
-            Integral seg;
-            const Rgb tol = total_tol * ((t[k] - prev) / t_end);
-            ray.adapt(prev, t[k], tol, q.max_depth, seg);
-            acc += seg.value;
-            prev = t[k];
+        if (t[k] > edges.back()) {
+            tols.push_back(total_tol * ((t[k] - edges.back()) / t_end));
+            edges.push_back(t[k]);
+            ends.push_back(k);
         }
+    }
+    std::vector<Integral> seg(ends.size());
+    for (std::size_t s = 0; s < ends.size(); ++s)
+        ray.adapt(edges[s], edges[s + 1], tols[s], q.max_depth, seg[s]);
+    if (ray.exhausted) {
+        ray.panels_left = kMaxQuadraturePanels;
+        seg = greedy(ray, edges, tols, q.max_depth);
+    }
+    Rgb acc;
+    for (std::size_t k = 0, s = 0; k < t.size(); ++k) {
+        if (s < ends.size() && ends[s] == k) acc += seg[s++].value;
         out[k] = acc;
     }
     return out;

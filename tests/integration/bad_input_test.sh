@@ -106,7 +106,7 @@ lamp() {  # lamp FILE POSITION INTENSITY
 }
 for i in "[1.0e39, 1, 1]" "[1, 1.0e308, 1]" "[1, 1, 1.0e10]"; do
   lamp "$work/bright.yaml" "[0.5, 0, 0]" "$i"
-  bad "bake: lamp intensity $i" "bright.yaml:6: rig.lights[0].intensity: must be at most 1e+09 W/sr" \
+  bad "bake: lamp intensity $i" "bright.yaml:5: rig.lights[0].intensity: must be at most 1e+09 W/sr" \
     "$ds" bake --camera "$cam" --rig "$work/bright.yaml" --water jerlov:IB -o "$work/res.vdb"
 done
 for p in "[1.0e300, 0, 0]" "[0, 0, 100.5]" "[1.0e308, 1.0e308, 0]"; do
