@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "bake_fixtures.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
@@ -26,31 +27,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const Camera kCam{64, 48, 50.0, 52.0, 31.5, 23.0};
+const Camera& kCam = test::kBakeCam;
 
-Rig two_lamps() {
-    Rig rig;
-    rig.name = "two-lamps";
-    for (int s : {-1, 1}) {
-        Light l;
-        l.name = s < 0 ? "left" : "right";
-        l.position = {0.5 * s, 0.0, 0.0};
-        l.direction = normalize(Vec3{-0.51 * s, 0.0, 0.86});
-        l.intensity = {1.0, 0.9, 0.8};
-        l.rid.sigma_deg = 35.0;
-        rig.lights.push_back(l);
-    }
-    return rig;
-}
+Rig two_lamps() { return test::two_lamp_rig(); }
 
-BakeSettings small_settings() {
-    BakeSettings s;
-    s.step = 8;
-    s.depth_samples = 12;
-    s.scheme = DepthScheme::Uniform;
-    s.z_max = 6.0;
-    return s;
-}
+BakeSettings small_settings() { return test::small_bake_settings(); }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
