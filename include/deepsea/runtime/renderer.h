@@ -32,8 +32,9 @@ struct RenderSettings {
 /// output is a function of that frame, the asset and the settings only.
 class Renderer {
 public:
-    /// The asset must outlive the renderer.
+    /// The asset must outlive the renderer (a temporary asset is refused at compile time).
     explicit Renderer(const Asset& asset, RenderSettings settings = {});
+    Renderer(Asset&&, RenderSettings = {}) = delete;
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
