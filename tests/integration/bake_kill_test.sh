@@ -32,13 +32,14 @@ PY
   "$ds" info "$2" >/dev/null
 }
 
-# 1. bake, killed while it computes (1.5 s in; it takes several seconds); a stop lands within
-# a second and a half (the stop flag is polled inside each column's quadrature).
-for sig in INT TERM KILL; do
-  mkdir -p "$work/bake-$sig"
+# stop_after NAME SIG CMD...: runs CMD in the background (stdout and stderr in $work/NAME.out
+# and .err, its output meant for $work/NAME/), sends SIG 1.5 s in and waits; sets rc (its exit
+# code), took (seconds from the signal to the exit) and left (files in $work/NAME).
+stop_after() {
+  local name=$1 sig=$2 pid t0 t1; shift 2
+  mkdir -p "$work/$name"
   set +e
-  (exec "$ds" bake --camera "$cam" --rig "$rig" --water jerlov:IB --xy-step 4 \
-    -o "$work/bake-$sig/a.vdb" >"$work/bake-$sig.out" 2>"$work/bake-$sig.err") &
+  (exec "$@" >"$work/$name.out" 2>"$work/$name.err") &
   pid=$!
   sleep 1.5
   t0=$(date +%s.%N)
@@ -46,8 +47,15 @@ for sig in INT TERM KILL; do
   wait "$pid"; rc=$?
   t1=$(date +%s.%N)
   set -e
-  left=$(find "$work/bake-$sig" -type f | wc -l)
   took=$(python3 -c "print(f'{$t1 - $t0:.2f}')")
+  left=$(find "$work/$name" -type f | wc -l)
+}
+
+# 1. bake, killed while it computes (1.5 s in; it takes several seconds); a stop lands within
+# a second and a half (the stop flag is polled inside each column's quadrature).
+for sig in INT TERM KILL; do
+  stop_after "bake-$sig" "$sig" "$ds" bake --camera "$cam" --rig "$rig" --water jerlov:IB \
+    --xy-step 4 -o "$work/bake-$sig/a.vdb"
   echo "bake SIG$sig: exit $rc, $left file(s) left, stopped in $took s"
   python3 -c "import sys; sys.exit(0 if $took < 1.5 else 1)" \
     || { echo "FAIL SIG$sig: took $took s to stop (limit 1.5 s)"; exit 1; }
@@ -69,20 +77,8 @@ ms=(bake --camera "$cam" --rig "$rig" --water jerlov:IB --xy-step 32 --depth-sam
 for stage in "monte-carlo:--paths 4000000" "lamp-tables:--paths 1"; do
   for sig in TERM INT; do
     name=${stage%%:*}-$sig
-    mkdir -p "$work/$name"
-    set +e
     # shellcheck disable=SC2086
-    (exec "$ds" "${ms[@]}" ${stage#*:} -o "$work/$name/a.vdb" >"$work/$name.out" \
-      2>"$work/$name.err") &
-    pid=$!
-    sleep 1.5
-    t0=$(date +%s.%N)
-    kill -"$sig" "$pid"
-    wait "$pid"; rc=$?
-    t1=$(date +%s.%N)
-    set -e
-    took=$(python3 -c "print(f'{$t1 - $t0:.2f}')")
-    left=$(find "$work/$name" -type f | wc -l)
+    stop_after "$name" "$sig" "$ds" "${ms[@]}" ${stage#*:} -o "$work/$name/a.vdb"
     echo "bake, $name: exit $rc, $left file(s) left, stopped in $took s"
     [[ $rc -eq 130 ]] || { echo "FAIL $name: exit $rc, expected 130"; cat "$work/$name.err"; exit 1; }
     [[ $left -eq 0 ]] || { echo "FAIL $name: files left:"; find "$work/$name"; exit 1; }
