@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what deepsea needs from Debian 12's packages (as root). Skips apt when all are there.
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config
+pkgs=(build-essential cmake pkg-config ccache
       libopenvdb-dev libboost-iostreams-dev libblosc-dev libtbb-dev
       libopenexr-dev libopenimageio-dev openimageio-tools
       libspng-dev libdeflate-dev libjpeg62-turbo-dev

@@ -31,8 +31,12 @@ t0=$SECONDS
 stamp() { echo "== $1 ($((SECONDS - t0)) s)"; }
 
 stamp "configure and build $b (clang, ASan + UBSan + libFuzzer)"
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+export CCACHE_BASEDIR=$PWD  # a checkout elsewhere hits the same cache
+export CCACHE_NOHASHDIR=true  # (-g would hash the folder in; reports name the file either way)
 CC=${SAN_CC:-clang-14} CXX=${SAN_CXX:-clang++-14} cmake -S . -B $b -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DDEEPSEA_BUILD_TESTS=ON -DDEEPSEA_FUZZ=ON -DDEEPSEA_BUILD_PYTHON=OFF --no-warn-unused-cli >/dev/null
+  "${launcher[@]}" -DDEEPSEA_BUILD_TESTS=ON -DDEEPSEA_FUZZ=ON -DDEEPSEA_BUILD_PYTHON=OFF --no-warn-unused-cli >/dev/null
 cmake --build $b -j "$(nproc)"
 
 logs=$root/$b/sanitizer-logs
