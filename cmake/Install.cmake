@@ -6,7 +6,8 @@
 include(CMakePackageConfigHelpers)
 
 set(DEEPSEA_LAYERS
-  deepsea_core deepsea_optics deepsea_asset deepsea_io deepsea_scene deepsea_bake deepsea_runtime)
+  deepsea_core deepsea_optics deepsea_asset deepsea_io deepsea_scene deepsea_bake deepsea_runtime
+  deepsea_batch deepsea_reference)
 
 # Position-independent even when static: they may be linked into a shared library or a Python
 # module.
@@ -35,8 +36,35 @@ install(TARGETS ${DEEPSEA_LAYERS} deepsea_all deepsea_warnings
 install(TARGETS deepsea RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 # io's OpenImageIO module, where the installed program and libraries look for it first.
 install(TARGETS deepsea_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/deepsea)
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/deepsea
-  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+# The public headers: <deepsea/deepsea.h> and what it includes, followed through the tree (the
+# front door, the setup, asset and image types it takes). The rest of include/ belongs to the
+# layers, the CLI, the Python module and the tests in this tree, and is not installed.
+set(_todo deepsea/deepsea.h)
+set(DEEPSEA_PUBLIC_HEADERS)
+while(_todo)
+  list(POP_FRONT _todo _h)
+  if(_h IN_LIST DEEPSEA_PUBLIC_HEADERS)
+    continue()
+  endif()
+  list(APPEND DEEPSEA_PUBLIC_HEADERS ${_h})
+  set(_file ${PROJECT_SOURCE_DIR}/include/${_h})
+  if(NOT EXISTS ${_file})  # deepsea/version.h: configured into the build tree
+    continue()
+  endif()
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_file})
+  file(STRINGS ${_file} _includes REGEX "^#include \"deepsea/")
+  foreach(_line ${_includes})
+    string(REGEX REPLACE "^#include \"([^\"]+)\".*" "\\1" _inc "${_line}")
+    list(APPEND _todo ${_inc})
+  endforeach()
+endwhile()
+foreach(_h ${DEEPSEA_PUBLIC_HEADERS})
+  if(EXISTS ${PROJECT_SOURCE_DIR}/include/${_h})
+    get_filename_component(_dir ${_h} DIRECTORY)
+    install(FILES ${PROJECT_SOURCE_DIR}/include/${_h}
+      DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/${_dir})
+  endif()
+endforeach()
 install(FILES ${PROJECT_BINARY_DIR}/include/deepsea/version.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/deepsea)
 install(FILES ${PROJECT_SOURCE_DIR}/tools/blender/open_asset.py
@@ -63,7 +91,7 @@ set(DEEPSEA_PC_DIR ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 file(RELATIVE_PATH DEEPSEA_PC_TO_PREFIX /${DEEPSEA_PC_DIR} /)
 string(REGEX REPLACE "/$" "" DEEPSEA_PC_TO_PREFIX "${DEEPSEA_PC_TO_PREFIX}")
 set(DEEPSEA_PC_LIBS "")
-foreach(_t deepsea_runtime deepsea_bake deepsea_scene deepsea_io deepsea_asset deepsea_optics
+foreach(_t deepsea_reference deepsea_batch deepsea_runtime deepsea_bake deepsea_scene deepsea_io deepsea_asset deepsea_optics
            deepsea_core)
   string(APPEND DEEPSEA_PC_LIBS " -l${_t}")
 endforeach()

@@ -5,8 +5,9 @@
 ///     const deepsea::Asset asset = deepsea::load_asset("rig__water.vdb");
 ///     deepsea::Renderer renderer(asset);
 ///     deepsea::Layers layers;
-///     renderer.render(layers, frame);  // frame: colour + depth, deepsea::Frame
+///     renderer.render(layers, color, depth);  // views of the caller's memory (frame_view.h)
 ///
+/// or renderer.render(layers, frame) for a deepsea::Frame read from files (io/image_io.h).
 /// Setups (camera, rig, water) come from YAML (io/config.h); images from files (io/image_io.h).
 
 #include "deepsea/asset/asset_file.h"
@@ -17,6 +18,6 @@
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/runtime/layers.h"
+#include "deepsea/batch/layer_files.h"
 #include "deepsea/runtime/renderer.h"
 #include "deepsea/version.h"

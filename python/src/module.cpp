@@ -24,7 +24,7 @@
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/config.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/runtime/reference.h"
+#include "deepsea/reference/reference.h"
 #include "deepsea/runtime/renderer.h"
 
 namespace deepsea::python {

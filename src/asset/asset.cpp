@@ -42,8 +42,8 @@ Rgb Asset::sample(double u, double v, double z) const {
 
 WorldBox frustum_extent(const Camera& cam, double z_max) {
     // Camera-frame x / z and y / z of the image's outer pixel edges; the apex adds 0.
-    const double x0 = (-0.5 - cam.cx) / cam.fx, x1 = (cam.width - 0.5 - cam.cx) / cam.fx;
-    const double y0 = (-0.5 - cam.cy) / cam.fy, y1 = (cam.height - 0.5 - cam.cy) / cam.fy;
+    const double x0 = cam.ray_x(-0.5), x1 = cam.ray_x(cam.width - 0.5);
+    const double y0 = cam.ray_y(-0.5), y1 = cam.ray_y(cam.height - 0.5);
     WorldBox box;
     box.min = {std::min(0.0, x0) * z_max, -std::max(0.0, y1) * z_max, -z_max};
     box.max = {std::max(0.0, x1) * z_max, -std::min(0.0, y0) * z_max, 0.0};

@@ -118,11 +118,11 @@ Preview make_preview(const Asset& asset, int max_depth, int max_across) {
             }
         }
         std::vector<PreviewVoxel>& vox = slices[n];
-        const int a0 = int(std::ceil((u_lo - cam.cx) / cam.fx * Z / h));
-        const int a1 = int(std::floor((u_hi - cam.cx) / cam.fx * Z / h));
+        const int a0 = int(std::ceil(cam.ray_x(u_lo) * Z / h));
+        const int a1 = int(std::floor(cam.ray_x(u_hi) * Z / h));
         // World y is up: b = -Y / h.
-        const int b0 = int(std::ceil(-(v_hi - cam.cy) / cam.fy * Z / h));
-        const int b1 = int(std::floor(-(v_lo - cam.cy) / cam.fy * Z / h));
+        const int b0 = int(std::ceil(-cam.ray_y(v_hi) * Z / h));
+        const int b1 = int(std::floor(-cam.ray_y(v_lo) * Z / h));
         // Voxels in the frustum whose leaf node would reach out of its box: only at the far
         // corners, when the preview reaches z_max.
         trimmed[n] = long(b1 - b0 + 1) * (a1 - a0 + 1) -

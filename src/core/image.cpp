@@ -57,6 +57,15 @@ void require_same_size(int a_w, int a_h, int b_w, int b_h, const std::string& wh
     }
 }
 
+void throw_non_finite_color(const std::string& what, int u, int v, int channel, float value) {
+    throw InputError(what + ": pixel (" + std::to_string(u) + ", " + std::to_string(v) + ") " +
+                     "RGB"[channel] + " is " +
+                     (std::isnan(value) ? "NaN"
+                      : value > 0       ? "+inf"
+                                        : "-inf") +
+                     ": float colour is linear albedo and must be finite");
+}
+
 void require_finite_color(const Image& rgb, const std::string& what) {
     const std::size_t n = rgb.data.size();
     const std::size_t bad = tbb::parallel_reduce(
@@ -69,14 +78,8 @@ void require_finite_color(const Image& rgb, const std::string& what) {
         [](std::size_t a, std::size_t b) { return std::min(a, b); });
     if (bad == n) return;
     const std::size_t pixel = bad / 3;
-    const float v = rgb.data[bad];
-    throw InputError(what + ": pixel (" + std::to_string(pixel % std::size_t(rgb.width)) + ", " +
-                     std::to_string(pixel / std::size_t(rgb.width)) + ") " + "RGB"[bad % 3] +
-                     " is " +
-                     (std::isnan(v) ? "NaN"
-                      : v > 0       ? "+inf"
-                                    : "-inf") +
-                     ": float colour is linear albedo and must be finite");
+    throw_non_finite_color(what, int(pixel % std::size_t(rgb.width)),
+                           int(pixel / std::size_t(rgb.width)), int(bad % 3), rgb.data[bad]);
 }
 
 }  // namespace deepsea

@@ -16,7 +16,18 @@ Rgb lamp_irradiance(const Rig& rig, const Water& water, const Vec3& P, const Vec
             lamp_geometry(vec3t(L.position - P), vec3t(n), vec3t(L.direction));
         const double spread = lamp_spread(g.d1, g.cos_n);
         if (spread == 0.0) continue;  // the lamp is behind the surface
-        const double rid = L.rid(lamp_angle(g.cos_theta));
+        const double theta = lamp_angle(g.cos_theta);
+        if (L.rid.kind == Rid::Kind::Gaussian) {
+            // The runtime's form (lamp.h): the RID's exponential and the transmission's as one.
+            if (theta * (180.0 / M_PI) > L.rid.cutoff_deg) continue;  // as Rid's cutoff
+            const double sigma = L.rid.sigma_deg / (180.0 / M_PI);
+            for (int ch = 0; ch < 3; ++ch) {
+                e[ch] +=
+                    gaussian_lamp_term(L.intensity[ch], theta, sigma, spread, water.c[ch], g.d1);
+            }
+            continue;
+        }
+        const double rid = L.rid(theta);
         for (int ch = 0; ch < 3; ++ch) {
             e[ch] += lamp_term(L.intensity[ch], rid, spread, water.c[ch], g.d1);
         }

@@ -8,9 +8,9 @@
 
 #include "clones.h"
 #include "deepsea/core/error.h"
-#include "deepsea/io/image_io.h"
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/normals.h"
+#include "frame_input.h"
 #include "kernels.h"
 
 namespace deepsea {
@@ -19,11 +19,12 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, j, d2, l, d, f, out, dx;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d2, l, d, f, out, dx;
+    ColorRowBuffer color;  ///< the row's colour, where it is not already linear floats
     std::vector<unsigned char> irregular;
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2}) v->resize(n);
-        for (auto* v : {&e, &j, &l, &d, &f, &out, &dx}) v->resize(3 * std::size_t(n));
+        for (auto* v : {&e, &l, &d, &f, &out, &dx}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -57,28 +58,32 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
     }
 }
 
-void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) { run(dst, f, set, nullptr); }
-
-void Compositor::composite(Layers& dst, const Frame& f, const FinalRows& rows) {
-    run(dst, f, LayerSet::Final, &rows);
+void Compositor::composite(Layers& dst, const ColorView& color, const Image& depth, LayerSet set) {
+    run(dst, color, depth, set, nullptr);
 }
 
-void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows* rows) {
+void Compositor::composite(Layers& dst, const Frame& f, LayerSet set) {
+    run(dst, color_view(f), f.depth, set, nullptr);
+}
+
+void Compositor::composite(Layers& dst, const ColorView& color, const Image& depth,
+                           const FinalRows& rows) {
+    run(dst, color, depth, LayerSet::Final, &rows);
+}
+
+void Compositor::composite(Layers& dst, const Frame& f, const FinalRows& rows) {
+    run(dst, color_view(f), f.depth, LayerSet::Final, &rows);
+}
+
+void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, LayerSet set,
+                     const FinalRows* rows) {
     const Camera& cam = m_camera;
     const int W = cam.width, H = cam.height;
-    const bool coded = f.coded();
-    if ((!coded && f.rgb.channels != 3) || f.depth.channels != 1) {
-        throw InputError("frame needs a 3-channel colour image and a 1-channel depth image");
-    }
-    const int cw = f.color_width(), ch = f.color_height();
-    const std::size_t samples = 3 * std::size_t(cw) * std::size_t(ch);
-    if (coded && (f.codes.bits == 16 ? f.codes.rgb16.size() : f.codes.rgb8.size()) != samples) {
-        throw InputError("frame's colour codes do not fill its " + std::to_string(cw) + "x" +
-                         std::to_string(ch) + " pixels");
-    }
+    if (depth.channels != 1) throw InputError("frame needs a 1-channel depth image");
+    const int cw = color.width, ch = color.height;
     // (the message is built only on failure: composite allocates nothing per frame)
-    if (cw != f.depth.width || ch != f.depth.height) {
-        require_same_size(cw, ch, f.depth.width, f.depth.height, "colour and depth images");
+    if (cw != depth.width || ch != depth.height) {
+        require_same_size(cw, ch, depth.width, depth.height, "colour and depth images");
     }
     if (cw != W || ch != H) {
         throw InputError("frame is " + std::to_string(cw) + "x" + std::to_string(ch) +
@@ -99,7 +104,7 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
     if (forward && (m_surface.width != W || m_surface.height != H)) m_surface = Image(W, H, 3);
     if (int(m_rx.size()) != W) {
         m_rx.resize(W);
-        for (int u = 0; u < W; ++u) m_rx[u] = float((u - cam.cx) / cam.fx);
+        for (int u = 0; u < W; ++u) m_rx[u] = float(cam.ray_x(u));
         m_c3.resize(3 * std::size_t(W));
         for (std::size_t k = 0; k < m_c3.size(); ++k) m_c3[k] = float(m_water.c[int(k % 3)]);
     }
@@ -108,7 +113,6 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
     const float c[3] = {float(m_water.c.r), float(m_water.c.g), float(m_water.c.b)};
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
                         float(m_water.forward.G.b)};
-    const Image& depth = f.depth;
 
     // Row v of the image from its planar depth z (open water 0), distance d2 and surface
     // radiance L: final = B + D + F, added in that order whatever the layer set, so that every
@@ -142,7 +146,7 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
     tbb::parallel_for(0, H, [&](int v) {
         RowScratch& s = scratch.local();
         s.fit(W);
-        const float ry = float((v - cam.cy) / cam.fy);
+        const float ry = float(cam.ray_y(v));
         const float* zr = depth.row(v);
         // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
         back_project_row(W, zr, m_rx.data(), ry, s.x.data(), s.y.data(), s.z.data());
@@ -153,10 +157,9 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
             s.zd.resize(W);
             sanitise_row(W, depth.row(v - 1), s.zu.data());
             sanitise_row(W, depth.row(v + 1), s.zd.data());
-            kernels::normals_row(W, m_rx.data(), float((v - 1 - cam.cy) / cam.fy), ry,
-                                 float((v + 1 - cam.cy) / cam.fy), s.zu.data(), s.z.data(),
-                                 s.zd.data(), s.nx.data(), s.ny.data(), s.nz.data(),
-                                 s.irregular.data());
+            kernels::normals_row(W, m_rx.data(), float(cam.ray_y(v - 1)), ry,
+                                 float(cam.ray_y(v + 1)), s.zu.data(), s.z.data(), s.zd.data(),
+                                 s.nx.data(), s.ny.data(), s.nz.data(), s.irregular.data());
         } else {
             std::fill(s.irregular.begin(), s.irregular.end(), 1);
         }
@@ -175,15 +178,7 @@ void Compositor::run(Layers& dst, const Frame& f, LayerSet set, const FinalRows*
                             s.z.data(), s.nx.data(), s.ny.data(), s.nz.data()};
         m_lamps.irradiance_row(g, s.e.data());
 
-        const float* J = coded ? s.j.data() : f.rgb.row(v);
-        if (coded) {
-            const std::size_t row = 3 * std::size_t(W) * std::size_t(v);
-            if (f.codes.bits == 16) {
-                srgb_decode(f.codes.rgb16.data() + row, 3 * std::size_t(W), s.j.data());
-            } else {
-                srgb_decode(f.codes.rgb8.data() + row, 3 * std::size_t(W), s.j.data());
-            }
-        }
+        const float* J = color_row(color, v, s.color);
         float* d2 = forward ? m_d2.row(v) : s.d2.data();
         float* L = forward ? m_surface.row(v) : s.l.data();
         kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, d2, L);

@@ -205,8 +205,8 @@ void AnalyticLamps::begin_frame(const Camera& cam, const Image& zdepth) const {
             const int u = std::min(i * m_step, W - 1);
             const float z = zdepth.at(u, v);
             pz[i] = has_surface(z) ? z : 0.0f;  // as the compositor's rows see it
-            px[i] = float((u - cam.cx) / cam.fx) * pz[i];
-            py[i] = float((v - cam.cy) / cam.fy) * pz[i];
+            px[i] = float(cam.ray_x(u)) * pz[i];
+            py[i] = float(cam.ray_y(v)) * pz[i];
         }
         float* C = m_grid.data() + std::size_t(j) * 3 * kQuadraticCount * m_kx;
         std::fill(C, C + 3 * kQuadraticCount * m_kx, 0.0f);

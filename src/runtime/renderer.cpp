@@ -2,6 +2,12 @@
 
 #include <utility>
 
+#include "deepsea/core/error.h"
+#include "deepsea/runtime/asset_backscatter.h"
+#include "deepsea/runtime/compositor.h"
+#include "deepsea/runtime/lamps.h"
+#include "frame_input.h"
+
 namespace deepsea {
 
 namespace {
@@ -14,40 +20,84 @@ Water rendered_water(const Asset& asset, const RenderSettings& settings) {
 
 }  // namespace
 
-Renderer::Renderer(const Asset& asset, RenderSettings settings)
-    : m_asset(asset),
-      m_settings(std::move(settings)),
-      m_water(rendered_water(asset, m_settings)),
-      m_lamps(asset.info.rig, m_water, asset.lamp_fields) {}
+struct Renderer::State {
+    State(const Asset& a, RenderSettings s)
+        : asset(a),
+          settings(std::move(s)),
+          water(rendered_water(a, settings)),
+          lamps(a.info.rig, water, a.lamp_fields) {}
 
-Compositor& Renderer::prepare(Frame& frame, DepthKind kind) {
-    const Image& d = frame.depth;
-    if (!m_compositor || m_camera.width != d.width || m_camera.height != d.height) {
-        m_compositor.reset();
-        m_backscatter.reset();
-        m_camera = Camera{};
-        const Camera camera =
-            frame_camera(m_asset.info.camera, m_settings.camera, d.width, d.height);
-        m_backscatter = std::make_unique<AssetBackscatter>(m_asset, camera);
-        m_compositor = std::make_unique<Compositor>(camera, m_water, m_lamps, *m_backscatter);
-        m_camera = camera;
+    /// The compositor for frames of width x height.
+    Compositor& compositor(int width, int height) {
+        if (!compositor_ || camera.width != width || camera.height != height) {
+            compositor_.reset();
+            backscatter.reset();
+            camera = Camera{};
+            const Camera c = frame_camera(asset.info.camera, settings.camera, width, height);
+            backscatter = std::make_unique<AssetBackscatter>(asset, c);
+            compositor_ = std::make_unique<Compositor>(c, water, lamps, *backscatter);
+            camera = c;
+        }
+        return *compositor_;
     }
-    to_planar_depth(m_camera, frame.depth, kind);
-    return *m_compositor;
+
+    /// The compositor for the views' size, with `depth` filled from the depth view (planar).
+    Compositor& prepare(const ColorView& color, const DepthView& depth_view) {
+        require_same_size(color.width, color.height, depth_view.width, depth_view.height,
+                          "colour and depth views");
+        require_finite_color(color, "colour view");
+        Compositor& c = compositor(depth_view.width, depth_view.height);
+        depth_image(depth_view, depth);
+        to_planar_depth(camera, depth, depth_view.kind);
+        return c;
+    }
+
+    Compositor& prepare(Frame& frame, DepthKind kind) {
+        Compositor& c = compositor(frame.depth.width, frame.depth.height);
+        to_planar_depth(camera, frame.depth, kind);
+        return c;
+    }
+
+    const Asset& asset;
+    RenderSettings settings;
+    Water water;
+    AnalyticLamps lamps;
+    Camera camera;  ///< the compositor's (width 0 before the first frame)
+    std::unique_ptr<AssetBackscatter> backscatter;
+    std::unique_ptr<Compositor> compositor_;
+    Image depth;  ///< a depth view's pixels, planar
+};
+
+Renderer::Renderer(const Asset& asset, RenderSettings settings)
+    : m(std::make_unique<State>(asset, std::move(settings))) {}
+
+Renderer::~Renderer() = default;
+Renderer::Renderer(Renderer&&) noexcept = default;
+
+void Renderer::render(Layers& dst, const ColorView& color, const DepthView& depth, LayerSet set) {
+    const ColorView c = checked(color, "colour view");
+    m->prepare(c, checked(depth, "depth view")).composite(dst, c, m->depth, set);
+}
+
+void Renderer::render(Layers& dst, const ColorView& color, const DepthView& depth,
+                      const FinalRows& rows) {
+    const ColorView c = checked(color, "colour view");
+    m->prepare(c, checked(depth, "depth view")).composite(dst, c, m->depth, rows);
 }
 
 void Renderer::render(Layers& dst, Frame& frame, LayerSet set, DepthKind kind) {
-    prepare(frame, kind).composite(dst, frame, set);
+    m->prepare(frame, kind).composite(dst, frame, set);
 }
 
-void Renderer::render(Layers& dst, Frame& frame, const Compositor::FinalRows& rows,
-                      DepthKind kind) {
-    prepare(frame, kind).composite(dst, frame, rows);
+void Renderer::render(Layers& dst, Frame& frame, const FinalRows& rows, DepthKind kind) {
+    m->prepare(frame, kind).composite(dst, frame, rows);
 }
 
 const Camera& Renderer::camera() const {
-    if (m_camera.width > 0) return m_camera;
-    return m_settings.camera.width > 0 ? m_settings.camera : m_asset.info.camera;
+    if (m->camera.width > 0) return m->camera;
+    return m->settings.camera.width > 0 ? m->settings.camera : m->asset.info.camera;
 }
+
+const Water& Renderer::water() const { return m->water; }
 
 }  // namespace deepsea

@@ -20,7 +20,7 @@
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
-#include "deepsea/runtime/frame_jobs.h"
+#include "deepsea/batch/frame_jobs.h"
 #include "fuzz_util.h"
 
 namespace fs = std::filesystem;

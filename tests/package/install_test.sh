@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `cmake --install` into a scratch prefix installs the binary, every public header, the layer
+# `cmake --install` into a scratch prefix installs the binary, the public headers only, the layer
 # libraries, the CMake package, the pkg-config file and the Blender script; the installed
 # binary runs and names nothing in the build tree (no RPATH/RUNPATH into it, every library it
 # loads resolved outside it).
@@ -11,7 +11,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 
 [[ -x $prefix/bin/deepsea ]] || fail "no bin/deepsea"
 libdir=$(dirname "$(find "$prefix" -name deepseaConfig.cmake)")/../..
-for layer in core optics asset io scene bake runtime; do
+for layer in core optics asset io scene bake runtime batch reference; do
   ls "$libdir"/libdeepsea_$layer.* >/dev/null 2>&1 || fail "no libdeepsea_$layer in $libdir"
 done
 for f in cmake/deepsea/deepseaConfig.cmake cmake/deepsea/deepseaConfigVersion.cmake \
@@ -19,11 +19,32 @@ for f in cmake/deepsea/deepseaConfig.cmake cmake/deepsea/deepseaConfigVersion.cm
   [[ -f $libdir/$f ]] || fail "no $f"
 done
 [[ -f $prefix/share/deepsea/blender/open_asset.py ]] || fail "no Blender script"
-# every header of the source tree, and deepsea/version.h, which CMake configures
-{ (cd "$src/include" && find deepsea -name '*.h'); echo deepsea/version.h; } | sort >"$prefix/want.txt"
+# The public headers only: <deepsea/deepsea.h> and the headers it includes, followed through
+# the source tree (and deepsea/version.h, which CMake configures); none of the layers' own.
+closure() {
+  local todo=(deepsea/deepsea.h) seen=" " h inc
+  while ((${#todo[@]})); do
+    h=${todo[0]}; todo=("${todo[@]:1}")
+    [[ $seen == *" $h "* ]] && continue
+    seen+="$h "; echo "$h"
+    [[ -f $src/include/$h ]] || continue
+    while read -r inc; do todo+=("$inc"); done < <(sed -n 's/^#include "\(deepsea\/[^"]*\)".*/\1/p' "$src/include/$h")
+  done
+}
+closure | sort >"$prefix/want.txt"
 (cd "$prefix/include" && find deepsea -name '*.h' | sort) >"$prefix/got.txt"
 cmp -s "$prefix/want.txt" "$prefix/got.txt" || { diff "$prefix/want.txt" "$prefix/got.txt"; fail "headers differ"; }
-echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers, 7 libraries, CMake package, pkg-config, Blender script"
+for private in core/atomic_file.h core/folder_lock.h batch/frame_jobs.h batch/output_folders.h; do
+  [[ ! -e $prefix/include/deepsea/$private ]] || fail "private header $private installed"
+done
+# Each public header compiles on its own, warning-free: a user's -Wall -Wextra -Werror build.
+cxx=${CXX:-c++}
+while read -r h; do
+  echo "#include <$h>" | "$cxx" -std=c++17 -Wall -Wextra -Wpedantic -Werror -fsyntax-only \
+    -I"$prefix/include" -x c++ - || fail "$h does not compile alone with -Wall -Wextra -Werror"
+done <"$prefix/got.txt"
+layers=$(ls "$libdir"/libdeepsea_*.* | grep -v oiio | wc -l)
+echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers (each compiles alone), $layers libraries, CMake package, pkg-config, Blender script"
 
 # Nothing from the build tree: no run path into it, no library loaded from it.
 build_abs=$(cd "$build" && pwd -P)

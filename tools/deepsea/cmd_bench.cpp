@@ -19,12 +19,12 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "deepsea/bake/bake.h"
+#include "deepsea/batch/sequence.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/jerlov.h"
 #include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/renderer.h"
-#include "deepsea/runtime/sequence.h"
 #include "deepsea/scene/flight.h"
 
 namespace deepsea::cli {

@@ -8,12 +8,12 @@
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/bake.h"
+#include "deepsea/batch/contact_sheet.h"
+#include "deepsea/batch/sequence.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
-#include "deepsea/runtime/contact_sheet.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/runtime/sequence.h"
 #include "deepsea/scene/flight.h"
 
 namespace deepsea::cli {

@@ -4,11 +4,12 @@
 
 #include "cli_util.h"
 #include "commands.h"
+#include "deepsea/batch/layer_files.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
+#include "deepsea/reference/reference.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/runtime/reference.h"
 
 namespace deepsea::cli {
 

@@ -6,12 +6,12 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
+#include "deepsea/batch/layer_files.h"
+#include "deepsea/batch/output_folders.h"
+#include "deepsea/batch/sequence.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
-#include "deepsea/runtime/layers.h"
-#include "deepsea/runtime/output_folders.h"
-#include "deepsea/runtime/sequence.h"
 
 namespace deepsea::cli {
 

@@ -25,6 +25,9 @@ void check_image_size(long long width, long long height, long long channels,
 /// exposure, so float colour from files and arrays is checked where it enters.
 struct Image;
 void require_finite_color(const Image& rgb, const std::string& what);
+/// That error for sample `channel` (0 R, 1 G, 2 B) of pixel (u, v), holding `value`.
+[[noreturn]] void throw_non_finite_color(const std::string& what, int u, int v, int channel,
+                                         float value);
 
 /// While one is alive, check_image_size on this thread (every decoder calls it on the header,
 /// before allocating) also refuses a size other than width x height, with require_same_size's

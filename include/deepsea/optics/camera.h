@@ -22,8 +22,12 @@ struct Camera {
     double fx = 0.0, fy = 0.0;
     double cx = 0.0, cy = 0.0;
 
-    /// Unnormalised viewing ray r = ((u - cx)/fx, (v - cy)/fy, 1) of image point (u, v).
-    Vec3 ray(double u, double v) const { return {(u - cx) / fx, (v - cy) / fy, 1.0}; }
+    /// Unnormalised viewing ray r = ((u - cx)/fx, (v - cy)/fy, 1) of image point (u, v): the
+    /// pinhole's one equation, which every renderer and the baker use (ray_x, ray_y: its
+    /// components, x / z and y / z of the points the pixel sees).
+    Vec3 ray(double u, double v) const { return {ray_x(u), ray_y(v), 1.0}; }
+    double ray_x(double u) const { return (u - cx) / fx; }
+    double ray_y(double v) const { return (v - cy) / fy; }
     /// cos(phi) = 1/|r|, phi = angle between the ray and the optical axis.
     double cos_phi(double u, double v) const;
     /// Camera-frame point of pixel (u, v) at the given depth (z-depth or range).

@@ -81,12 +81,20 @@ inline T lambertian_radiance(T J, T E) {
     return J * E * T(1.0 / M_PI);
 }
 
+/// One channel of the direct signal D = L T from its two factors: the radiance L leaving the
+/// surface (lambertian_radiance) and the transmission T of the d2 metres to the camera
+/// (transmission(c, d2)). The runtime's rows call this form: they keep L for forward scatter
+/// and T as a layer.
+template <class T>
+inline T direct_signal(T L, T transmitted) {
+    return L * transmitted;
+}
+
 /// One channel of the direct signal D = (J / pi) E exp(-c d2) (radiance, W/(m^2 sr)): the
-/// surface's lambertian_radiance seen over d2 metres of water. The runtime forms it in this
-/// order too, radiance first (kept for forward scatter), then times its transmission.
+/// surface's lambertian_radiance seen over d2 metres of water.
 template <class T>
 inline T direct_signal(T J, T E, T c, T d2) {
-    return lambertian_radiance(J, E) * transmission(c, d2);
+    return direct_signal(lambertian_radiance(J, E), transmission(c, d2));
 }
 
 }  // namespace deepsea

@@ -12,6 +12,7 @@
 #include "deepsea/optics/water.h"
 #include "deepsea/runtime/forward_blur.h"
 #include "deepsea/runtime/forward_psf_blur.h"
+#include "deepsea/runtime/frame_view.h"
 #include "deepsea/runtime/layers.h"
 #include "deepsea/runtime/sources.h"
 
@@ -25,22 +26,24 @@ public:
     Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
                const BackscatterSource& backscatter);
 
-    /// Fills the layers of dst that `set` names. Throws InputError when the frame does not
-    /// match the camera.
+    /// Fills the layers of dst that `set` names from a checked colour view (frame_view.h) and
+    /// planar depth in metres. Throws InputError when the frame does not match the camera.
+    void composite(Layers& dst, const ColorView& color, const Image& depth,
+                   LayerSet set = LayerSet::All);
     void composite(Layers& dst, const Frame& frame, LayerSet set = LayerSet::All);
 
-    /// Takes the final image's rows as they are finished: row v, 3 x width floats of
-    /// interleaved RGB, called from worker threads in any order, each row once.
-    using FinalRows = std::function<void(int v, const float* rgb)>;
+    using FinalRows = deepsea::FinalRows;
 
     /// The image only, each row handed to `rows` as it is finished instead of being kept (a
     /// sequence encodes it there, while the row is in cache). The same values as the final
     /// layer of composite(). dst is scratch: nothing of the image is kept, and its layers are
     /// freed.
+    void composite(Layers& dst, const ColorView& color, const Image& depth, const FinalRows& rows);
     void composite(Layers& dst, const Frame& frame, const FinalRows& rows);
 
 private:
-    void run(Layers& dst, const Frame& frame, LayerSet set, const FinalRows* rows);
+    void run(Layers& dst, const ColorView& color, const Image& depth, LayerSet set,
+             const FinalRows* rows);
 
     Camera m_camera;
     Water m_water;

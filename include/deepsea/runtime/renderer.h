@@ -11,9 +11,7 @@
 #include "deepsea/core/frame.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/water.h"
-#include "deepsea/runtime/asset_backscatter.h"
-#include "deepsea/runtime/compositor.h"
-#include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/frame_view.h"
 #include "deepsea/runtime/layers.h"
 
 namespace deepsea {
@@ -35,34 +33,37 @@ public:
     /// The asset must outlive the renderer (a temporary asset is refused at compile time).
     explicit Renderer(const Asset& asset, RenderSettings settings = {});
     Renderer(Asset&&, RenderSettings = {}) = delete;
+    ~Renderer();
+    Renderer(Renderer&&) noexcept;
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
+    Renderer& operator=(Renderer&&) = delete;
 
-    /// Fills the layers of `dst` that `set` names for `frame`, whose depth is `kind` (range
-    /// depth is converted to planar z in place). AssetError when the asset's camera cannot
-    /// take the frame's size (another aspect ratio), InputError when colour and depth differ.
+    /// Fills the layers of `dst` that `set` names for the frame in the caller's memory
+    /// (frame_view.h): the colour is read where it lies, row by row; the depth is copied once
+    /// (made planar when it is range). InputError naming "colour view" or "depth view" for a
+    /// view that checked() refuses, for non-finite float colour, and when colour and depth
+    /// differ in size; AssetError when the asset's camera cannot take the frame's size
+    /// (another aspect ratio).
+    void render(Layers& dst, const ColorView& color, const DepthView& depth,
+                LayerSet set = LayerSet::All);
+    /// The image only, each row handed to `rows` as it is finished (FinalRows).
+    void render(Layers& dst, const ColorView& color, const DepthView& depth, const FinalRows& rows);
+
+    /// The same for an owned frame (as io reads files) whose depth is `kind`: range depth is
+    /// converted to planar z in place.
     void render(Layers& dst, Frame& frame, LayerSet set = LayerSet::All,
                 DepthKind kind = DepthKind::Z);
-    /// The image only, each row handed to `rows` as it is finished (Compositor::FinalRows).
-    void render(Layers& dst, Frame& frame, const Compositor::FinalRows& rows,
-                DepthKind kind = DepthKind::Z);
+    void render(Layers& dst, Frame& frame, const FinalRows& rows, DepthKind kind = DepthKind::Z);
 
     /// The camera of the last frame's size; before any frame, the settings' or the asset's.
     const Camera& camera() const;
     /// The water as rendered (the asset's, forward scatter off where the settings say so).
-    const Water& water() const { return m_water; }
+    const Water& water() const;
 
 private:
-    /// The compositor for `frame`'s size, its depth made planar.
-    Compositor& prepare(Frame& frame, DepthKind kind);
-
-    const Asset& m_asset;
-    RenderSettings m_settings;
-    Water m_water;
-    AnalyticLamps m_lamps;
-    Camera m_camera;  ///< the compositor's (width 0 before the first frame)
-    std::unique_ptr<AssetBackscatter> m_backscatter;
-    std::unique_ptr<Compositor> m_compositor;
+    struct State;
+    std::unique_ptr<State> m;
 };
 
 }  // namespace deepsea

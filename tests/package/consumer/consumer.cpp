@@ -1,15 +1,17 @@
 // The package test's consumer (tests/package): bakes a tiny asset, writes and reloads it, and
-// renders one frame of a tilted plane from its own buffers through the front door, with only
-// <deepsea/deepsea.h> and the installed libraries. Writes the frame's inputs (colour.exr,
-// depth.exr) and its layers (layers.exr), which cmake_consumer_test.sh holds to `deepsea render`
-// of the same files. Usage: consumer WORK_DIR. Exits 1 if the frame is wrong.
+// renders one frame of a tilted plane from its own buffers (views with strides) through the
+// front door, with only <deepsea/deepsea.h> and the installed libraries. Writes the frame's inputs
+// (colour.exr, depth.exr) and its layers (layers.exr), which cmake_consumer_test.sh holds to
+// `deepsea render` of the same files. Usage: consumer WORK_DIR. Exits 1 if the frame is wrong.
 
 #include <deepsea/deepsea.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -40,19 +42,55 @@ int run(const std::string& dir) {
     write_asset(path, bake(cam, *setup.rig, *setup.water, settings), options);
     const Asset asset = load_asset(path);
 
-    // A plane 2 m away at the top, 4 m at the bottom; the right third is open water.
-    Frame frame{Image(cam.width, cam.height, 3, 0.5f), Image(cam.width, cam.height, 1)};
-    for (int v = 0; v < cam.height; ++v) {
-        for (int u = 0; u < cam.width; ++u) {
-            frame.depth.at(u, v) =
-                u < 2 * cam.width / 3 ? float(2.0 + 2.0 * v / cam.height) : INFINITY;
+    // The frame in the consumer's own memory, laid out as other programs hold images: colour
+    // as RGBA floats (linear, alpha skipped by the pixel stride), depth as 16-bit millimetres
+    // (ROS 16UC1) in rows padded to a multiple of 8 samples. A plane 2 m away at the top, 4 m
+    // at the bottom; the right third is open water (0).
+    const int W = cam.width, H = cam.height, padded = (W + 7) / 8 * 8;
+    std::vector<float> rgba(std::size_t(W) * H * 4, 1.0f);
+    std::vector<std::uint16_t> millimetres(std::size_t(padded) * H, 0);
+    for (int v = 0; v < H; ++v) {
+        for (int u = 0; u < W; ++u) {
+            for (int k = 0; k < 3; ++k) rgba[(std::size_t(v) * W + u) * 4 + k] = 0.5f;
+            if (u < 2 * W / 3)
+                millimetres[std::size_t(v) * padded + u] = std::uint16_t(2000 + 2000 * v / H);
         }
     }
-    write_color(dir + "/colour.exr", frame.rgb);  // 0.5: exact in the EXR's half floats too
-    write_depth_exr(dir + "/depth.exr", frame.depth);
+    ColorView color;
+    color.data = rgba.data();
+    color.width = W;
+    color.height = H;
+    color.type = SampleType::F32;
+    color.encoding = ColorEncoding::Linear;
+    color.pixel_stride = 4 * sizeof(float);
+    DepthView depth;
+    depth.data = millimetres.data();
+    depth.width = W;
+    depth.height = H;
+    depth.type = SampleType::U16;
+    depth.scale = 0.001;
+    depth.row_stride = padded * std::ptrdiff_t(sizeof(std::uint16_t));
     Renderer renderer(asset);
     Layers layers;
-    renderer.render(layers, frame);
+    renderer.render(layers, color, depth);
+
+    // The same frame as files, for `deepsea render` (cmake_consumer_test.sh): 0.5 is exact in
+    // the EXR's half floats; depth in metres as io reads 16-bit depth (units times the scale).
+    Frame frame{Image(W, H, 3, 0.5f), Image(W, H, 1)};
+    for (int v = 0; v < H; ++v) {
+        for (int u = 0; u < W; ++u)
+            frame.depth.at(u, v) = float(double(millimetres[std::size_t(v) * padded + u]) * 0.001);
+    }
+    write_color(dir + "/colour.exr", frame.rgb);
+    write_depth_exr(dir + "/depth.exr", frame.depth);
+    // The owned frame through the same front door: the same bits as the views.
+    Layers from_frame;
+    renderer.render(from_frame, frame);
+    if (from_frame.final.data != layers.final.data ||
+        from_frame.direct.data != layers.direct.data) {
+        std::fprintf(stderr, "consumer: the views and the owned frame render differently\n");
+        return 1;
+    }
     write_color(dir + "/final.png", layers.final);
     write_layers(dir + "/layers.exr", layers);
     std::printf("consumer: deepsea %s (%d.%d.%d)\n", DEEPSEA_VERSION_STRING, DEEPSEA_VERSION_MAJOR,

@@ -14,7 +14,7 @@
 #include "deepsea/optics/forward_psf.h"
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/lamps.h"
-#include "deepsea/runtime/reference.h"
+#include "deepsea/reference/reference.h"
 #include "runtime_fixtures.h"
 
 namespace deepsea {

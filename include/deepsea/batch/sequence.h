@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "deepsea/asset/asset.h"
+#include "deepsea/batch/frame_jobs.h"
+#include "deepsea/batch/layer_files.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/runtime/frame_jobs.h"
-#include "deepsea/runtime/layers.h"
 
 namespace deepsea {
 

@@ -1,4 +1,4 @@
-#include "deepsea/runtime/contact_sheet.h"
+#include "deepsea/batch/contact_sheet.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "deepsea/runtime/sequence_manifest.h"
+#include "deepsea/batch/sequence_manifest.h"
 
 #include <gtest/gtest.h>
 

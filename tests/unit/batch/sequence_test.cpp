@@ -1,4 +1,4 @@
-#include "deepsea/runtime/sequence.h"
+#include "deepsea/batch/sequence.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -7,10 +7,10 @@
 #include <fstream>
 #include <iterator>
 
+#include "../runtime/runtime_fixtures.h"
 #include "deepsea/bake/bake.h"
+#include "deepsea/batch/sequence_manifest.h"
 #include "deepsea/core/error.h"
-#include "deepsea/runtime/sequence_manifest.h"
-#include "runtime_fixtures.h"
 
 namespace deepsea {
 

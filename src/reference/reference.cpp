@@ -1,4 +1,4 @@
-#include "deepsea/runtime/reference.h"
+#include "deepsea/reference/reference.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,6 +11,7 @@
 #include "deepsea/optics/direct.h"
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/forward_psf.h"
+#include "deepsea/optics/lamp.h"
 #include "deepsea/optics/normals.h"
 #include "deepsea/optics/transmission.h"
 
@@ -176,7 +177,9 @@ Layers render_reference(const Camera& cam, const Rig& rig, const Water& water, c
                         const Rgb L = surface_radiance(rig, water, P, n, get(rgb, u, v));
                         put(surface, u, v, L);
                         const Rgb T = transmission(water.c, d2);
-                        put(out.direct, u, v, L * T);
+                        put(out.direct, u, v,
+                            {direct_signal(L.r, T.r), direct_signal(L.g, T.g),
+                             direct_signal(L.b, T.b)});
                         put(out.transmission, u, v, T);
                         put(out.normal, u, v, {n.x, n.y, n.z});
                         out.depth.at(u, v) = float(z);

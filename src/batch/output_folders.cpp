@@ -1,4 +1,4 @@
-#include "deepsea/runtime/output_folders.h"
+#include "deepsea/batch/output_folders.h"
 
 #include <signal.h>
 
@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <set>
 
+#include "deepsea/batch/sequence_manifest.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
-#include "deepsea/runtime/sequence_manifest.h"
 
 namespace deepsea {
 

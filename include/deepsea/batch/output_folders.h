@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/batch/frame_jobs.h"
 #include "deepsea/core/folder_lock.h"
-#include "deepsea/runtime/frame_jobs.h"
 
 namespace deepsea {
 

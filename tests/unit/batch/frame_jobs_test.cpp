@@ -1,4 +1,4 @@
-#include "deepsea/runtime/frame_jobs.h"
+#include "deepsea/batch/frame_jobs.h"
 
 #include <gtest/gtest.h>
 
