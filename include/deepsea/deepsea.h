@@ -12,12 +12,12 @@
 
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/bake.h"
+#include "deepsea/batch/layer_files.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/frame.h"
 #include "deepsea/core/image.h"
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/runtime/exposure.h"
-#include "deepsea/batch/layer_files.h"
 #include "deepsea/runtime/renderer.h"
 #include "deepsea/version.h"

@@ -23,8 +23,8 @@
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/config.h"
-#include "deepsea/runtime/exposure.h"
 #include "deepsea/reference/reference.h"
+#include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/renderer.h"
 
 namespace deepsea::python {

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/batch/frame_jobs.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
-#include "deepsea/batch/frame_jobs.h"
 #include "fuzz_util.h"
 
 namespace fs = std::filesystem;

@@ -12,9 +12,9 @@
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/forward_psf.h"
+#include "deepsea/reference/reference.h"
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/lamps.h"
-#include "deepsea/reference/reference.h"
 #include "runtime_fixtures.h"
 
 namespace deepsea {
