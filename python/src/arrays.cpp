@@ -112,6 +112,31 @@ ArrayIn inspect_depth(const py::handle& obj, const std::string& what) {
     return inspect(obj, what, false);
 }
 
+bool color_view_of(const ArrayIn& in, ColorView& out) {
+    if (in.channels < 3 || in.elem == Elem::F64) return false;
+    out = ColorView{};
+    out.data = in.data();
+    out.width = in.width;
+    out.height = in.height;
+    out.type = in.elem == Elem::U8    ? SampleType::U8
+               : in.elem == Elem::U16 ? SampleType::U16
+                                      : SampleType::F32;
+    out.encoding = in.elem == Elem::F32 ? ColorEncoding::Linear : ColorEncoding::Srgb;
+    out.pixel_stride = std::ptrdiff_t(in.channels * sample_bytes(out.type));  // C-contiguous
+    return true;
+}
+
+bool depth_view_of(const ArrayIn& in, double scale, DepthView& out) {
+    if (in.elem != Elem::F32 && in.elem != Elem::U16) return false;
+    out = DepthView{};
+    out.data = in.data();
+    out.width = in.width;
+    out.height = in.height;
+    out.type = in.elem == Elem::U16 ? SampleType::U16 : SampleType::F32;
+    out.scale = scale;
+    return true;
+}
+
 void fill_color(const ArrayIn& in, Image& out, int threads, bool albedo) {
     reshape(out, in.width, in.height, 3);
     const int c = in.channels;

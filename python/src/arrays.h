@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "deepsea/core/image.h"
+#include "deepsea/runtime/frame_view.h"
 
 namespace deepsea::python {
 
@@ -39,6 +40,13 @@ ArrayIn inspect_color(const py::handle& obj, const std::string& what);
 /// Checks a depth array: (H, W) or (H, W, 1); float32 / float64 (metres) or uint16 (units of
 /// the depth scale). InputError naming `what` otherwise. Needs the GIL.
 ArrayIn inspect_depth(const py::handle& obj, const std::string& what);
+
+/// A view of the array's own memory as the renderer reads it (runtime/frame_view.h), where it
+/// can: colour as uint8 / uint16 sRGB codes or float32 linear albedo, RGB or RGBA (alpha
+/// skipped); depth as float32 metres or uint16 units of `scale` metres. False for the others
+/// (grey, float64), which fill_color / fill_depth convert. The view is valid while `in` lives.
+bool color_view_of(const ArrayIn& in, ColorView& out);
+bool depth_view_of(const ArrayIn& in, double scale, DepthView& out);
 
 /// Fills `out` with linear RGB (3 channels) as read_color would decode the same pixels from a
 /// file. Reuses out's memory. Parallel over rows on `threads` workers (0: all cores). No Python

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "arrays.h"
+#include "convert.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/bake/bake.h"
@@ -26,6 +27,7 @@
 #include "deepsea/reference/reference.h"
 #include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/renderer.h"
+#include "errors.h"
 
 namespace deepsea::python {
 
@@ -35,224 +37,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// ---------------------------------------------------------------------------------------------
-// Exceptions: deepsea.Error and one subclass per library type, each also a subclass of the
-// built-in exception a Python user would catch for it. The message is the CLI's line.
-
-struct ErrorTypes {
-    PyObject* error = nullptr;
-    PyObject* config = nullptr;
-    PyObject* input = nullptr;
-    PyObject* io = nullptr;
-    PyObject* asset = nullptr;
-    PyObject* accuracy = nullptr;
-    PyObject* cancelled = nullptr;
-    PyObject* memory = nullptr;
-};
-ErrorTypes g_errors;  // owned by the module (its attributes); never freed
-
-PyObject* add_error(py::module_& m, const char* name, PyObject* base, PyObject* builtin,
-                    const char* doc) {
-    const std::string qualified = std::string("deepsea.") + name;
-    py::object bases = builtin ? py::object(py::make_tuple(py::handle(base), py::handle(builtin)))
-                               : py::object(py::reinterpret_borrow<py::object>(base));
-    PyObject* type = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases.ptr(), nullptr);
-    if (!type) throw py::error_already_set();
-    m.add_object(name, py::handle(type));  // the module keeps a reference; so do we
-    return type;
-}
-
-void register_errors(py::module_& m) {
-    g_errors.error = add_error(m, "Error", PyExc_Exception, nullptr,
-                               "Base of every deepsea error; str() is the CLI's one line.");
-    g_errors.config = add_error(m, "ConfigError", g_errors.error, PyExc_ValueError,
-                                "A setting is unknown, missing, of the wrong type or out of "
-                                "range (the message names the file, line and key).");
-    g_errors.input = add_error(m, "InputError", g_errors.error, PyExc_ValueError,
-                               "Input data is unusable: dtype, shape, sizes that differ.");
-    g_errors.io =
-        add_error(m, "IoError", g_errors.error, PyExc_OSError, "A file cannot be read or written.");
-    g_errors.asset = add_error(m, "AssetError", g_errors.error, PyExc_ValueError,
-                               "An asset is foreign, truncated, of an unknown format, or made "
-                               "for another camera.");
-    g_errors.accuracy = add_error(m, "AccuracyError", g_errors.error, PyExc_RuntimeError,
-                                  "A strict bake check missed the accuracy bar.");
-    g_errors.cancelled = add_error(m, "Cancelled", g_errors.error, PyExc_RuntimeError,
-                                   "A long operation was stopped.");
-    g_errors.memory = add_error(m, "OutOfMemoryError", g_errors.error, PyExc_MemoryError,
-                                "The work needs more memory than the machine has left.");
-    py::register_exception_translator([](std::exception_ptr p) {
-        try {
-            if (p) std::rethrow_exception(p);
-        } catch (const std::bad_alloc&) {
-            PyErr_SetString(g_errors.memory,
-                            "out of memory (the inputs or settings need more "
-                            "memory than this machine has left)");
-        } catch (const std::filesystem::filesystem_error& e) {
-            const std::string path = e.path1().empty() ? "a path" : e.path1().string();
-            PyErr_SetString(g_errors.io, one_line(path + ": " + e.code().message(), 1000).c_str());
-        } catch (const OutOfMemory& e) {
-            PyErr_SetString(g_errors.memory, one_line(e.what(), 1000).c_str());
-        } catch (const ConfigError& e) {
-            PyErr_SetString(g_errors.config, one_line(e.what(), 1000).c_str());
-        } catch (const InputError& e) {
-            PyErr_SetString(g_errors.input, one_line(e.what(), 1000).c_str());
-        } catch (const IoError& e) {
-            PyErr_SetString(g_errors.io, one_line(e.what(), 1000).c_str());
-        } catch (const AssetError& e) {
-            PyErr_SetString(g_errors.asset, one_line(e.what(), 1000).c_str());
-        } catch (const AccuracyError& e) {
-            PyErr_SetString(g_errors.accuracy, one_line(e.what(), 1000).c_str());
-        } catch (const Cancelled& e) {
-            PyErr_SetString(g_errors.cancelled, one_line(e.what(), 1000).c_str());
-        } catch (const Error& e) {
-            PyErr_SetString(g_errors.error, one_line(e.what(), 1000).c_str());
-        }
-    });
-}
-
-// ---------------------------------------------------------------------------------------------
-// Setups: YAML text, a YAML file, or Python dicts (given to the strict YAML reader as JSON,
-// which is YAML), or a list of those; sections merge as `deepsea bake --config a --config b`.
-
-py::object json_module() { return py::module_::import("json"); }
-
-/// JSON text of a Python value; NumPy scalars and arrays become numbers and lists.
-std::string to_json(const py::handle& value) {
-    const py::object tolist = py::cpp_function([](const py::object& o) -> py::object {
-        if (py::hasattr(o, "tolist")) return o.attr("tolist")();
-        throw py::type_error("setup: cannot use a " +
-                             py::str(py::type::handle_of(o).attr("__name__")).cast<std::string>() +
-                             " as a setting");
-    });
-    return json_module()
-        .attr("dumps")(value, py::arg("indent") = 1, py::arg("default") = tolist)
-        .cast<std::string>();
-}
-
-bool is_path(const py::handle& h) {
-    return py::isinstance(h, py::module_::import("os").attr("PathLike"));
-}
-
-/// A str or os.PathLike as a path (TypeError from os.fspath otherwise). A NUL character is a
-/// ConfigError (a ValueError, as Python's own file functions raise): the C library would end
-/// the name there and open another file.
-std::string path_text(const py::handle& h) {
-    std::string path = py::module_::import("os").attr("fspath")(h).cast<std::string>();
-    if (path.find('\0') != std::string::npos) {
-        throw ConfigError(path.substr(0, path.find('\0')) +
-                          "...: the file name holds a NUL character");
-    }
-    return path;
-}
-
-/// Adds `more`'s sections to `into`; a section given twice is an error.
-void merge(Setup& into, const Setup& more, const std::string& where) {
-    const auto take = [&](auto& dst, const auto& src, const char* name) {
-        if (!src) return;
-        if (dst) throw ConfigError(where + ": " + name + " given twice");
-        dst = src;
-    };
-    take(into.camera, more.camera, "camera");
-    take(into.rig, more.rig, "rig");
-    take(into.water, more.water, "water");
-}
-
-/// One part of a setup: None, a dict {camera, rig, water}, YAML text (a str with a line break),
-/// a file path (str or os.PathLike), or a list of these.
-Setup setup_from(const py::handle& obj) {
-    Setup s;
-    if (obj.is_none()) return s;
-    if (py::isinstance<py::dict>(obj)) return parse_setup(to_json(obj), "<setup dict>");
-    if (is_path(obj)) return load_setup({path_text(obj)});
-    if (py::isinstance<py::str>(obj)) {
-        const std::string text = obj.cast<std::string>();
-        if (text.find('\n') != std::string::npos) return parse_setup(text, "<setup text>");
-        return load_setup({text});
-    }
-    if (py::isinstance<py::list>(obj) || py::isinstance<py::tuple>(obj)) {
-        for (const py::handle& part : obj) merge(s, setup_from(part), "setup");
-        return s;
-    }
-    throw ConfigError("setup: expected YAML text, a file path, a dict or a list of them, got " +
-                      py::str(py::type::handle_of(obj).attr("__name__")).cast<std::string>());
-}
-
-/// One section given on its own (camera=, rig=, water=): its dict (the section's content),
-/// YAML text or a file holding that section, or for water a preset name ("jerlov:IB").
-Setup section_from(const py::handle& obj, const char* name) {
-    if (obj.is_none()) return {};
-    if (py::isinstance<py::dict>(obj)) {
-        py::dict wrapped;
-        wrapped[name] = obj;
-        return parse_setup(to_json(wrapped), std::string("<") + name + " dict>");
-    }
-    if (std::string(name) == "water" && py::isinstance<py::str>(obj)) {
-        const std::string spec = obj.cast<std::string>();
-        if (spec.find('\n') == std::string::npos) {
-            Setup s;
-            s.water = load_water(spec);  // a preset, or a file with a water section
-            return s;
-        }
-    }
-    Setup s = setup_from(obj);
-    const bool has = std::string(name) == "camera" ? bool(s.camera)
-                     : std::string(name) == "rig"  ? bool(s.rig)
-                                                   : bool(s.water);
-    if (!has) throw ConfigError(std::string(name) + "=: no " + name + " section");
-    return s;
-}
-
-Setup full_setup(const py::handle& setup, const py::handle& camera, const py::handle& rig,
-                 const py::handle& water) {
-    Setup s = setup_from(setup);
-    merge(s, section_from(camera, "camera"), "camera=");
-    merge(s, section_from(rig, "rig"), "rig=");
-    merge(s, section_from(water, "water"), "water=");
-    return s;
-}
-
-py::dict camera_dict(const Camera& c) {
-    py::dict d;
-    d["width"] = c.width;
-    d["height"] = c.height;
-    d["fx"] = c.fx;
-    d["fy"] = c.fy;
-    d["cx"] = c.cx;
-    d["cy"] = c.cy;
-    return d;
-}
-
-DepthKind parse_depth_kind(const std::string& kind) {
-    if (kind == "z") return DepthKind::Z;
-    if (kind == "range") return DepthKind::Range;
-    throw ConfigError("depth_kind: expected 'z' (planar) or 'range' (along the ray), got '" + kind +
-                      "'");
-}
-
-void check_depth_scale(double scale) {
-    if (!(scale > 0.0)) {
-        throw ConfigError("depth_scale: must be > 0 metres per unit, got " + std::to_string(scale));
-    }
-}
-
-/// Layers as a dict of arrays (moved out: no copy; their buffers return to `pool`, if given,
-/// when the arrays are freed); empty layers are left out.
-py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool = {}) {
-    py::dict d;
-    const auto put = [&](const char* name, Image& img) {
-        if (!img.empty()) d[name] = to_array(std::move(img), pool);
-    };
-    put("final", l.final);
-    put("direct", l.direct);
-    put("forward", l.forward);
-    put("backscatter", l.backscatter);
-    put("transmission", l.transmission);
-    put("depth", l.depth);
-    put("normal", l.normal);
-    return d;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -274,8 +58,6 @@ PyAsset load(const py::object& file, int threads) {
     }
     return {std::move(a), path};
 }
-
-py::object json_loads(const std::string& text) { return json_module().attr("loads")(text); }
 
 /// Composites frames of one asset, keeping its scratch buffers between frames of one size.
 /// One frame at a time (a lock); Python threads may share it, or use one renderer each to
@@ -304,15 +86,29 @@ public:
         }
         const ArrayIn c = inspect_color(rgb, "rgb");
         const ArrayIn d = inspect_depth(depth, "depth");
+        // The arrays' memory as it lies where the renderer reads it so (the common dtypes);
+        // grey and float64 are converted into the renderer's own buffers first.
+        ColorView color;
+        DepthView z;
+        const bool color_as_is = color_view_of(c, color);
+        const bool depth_as_is = depth_view_of(d, depth_scale, z);
         Layers out;
         {
             py::gil_scoped_release nogil;
             std::lock_guard<std::mutex> lock(m_mutex);
-            fill_color(c, m_frame.rgb, m_threads);
-            fill_depth(d, depth_scale, m_frame.depth, m_threads);
-            require_same_size(m_frame.rgb, m_frame.depth, "rgb and depth");
+            if (!color_as_is) {
+                fill_color(c, m_rgb, m_threads);
+                color = ColorView{m_rgb.data.data(), m_rgb.width, m_rgb.height, SampleType::F32,
+                                  ColorEncoding::Linear};
+            }
+            if (!depth_as_is) {
+                fill_depth(d, depth_scale, m_depth, m_threads);
+                z = DepthView{m_depth.data.data(), m_depth.width, m_depth.height};
+            }
+            color.name = "rgb";
+            z.name = "depth";
+            z.kind = kind;
             in_arena(m_threads, [&] {
-                const Image& z = m_frame.depth;
                 // Last frames' buffers, if their arrays are gone: Layers::resize keeps them.
                 const int w = z.width, h = z.height;
                 reuse(out.final, w, h, 3, *m_pool);
@@ -324,7 +120,7 @@ public:
                     reuse(out.depth, w, h, 1, *m_pool);
                 }
                 const auto tc = Clock::now();
-                m_renderer->render(out, m_frame, set, kind);
+                m_renderer->render(out, color, z, set);
                 m_composite_s = seconds_since(tc);
             });
         }
@@ -346,7 +142,7 @@ private:
     PyAsset m_asset;
     int m_threads = 0;
     std::unique_ptr<deepsea::Renderer> m_renderer;  ///< on m_asset's asset, which it keeps alive
-    Frame m_frame;                                  ///< input pixels, reused between frames
+    Image m_rgb, m_depth;  ///< arrays converted (grey, float64), reused between frames
     std::shared_ptr<BufferPool> m_pool = std::make_shared<BufferPool>();
     std::mutex m_mutex;
     std::atomic<double> m_composite_s{0.0}, m_total_s{0.0};  // the last frame's, any thread

@@ -30,10 +30,6 @@ struct ColorRowBuffer {
 /// divided by the type's maximum.
 const float* color_row(const ColorView& view, int v, ColorRowBuffer& buf);
 
-/// InputError "`what`: pixel (u, v) G is NaN ..." for the first non-finite sample of a float
-/// colour view (require_finite_color's rule for float colour from files and arrays).
-void require_finite_color(const ColorView& view, const std::string& what);
-
 /// A checked depth view as the compositor's float depth image (`out`, resized): float samples
 /// as they are, integer ones times the scale (as io reads integer depth files).
 void depth_image(const DepthView& view, Image& out);

@@ -83,22 +83,24 @@ std::size_t sample_bytes(SampleType type) {
 
 ColorView checked(const ColorView& view, const char* what) {
     ColorView c = view;
-    check_layout(c.data, c.width, c.height, c.type, 3, c.pixel_stride, c.row_stride, what);
+    if (!c.name) c.name = what;
+    check_layout(c.data, c.width, c.height, c.type, 3, c.pixel_stride, c.row_stride, c.name);
     return c;
 }
 
 DepthView checked(const DepthView& view, const char* what) {
     DepthView d = view;
+    if (!d.name) d.name = what;
     if (d.type == SampleType::U8) {
-        throw InputError(std::string(what) +
+        throw InputError(std::string(d.name) +
                          ": 8-bit depth is refused (too coarse for metres; "
                          "give float metres or 16-bit units)");
     }
     if (d.type == SampleType::U16 && !(std::isfinite(d.scale) && d.scale > 0.0)) {
-        throw InputError(std::string(what) + ": depth scale " + std::to_string(d.scale) +
+        throw InputError(std::string(d.name) + ": depth scale " + std::to_string(d.scale) +
                          " must be finite and > 0 (metres per unit)");
     }
-    check_layout(d.data, d.width, d.height, d.type, 1, d.pixel_stride, d.row_stride, what);
+    check_layout(d.data, d.width, d.height, d.type, 1, d.pixel_stride, d.row_stride, d.name);
     return d;
 }
 
@@ -159,7 +161,7 @@ const float* color_row(const ColorView& c, int v, ColorRowBuffer& buf) {
     return out;
 }
 
-void require_finite_color(const ColorView& c, const std::string& what) {
+void require_finite_color(const ColorView& c) {
     if (c.type != SampleType::F32) return;
     const long long none = (long long)c.width * c.height;
     const long long bad = tbb::parallel_reduce(
@@ -181,7 +183,7 @@ void require_finite_color(const ColorView& c, const std::string& what) {
     const long long u = bad / 3 % c.width, v = bad / 3 / c.width;
     ColorRowBuffer buf;
     const float* x = samples(c, int(v), buf.f32);
-    throw_non_finite_color(what, int(u), int(v), int(bad % 3), x[3 * u + bad % 3]);
+    throw_non_finite_color(c.name, int(u), int(v), int(bad % 3), x[3 * u + bad % 3]);
 }
 
 void depth_image(const DepthView& d, Image& out) {

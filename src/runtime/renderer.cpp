@@ -1,5 +1,6 @@
 #include "deepsea/runtime/renderer.h"
 
+#include <string>
 #include <utility>
 
 #include "deepsea/core/error.h"
@@ -43,9 +44,11 @@ struct Renderer::State {
 
     /// The compositor for the views' size, with `depth` filled from the depth view (planar).
     Compositor& prepare(const ColorView& color, const DepthView& depth_view) {
-        require_same_size(color.width, color.height, depth_view.width, depth_view.height,
-                          "colour and depth views");
-        require_finite_color(color, "colour view");
+        if (color.width != depth_view.width || color.height != depth_view.height) {
+            require_same_size(color.width, color.height, depth_view.width, depth_view.height,
+                              std::string(color.name) + " and " + depth_view.name);
+        }
+        require_finite_color(color);
         Compositor& c = compositor(depth_view.width, depth_view.height);
         depth_image(depth_view, depth);
         to_planar_depth(camera, depth, depth_view.kind);

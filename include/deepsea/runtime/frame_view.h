@@ -31,6 +31,7 @@ struct ColorView {
     ChannelOrder order = ChannelOrder::Rgb;
     std::ptrdiff_t pixel_stride = 0;  ///< bytes; 0: three samples (packed)
     std::ptrdiff_t row_stride = 0;    ///< bytes; 0: width pixels (packed)
+    const char* name = nullptr;       ///< what errors call it; null: "colour view"
 };
 
 /// A width x height depth image of one sample a pixel, at data + v * row_stride +
@@ -44,16 +45,23 @@ struct DepthView {
     double scale = 0.001;             ///< metres per unit of an integer sample
     std::ptrdiff_t pixel_stride = 0;  ///< bytes; 0: one sample (packed)
     std::ptrdiff_t row_stride = 0;    ///< bytes; 0: width pixels (packed)
+    const char* name = nullptr;       ///< what errors call it; null: "depth view"
 };
 
 /// Bytes of one sample of `type`.
 std::size_t sample_bytes(SampleType type);
 
-/// The view with its 0 strides filled in (packed). InputError naming `what` when the view has
+/// The view with its 0 strides filled in (packed) and its name set (`what` where it has none).
+/// InputError naming it when the view has
 /// no data, a size deepsea does not take (check_image_size), a type it cannot hold (U8
 /// depth), a stride that would overlap samples or rows (negative strides included), or a
 /// depth scale that is not finite and > 0.
 ColorView checked(const ColorView& view, const char* what = "colour view");
 DepthView checked(const DepthView& view, const char* what = "depth view");
+
+/// InputError "<name>: pixel (u, v) G is NaN ..." for the first non-finite sample of a checked
+/// float colour view (as for float colour from files, core/image.h's require_finite_color);
+/// nothing for integer samples.
+void require_finite_color(const ColorView& view);
 
 }  // namespace deepsea

@@ -1,0 +1,157 @@
+#include "convert.h"
+
+#include <string>
+
+#include "deepsea/core/error.h"
+
+namespace deepsea::python {
+
+namespace {
+
+py::object json_module() { return py::module_::import("json"); }
+
+}  // namespace
+
+/// JSON text of a Python value; NumPy scalars and arrays become numbers and lists.
+std::string to_json(const py::handle& value) {
+    const py::object tolist = py::cpp_function([](const py::object& o) -> py::object {
+        if (py::hasattr(o, "tolist")) return o.attr("tolist")();
+        throw py::type_error("setup: cannot use a " +
+                             py::str(py::type::handle_of(o).attr("__name__")).cast<std::string>() +
+                             " as a setting");
+    });
+    return json_module()
+        .attr("dumps")(value, py::arg("indent") = 1, py::arg("default") = tolist)
+        .cast<std::string>();
+}
+
+py::object json_loads(const std::string& text) { return json_module().attr("loads")(text); }
+
+bool is_path(const py::handle& h) {
+    return py::isinstance(h, py::module_::import("os").attr("PathLike"));
+}
+
+/// A str or os.PathLike as a path (TypeError from os.fspath otherwise). A NUL character is a
+/// ConfigError (a ValueError, as Python's own file functions raise): the C library would end
+/// the name there and open another file.
+std::string path_text(const py::handle& h) {
+    std::string path = py::module_::import("os").attr("fspath")(h).cast<std::string>();
+    if (path.find('\0') != std::string::npos) {
+        throw ConfigError(path.substr(0, path.find('\0')) +
+                          "...: the file name holds a NUL character");
+    }
+    return path;
+}
+
+namespace {
+
+/// Adds `more`'s sections to `into`; a section given twice is an error.
+void merge(Setup& into, const Setup& more, const std::string& where) {
+    const auto take = [&](auto& dst, const auto& src, const char* name) {
+        if (!src) return;
+        if (dst) throw ConfigError(where + ": " + name + " given twice");
+        dst = src;
+    };
+    take(into.camera, more.camera, "camera");
+    take(into.rig, more.rig, "rig");
+    take(into.water, more.water, "water");
+}
+
+}  // namespace
+
+/// One part of a setup: None, a dict {camera, rig, water}, YAML text (a str with a line break),
+/// a file path (str or os.PathLike), or a list of these.
+Setup setup_from(const py::handle& obj) {
+    Setup s;
+    if (obj.is_none()) return s;
+    if (py::isinstance<py::dict>(obj)) return parse_setup(to_json(obj), "<setup dict>");
+    if (is_path(obj)) return load_setup({path_text(obj)});
+    if (py::isinstance<py::str>(obj)) {
+        const std::string text = obj.cast<std::string>();
+        if (text.find('\n') != std::string::npos) return parse_setup(text, "<setup text>");
+        return load_setup({text});
+    }
+    if (py::isinstance<py::list>(obj) || py::isinstance<py::tuple>(obj)) {
+        for (const py::handle& part : obj) merge(s, setup_from(part), "setup");
+        return s;
+    }
+    throw ConfigError("setup: expected YAML text, a file path, a dict or a list of them, got " +
+                      py::str(py::type::handle_of(obj).attr("__name__")).cast<std::string>());
+}
+
+/// One section given on its own (camera=, rig=, water=): its dict (the section's content),
+/// YAML text or a file holding that section, or for water a preset name ("jerlov:IB").
+Setup section_from(const py::handle& obj, const char* name) {
+    if (obj.is_none()) return {};
+    if (py::isinstance<py::dict>(obj)) {
+        py::dict wrapped;
+        wrapped[name] = obj;
+        return parse_setup(to_json(wrapped), std::string("<") + name + " dict>");
+    }
+    if (std::string(name) == "water" && py::isinstance<py::str>(obj)) {
+        const std::string spec = obj.cast<std::string>();
+        if (spec.find('\n') == std::string::npos) {
+            Setup s;
+            s.water = load_water(spec);  // a preset, or a file with a water section
+            return s;
+        }
+    }
+    Setup s = setup_from(obj);
+    const bool has = std::string(name) == "camera" ? bool(s.camera)
+                     : std::string(name) == "rig"  ? bool(s.rig)
+                                                   : bool(s.water);
+    if (!has) throw ConfigError(std::string(name) + "=: no " + name + " section");
+    return s;
+}
+
+Setup full_setup(const py::handle& setup, const py::handle& camera, const py::handle& rig,
+                 const py::handle& water) {
+    Setup s = setup_from(setup);
+    merge(s, section_from(camera, "camera"), "camera=");
+    merge(s, section_from(rig, "rig"), "rig=");
+    merge(s, section_from(water, "water"), "water=");
+    return s;
+}
+
+py::dict camera_dict(const Camera& c) {
+    py::dict d;
+    d["width"] = c.width;
+    d["height"] = c.height;
+    d["fx"] = c.fx;
+    d["fy"] = c.fy;
+    d["cx"] = c.cx;
+    d["cy"] = c.cy;
+    return d;
+}
+
+DepthKind parse_depth_kind(const std::string& kind) {
+    if (kind == "z") return DepthKind::Z;
+    if (kind == "range") return DepthKind::Range;
+    throw ConfigError("depth_kind: expected 'z' (planar) or 'range' (along the ray), got '" + kind +
+                      "'");
+}
+
+void check_depth_scale(double scale) {
+    if (!(scale > 0.0)) {
+        throw ConfigError("depth_scale: must be > 0 metres per unit, got " + std::to_string(scale));
+    }
+}
+
+/// Layers as a dict of arrays (moved out: no copy; their buffers return to `pool`, if given,
+/// when the arrays are freed); empty layers are left out.
+py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool) {
+    py::dict d;
+    const auto put = [&](const char* name, Image& img) {
+        if (!img.empty()) d[name] = to_array(std::move(img), pool);
+    };
+    put("final", l.final);
+    put("direct", l.direct);
+    put("forward", l.forward);
+    put("backscatter", l.backscatter);
+    put("transmission", l.transmission);
+    put("depth", l.depth);
+    put("normal", l.normal);
+    return d;
+}
+
+}  // namespace deepsea::python
