@@ -40,8 +40,10 @@ RowTaps doubled_row(int y, int h_lo) {
     return {y0, std::min(y0 + 1, h_lo - 1), std::clamp(fy - y0, 0.0f, 1.0f)};
 }
 
-/// Table rows and fractions of one row of distances: idx[u] = -1 where there is no surface
-/// (d <= 0) or the distance is beyond the table (its weights are negligible).
+/// Table rows and fractions of one row of distances,
+///   d_u / step = i_u + t_u,  i_u = min(floor(d_u / step), bins - 1),
+/// and idx[u] = -1 where there is no surface (d <= 0) or the distance is beyond the table (its
+/// weights are negligible).
 void table_rows(int n, const float* d2, float inv_step, float range, int bins, int* idx,
                 float* frac) {
     for (int u = 0; u < n; ++u) {
@@ -375,6 +377,7 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
             const float* plane = coarser.acc.data() + std::size_t(c) * coarser.w * coarser.h;
             const float* r0 = plane + std::size_t(t.y0) * coarser.w;
             const float* r1 = plane + std::size_t(t.y1) * coarser.w;
+            // the coarser grid between its rows y0 and y1: q[y0] + w (q[y1] - q[y0]), padded
             thread_local std::vector<float> padded;
             padded.resize(coarser.w + 2);
             for (int x = 0; x < coarser.w; ++x) padded[x + 1] = r0[x] + t.w * (r1[x] - r0[x]);

@@ -32,8 +32,12 @@ template <class Kernel, class... Args>
     }
 }
 
-/// weigh_blocks for a stride S known at compile time. A block's sums stay in registers, four
-/// basis functions to a vector: the stride is a multiple of four.
+/// weigh_blocks for a stride S known at compile time: the weighing in basis form, for every
+/// block b (its pixels u in B_b), channel c and basis function r,
+///   x_b[c][r] (+)= sum_(u in B_b) phi_r(d_u) L_s(u)[c],
+///   phi_r(d_u) = tab[i_u][c][r] + t_u (tab[i_u + 1][c][r] - tab[i_u][c][r])  (0 off surfaces),
+/// so that sum_r a_jr x_b[c][r] = sum_(u in B_b) W_j(d_u) L_s(u)[c] for every scale j. A
+/// block's sums stay in registers, four basis functions to a vector: S is a multiple of four.
 struct WeighBlocks {
     template <int S>
     [[gnu::always_inline]] static void run(int n, int block, const int* __restrict idx,
@@ -64,7 +68,11 @@ struct WeighBlocks {
     }
 };
 
-/// expand_blocks for a stride S known at compile time.
+/// expand_blocks for a stride S known at compile time: each scale's block mean from the basis
+/// sums, for scale j of the group, channel c and block b,
+///   P_j[c][b] = s_b sum_r a_jr[c] x_b[c][r] = s_b sum_(u in B_b) W_j(d_u) L_s(u)[c],
+/// s_b = scale = 1 / (f rows) (times edge for the last block, which has fewer columns): the
+/// box-downsampled W_j(d) L_s that G_(sigma_j) then blurs on this grid.
 struct ExpandBlocks {
     template <int S>
     [[gnu::always_inline]] static void run(int n, int scales, const float* __restrict acc,
@@ -107,6 +115,10 @@ struct ExpandBlocks {
 
 }  // namespace
 
+/// Bilinear upsampling by two, one grid row q into the next finer grid (the cascade):
+///   dst[x] += q[i_x] + a_x (q[i_x + 1] - q[i_x]),  i_x = floor(p_x), a_x = p_x - i_x,
+///   p_x = (x + 1/2) / 2 - 1/2,
+/// so a_x = 3/4 for even x and 1/4 for odd x; q is clamped at its ends (qp[j + 1] = q[j]).
 DEEPSEA_CLONES
 void add_doubled(int n, const float* __restrict qp, float* __restrict dst) {
     const int pairs = n / 2;
@@ -130,6 +142,8 @@ void expand_blocks(int n, int stride, int scales, const float* acc, const float*
     by_stride<ExpandBlocks>(stride, n, scales, acc, coef, channel, dst, scale, edge);
 }
 
+/// Block sums of twice the width from the finer level's, every lane (c, r) alike:
+///   x_(2f)[i] (+)= x_f[2i] + x_f[2i + 1]   (x_f[n - 1] alone when n is odd).
 DEEPSEA_CLONES
 void pair_sums(int n, int lanes, const float* __restrict src, bool add, float* __restrict dst) {
     const int pairs = n / 2;
@@ -151,6 +165,11 @@ void pair_sums(int n, int lanes, const float* __restrict src, bool add, float* _
     }
 }
 
+/// F of one full-resolution row, every term of the sum over scales:
+///   F(u) (+)= W_0(d_u) L_s(u) + sum_(j at factor 1) (G_(sigma_j) * (W_j L_s))(u) + U(A_2)(u),
+///   W_0(d_u) = sharp[i_u] + t_u (sharp[i_u + 1] - sharp[i_u])  (0 off surfaces),
+/// the middle sum `full` (tiny images only), A_2 the factor-2 grid, which holds every coarser
+/// scale blurred (the cascade), and U its upsampling by two as in add_doubled.
 DEEPSEA_CLONES
 void f_row(int n, const int* __restrict idx, const float* __restrict frac,
            const float* __restrict sharp, const float* __restrict L, const float* const* full,

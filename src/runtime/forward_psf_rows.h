@@ -2,6 +2,13 @@
 // Internal to the runtime: the row kernels of the forward scatter from the phase function
 // (forward_psf_blur.cpp drives them). Each has an AVX2 clone (clones.h), declared only where
 // it is defined: callers call the plain name, which the loader resolves to a clone.
+//
+// Together they evaluate docs/model.md's forward scatter from the phase function,
+//   F = sum_j G_(sigma_j) * (W_j(d) L_s),   W_j(d) ~= sum_r a_jr phi_r(d)  (column_basis.h),
+// L_s = J/pi E the surface radiance (`L`, interleaved RGB), d = d2 the camera-to-surface
+// distance, phi_r(d) the few functions of distance that span the blurred scales' weights
+// (`tab`, per channel), a_jr their coefficients (`coef`), W_0 the unblurred scale's weight
+// (`sharp`). i_u, t_u: the table row and fraction of pixel u's distance (idx, frac).
 
 #include <cstddef>
 
