@@ -1,4 +1,5 @@
-// The only translation unit that includes OpenVDB (it is slow to compile): the asset's file.
+// Reading the asset's file: its checks, its grids into flat arrays, its summary (writing it is
+// asset_write.cpp).
 
 #include "deepsea/asset/asset_file.h"
 
@@ -9,162 +10,22 @@
 #include <openvdb/tools/Dense.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
-#include <mutex>
-#include <sstream>
 
+#include "asset_vdb.h"
 #include "deepsea/asset/asset_integrity.h"
 #include "deepsea/asset/asset_json.h"
-#include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/input_file.h"
-#include "preview.h"
 
 namespace deepsea {
 
 namespace fs = std::filesystem;
 namespace vdb = openvdb;
+using namespace asset_vdb;
 
 namespace {
-
-constexpr const char* kMetaFormat = "deepsea:format";
-constexpr const char* kMetaBake = "deepsea:bake";
-constexpr const char* kMetaScale = "deepsea:value_scale";
-constexpr const char* kMetaChecksum = "deepsea:checksum";
-constexpr const char* kMetaZ = "deepsea:z_samples";
-constexpr const char* kMetaPreviewVoxel = "deepsea:preview_voxel_size";
-constexpr const char* kMetaPreviewScale = "deepsea:preview_density_scale";
-
-void init_openvdb() {
-    static std::once_flag once;
-    std::call_once(once, [] { vdb::initialize(); });
-}
-
-/// FNV-1a over the bit patterns of the stored floats: OpenVDB does not notice every truncated
-/// or damaged file (a short read can leave zeros), so the loader compares this.
-std::uint64_t checksum(const float* v, std::size_t n) {
-    std::uint64_t h = 1469598103934665603ull;
-    for (std::size_t i = 0; i < n; ++i) {
-        std::uint32_t bits;
-        std::memcpy(&bits, &v[i], 4);
-        for (int b = 0; b < 4; ++b) {
-            h ^= (bits >> (8 * b)) & 0xffu;
-            h *= 1099511628211ull;
-        }
-    }
-    return h;
-}
-
-std::string hex(std::uint64_t h) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-    return buf;
-}
-
-/// Power of two that puts the largest value near 2^12, so that half floats keep 11 bits for
-/// everything down to 2^-26 of the maximum (half's normal range is 2^-14 .. 65504).
-double half_scale(const std::vector<float>& v) {
-    float m = 0.0f;
-    for (float x : v) m = std::max(m, std::abs(x));
-    if (!(m > 0.0f) || !std::isfinite(m)) return 1.0;
-    return std::ldexp(1.0, 12 - std::ilogb(m) - 1);
-}
-
-/// Index cells 0 .. leaf_cells(n) - 1 that OpenVDB's leaf nodes (8^3 voxels) around index
-/// 0 .. n - 1 span: Blender frames a grid by its leaf nodes, not by its active voxels.
-int leaf_cells(int n) { return (n + 7) / 8 * 8; }
-
-/// A diagonal affine transform: world = origin + scale * index, per axis. OpenVDB refuses a map
-/// whose determinant is below about 3e-15 (cells of 14 micrometres) with an ArithmeticError
-/// ("Tried to initialize an affine transform from a nearly singular matrix"): that becomes an
-/// AssetError naming the cells, never a raw library message.
-vdb::math::Transform::Ptr axis_transform(const Vec3& scale, const Vec3& origin) {
-    const vdb::math::Mat4d m(scale.x, 0.0, 0.0, 0.0,  //
-                             0.0, scale.y, 0.0, 0.0,  //
-                             0.0, 0.0, scale.z, 0.0,  //
-                             origin.x, origin.y, origin.z, 1.0);
-    try {
-        return vdb::math::Transform::createLinearTransform(m);
-    } catch (const vdb::Exception&) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf,
-                      "cells of %.3g x %.3g x %.3g m are too small for an OpenVDB transform",
-                      std::fabs(scale.x), std::fabs(scale.y), std::fabs(scale.z));
-        throw AssetError(buf);
-    }
-}
-
-/// The backscatter grid's transform (every depth scheme): its index box, rounded up to whole
-/// leaf nodes, divided evenly over the frustum's bounding box, index (i, j, k) at the centre
-/// of cell (i, j, k); columns left to right, rows top to bottom, samples from the camera
-/// forward. So a plain import frames the light field. The true camera-space point of a
-/// voxel is in the grid's metadata (add_lattice_geometry_meta), not in this map: OpenVDB's frustum
-/// map holds only uniform depths, and Blender 3.4 drops its perspective (docs/blender.md).
-vdb::math::Transform::Ptr lattice_transform(const Camera& cam, const Lattice& l) {
-    const WorldBox box = frustum_extent(cam, l.z_max());
-    const Vec3 cell{(box.max.x - box.min.x) / leaf_cells(l.ni),
-                    (box.max.y - box.min.y) / leaf_cells(l.nj),
-                    (box.max.z - box.min.z) / leaf_cells(l.nk())};
-    return axis_transform(
-        {cell.x, -cell.y, -cell.z},
-        {box.min.x + 0.5 * cell.x, box.max.y - 0.5 * cell.y, box.max.z - 0.5 * cell.z});
-}
-
-/// Grid metadata from which a tool that knows nothing of deepsea (Houdini, pyopenvdb) gets
-/// the camera-space point of backscatter voxel (i, j, k) in every depth scheme
-/// (docs/asset-format.md, "The backscatter grid's transform and its camera-space geometry").
-void add_lattice_geometry_meta(vdb::GridBase& grid, const Camera& cam, const Lattice& l) {
-    grid.insertMeta("deepsea:index_to_camera",
-                    vdb::StringMetadata("OpenCV camera point of index (i, j, k): z = "
-                                        "z_samples[k], x = (i * step - cx) / fx * z, y = "
-                                        "(j * step - cy) / fy * z; world = (x, -y, -z)"));
-    grid.insertMeta("deepsea:step", vdb::Int32Metadata(l.step));
-    grid.insertMeta("deepsea:fx", vdb::DoubleMetadata(cam.fx));
-    grid.insertMeta("deepsea:fy", vdb::DoubleMetadata(cam.fy));
-    grid.insertMeta("deepsea:cx", vdb::DoubleMetadata(cam.cx));
-    grid.insertMeta("deepsea:cy", vdb::DoubleMetadata(cam.cy));
-    grid.insertMeta("deepsea:depth_scheme", vdb::StringMetadata(to_string(l.scheme)));
-}
-
-/// A lamp field's transform: cubic voxels of at most 1 mm, the table's leaf box centred in the
-/// frustum's bounding box (its index space is not space; it only has to stay out of the way).
-vdb::math::Transform::Ptr lamp_field_transform(const LampField& f, const WorldBox& box) {
-    const int n[3] = {leaf_cells(f.nr), leaf_cells(f.ntheta), leaf_cells(kShCount)};
-    double h = 1e-3;
-    for (int a = 0; a < 3; ++a) h = std::min(h, 0.5 * (box.max[a] - box.min[a]) / n[a]);
-    const auto start = [&](int a) {
-        return 0.5 * (box.min[a] + box.max[a]) - 0.5 * h * (n[a] - 1);
-    };
-    return axis_transform({h, h, h}, {start(0), start(1), start(2)});
-}
-
-template <typename T>
-bool get_meta(const vdb::MetaMap& meta, const char* name, T& out) {
-    using MetaT = vdb::TypedMetadata<T>;
-    const auto m = meta.getMetadata<MetaT>(name);
-    if (!m) return false;
-    out = m->value();
-    return true;
-}
-
-/// OpenVDB's archive writer, made to write into memory: io::File writes to a path and does not
-/// check the stream, so a full disk used to leave a short file and no error. In memory the
-/// bytes are complete, are sealed with their integrity record, and are then written and read
-/// back with every step checked.
-class MemoryArchive : public vdb::io::Archive {
-public:
-    std::string bytes(const vdb::GridPtrVec& grids, const vdb::MetaMap& meta) const {
-        std::ostringstream os(std::ios::binary);
-        Archive::write(os, grids, /*seekable=*/true, meta);
-        if (!os) throw AssetError("OpenVDB could not serialise the asset");
-        return std::move(os).str();
-    }
-};
 
 /// `path` once it names a regular asset file: a device or a pipe would never end, and a name
 /// with a NUL character (from Python) would open another file. Assets beyond 64 GB are
@@ -254,38 +115,6 @@ GridSummary summarize(const vdb::GridBase& g) {
     return s;
 }
 
-/// Grid name of lamp l's scattered-light table.
-std::string lamp_field_grid(std::size_t l) { return kLampFieldGrid + std::to_string(l); }
-
-constexpr const char* kMetaFieldR0 = "deepsea:r0";
-constexpr const char* kMetaFieldRMax = "deepsea:r_max";
-constexpr const char* kMetaFieldError = "deepsea:rel_std_error";
-
-/// A lamp field as a Vec3f grid, index (i, j, m) = (distance, angle, SH coefficient), RGB per
-/// voxel, full float. Its small voxels keep it inside the frustum's box in world space (a grid
-/// of unit voxels would frame a box metres wide around nothing in Blender).
-vdb::GridBase::Ptr lamp_field_to_grid(const LampField& f, std::size_t l, const WorldBox& extent) {
-    std::vector<vdb::Vec3s> stored(f.sh.size() / 3);
-    for (std::size_t n = 0; n < stored.size(); ++n) {
-        stored[n] = vdb::Vec3s(f.sh[3 * n], f.sh[3 * n + 1], f.sh[3 * n + 2]);
-    }
-    const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(f.nr - 1, f.ntheta - 1, kShCount - 1));
-    auto grid = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
-    // Layout: (i, j, m) with m fastest, as LampField::sh: OpenVDB's z-y-x dense layout.
-    vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, stored.data());
-    vdb::tools::copyFromDense(dense, *grid, vdb::Vec3s(0.0f));
-    grid->setName(lamp_field_grid(l));
-    grid->setTransform(lamp_field_transform(f, extent));
-    grid->setVectorType(vdb::VEC_INVARIANT);
-    grid->insertMeta(kMetaFieldR0, vdb::DoubleMetadata(f.r0));
-    grid->insertMeta(kMetaFieldRMax, vdb::DoubleMetadata(f.r_max));
-    grid->insertMeta(kMetaFieldError, vdb::DoubleMetadata(f.rel_std_error));
-    grid->insertMeta("deepsea:nr", vdb::Int32Metadata(f.nr));
-    grid->insertMeta("deepsea:ntheta", vdb::Int32Metadata(f.ntheta));
-    grid->insertMeta(kMetaChecksum, vdb::StringMetadata(hex(checksum(f.sh.data(), f.sh.size()))));
-    return grid;
-}
-
 LampField lamp_field_from_file(vdb::io::File& file, const std::string& path, std::size_t l) {
     const std::string name = lamp_field_grid(l);
     vdb::GridBase::Ptr base;
@@ -333,172 +162,6 @@ LampField lamp_field_from_file(vdb::io::File& file, const std::string& path, std
 }
 
 }  // namespace
-
-void require_writable(const std::string& path) {
-    if (fs::path(path).filename().empty())
-        throw IoError("cannot write " + path + ": not a file name");
-    std::string ext = fs::path(path).extension().string();
-    for (char& ch : ext) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-    if (ext != ".vdb") {
-        throw IoError("cannot write " + path + ": an asset is an OpenVDB file, its name must end " +
-                      "in .vdb");
-    }
-    require_writable_folder(path);
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) throw IoError("cannot write " + path + ": it is a directory");
-}
-
-void check_storable(const Camera& camera, const Lattice& lattice) {
-    init_openvdb();
-    try {
-        lattice_transform(camera, lattice);
-        LampField f;
-        const LampFieldSettings ls;
-        f.nr = ls.nr;
-        f.ntheta = ls.ntheta;
-        lamp_field_transform(f, frustum_extent(camera, lattice.z_max()));
-    } catch (const AssetError& e) {
-        char z[32];
-        std::snprintf(z, sizeof z, "%g", lattice.z_max());
-        throw ConfigError("the lattice cannot be stored (z_max " + std::string(z) + " m, " +
-                          std::to_string(lattice.ni) + " x " + std::to_string(lattice.nj) +
-                          " columns x " + std::to_string(lattice.nk()) + " samples): " + e.what() +
-                          "; give a larger z_max or xy_step or fewer depth samples");
-    }
-}
-
-void write_asset(const std::string& path, const Asset& asset, const WriteOptions& opt) {
-    const Lattice& l = asset.lattice();
-    if (l.ni < 1 || l.nj < 1 || l.nk() < 2) throw AssetError("write_asset: empty lattice");
-    if (asset.values.size() != std::size_t(l.ni) * l.nj * l.nk() * 3) {
-        throw AssetError("write_asset: " + std::to_string(asset.values.size()) +
-                         " values do not fill the lattice");
-    }
-    require_writable(path);  // fail before the work of building the grids
-    init_openvdb();
-
-    // The stored values: optionally scaled by a power of two (exact) and rounded to half, so
-    // that the checksum is of exactly what the loader will see.
-    const double scale = opt.half ? half_scale(asset.values) : 1.0;
-    std::vector<vdb::Vec3s> stored(asset.values.size() / 3);
-    for (std::size_t n = 0; n < stored.size(); ++n) {
-        for (int c = 0; c < 3; ++c) {
-            float x = float(asset.values[3 * n + c] * scale);
-            if (opt.half) x = float(vdb::math::half(x));
-            stored[n][c] = x;
-        }
-    }
-    const std::uint64_t sum = checksum(&stored[0][0], stored.size() * 3);
-
-    const vdb::CoordBBox box(vdb::Coord(0, 0, 0), vdb::Coord(l.ni - 1, l.nj - 1, l.nk() - 1));
-    auto grid = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
-    {
-        vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, stored.data());
-        vdb::tools::copyFromDense(dense, *grid, vdb::Vec3s(0.0f));
-    }
-    grid->setName(kBackscatterGrid);
-    grid->setTransform(lattice_transform(asset.info.camera, l));
-    add_lattice_geometry_meta(*grid, asset.info.camera, l);
-    const WorldBox extent = frustum_extent(asset.info.camera, l.z_max());
-    grid->setSaveFloatAsHalf(opt.half);
-    grid->setVectorType(vdb::VEC_INVARIANT);
-
-    vdb::MetaMap meta;
-    meta.insertMeta(kMetaFormat, vdb::Int32Metadata(kAssetFormat));
-    meta.insertMeta(kMetaBake, vdb::StringMetadata(bake_info_to_json(asset.info)));
-    meta.insertMeta(kMetaScale, vdb::DoubleMetadata(scale));
-    meta.insertMeta(kMetaChecksum, vdb::StringMetadata(hex(sum)));
-    std::string zs;
-    for (double z : l.z) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%s%.17g", zs.empty() ? "" : " ", z);
-        zs += buf;
-    }
-    meta.insertMeta(kMetaZ, vdb::StringMetadata(zs));
-    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it)
-        grid->insertMeta(it->first, *it->second);
-
-    // The backscatter grid goes last: a truncated file then always damages it (or the
-    // descriptors before it), and load_asset, which reads only this grid, notices.
-    vdb::GridPtrVec grids;
-    if (opt.preview) {
-        const detail::Preview pv = detail::make_preview(asset, std::max(opt.preview_resolution, 8),
-                                                        std::max(opt.preview_across, 8));
-        if (!pv.voxels.empty()) {
-            auto density = vdb::FloatGrid::create(0.0f);
-            auto color = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
-            auto da = density->getAccessor();
-            auto ca = color->getAccessor();
-            for (const auto& v : pv.voxels) {
-                const vdb::Coord ijk(v.a, v.b, v.c);
-                da.setValue(ijk, v.density);
-                ca.setValue(ijk, vdb::Vec3s(v.color[0], v.color[1], v.color[2]));
-            }
-            vdb::math::Transform::Ptr xform;
-            try {
-                xform = vdb::math::Transform::createLinearTransform(pv.voxel_size);
-            } catch (const vdb::Exception&) {
-                throw AssetError("cannot write " + path + ": preview voxels of " +
-                                 std::to_string(pv.voxel_size) +
-                                 " m are too small for an OpenVDB transform");
-            }
-            density->setTransform(xform);
-            color->setTransform(xform->copy());
-            density->setName(kDensityGrid);
-            color->setName(kColorGrid);
-            density->setGridClass(vdb::GRID_FOG_VOLUME);
-            color->setVectorType(vdb::VEC_INVARIANT);
-            density->setSaveFloatAsHalf(true);
-            color->setSaveFloatAsHalf(true);
-            grids.push_back(density);
-            grids.push_back(color);
-            meta.insertMeta(kMetaPreviewVoxel, vdb::DoubleMetadata(pv.voxel_size));
-            meta.insertMeta(kMetaPreviewScale, vdb::DoubleMetadata(pv.density_scale));
-        }
-    }
-    if (asset.info.scattering == Scattering::Multiple) {
-        if (asset.lamp_fields.size() != asset.info.rig.lights.size()) {
-            throw AssetError(
-                "write_asset: a multiple-scattering asset needs one lamp field per lamp");
-        }
-        for (std::size_t l = 0; l < asset.lamp_fields.size(); ++l) {
-            grids.push_back(lamp_field_to_grid(asset.lamp_fields[l], l, extent));
-        }
-    }
-    grids.push_back(grid);
-    meta.insertMeta("creator", vdb::StringMetadata("deepsea bake"));
-    meta.insertMeta(kMetaIntegrity, vdb::StringMetadata(integrity_placeholder()));
-
-    MemoryArchive archive;
-    archive.setCompression(vdb::io::Archive::hasBloscCompression()
-                               ? vdb::io::COMPRESS_BLOSC | vdb::io::COMPRESS_ACTIVE_MASK
-                               : vdb::io::COMPRESS_ZIP | vdb::io::COMPRESS_ACTIVE_MASK);
-    std::string bytes;
-    try {
-        bytes = archive.bytes(grids, meta);
-    } catch (const AssetError&) {
-        throw;
-    } catch (const std::exception& e) {
-        throw AssetError("cannot serialise asset " + path + ": " + one_line(e.what()));
-    }
-    const IntegrityRecord sealed = seal_asset_bytes(bytes);
-
-    // A missing folder or a failed rename is reported by write_atomically, naming the path.
-    // What reaches the disk is read back and compared before the rename: a full disk, or a
-    // device that loses a write, is an error and leaves no file.
-    write_atomically(path, [&](const std::string& tmp) {
-        write_fully(tmp, bytes, path);
-        IntegrityRecord back;
-        try {
-            back = verify_asset_file(tmp);
-        } catch (const Error& e) {
-            throw IoError(path + ": the file read back is not the one written (" +
-                          one_line(e.what()) + ")");
-        }
-        if (back.size != sealed.size || back.sha256 != sealed.sha256)
-            throw IoError(path + ": the file read back is not the one written");
-    });
-}
 
 Asset load_asset(const std::string& path) {
     OpenAsset f(path);

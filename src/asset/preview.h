@@ -1,7 +1,7 @@
 #pragma once
 // The `density` / `color` preview: the asset's in-scatter resampled onto a world-space linear
-// grid (docs/asset-format.md). Pure arithmetic on the flat arrays, kept out of asset_file.cpp
-// so that only one translation unit compiles OpenVDB.
+// grid (docs/asset-format.md). Pure arithmetic on the flat arrays, kept out of asset_write.cpp
+// so that only the file's two translation units compile OpenVDB.
 
 #include <vector>
 

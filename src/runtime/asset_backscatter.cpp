@@ -23,7 +23,9 @@ int bucket_count(const std::vector<double>& z) {
 }
 
 /// Each pixel's slab k and weight wz within it: the slab from the bucket table plus at most one
-/// step. z == 0 (open water) looks up z_max, as does any depth beyond it.
+/// step. z == 0 (open water) looks up z_max, as does any depth beyond it:
+///   z'_u = min(z_u, z_max),  z_(k_u) <= z'_u < z_(k_u + 1),
+///   wz_u = clamp((z'_u - z_(k_u)) / (z_(k_u + 1) - z_(k_u)), 0, 1).
 DEEPSEA_CLONES
 void depth_cells(int n, const float* __restrict z, const float* __restrict zs,
                  const float* __restrict znext, const float* __restrict inv_h,
@@ -39,7 +41,8 @@ void depth_cells(int n, const float* __restrict z, const float* __restrict zs,
     }
 }
 
-/// The slabs [lo, hi] that pixels [begin, end) use.
+/// The slabs [lo, hi] that pixels [begin, end) use: lo = min(lo, min_u k_u),
+/// hi = max(hi, max_u k_u).
 DEEPSEA_CLONES
 void slab_range(int begin, int end, const int* __restrict k, int& lo, int& hi) {
     int a = lo, b = hi;
@@ -53,7 +56,8 @@ void slab_range(int begin, int end, const int* __restrict k, int& lo, int& hi) {
 }
 
 /// Vertical interpolation once per row rather than per pixel: samples [m0, m1) of one lattice
-/// column, blended between the row's two lattice rows a and b by the row weight w.
+/// column, blended between the row's two lattice rows a and b by the row weight w,
+///   S_i[m] = B(i, j0, m) + w_v (B(i, j1, m) - B(i, j0, m))   (m = 3k + c).
 DEEPSEA_CLONES
 void blend_rows(int m0, int m1, const float* __restrict a, const float* __restrict b, float w,
                 float* __restrict out) {
@@ -62,7 +66,11 @@ void blend_rows(int m0, int m1, const float* __restrict a, const float* __restri
 }
 
 /// B for one image row from its slice (blend_rows), interleaved RGB out: linear between the
-/// two lattice columns of each pixel and between the samples of its slab (depth_cells). A
+/// two lattice columns of each pixel and between the samples of its slab (depth_cells),
+///   B(u, v, z_u) = L(L(S_i0[k], S_i0[k + 1], wz_u), L(S_i1[k], S_i1[k + 1], wz_u), w_u),
+/// L(a, b, w) = a + w (b - a), k = k_u: docs/model.md's cumulative backscatter
+/// B(z) = sum_l integral_0^(t(z)) beta I_l exp(-c (d1' + t)) / d1'^2 dt as the asset samples it,
+/// bilinear in (u, v) and linear in z (DESIGN.md section 3). A
 /// sample's three channels to a vector (the fourth lane, the next sample's first channel, is
 /// carried along and dropped; the slice has a float of room at its end for it).
 DEEPSEA_CLONES

@@ -6,6 +6,12 @@
 
 namespace deepsea {
 
+// Gram-Schmidt with column pivoting on the columns w_j (for the forward scatter, the blurred
+// scales' weights W_j at the table's distances d_i):
+//   residual  e_j = w_j - sum_r (b_r . w_j) b_r, over the basis so far;
+//   pivot     p = argmax_j |e_j|^2 among the columns with max_i |e_j[i]| > tol;
+//   new b_r   = q / |q|,  q = e_p - sum_r' (b_r' . e_p) b_r'  (orthogonalised a second time);
+//   coef      a_jr = b_r . w_j, so that w_j ~= sum_r a_jr b_r (W_j(d) ~= sum_r a_jr phi_r(d)).
 ColumnBasis span_columns(const std::vector<double>& columns, int rows, int cols, double tol) {
     ColumnBasis out;
     out.rows = rows;
@@ -26,7 +32,7 @@ ColumnBasis span_columns(const std::vector<double>& columns, int rows, int cols,
             if (worst_entry(j) <= tol) continue;
             const double* r = column(residual, j);
             double s = 0.0;
-            for (std::size_t i = 0; i < n; ++i) s += r[i] * r[i];
+            for (std::size_t i = 0; i < n; ++i) s += r[i] * r[i];  // |e_j|^2
             if (pivot < 0 || s > norm2) pivot = j, norm2 = s;
         }
         if (pivot < 0 || norm2 <= 0.0) break;
@@ -46,7 +52,7 @@ ColumnBasis span_columns(const std::vector<double>& columns, int rows, int cols,
         for (double& x : q) x /= len;
         out.basis.insert(out.basis.end(), q.begin(), q.end());
         ++out.rank;
-        for (int j = 0; j < cols; ++j) {
+        for (int j = 0; j < cols; ++j) {  // e_j -= (b_r . e_j) b_r
             double* r = column(residual, j);
             double dot = 0.0;
             for (std::size_t i = 0; i < n; ++i) dot += q[i] * r[i];

@@ -18,6 +18,10 @@ constexpr double kLevelRatio = 1.4142135623730951;  // sqrt(2)
 /// Weight of one blur level per pixel (sigma = scale * s, at most cap): a hat in sigma that is 1 at
 /// the level's sigma s and 0 at its neighbours' (inv_lo, inv_hi: 1 / distance to them; 0 for an end
 /// level, which keeps weight 1 beyond itself). Returns whether any pixel of the row uses the level.
+/// The Jaffe-McGlamery blur G_(sigma(u)) * L_s, sigma(u) = fx k d2(u) (docs/model.md), is
+/// sum_i h_i(u) (G_(s_i) * L_s)(u) with level i's hat
+///   h_i(u) = max(0, 1 - |sigma_u - s_i| / |s_(i +- 1) - s_i|),  sigma_u = min(scale s(u), cap),
+/// the neighbour on sigma_u's side, and h_i(u) = 0 where sigma_u <= 0: a pixel's h_i sum to 1.
 DEEPSEA_CLONES
 bool level_weights(int n, const float* __restrict sigma, float scale, float cap, float s,
                    float inv_lo, float inv_hi, float* __restrict w) {
@@ -34,6 +38,7 @@ bool level_weights(int n, const float* __restrict sigma, float scale, float cap,
     return any > 0.0f;
 }
 
+/// One level's term of that sum: acc[u] += h_i(u) (G_(s_i) * L_s)(u).
 DEEPSEA_CLONES
 void add_weighted(int n, const float* __restrict w, const float* __restrict src,
                   float* __restrict acc) {
@@ -117,7 +122,8 @@ void ForwardBlur::prepare(const Image& in, const Image& s_img, float scale) {
     if (sigmas.size() < 2) sigmas.push_back(s);
 
     // Pyramid of 2x2 box averages (edge blocks average what they have), only as deep as the
-    // widest level needs; level 0 is the input itself.
+    // widest level needs; level 0 is the input itself:
+    //   A_l(x, y) = 1/4 sum_(a, b in {0, 1}) A_(l-1)(2x + a, 2y + b).
     int depth = 1;
     while ((2 << (depth - 1)) <= sigmas.back() && depth < 8 && std::min(W, H) >> depth >= 8) {
         ++depth;
@@ -151,6 +157,8 @@ void ForwardBlur::prepare(const Image& in, const Image& s_img, float scale) {
     }
 }
 
+// Row v of sum_i h_i(u) (G_(s_i) * L_s)(u): each level's blurred planes, upsampled where the
+// level was blurred on a coarser copy, weighted by its hat (level_weights, add_weighted).
 void ForwardBlur::blend_row(int v, const float* s_row, float* out_rgb) const {
     const int W = m_width;
     const int n = m_count;

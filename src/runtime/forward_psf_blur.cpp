@@ -7,31 +7,29 @@
 #include <array>
 #include <cmath>
 
-#include "clones.h"
 #include "column_basis.h"
 #include "deepsea/core/error.h"
-#include "float4.h"
+#include "forward_psf_rows.h"
 #include "gaussian_planes.h"
 
 namespace deepsea {
 
+using psf_rows::add_doubled;
+using psf_rows::expand_blocks;
+using psf_rows::f_row;
+using psf_rows::kMaxStride;
+using psf_rows::pair_sums;
+using psf_rows::weigh_blocks;
+
 namespace {
 
 constexpr int kTableBins = 1024;
-/// Basis functions per channel in a table row, padded to a multiple of 4 (at most one per
-/// blurred scale: 32 holds images of up to 2^30 px a side).
-constexpr int kMaxStride = 32;
 /// What the weight basis may leave out of any scale's weight, as a fraction of the channel's
 /// largest total weight: far below a 16-bit code value of the forward-scatter image.
 constexpr double kBasisTolerance = 1e-6;
 
-/// Upsampling by two, as the grids are built: output column (or row) x samples the grid twice
-/// as coarse at (x + 0.5) / 2 - 0.5, clamped to its n_lo columns. That is 3/4 of the way from
-/// column x/2 - 1 to x/2 for even x, 1/4 from (x - 1)/2 to (x + 1)/2 for odd x. With the
-/// coarse row padded (one column repeated at each end: qp[j + 1] = q[j]), output x reads qp at
-/// x/2 + (x odd) and the next, edges included, without branches or gathers.
-
-/// The two coarse rows that full row y samples, and the weight of the second.
+/// The two coarse rows that full row y samples, and the weight of the second (upsampling by
+/// two: forward_psf_rows.h).
 struct RowTaps {
     int y0, y1;
     float w;
@@ -42,131 +40,10 @@ RowTaps doubled_row(int y, int h_lo) {
     return {y0, std::min(y0 + 1, h_lo - 1), std::clamp(fy - y0, 0.0f, 1.0f)};
 }
 
-/// dst[x] += the padded coarse row qp upsampled at x, for n columns.
-DEEPSEA_CLONES
-void add_doubled(int n, const float* __restrict qp, float* __restrict dst) {
-    const int pairs = n / 2;
-#pragma omp simd
-    for (int i = 0; i < pairs; ++i) {
-        dst[2 * i] += qp[i] + 0.75f * (qp[i + 1] - qp[i]);
-        dst[2 * i + 1] += qp[i + 1] + 0.25f * (qp[i + 2] - qp[i + 1]);
-    }
-    if (n % 2) dst[n - 1] += qp[pairs] + 0.75f * (qp[pairs + 1] - qp[pairs]);
-}
-
-/// Kernel::run<S>(args...) for a table stride S known at compile time: 4, 8, 12, 16, 20, or
-/// kMaxStride for anything else (inlined into each caller, and so into its AVX2 clone).
-template <class Kernel, class... Args>
-[[gnu::always_inline]] inline void by_stride(int stride, Args... args) {
-    switch (stride) {
-        case 4:
-            return Kernel::template run<4>(args...);
-        case 8:
-            return Kernel::template run<8>(args...);
-        case 12:
-            return Kernel::template run<12>(args...);
-        case 16:
-            return Kernel::template run<16>(args...);
-        case 20:
-            return Kernel::template run<20>(args...);
-        default:
-            return Kernel::template run<kMaxStride>(args...);
-    }
-}
-
-/// x[b * lanes + c * stride + r] = (or, with add, +=) the sum over the block's pixels u (b * block
-/// .. b * block + block - 1, fewer at the end) of phi_r(d_u) L_u[c], phi_r from the table's rows
-/// idx[u] and idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing.
-/// A block's sums stay in registers, four basis functions to a vector: the stride is a compile-time
-/// multiple of four.
-struct WeighBlocks {
-    template <int S>
-    [[gnu::always_inline]] static void run(int n, int block, const int* __restrict idx,
-                                           const float* __restrict frac,
-                                           const float* __restrict tab, const float* __restrict L,
-                                           bool add, float* __restrict x) {
-        constexpr int lanes = 3 * S, V = S / 4;
-        for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
-            Float4 acc[3 * V] = {};
-            for (int u = u0; u < std::min(u0 + block, n); ++u) {
-                const bool on = idx[u] >= 0;
-                const float* ta = tab + std::size_t(on ? idx[u] : 0) * lanes;
-                const float* tb = ta + lanes;
-                const float t = frac[u];
-                for (int c = 0; c < 3; ++c) {
-                    const float l = on ? L[3 * u + c] : 0.0f;
-                    for (int k = 0; k < V; ++k) {
-                        const Float4 a = load4(ta + c * S + 4 * k),
-                                     d = load4(tb + c * S + 4 * k) - a;
-                        acc[c * V + k] += (a + t * d) * l;
-                    }
-                }
-            }
-            float* out = x + std::size_t(b) * lanes;
-            for (int k = 0; k < 3 * V; ++k)
-                store4(out + 4 * k, add ? load4(out + 4 * k) + acc[k] : acc[k]);
-        }
-    }
-};
-
-DEEPSEA_CLONES
-void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
-                  const float* L, bool add, float* x) {
-    by_stride<WeighBlocks>(stride, n, block, idx, frac, tab, L, add, x);
-}
-
-/// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
-/// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[c * channel + j * stride
-/// + r] * acc[b * lanes + c * stride + r], the last block also times `edge` (coef: the
-/// group's first scale in the weight table's coefficients, `channel` floats per channel).
-struct ExpandBlocks {
-    template <int S>
-    [[gnu::always_inline]] static void run(int n, int scales, const float* __restrict acc,
-                                           const float* __restrict coef, std::size_t channel,
-                                           float* const* dst, float scale, float edge) {
-        constexpr int lanes = 3 * S, V = S / 4;
-        for (int c = 0; c < 3; ++c) {
-            for (int j = 0; j < scales; ++j) {
-                const float* k = coef + c * channel + std::size_t(j) * S;
-                Float4 kv[V];
-                for (int i = 0; i < V; ++i) kv[i] = load4(k + 4 * i);
-                float* __restrict out = dst[c * scales + j];
-                const auto dot = [&](int b) {
-                    const float* a = acc + std::size_t(b) * lanes + c * S;
-                    Float4 s = kv[0] * load4(a);
-                    for (int i = 1; i < V; ++i) s += kv[i] * load4(a + 4 * i);
-                    return s;
-                };
-                int b = 0;
-                for (; b + 4 <= n; b += 4) {
-                    // four blocks' sums at once: their vectors transposed and added
-                    const Float4 s0 = dot(b), s1 = dot(b + 1), s2 = dot(b + 2), s3 = dot(b + 3);
-                    const Float4 u01 = __builtin_shufflevector(s0, s1, 0, 4, 1, 5) +
-                                       __builtin_shufflevector(s0, s1, 2, 6, 3, 7);
-                    const Float4 u23 = __builtin_shufflevector(s2, s3, 0, 4, 1, 5) +
-                                       __builtin_shufflevector(s2, s3, 2, 6, 3, 7);
-                    store4(out + b, (__builtin_shufflevector(u01, u23, 0, 1, 4, 5) +
-                                     __builtin_shufflevector(u01, u23, 2, 3, 6, 7)) *
-                                        scale);
-                }
-                for (; b < n; ++b) {
-                    const Float4 s = dot(b);
-                    out[b] = ((s[0] + s[2]) + (s[1] + s[3])) * scale;
-                }
-                out[n - 1] *= edge;
-            }
-        }
-    }
-};
-
-DEEPSEA_CLONES
-void expand_blocks(int n, int stride, int scales, const float* acc, const float* coef,
-                   std::size_t channel, float* const* dst, float scale, float edge) {
-    by_stride<ExpandBlocks>(stride, n, scales, acc, coef, channel, dst, scale, edge);
-}
-
-/// Table rows and fractions of one row of distances: idx[u] = -1 where there is no surface
-/// (d <= 0) or the distance is beyond the table (its weights are negligible).
+/// Table rows and fractions of one row of distances,
+///   d_u / step = i_u + t_u,  i_u = min(floor(d_u / step), bins - 1),
+/// and idx[u] = -1 where there is no surface (d <= 0) or the distance is beyond the table (its
+/// weights are negligible).
 void table_rows(int n, const float* d2, float inv_step, float range, int bins, int* idx,
                 float* frac) {
     for (int u = 0; u < n; ++u) {
@@ -176,85 +53,6 @@ void table_rows(int n, const float* d2, float inv_step, float range, int bins, i
         const int i = std::min(int(ti), bins - 1);
         idx[u] = on ? i : -1;
         frac[u] = ti - float(i);
-    }
-}
-
-/// Sums of neighbouring blocks: dst block i = (or, with add, +=) src blocks 2i and 2i + 1 (the
-/// last alone when n is odd), each block `lanes` floats.
-DEEPSEA_CLONES
-void pair_sums(int n, int lanes, const float* __restrict src, bool add, float* __restrict dst) {
-    const int pairs = n / 2;
-    for (int i = 0; i < pairs; ++i) {
-        const float* s = src + std::size_t(2 * i) * lanes;
-        float* d = dst + std::size_t(i) * lanes;
-        if (add) {
-#pragma omp simd
-            for (int k = 0; k < lanes; ++k) d[k] += s[k] + s[k + lanes];
-        } else {
-#pragma omp simd
-            for (int k = 0; k < lanes; ++k) d[k] = s[k] + s[k + lanes];
-        }
-    }
-    if (n % 2) {
-        const float* s = src + std::size_t(n - 1) * lanes;
-        float* d = dst + std::size_t(pairs) * lanes;
-        for (int k = 0; k < lanes; ++k) d[k] = add ? d[k] + s[k] : s[k];
-    }
-}
-
-/// Interleaved RGB F of one row: out[3u + c] = (or +=) W_0(d_u) L_u[c] (0 where idx[u] < 0) +
-/// full[c][u] (when full is not null) + the factor-2 grid's row upsampled at u (when coarse is
-/// not null). coarse: that grid's row blended between its two grid rows (doubled_row), padded
-/// as add_doubled's, 4 floats a column (RGB and padding). A pixel's weights are a vector, four
-/// pixels' twelve floats are three (whole vectors loaded and stored: a vector a pixel would
-/// overlap the last store and stall).
-DEEPSEA_CLONES
-void f_row(int n, const int* __restrict idx, const float* __restrict frac,
-           const float* __restrict sharp, const float* __restrict L, const float* const* full,
-           const float* __restrict coarse, bool add, float* __restrict out) {
-    // One pixel's sum before L: its sharp weights (RGB, 0 where idx < 0) and its upsampled grid
-    // value (the fourth lane padding).
-    const auto weights = [&](int u) {
-        const bool on = idx[u] >= 0;
-        const float* ta = sharp + std::size_t(on ? idx[u] : 0) * 4;
-        const Float4 a = load4(ta), b = load4(ta + 4);
-        return on ? a + frac[u] * (b - a) : Float4{};
-    };
-    const auto grid = [&](int u) {
-        const int odd = u & 1;
-        const float* q = coarse + 4 * std::size_t((u >> 1) + odd);
-        const Float4 q0 = load4(q), q1 = load4(q + 4);
-        return q0 + (odd ? 0.25f : 0.75f) * (q1 - q0);
-    };
-    int u = 0;
-    if (!full && coarse) {
-        // Four pixels at a time: their twelve interleaved floats as three whole vectors.
-        for (; u + 4 <= n; u += 4) {
-            const Float4 w0 = weights(u), w1 = weights(u + 1), w2 = weights(u + 2),
-                         w3 = weights(u + 3);
-            const Float4 g0 = grid(u), g1 = grid(u + 1), g2 = grid(u + 2), g3 = grid(u + 3);
-            // [r0 g0 b0 r1] [g1 b1 r2 g2] [b2 r3 g3 b3]
-            const Float4 wa = __builtin_shufflevector(w0, w1, 0, 1, 2, 4),
-                         wb = __builtin_shufflevector(w1, w2, 1, 2, 4, 5),
-                         wc = __builtin_shufflevector(w2, w3, 2, 4, 5, 6);
-            const Float4 ga = __builtin_shufflevector(g0, g1, 0, 1, 2, 4),
-                         gb = __builtin_shufflevector(g1, g2, 1, 2, 4, 5),
-                         gc = __builtin_shufflevector(g2, g3, 2, 4, 5, 6);
-            float* o = out + 3 * std::size_t(u);
-            const float* l = L + 3 * std::size_t(u);
-            const Float4 fa = wa * load4(l) + ga, fb = wb * load4(l + 4) + gb,
-                         fc = wc * load4(l + 8) + gc;
-            store4(o, add ? load4(o) + fa : fa);
-            store4(o + 4, add ? load4(o + 4) + fb : fb);
-            store4(o + 8, add ? load4(o + 8) + fc : fc);
-        }
-    }
-    for (; u < n; ++u) {
-        const Float4 l = {L[3 * u], L[3 * u + 1], L[3 * u + 2], 0.0f};
-        Float4 s = weights(u) * l;
-        if (full) s += Float4{full[0][u], full[1][u], full[2][u], 0.0f};
-        if (coarse) s += grid(u);
-        for (int c = 0; c < 3; ++c) out[3 * u + c] = add ? out[3 * u + c] + s[c] : s[c];
     }
 }
 
@@ -579,6 +377,7 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
             const float* plane = coarser.acc.data() + std::size_t(c) * coarser.w * coarser.h;
             const float* r0 = plane + std::size_t(t.y0) * coarser.w;
             const float* r1 = plane + std::size_t(t.y1) * coarser.w;
+            // the coarser grid between its rows y0 and y1: q[y0] + w (q[y1] - q[y0]), padded
             thread_local std::vector<float> padded;
             padded.resize(coarser.w + 2);
             for (int x = 0; x < coarser.w; ++x) padded[x + 1] = r0[x] + t.w * (r1[x] - r0[x]);

@@ -11,8 +11,8 @@ namespace deepsea::planes {
 
 namespace {
 
-/// Normalisation of a zero-padded 1-D convolution: w[x] = 1 / (sum of the taps that fall
-/// inside), for n pixels.
+/// Normalisation of a zero-padded 1-D convolution over n pixels, the taps that fall inside:
+///   w[x] = 1 / sum_(k = max(-r, -x))^(min(r, n - 1 - x)) g_k.
 void inside_weights(int n, const std::vector<float>& g, int r, std::vector<float>& w) {
     w.resize(n);
     for (int x = 0; x < n; ++x) {
@@ -22,7 +22,8 @@ void inside_weights(int n, const std::vector<float>& g, int r, std::vector<float
     }
 }
 
-/// dst[x] = sum_k g[k] src[x + k] over a row padded with r zeros on each side.
+/// The horizontal pass of G_sigma, unnormalised, over a row padded with r zeros on each side:
+///   dst[x] = sum_(k = -r)^(r) g_k src[x + k],  g_k = exp(-k^2 / (2 sigma^2)).
 DEEPSEA_CLONES
 void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
                   const float* __restrict g, int r) {
@@ -45,6 +46,10 @@ Source planar(const float* data, int w, int h) {
     return {data, w, h, std::size_t(w) * h, 1, std::size_t(w)};
 }
 
+// Per plane, the separable Gaussian normalised over in-image taps (the scene continues beyond
+// the frame, docs/model.md):
+//   (G_sigma * s)(x, y) = ny[y] sum_l g_l nx[x] sum_k g_k s(x + k, y + l),
+// k and l over in-image pixels, nx and ny from inside_weights: a uniform image stays uniform.
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
                  std::vector<float>& nx, std::vector<float>& ny, Store store) {
     const int w = src.w, h = src.h;
@@ -91,6 +96,7 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
     });
 }
 
+/// dst[x] = a[x] + t (b[x] - a[x]): a row between two rows.
 DEEPSEA_CLONES
 void lerp_rows(int n, const float* __restrict a, const float* __restrict b, float t,
                float* __restrict dst) {
@@ -98,6 +104,8 @@ void lerp_rows(int n, const float* __restrict a, const float* __restrict b, floa
     for (int x = 0; x < n; ++x) dst[x] = a[x] + t * (b[x] - a[x]);
 }
 
+/// acc[u] += w[u] (q[x0_u] + ax_u (q[x1_u] - q[x0_u])): a weighted, horizontally interpolated
+/// sample of the coarse row q.
 DEEPSEA_CLONES
 void add_upsampled(int n, const float* __restrict w, const float* __restrict row,
                    const int* __restrict x0, const int* __restrict x1, const float* __restrict ax,
@@ -109,6 +117,8 @@ void add_upsampled(int n, const float* __restrict w, const float* __restrict row
     }
 }
 
+// Bilinear in both directions: the coarse rows y0, y1 around p_y = (v + 1/2) / factor - 1/2
+// blended (lerp_rows), then sampled per column (add_upsampled).
 void add_upsampled_row(int n, int v, int factor, const float* q, int w_lo, int h_lo, const int* x0,
                        const int* x1, const float* ax, const float* w, float* tmp, float* acc) {
     const float fy = (v + 0.5f) / factor - 0.5f;

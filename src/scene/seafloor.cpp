@@ -1,5 +1,5 @@
-// Procedural seafloor: height field, albedo texture and ray marching (flight.cpp renders
-// frames with it). docs/scene.md describes the model; the numbers below are its parameters.
+// Procedural seafloor: the height field and ray marching (flight.cpp renders frames with it;
+// the albedo texture is seafloor_albedo.cpp). The parameters are in seafloor_parts.h.
 
 #include "deepsea/scene/seafloor.h"
 
@@ -8,80 +8,13 @@
 #include <limits>
 
 #include "noise.h"
+#include "seafloor_parts.h"
 
 namespace deepsea {
 
 using namespace scene_detail;
 
 namespace {
-
-// Salt slots: every layer of the seafloor draws from its own hash stream.
-enum Layer : int {
-    kLargeLayer,
-    kRippleWarpLayer,
-    kRippleMaskLayer,
-    kMicroLayer,
-    kNoduleLayer,
-    kDensityLayer,
-    kSandLayer,
-    kGrainLayer,
-    kSpeckLayer,
-    kShellLayer,
-    kRippleDirLayer,
-    kLayerCount,
-};
-
-// Large-scale undulation: fBm, lattice spacing of the first octave in metres.
-constexpr double kLargeSpacing = 7.0;
-constexpr double kLargeAmplitude = 0.2;  // m; typical +-0.1 m, bound +-0.26 m
-constexpr int kLargeOctaves = 3;
-
-// Sand ripples: crest-to-trough height and wavelength (m), crests meandered by a warp noise
-// and present only in patches (mask noise), as on current-swept sediment.
-constexpr double kRippleWavelength = 0.13;
-constexpr double kRippleHeight = 0.012;
-constexpr double kRippleWarpSpacing = 1.2;  // m
-constexpr double kRippleWarpCycles = 1.0;   // crest displacement, in wavelengths
-constexpr double kRippleMaskSpacing = 2.5;  // m
-constexpr double kRippleMaskLo = -0.1, kRippleMaskHi = 0.25;
-
-// Micro-relief: mm-scale roughness that gives the depth map's normals some texture.
-constexpr double kMicroSpacing = 0.04;
-constexpr double kMicroAmplitude = 0.0015;
-constexpr int kMicroOctaves = 2;
-
-// Nodules and rocks: at most one per square cell of kCell metres, centre anywhere in the cell,
-// semi-major axis at most kMaxRadius; with the lumpy outline, at most kOutline * kMaxRadius
-// from its centre.
-constexpr double kCell = 0.15;
-constexpr double kMaxRadius = 0.075;
-constexpr double kDensitySpacing = 3.0;  // m, size of dense and sparse nodule patches
-constexpr double kRockFraction = 0.04;   // of bumps that are rocks instead of nodules
-constexpr double kLump = 0.35;           // relative distortion of the outline (lumpiness)
-constexpr double kLumpFrequency = 1.1;   // lattice cells of lump noise per semi-axis
-constexpr int kLumpOctaves = 2;
-constexpr double kNoduleHeightMax = 0.6;  // height / semi-minor axis, nodules
-constexpr double kHaloReach = 1.5;        // stained sediment out to this many radii
-// q^2 = r^2 (1 + kLump lump) lies within r^2 [kLumpLo, kLumpHi].
-const double kLumpLo = 1.0 - kLump * kNoiseMax * fbm_amplitude(kLumpOctaves);
-const double kLumpHi = 1.0 + kLump * kNoiseMax * fbm_amplitude(kLumpOctaves);
-// A bump of semi-major axis a covers at most the disc of radius a * kOutline.
-const double kOutline = 1.0 / std::sqrt(kLumpLo);
-
-// gather() collects the bumps within at most kMaxGather metres of a point; a 4 x 4 block of
-// cells covers that disc plus the largest halo, so kMaxBumps is never reached.
-constexpr double kMaxGather = 0.05;
-constexpr int kMaxBumps = 16;
-
-// Albedo-only layers: bright specks (forams, shell grit) and shell fragments.
-constexpr double kSpeckCell = 0.03;
-constexpr double kShellCell = 0.5;
-
-Rgb mix(const Rgb& a, const Rgb& b, double t) { return a + (b - a) * t; }
-
-Rgb clamp01(const Rgb& c) {
-    return {scene_detail::clamp01(c.r), scene_detail::clamp01(c.g), scene_detail::clamp01(c.b)};
-}
 
 /// Bound on sqrt(1 - q^2) |grad q^2| * b over a lumpy ellipse with semi-minor axis b, from
 /// its expression in normalised coordinates (u/a, v/b): times 1.5 H / b it bounds the slope
@@ -99,38 +32,6 @@ double lumpy_profile_slope() {
 }
 
 }  // namespace
-
-/// What probe() finds at a point besides the height: what the albedo needs, and how far the
-/// nearest bump is (for the ray marcher).
-struct Seafloor::Probe {
-    bool with_height = true;  // false: albedo only (no height terms, bumps out to the halo)
-    double height = 0.0;
-    double ripple = 0.0;          // ripple(x, y); albedo mode: the caller sets it
-    int kind = 0;                 // 0 sand, 1 nodule, 2 rock: the bump that covers the point
-    std::uint64_t bump_hash = 0;  // cell hash of that bump
-    double bump_q2 = 1.0;         // its normalised radius^2 (0 centre, 1 rim)
-    double halo_q2 = 1e9;         // smallest normalised radius^2 of a nodule nearby
-    double free = 0.0;            // no bump outline within this distance (m) among those given
-};
-
-/// Noise lattice caches for a run of nearby evaluations (one ray, one pixel): the same values
-/// as uncached, cheaper.
-struct Seafloor::Caches {
-    FbmCache<kLargeOctaves> large;
-    NoiseCache warp, mask;
-    FbmCache<kMicroOctaves> micro;
-};
-
-/// One nodule or rock, as gather() finds it.
-struct Seafloor::Bump {
-    std::uint64_t hash;  // cell hash: the bump's own random stream
-    double px, py;       // centre, m
-    double a, b;         // semi-axes, m (a >= b)
-    double ca, sa;       // direction of the a axis
-    double ratio;        // height / b
-    double outline;      // radius of the disc that holds the outline (or the halo), m
-    bool rock;
-};
 
 Seafloor::Seafloor(std::uint64_t seed, double relief) : m_relief(relief) {
     for (int i = 0; i < kLayerCount; ++i) m_salt[i] = layer_salt(seed, std::uint64_t(i));
@@ -275,158 +176,6 @@ double Seafloor::height(double x, double y) const {
     Caches c;
     probe(x, y, bumps, n, p, c);
     return p.height;
-}
-
-Rgb Seafloor::sediment_base(double x, double y) const {
-    // Grey-brown and beige patches, a broad brightness variation, a slight hue drift and
-    // darker organic blotches, mottling: all several pixels wide at the default view, so once
-    // per pixel is enough.
-    const std::uint64_t sand = m_salt[kSandLayer];
-    const double patch = smoothstep(-0.45, 0.45, fbm(sand, x / 1.3, y / 1.3, 3));
-    Rgb c = mix(Rgb(0.30, 0.26, 0.205), Rgb(0.40, 0.315, 0.20), patch);
-    c = c * (1.0 + 0.12 * gradient_noise(sand + 7, x / 5.0, y / 5.0));
-    const double hue = 0.05 * gradient_noise(sand + 11, x / 0.4, y / 0.4);
-    c = Rgb(c.r * (1.0 + hue), c.g, c.b * (1.0 - hue));
-    const double blotch = smoothstep(0.2, 0.5, gradient_noise(sand + 13, x / 0.12, y / 0.12));
-    // Mottling at a few centimetres: still several pixels wide at the default view.
-    const double mottle = 0.08 * gradient_noise(sand + 17, x / 0.05, y / 0.05) +
-                          0.06 * gradient_noise(sand + 19, x / 0.02, y / 0.02);
-    return c * (1.0 - 0.12 * blotch + mottle);
-}
-
-Rgb Seafloor::shade(double x, double y, const Probe& p, const Rgb& base,
-                    SeafloorMaterial* material) const {
-    const std::uint64_t grain = m_salt[kGrainLayer];
-    if (p.kind == 1) {
-        // Manganese nodule: dark brown-black, each a little different, mottled, with a thin
-        // dusting of sediment toward the top.
-        const std::uint64_t h = p.bump_hash;
-        const double tone = 0.75 + 0.5 * cell_unit(h, 9);
-        Rgb c = Rgb(0.085, 0.066, 0.058) * tone;
-        c = c * (1.0 + 0.3 * gradient_noise(h ^ grain, x / 0.012, y / 0.012) +
-                 0.2 * gradient_noise(h ^ grain, x / 0.005, y / 0.005));
-        const double dust = 0.5 * cell_unit(h, 10) * (1.0 - p.bump_q2) *
-                            smoothstep(0.0, 0.4, gradient_noise(h, x / 0.01, y / 0.01));
-        c = mix(c, base, dust);
-        *material = SeafloorMaterial::Nodule;
-        return clamp01(c);
-    }
-    if (p.kind == 2) {
-        // Rock: brownish grey, mottled with lighter and darker grains.
-        const std::uint64_t h = p.bump_hash;
-        const double tone = 0.8 + 0.5 * cell_unit(h, 9);
-        Rgb c = Rgb(0.15, 0.13, 0.11) * tone;
-        c = c * (1.0 + 0.45 * fbm(h, x / 0.01, y / 0.01, 2));
-        *material = SeafloorMaterial::Rock;
-        return clamp01(c);
-    }
-
-    // Shell fragments: rare, pale, elliptical, flat (albedo only); kept inside their cell so
-    // that one cell lookup is enough.
-    {
-        const double gx = x / kShellCell, gy = y / kShellCell;
-        const auto ix = std::int64_t(fast_floor(gx)), iy = std::int64_t(fast_floor(gy));
-        const std::uint64_t h = hash_cell(m_salt[kShellLayer], ix, iy);
-        if (bits_unit(h, 0, 16) < 0.3) {
-            const double a = 0.006 + 0.012 * bits_unit(h, 16, 16);
-            const double px = (double(ix) + bits_unit(h, 32, 16)) * kShellCell;
-            const double py = (double(iy) + bits_unit(h, 48, 16)) * kShellCell;
-            const double cx =
-                std::clamp(px, double(ix) * kShellCell + a, (double(ix) + 1.0) * kShellCell - a);
-            const double cy =
-                std::clamp(py, double(iy) * kShellCell + a, (double(iy) + 1.0) * kShellCell - a);
-            const double dx = (x - cx) / a;
-            const double dy = (y - cy) / (a * (0.45 + 0.5 * cell_unit(h, 4)));
-            if (dx * dx + dy * dy < 1.0) {
-                const double t = 0.85 + 0.15 * gradient_noise(h, x / 0.004, y / 0.004);
-                *material = SeafloorMaterial::Shell;
-                return clamp01(Rgb(0.68, 0.64, 0.56) * t);
-            }
-        }
-    }
-    // Specks, 1-4 mm: mostly bright (foraminifera, shell grit), some dark; inside their cell.
-    {
-        const double gx = x / kSpeckCell, gy = y / kSpeckCell;
-        const double fx = fast_floor(gx), fy = fast_floor(gy);
-        const std::uint64_t h = hash_cell(m_salt[kSpeckLayer], std::int64_t(fx), std::int64_t(fy));
-        const double kind = bits_unit(h, 0, 16);
-        if (kind < 0.3) {
-            const double size = bits_unit(h, 16, 16);
-            const double r = (0.001 + 0.003 * size * size) / kSpeckCell;
-            const double px = r + (1.0 - 2.0 * r) * bits_unit(h, 32, 16);
-            const double py = r + (1.0 - 2.0 * r) * bits_unit(h, 48, 16);
-            const double dx = gx - fx - px, dy = gy - fy - py;
-            if (dx * dx + dy * dy < r * r) {
-                if (kind < 0.22) {
-                    *material = SeafloorMaterial::Shell;
-                    return clamp01(Rgb(0.62, 0.6, 0.5) * (0.8 + 0.3 * cell_unit(h, 4)));
-                }
-                *material = SeafloorMaterial::Sand;
-                return base * 0.35;
-            }
-        }
-    }
-
-    // Sediment: the base colour with fine grain, slightly lighter ripple crests, and a
-    // stained halo around nodules.
-    const double fine = 0.16 * gradient_noise(grain, x / 0.008, y / 0.008) +
-                        0.10 * gradient_noise(grain + 1, x / 0.004, y / 0.004);
-    Rgb c = base * (1.0 + fine + 0.05 * p.ripple);
-    if (p.halo_q2 < kHaloReach * kHaloReach) {
-        c = c * (1.0 - 0.2 * smoothstep(kHaloReach * kHaloReach, 1.0, p.halo_q2));
-    }
-    *material = SeafloorMaterial::Sand;
-    return clamp01(c);
-}
-
-SeafloorSample Seafloor::sample(double x, double y) const {
-    SeafloorSample s;
-    s.height = height(x, y);
-    Bump bumps[kMaxBumps];
-    const int n = gather(x, y, 0.0, true, bumps);
-    Probe p;
-    p.with_height = false;
-    Caches c;
-    probe(x, y, bumps, n, p, c);
-    p.ripple = ripple(x, y, c);
-    s.albedo = shade(x, y, p, sediment_base(x, y), &s.material);
-    return s;
-}
-
-Rgb Seafloor::albedo(double x, double y) const { return mean_albedo(&x, &y, 1); }
-
-Rgb Seafloor::mean_albedo(const double* x, const double* y, int n) const {
-    if (n <= 0) return {};
-    double mx = 0.0, my = 0.0;
-    for (int i = 0; i < n; ++i) {
-        mx += x[i];
-        my += y[i];
-    }
-    mx /= n;
-    my /= n;
-    double spread = 0.0;
-    for (int i = 0; i < n; ++i) {
-        const double ex = x[i] - mx, ey = y[i] - my;
-        spread = std::max(spread, std::sqrt(ex * ex + ey * ey));
-    }
-    const Rgb base = sediment_base(mx, my);
-    Caches c;
-    const double crest = ripple(mx, my, c);
-    // One gather for the whole footprint unless it is too wide (far, grazing pixels).
-    Bump bumps[kMaxBumps];
-    const bool shared = spread <= kMaxGather;
-    int nb = shared ? gather(mx, my, spread, true, bumps) : 0;
-    Rgb sum;
-    SeafloorMaterial material;
-    for (int i = 0; i < n; ++i) {
-        if (!shared) nb = gather(x[i], y[i], 0.0, true, bumps);
-        Probe p;
-        p.with_height = false;
-        p.ripple = crest;
-        probe(x[i], y[i], bumps, nb, p, c);
-        sum += shade(x[i], y[i], p, base, &material);
-    }
-    return sum / double(n);
 }
 
 double Seafloor::intersect(const Vec3& o, const Vec3& d, double max_range) const {

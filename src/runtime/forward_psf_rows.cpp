@@ -1,0 +1,223 @@
+// The forward scatter's row kernels (forward_psf_rows.h). Hot loops: compiled with
+// -ffast-math -fopenmp-simd (see CMakeLists.txt).
+
+#include "forward_psf_rows.h"
+
+#include <algorithm>
+
+#include "clones.h"
+#include "float4.h"
+
+namespace deepsea::psf_rows {
+
+namespace {
+
+/// Kernel::run<S>(args...) for a table stride S known at compile time: 4, 8, 12, 16, 20, or
+/// kMaxStride for anything else (inlined into each caller, and so into its AVX2 clone).
+template <class Kernel, class... Args>
+[[gnu::always_inline]] inline void by_stride(int stride, Args... args) {
+    switch (stride) {
+        case 4:
+            return Kernel::template run<4>(args...);
+        case 8:
+            return Kernel::template run<8>(args...);
+        case 12:
+            return Kernel::template run<12>(args...);
+        case 16:
+            return Kernel::template run<16>(args...);
+        case 20:
+            return Kernel::template run<20>(args...);
+        default:
+            return Kernel::template run<kMaxStride>(args...);
+    }
+}
+
+/// weigh_blocks for a stride S known at compile time: the weighing in basis form, for every
+/// block b (its pixels u in B_b), channel c and basis function r,
+///   x_b[c][r] (+)= sum_(u in B_b) phi_r(d_u) L_s(u)[c],
+///   phi_r(d_u) = tab[i_u][c][r] + t_u (tab[i_u + 1][c][r] - tab[i_u][c][r])  (0 off surfaces),
+/// so that sum_r a_jr x_b[c][r] = sum_(u in B_b) W_j(d_u) L_s(u)[c] for every scale j. A
+/// block's sums stay in registers, four basis functions to a vector: S is a multiple of four.
+struct WeighBlocks {
+    template <int S>
+    [[gnu::always_inline]] static void run(int n, int block, const int* __restrict idx,
+                                           const float* __restrict frac,
+                                           const float* __restrict tab, const float* __restrict L,
+                                           bool add, float* __restrict x) {
+        constexpr int lanes = 3 * S, V = S / 4;
+        for (int u0 = 0, b = 0; u0 < n; u0 += block, ++b) {
+            Float4 acc[3 * V] = {};
+            for (int u = u0; u < std::min(u0 + block, n); ++u) {
+                const bool on = idx[u] >= 0;
+                const float* ta = tab + std::size_t(on ? idx[u] : 0) * lanes;
+                const float* tb = ta + lanes;
+                const float t = frac[u];
+                for (int c = 0; c < 3; ++c) {
+                    const float l = on ? L[3 * u + c] : 0.0f;
+                    for (int k = 0; k < V; ++k) {
+                        const Float4 a = load4(ta + c * S + 4 * k),
+                                     d = load4(tb + c * S + 4 * k) - a;
+                        acc[c * V + k] += (a + t * d) * l;
+                    }
+                }
+            }
+            float* out = x + std::size_t(b) * lanes;
+            for (int k = 0; k < 3 * V; ++k)
+                store4(out + 4 * k, add ? load4(out + 4 * k) + acc[k] : acc[k]);
+        }
+    }
+};
+
+/// expand_blocks for a stride S known at compile time: each scale's block mean from the basis
+/// sums, for scale j of the group, channel c and block b,
+///   P_j[c][b] = s_b sum_r a_jr[c] x_b[c][r] = s_b sum_(u in B_b) W_j(d_u) L_s(u)[c],
+/// s_b = scale = 1 / (f rows) (times edge for the last block, which has fewer columns): the
+/// box-downsampled W_j(d) L_s that G_(sigma_j) then blurs on this grid.
+struct ExpandBlocks {
+    template <int S>
+    [[gnu::always_inline]] static void run(int n, int scales, const float* __restrict acc,
+                                           const float* __restrict coef, std::size_t channel,
+                                           float* const* dst, float scale, float edge) {
+        constexpr int lanes = 3 * S, V = S / 4;
+        for (int c = 0; c < 3; ++c) {
+            for (int j = 0; j < scales; ++j) {
+                const float* k = coef + c * channel + std::size_t(j) * S;
+                Float4 kv[V];
+                for (int i = 0; i < V; ++i) kv[i] = load4(k + 4 * i);
+                float* __restrict out = dst[c * scales + j];
+                const auto dot = [&](int b) {
+                    const float* a = acc + std::size_t(b) * lanes + c * S;
+                    Float4 s = kv[0] * load4(a);
+                    for (int i = 1; i < V; ++i) s += kv[i] * load4(a + 4 * i);
+                    return s;
+                };
+                int b = 0;
+                for (; b + 4 <= n; b += 4) {
+                    // four blocks' sums at once: their vectors transposed and added
+                    const Float4 s0 = dot(b), s1 = dot(b + 1), s2 = dot(b + 2), s3 = dot(b + 3);
+                    const Float4 u01 = __builtin_shufflevector(s0, s1, 0, 4, 1, 5) +
+                                       __builtin_shufflevector(s0, s1, 2, 6, 3, 7);
+                    const Float4 u23 = __builtin_shufflevector(s2, s3, 0, 4, 1, 5) +
+                                       __builtin_shufflevector(s2, s3, 2, 6, 3, 7);
+                    store4(out + b, (__builtin_shufflevector(u01, u23, 0, 1, 4, 5) +
+                                     __builtin_shufflevector(u01, u23, 2, 3, 6, 7)) *
+                                        scale);
+                }
+                for (; b < n; ++b) {
+                    const Float4 s = dot(b);
+                    out[b] = ((s[0] + s[2]) + (s[1] + s[3])) * scale;
+                }
+                out[n - 1] *= edge;
+            }
+        }
+    }
+};
+
+}  // namespace
+
+/// Bilinear upsampling by two, one grid row q into the next finer grid (the cascade):
+///   dst[x] += q[i_x] + a_x (q[i_x + 1] - q[i_x]),  i_x = floor(p_x), a_x = p_x - i_x,
+///   p_x = (x + 1/2) / 2 - 1/2,
+/// so a_x = 3/4 for even x and 1/4 for odd x; q is clamped at its ends (qp[j + 1] = q[j]).
+DEEPSEA_CLONES
+void add_doubled(int n, const float* __restrict qp, float* __restrict dst) {
+    const int pairs = n / 2;
+#pragma omp simd
+    for (int i = 0; i < pairs; ++i) {
+        dst[2 * i] += qp[i] + 0.75f * (qp[i + 1] - qp[i]);
+        dst[2 * i + 1] += qp[i + 1] + 0.25f * (qp[i + 2] - qp[i + 1]);
+    }
+    if (n % 2) dst[n - 1] += qp[pairs] + 0.75f * (qp[pairs + 1] - qp[pairs]);
+}
+
+DEEPSEA_CLONES
+void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
+                  const float* L, bool add, float* x) {
+    by_stride<WeighBlocks>(stride, n, block, idx, frac, tab, L, add, x);
+}
+
+DEEPSEA_CLONES
+void expand_blocks(int n, int stride, int scales, const float* acc, const float* coef,
+                   std::size_t channel, float* const* dst, float scale, float edge) {
+    by_stride<ExpandBlocks>(stride, n, scales, acc, coef, channel, dst, scale, edge);
+}
+
+/// Block sums of twice the width from the finer level's, every lane (c, r) alike:
+///   x_(2f)[i] (+)= x_f[2i] + x_f[2i + 1]   (x_f[n - 1] alone when n is odd).
+DEEPSEA_CLONES
+void pair_sums(int n, int lanes, const float* __restrict src, bool add, float* __restrict dst) {
+    const int pairs = n / 2;
+    for (int i = 0; i < pairs; ++i) {
+        const float* s = src + std::size_t(2 * i) * lanes;
+        float* d = dst + std::size_t(i) * lanes;
+        if (add) {
+#pragma omp simd
+            for (int k = 0; k < lanes; ++k) d[k] += s[k] + s[k + lanes];
+        } else {
+#pragma omp simd
+            for (int k = 0; k < lanes; ++k) d[k] = s[k] + s[k + lanes];
+        }
+    }
+    if (n % 2) {
+        const float* s = src + std::size_t(n - 1) * lanes;
+        float* d = dst + std::size_t(pairs) * lanes;
+        for (int k = 0; k < lanes; ++k) d[k] = add ? d[k] + s[k] : s[k];
+    }
+}
+
+/// F of one full-resolution row, every term of the sum over scales:
+///   F(u) (+)= W_0(d_u) L_s(u) + sum_(j at factor 1) (G_(sigma_j) * (W_j L_s))(u) + U(A_2)(u),
+///   W_0(d_u) = sharp[i_u] + t_u (sharp[i_u + 1] - sharp[i_u])  (0 off surfaces),
+/// the middle sum `full` (tiny images only), A_2 the factor-2 grid, which holds every coarser
+/// scale blurred (the cascade), and U its upsampling by two as in add_doubled.
+DEEPSEA_CLONES
+void f_row(int n, const int* __restrict idx, const float* __restrict frac,
+           const float* __restrict sharp, const float* __restrict L, const float* const* full,
+           const float* __restrict coarse, bool add, float* __restrict out) {
+    // One pixel's sum before L: its sharp weights (RGB, 0 where idx < 0) and its upsampled grid
+    // value (the fourth lane padding).
+    const auto weights = [&](int u) {
+        const bool on = idx[u] >= 0;
+        const float* ta = sharp + std::size_t(on ? idx[u] : 0) * 4;
+        const Float4 a = load4(ta), b = load4(ta + 4);
+        return on ? a + frac[u] * (b - a) : Float4{};
+    };
+    const auto grid = [&](int u) {
+        const int odd = u & 1;
+        const float* q = coarse + 4 * std::size_t((u >> 1) + odd);
+        const Float4 q0 = load4(q), q1 = load4(q + 4);
+        return q0 + (odd ? 0.25f : 0.75f) * (q1 - q0);
+    };
+    int u = 0;
+    if (!full && coarse) {
+        // Four pixels at a time: their twelve interleaved floats as three whole vectors.
+        for (; u + 4 <= n; u += 4) {
+            const Float4 w0 = weights(u), w1 = weights(u + 1), w2 = weights(u + 2),
+                         w3 = weights(u + 3);
+            const Float4 g0 = grid(u), g1 = grid(u + 1), g2 = grid(u + 2), g3 = grid(u + 3);
+            // [r0 g0 b0 r1] [g1 b1 r2 g2] [b2 r3 g3 b3]
+            const Float4 wa = __builtin_shufflevector(w0, w1, 0, 1, 2, 4),
+                         wb = __builtin_shufflevector(w1, w2, 1, 2, 4, 5),
+                         wc = __builtin_shufflevector(w2, w3, 2, 4, 5, 6);
+            const Float4 ga = __builtin_shufflevector(g0, g1, 0, 1, 2, 4),
+                         gb = __builtin_shufflevector(g1, g2, 1, 2, 4, 5),
+                         gc = __builtin_shufflevector(g2, g3, 2, 4, 5, 6);
+            float* o = out + 3 * std::size_t(u);
+            const float* l = L + 3 * std::size_t(u);
+            const Float4 fa = wa * load4(l) + ga, fb = wb * load4(l + 4) + gb,
+                         fc = wc * load4(l + 8) + gc;
+            store4(o, add ? load4(o) + fa : fa);
+            store4(o + 4, add ? load4(o + 4) + fb : fb);
+            store4(o + 8, add ? load4(o + 8) + fc : fc);
+        }
+    }
+    for (; u < n; ++u) {
+        const Float4 l = {L[3 * u], L[3 * u + 1], L[3 * u + 2], 0.0f};
+        Float4 s = weights(u) * l;
+        if (full) s += Float4{full[0][u], full[1][u], full[2][u], 0.0f};
+        if (coarse) s += grid(u);
+        for (int c = 0; c < 3; ++c) out[3 * u + c] = add ? out[3 * u + c] + s[c] : s[c];
+    }
+}
+
+}  // namespace deepsea::psf_rows

@@ -1,0 +1,56 @@
+#pragma once
+// Internal to the runtime: the row kernels of the forward scatter from the phase function
+// (forward_psf_blur.cpp drives them). Each has an AVX2 clone (clones.h), declared only where
+// it is defined: callers call the plain name, which the loader resolves to a clone.
+//
+// Together they evaluate docs/model.md's forward scatter from the phase function,
+//   F = sum_j G_(sigma_j) * (W_j(d) L_s),   W_j(d) ~= sum_r a_jr phi_r(d)  (column_basis.h),
+// L_s = J/pi E the surface radiance (`L`, interleaved RGB), d = d2 the camera-to-surface
+// distance, phi_r(d) the few functions of distance that span the blurred scales' weights
+// (`tab`, per channel), a_jr their coefficients (`coef`), W_0 the unblurred scale's weight
+// (`sharp`). i_u, t_u: the table row and fraction of pixel u's distance (idx, frac).
+
+#include <cstddef>
+
+namespace deepsea::psf_rows {
+
+/// Basis functions per channel in a table row, padded to a multiple of 4 (at most one per
+/// blurred scale: 32 holds images of up to 2^30 px a side).
+inline constexpr int kMaxStride = 32;
+
+/// Upsampling by two, as the grids are built: output column (or row) x samples the grid twice
+/// as coarse at (x + 0.5) / 2 - 0.5, clamped to its n_lo columns. That is 3/4 of the way from
+/// column x/2 - 1 to x/2 for even x, 1/4 from (x - 1)/2 to (x + 1)/2 for odd x. With the
+/// coarse row padded (one column repeated at each end: qp[j + 1] = q[j]), output x reads qp at
+/// x/2 + (x odd) and the next, edges included, without branches or gathers.
+
+/// dst[x] += the padded coarse row qp upsampled at x, for n columns.
+void add_doubled(int n, const float* qp, float* dst);
+
+/// x[b * lanes + c * stride + r] = (or, with add, +=) the sum over the block's pixels u (b * block
+/// .. b * block + block - 1, fewer at the end) of phi_r(d_u) L_u[c], phi_r from the table's rows
+/// idx[u] and idx[u] + 1 interpolated by frac[u]; pixels with idx[u] < 0 (no surface) add nothing.
+void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
+                  const float* L, bool add, float* x);
+
+/// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
+/// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[c * channel + j * stride
+/// + r] * acc[b * lanes + c * stride + r], the last block also times `edge` (coef: the
+/// group's first scale in the weight table's coefficients, `channel` floats per channel).
+void expand_blocks(int n, int stride, int scales, const float* acc, const float* coef,
+                   std::size_t channel, float* const* dst, float scale, float edge);
+
+/// Sums of neighbouring blocks: dst block i = (or, with add, +=) src blocks 2i and 2i + 1 (the
+/// last alone when n is odd), each block `lanes` floats.
+void pair_sums(int n, int lanes, const float* src, bool add, float* dst);
+
+/// Interleaved RGB F of one row: out[3u + c] = (or +=) W_0(d_u) L_u[c] (0 where idx[u] < 0) +
+/// full[c][u] (when full is not null) + the factor-2 grid's row upsampled at u (when coarse is
+/// not null). coarse: that grid's row blended between its two grid rows (doubled_row), padded
+/// as add_doubled's, 4 floats a column (RGB and padding). A pixel's weights are a vector, four
+/// pixels' twelve floats are three (whole vectors loaded and stored: a vector a pixel would
+/// overlap the last store and stall).
+void f_row(int n, const int* idx, const float* frac, const float* sharp, const float* L,
+           const float* const* full, const float* coarse, bool add, float* out);
+
+}  // namespace deepsea::psf_rows
