@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "clones.h"
+#include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
-#include "deepsea/io/image_io.h"
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/normals.h"
 #include "kernels.h"

@@ -11,7 +11,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 
 [[ -x $prefix/bin/deepsea ]] || fail "no bin/deepsea"
 libdir=$(dirname "$(find "$prefix" -name deepseaConfig.cmake)")/../..
-for layer in core optics asset io scene bake runtime; do
+for layer in core colour optics asset io scene bake runtime; do
   ls "$libdir"/libdeepsea_$layer.* >/dev/null 2>&1 || fail "no libdeepsea_$layer in $libdir"
 done
 for f in cmake/deepsea/deepseaConfig.cmake cmake/deepsea/deepseaConfigVersion.cmake \
@@ -23,7 +23,7 @@ done
 { (cd "$src/include" && find deepsea -name '*.h'); echo deepsea/version.h; } | sort >"$prefix/want.txt"
 (cd "$prefix/include" && find deepsea -name '*.h' | sort) >"$prefix/got.txt"
 cmp -s "$prefix/want.txt" "$prefix/got.txt" || { diff "$prefix/want.txt" "$prefix/got.txt"; fail "headers differ"; }
-echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers, 7 libraries, CMake package, pkg-config, Blender script"
+echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers, 8 libraries, CMake package, pkg-config, Blender script"
 
 # Nothing from the build tree: no run path into it, no library loaded from it.
 build_abs=$(cd "$build" && pwd -P)

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "io_fixtures.h"
@@ -334,56 +335,6 @@ TEST_F(FastCodecs, ReadsReuseTheImagesStorage) {
     read_color(path("a.png"), img);
     EXPECT_EQ(img.data.data(), before);
     EXPECT_EQ(img.data, read_color(path("a.png")).data);
-}
-
-TEST(SrgbEncode, EveryStrideOfFloatsInZeroToOneGetsTheCodeOfTheFormula) {
-    // The table encoder against int(linear_to_srgb(v) * codes + 0.5f), what OpenImageIO
-    // stores, over a million float bit patterns spread evenly through [0, 1] (every
-    // 1009th), with exposure 1.
-    const std::uint32_t one = 0x3f800000u, stride = 1009;
-    Image img(int(one / stride) + 1, 1, 1);
-    for (std::uint32_t i = 0; i <= one / stride; ++i) {
-        const std::uint32_t bits = i * stride;
-        std::memcpy(&img.data[i], &bits, 4);
-    }
-    for (const int bits : {8, 16}) {
-        EncodedImage out;
-        encode_srgb(img, 1.0, bits, "x.png", out);
-        const int codes = bits == 8 ? 255 : 65535;
-        for (std::size_t i = 0; i < img.data.size(); ++i) {
-            const int expect = int(linear_to_srgb(img.data[i]) * float(codes) + 0.5f);
-            const int got = bits == 8 ? out.codes8[i] : out.codes16[i];
-            ASSERT_EQ(got, expect) << bits << " bits, value " << img.data[i];
-        }
-    }
-}
-
-TEST(SrgbEncode, ValuesOutsideZeroToOneAndAnExposureGetTheCodesOfTheFormula) {
-    // Eight values at a time go through the vector path where the CPU has one: every special
-    // value in every one of the eight places, and the exposure multiplied in double first.
-    // Non-finite values and values <= 0 give 0, values >= 1 the top code.
-    const float inf = std::numeric_limits<float>::infinity();
-    const std::vector<float> special = {
-        0.0f,       -0.0f, -1e-30f,     -0.5f,      1.0f,
-        1.0000001f, 3e38f, inf,         -inf,       std::numeric_limits<float>::quiet_NaN(),
-        1e-38f,     0.5f,  0.99999994f, 0.0031308f, 1e-45f,
-        2.0f};
-    Image img(int(special.size()) * 9, 1, 1);
-    for (std::size_t i = 0; i < img.data.size(); ++i) {
-        img.data[i] = i % 9 == 0 ? special[(i / 9) % special.size()] : 0.25f + 1e-3f * i;
-    }
-    for (const double exposure : {1.0, 0.7, 3.3}) {
-        EncodedImage out;
-        encode_srgb(img, exposure, 8, "x.png", out);
-        for (std::size_t i = 0; i < img.data.size(); ++i) {
-            const float v = float(img.data[i] * exposure);
-            const int expect = !std::isfinite(v) || v <= 0.0f ? 0
-                               : v >= 1.0f                    ? 255
-                                           : int(linear_to_srgb(v) * 255.0f + 0.5f);
-            ASSERT_EQ(int(out.codes8[i]), expect)
-                << "value " << img.data[i] << " times " << exposure;
-        }
-    }
 }
 
 /// A PNG written here rather than by a library, to choose what libraries do not: each row's
