@@ -1,7 +1,9 @@
 #pragma once
-// The fast paths of image_io (private to deepsea_io): PNG decoded by libspng and encoded by
-// hand with libdeflate, JPEG encoded by libjpeg-turbo, EXR read and written through OpenEXR
-// with its own thread pool. OpenImageIO stays for every other format. Every function here
+// The fast paths of image_io (private to deepsea_io): PNG decoded by libspng (png_decode.cpp)
+// and encoded by hand with libdeflate (png_encode.cpp), JPEG through libjpeg-turbo (jpeg.cpp),
+// EXR read and written through OpenEXR with its own thread pool (exr.cpp): the formats
+// datasets use, without OpenImageIO's per-call overhead and float conversions (docs/runtime.md,
+// "Where the time goes"). OpenImageIO stays for every other format. Every function here
 // keeps image_io's guards: header sizes checked before allocation, one-line IoErrors naming
 // the file, atomic writes.
 

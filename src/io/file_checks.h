@@ -1,6 +1,6 @@
 #pragma once
 // What io's readers share (private to deepsea_io): one error style and one check that a file
-// can be opened, for the OIIO formats in image_io.cpp and the hand-parsed ones in
+// can be opened, for the OIIO formats in image_oiio.cpp and the hand-parsed ones in
 // depth_formats.cpp.
 
 #include <cerrno>

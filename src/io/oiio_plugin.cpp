@@ -1,4 +1,4 @@
-// libdeepsea_oiio.so: the OpenImageIO calls of image_io.cpp, loaded on first use (see
+// libdeepsea_oiio.so: the OpenImageIO calls of image_oiio.cpp, loaded on first use (see
 // oiio_plugin.h for why). Only OpenImageIO and the standard library: no deepsea code.
 
 #include "oiio_plugin.h"

@@ -3,9 +3,9 @@
 // shared libraries (GDAL, Poppler, FFmpeg, DCMTK, ...): linked into the program they cost every
 // process 0.2 s of start-up and 90 MB of resident memory, though PNG, JPEG and EXR never reach
 // them (fast_codecs.h). So OpenImageIO is linked into a module, libdeepsea_oiio.so, that
-// image_io.cpp loads the first time a file needs it (TIFF, HDR, ...). The module holds no
+// image_oiio.cpp loads the first time a file needs it (TIFF, HDR, ...). The module holds no
 // deepsea code and throws nothing: its functions report failure with a message that
-// image_io.cpp turns into the usual one-line IoError.
+// image_oiio.cpp turns into the usual one-line IoError.
 
 #include <string>
 #include <utility>

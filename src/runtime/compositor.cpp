@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "clones.h"
+#include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/normals.h"

@@ -8,8 +8,8 @@
 #include <cstring>
 #include <string>
 
+#include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
-#include "deepsea/io/image_io.h"
 #include "frame_input.h"
 
 namespace deepsea {

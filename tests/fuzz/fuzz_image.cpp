@@ -1,6 +1,7 @@
-// libFuzzer target: the image and depth readers (src/io/image_io.cpp through OpenImageIO,
-// src/io/depth_formats.cpp by hand: .npy and PFM). Built twice (tests/fuzz/CMakeLists.txt):
-// fuzz_depth calls read_depth, fuzz_image (DEEPSEA_FUZZ_COLOR) calls read_color.
+// libFuzzer target: the image and depth readers (src/io/image_io.cpp: the fast codecs,
+// image_oiio.cpp through OpenImageIO, depth_formats.cpp by hand: .npy and PFM). Built twice
+// (tests/fuzz/CMakeLists.txt): fuzz_depth calls read_depth, fuzz_image (DEEPSEA_FUZZ_COLOR)
+// calls read_color.
 //
 // The readers take paths and choose the format by extension, so the input is written to a
 // scratch file named after its magic bytes; bytes without a known magic go out under an

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "deepsea/colour/srgb.h"  // the sRGB curve and codes these readers and writers apply
 #include "deepsea/core/frame.h"
 #include "deepsea/core/image.h"
 
@@ -101,8 +102,9 @@ void encode_srgb(const Image& linear_rgb, double exposure, int bits, const std::
 
 /// encode_srgb a part at a time: prepare_encoded sizes `out` for width x height x channels in
 /// the format of `path` (PNG: `bits`, JPEG: 8), its storage reused; encode_srgb_samples then
-/// writes the codes of n linear samples times `exposure` from sample `first` on. Parts may be
-/// encoded from several threads at once. encode_srgb is these two over the whole image.
+/// writes the codes (srgb_encode) of n linear samples times `exposure` from sample `first` on.
+/// Parts may be encoded from several threads at once. encode_srgb is these two over the whole
+/// image.
 void prepare_encoded(int width, int height, int channels, int bits, const std::string& path,
                      EncodedImage& out);
 void encode_srgb_samples(const float* linear, std::size_t n, double exposure, std::size_t first,
@@ -138,14 +140,5 @@ void write_exr_layers(const std::string& path, const std::vector<ExrLayer>& laye
 /// channel, IoError for an unreadable file.
 Image read_exr_layer(const std::string& path, const std::string& layer,
                      const std::vector<std::string>& channels);
-
-/// sRGB transfer functions on one value in [0, 1].
-float srgb_to_linear(float v);
-float linear_to_srgb(float v);
-
-/// Decodes n 8-bit (0..255) or 16-bit (0..65535) sRGB codes to linear values, through the
-/// same tables as read_color: for images that arrive in memory (the Python module).
-void srgb_decode(const std::uint8_t* codes, std::size_t n, float* linear);
-void srgb_decode(const std::uint16_t* codes, std::size_t n, float* linear);
 
 }  // namespace deepsea

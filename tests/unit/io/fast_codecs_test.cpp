@@ -1,6 +1,5 @@
-// The fast PNG/JPEG/EXR paths of image_io against OpenImageIO: the same integer codes, files
-// that OpenImageIO decodes with their metadata, and the same guards (one-line errors naming the
-// file, header limits, nothing left behind).
+// The fast PNG/JPEG/EXR paths of image_io against OpenImageIO: the same integer codes, and
+// files that OpenImageIO decodes with their metadata (their guards: codec_errors_test.cpp).
 
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
@@ -12,13 +11,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iterator>
-#include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "io_fixtures.h"
@@ -30,38 +28,7 @@ namespace fs = std::filesystem;
 
 class FastCodecs : public test::TempFolderTest {};
 
-/// Linear values that probe the encoder: a dense sweep of [0, 1], values a few ulps around
-/// every 8-bit code's boundary, and the specials (NaN, inf, negative, -0, above 1).
-Image probe_image(int w, int h) {
-    Image img(w, h, 3);
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    const std::size_t n = img.data.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        float v = float(i) / float(n);
-        if (i % 3 == 1) v = u(rng) * u(rng) * u(rng);
-        if (i % 7 == 2) {
-            // near the boundary between codes k and k + 1 (in sRGB), a few ulps either way
-            const float s = (float(i % 255) + 0.5f) / 255.0f;
-            float lin = s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-            for (int k = int(i % 9) - 4; k != 0; k += k > 0 ? -1 : 1)
-                lin = std::nextafter(lin, k > 0 ? 2.0f : -1.0f);
-            v = lin;
-        }
-        img.data[i] = v;
-    }
-    const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
-                              std::numeric_limits<float>::infinity(),
-                              -std::numeric_limits<float>::infinity(),
-                              -0.0f,
-                              -1.0f,
-                              1.0f,
-                              1.5f,
-                              1e30f,
-                              std::numeric_limits<float>::denorm_min()};
-    for (std::size_t i = 0; i < std::size(specials); ++i) img.data[i] = specials[i];
-    return img;
-}
+using test::probe_image;
 
 /// The file's pixels as OpenImageIO decodes them, as `type` (alpha unassociated, as deepsea
 /// reads it).
@@ -77,15 +44,6 @@ std::vector<T> oiio_pixels(const std::string& path, OIIO::TypeDesc type, int* ch
     std::vector<T> px(std::size_t(spec.width) * spec.height * spec.nchannels);
     EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, type, px.data()));
     return px;
-}
-
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
 }
 
 /// Compares two code lists: every code within 1, and at most `max_off` of them off by one.
@@ -336,56 +294,6 @@ TEST_F(FastCodecs, ReadsReuseTheImagesStorage) {
     EXPECT_EQ(img.data, read_color(path("a.png")).data);
 }
 
-TEST(SrgbEncode, EveryStrideOfFloatsInZeroToOneGetsTheCodeOfTheFormula) {
-    // The table encoder against int(linear_to_srgb(v) * codes + 0.5f), what OpenImageIO
-    // stores, over a million float bit patterns spread evenly through [0, 1] (every
-    // 1009th), with exposure 1.
-    const std::uint32_t one = 0x3f800000u, stride = 1009;
-    Image img(int(one / stride) + 1, 1, 1);
-    for (std::uint32_t i = 0; i <= one / stride; ++i) {
-        const std::uint32_t bits = i * stride;
-        std::memcpy(&img.data[i], &bits, 4);
-    }
-    for (const int bits : {8, 16}) {
-        EncodedImage out;
-        encode_srgb(img, 1.0, bits, "x.png", out);
-        const int codes = bits == 8 ? 255 : 65535;
-        for (std::size_t i = 0; i < img.data.size(); ++i) {
-            const int expect = int(linear_to_srgb(img.data[i]) * float(codes) + 0.5f);
-            const int got = bits == 8 ? out.codes8[i] : out.codes16[i];
-            ASSERT_EQ(got, expect) << bits << " bits, value " << img.data[i];
-        }
-    }
-}
-
-TEST(SrgbEncode, ValuesOutsideZeroToOneAndAnExposureGetTheCodesOfTheFormula) {
-    // Eight values at a time go through the vector path where the CPU has one: every special
-    // value in every one of the eight places, and the exposure multiplied in double first.
-    // Non-finite values and values <= 0 give 0, values >= 1 the top code.
-    const float inf = std::numeric_limits<float>::infinity();
-    const std::vector<float> special = {
-        0.0f,       -0.0f, -1e-30f,     -0.5f,      1.0f,
-        1.0000001f, 3e38f, inf,         -inf,       std::numeric_limits<float>::quiet_NaN(),
-        1e-38f,     0.5f,  0.99999994f, 0.0031308f, 1e-45f,
-        2.0f};
-    Image img(int(special.size()) * 9, 1, 1);
-    for (std::size_t i = 0; i < img.data.size(); ++i) {
-        img.data[i] = i % 9 == 0 ? special[(i / 9) % special.size()] : 0.25f + 1e-3f * i;
-    }
-    for (const double exposure : {1.0, 0.7, 3.3}) {
-        EncodedImage out;
-        encode_srgb(img, exposure, 8, "x.png", out);
-        for (std::size_t i = 0; i < img.data.size(); ++i) {
-            const float v = float(img.data[i] * exposure);
-            const int expect = !std::isfinite(v) || v <= 0.0f ? 0
-                               : v >= 1.0f                    ? 255
-                                           : int(linear_to_srgb(v) * 255.0f + 0.5f);
-            ASSERT_EQ(int(out.codes8[i]), expect)
-                << "value " << img.data[i] << " times " << exposure;
-        }
-    }
-}
-
 /// A PNG written here rather than by a library, to choose what libraries do not: each row's
 /// filter (row y gets filter y mod 5, so every kind follows every other) and the IDAT stream
 /// split into chunks of `split` bytes. RGB samples (big-endian at 16 bits) from `codes`.
@@ -516,82 +424,6 @@ TEST_F(FastCodecs, FrameColourKeepsPngAndJpegAsCodesThatDecodeToReadColour) {
     read_frame_color(path("a.png"), frame);
     EXPECT_TRUE(frame.coded());
     EXPECT_THROW(read_frame_color(path("none.png"), frame), IoError);
-}
-
-TEST_F(FastCodecs, CorruptOrTruncatedFilesAreOneLineIoErrorsNamingTheFile) {
-    write_color(path("ok.png"), probe_image(64, 48), 8);
-    write_color(path("ok16.png"), Image(64, 48, 1, 0.5f), 16);
-    write_color(path("ok.jpg"), probe_image(64, 48), 8);
-    Image depth(64, 48, 1, 3.0f);
-    write_depth_exr(path("ok.exr"), depth);
-    for (const std::string f : {"ok.png", "ok16.png", "ok.jpg", "ok.exr"}) {
-        std::ifstream is(path(f), std::ios::binary);
-        const std::string bytes{std::istreambuf_iterator<char>(is), {}};
-        const std::string ext = fs::path(f).extension().string();
-        std::vector<std::pair<std::string, std::string>> damaged;
-        for (std::size_t cut :
-             {std::size_t(8), std::size_t(40), bytes.size() / 2, bytes.size() - 5}) {
-            damaged.emplace_back("cut" + std::to_string(cut) + ext, bytes.substr(0, cut));
-        }
-        std::string flipped = bytes;
-        for (std::size_t i = bytes.size() / 3; i < bytes.size() / 3 + 64; ++i) flipped[i] ^= 0x5a;
-        damaged.emplace_back("flip" + ext, flipped);
-        for (const auto& [name, content] : damaged) {
-            const std::string p = path(f.substr(0, f.size() - ext.size()) + "-" + name);
-            test::write_bytes(p, content);
-            const std::string msg = error_of([&] {
-                if (ext == ".exr") {
-                    (void)read_depth(p);
-                    (void)read_exr_layer(p, "", {"Z"});
-                } else if (f == "ok16.png") {
-                    (void)read_depth(p);
-                } else {
-                    (void)read_color(p);
-                }
-            });
-            // Damaged entropy data may still decode to some pixels (nothing says it is wrong),
-            // and a PNG whose last 5 bytes (of its end chunk) are cut still has all its pixels.
-            if (msg.empty() && ext == ".jpg" && name.rfind("flip", 0) == 0) continue;
-            if (msg.empty() && ext == ".png" && content.size() + 5 == bytes.size()) continue;
-            EXPECT_EQ(msg.rfind(p + ": ", 0), 0u) << p << ": " << msg;
-            EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-        }
-    }
-}
-
-TEST_F(FastCodecs, HeaderSizesBeyondTheLimitAreRefusedBeforeAllocating) {
-    // A valid 2x2 PNG and EXR whose headers are edited to claim 20000 x 20000.
-    write_color(path("small.png"), Image(2, 2, 3, 0.5f), 8);
-    write_depth_exr(path("small.exr"), Image(2, 2, 1, 1.0f));
-    {
-        std::fstream f(path("small.png"), std::ios::in | std::ios::out | std::ios::binary);
-        f.seekp(16);
-        f.write(test::be32(20000).data(), 4);
-        f.write(test::be32(20000).data(), 4);
-    }
-    EXPECT_NE(error_of([&] { (void)read_color(path("small.png")); }).find("small.png"),
-              std::string::npos);
-    std::ifstream is(path("small.exr"), std::ios::binary);
-    std::string bytes{std::istreambuf_iterator<char>(is), {}};
-    is.close();
-    const std::string key = std::string("dataWindow\0box2i\0", 17);
-    const std::size_t at = bytes.find(key);
-    ASSERT_NE(at, std::string::npos);
-    const std::int32_t big = 19999;
-    std::memcpy(&bytes[at + key.size() + 4 + 8], &big, 4);   // max.x
-    std::memcpy(&bytes[at + key.size() + 4 + 12], &big, 4);  // max.y
-    test::write_bytes(path("big.exr"), bytes);
-    const std::string msg = error_of([&] { (void)read_depth(path("big.exr")); });
-    EXPECT_EQ(msg.rfind(path("big.exr") + ":", 0), 0u) << msg;
-}
-
-TEST_F(FastCodecs, PngWriteFailureLeavesNothing) {
-    fs::create_directories(dir_ / "out.png" / "x");  // the rename onto a full folder fails
-    EXPECT_THROW(write_color(path("out.png"), Image(3, 3, 3, 0.2f)), IoError);
-    EXPECT_THROW(write_color(path("out.jpg/"), Image(3, 3, 3, 0.2f)), IoError);
-    std::vector<std::string> left;
-    for (const auto& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename());
-    EXPECT_EQ(left, std::vector<std::string>{"out.png"});
 }
 
 }  // namespace

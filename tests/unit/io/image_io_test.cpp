@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
 #include "io_fixtures.h"
 
@@ -74,35 +75,6 @@ std::string png16_grey(int w, int h, const std::vector<std::uint16_t>& px) {
     ihdr += std::string("\x10\x00\x00\x00\x00", 5);
     return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", z) +
            chunk("IEND", "");
-}
-
-// --- sRGB ------------------------------------------------------------------------------------
-
-TEST(Srgb, MatchesIec61966) {
-    EXPECT_FLOAT_EQ(srgb_to_linear(0.0f), 0.0f);
-    EXPECT_FLOAT_EQ(srgb_to_linear(1.0f), 1.0f);
-    EXPECT_NEAR(srgb_to_linear(0.5f), 0.2140411, 1e-6);
-    EXPECT_NEAR(srgb_to_linear(0.04045f), 0.04045 / 12.92, 1e-9);
-    EXPECT_NEAR(linear_to_srgb(0.0031308f), 0.0031308 * 12.92, 1e-7);
-    EXPECT_NEAR(linear_to_srgb(0.18f), 0.4613561, 1e-6);
-    for (int i = 0; i <= 1000; ++i) {
-        const float v = float(i) / 1000.0f;
-        EXPECT_NEAR(linear_to_srgb(srgb_to_linear(v)), v, 2e-6) << v;
-    }
-}
-
-TEST(Srgb, DecodesCodesInMemoryAsFilesAre) {
-    std::vector<std::uint8_t> c8(256);
-    for (int i = 0; i < 256; ++i) c8[i] = std::uint8_t(i);
-    std::vector<float> out(256);
-    srgb_decode(c8.data(), c8.size(), out.data());
-    for (int i = 0; i < 256; ++i) EXPECT_EQ(out[i], srgb_to_linear(float(i) / 255.0f)) << i;
-    const std::vector<std::uint16_t> c16{0, 1, 2570, 32768, 65534, 65535};
-    out.resize(c16.size());
-    srgb_decode(c16.data(), c16.size(), out.data());
-    for (std::size_t i = 0; i < c16.size(); ++i) {
-        EXPECT_EQ(out[i], srgb_to_linear(float(c16[i]) / 65535.0f)) << c16[i];
-    }
 }
 
 // --- colour ----------------------------------------------------------------------------------

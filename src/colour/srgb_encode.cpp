@@ -1,0 +1,159 @@
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "deepsea/colour/srgb.h"
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define DEEPSEA_AVX2_ENCODER 1
+#endif
+
+namespace deepsea {
+
+namespace {
+
+/// The integer code OpenImageIO stores for a linear value v in [0, 1]: linear_to_srgb, then
+/// scaled and rounded in float as its float-to-integer conversion does.
+int srgb_code(float v, int codes) { return int(linear_to_srgb(v) * float(codes) + 0.5f); }
+
+/// srgb_code of every float without a pow per pixel, and bit-identical to it: thresholds[k] is
+/// the smallest float whose code is k (found once by bisection over the floats' bit patterns,
+/// the code being monotone), and a table indexed by a float's upper bits gives the code at the
+/// start of its bucket, from which at most a few thresholds are stepped over.
+class SrgbEncoder {
+public:
+    explicit SrgbEncoder(int codes) : m_codes(codes), m_shift(codes > 255 ? 10 : 15) {
+        m_threshold.resize(std::size_t(codes) + 2);
+        const std::uint32_t one = 0x3f800000u;
+        m_threshold[0] = 0;
+        for (int k = 1; k <= codes; ++k) {
+            std::uint32_t lo = 0, hi = one;  // code(lo) < k <= code(hi)
+            while (hi - lo > 1) {
+                const std::uint32_t mid = lo + (hi - lo) / 2;
+                (srgb_code(from_bits(mid), codes) >= k ? hi : lo) = mid;
+            }
+            m_threshold[k] = hi;
+        }
+        m_threshold[codes + 1] = one + 1;  // never reached
+        m_start.resize((one >> m_shift) + 1);
+        int k = 0;
+        for (std::size_t b = 0; b < m_start.size(); ++b) {
+            const std::uint32_t bits = std::uint32_t(b) << m_shift;
+            while (k < codes && m_threshold[k + 1] <= bits) ++k;
+            m_start[b] = std::uint16_t(k);
+        }
+        // The most thresholds any bucket holds (its values' codes run from its start to the
+        // next bucket's start): 1 for 8 bits, so a code is one table read and one comparison.
+        for (std::size_t b = 0; b + 1 < m_start.size(); ++b)
+            m_steps = std::max(m_steps, int(m_start[b + 1]) - int(m_start[b]));
+        m_steps = std::max(m_steps, codes - int(m_start.back()));
+        m_start.push_back(0);  // room for encode_vector's 32-bit reads of the last start
+    }
+
+    /// The code of a linear value: non-finite values and values <= 0 give 0, above 1 the top.
+    /// Without branches on the value (noisy images would mispredict them): out-of-range values
+    /// look up bucket 0 and are replaced at the end.
+    int operator()(float v) const {
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, 4);
+        const bool bad =
+            (bits & 0x7f800000u) == 0x7f800000u || bits >= 0x80000000u;  // NaN, inf, < 0
+        const bool top = bits >= 0x3f800000u;
+        const std::uint32_t x = bad || top ? 0u : bits;
+        int k = m_start[x >> m_shift];
+        for (int s = 0; s < m_steps; ++s) k += m_threshold[std::size_t(k) + 1] <= x ? 1 : 0;
+        return bad ? 0 : top ? m_codes : k;
+    }
+
+    /// out[i] = operator()(float(in[i] * exposure)) for i < n, 8 codes at a time where the
+    /// CPU has AVX2 and a code is one step from its bucket's start (8 bits): two gathers and
+    /// a comparison for 8 values. Returns how many it did (a multiple of 8; 0 without AVX2).
+    std::size_t encode_vector(const float* in, std::size_t n, double exposure,
+                              std::uint8_t* out) const {
+#if defined(DEEPSEA_AVX2_ENCODER)
+        static const bool avx2 = __builtin_cpu_supports("avx2");
+        if (avx2 && m_steps == 1 && m_codes == 255) return encode8_avx2(in, n, exposure, out);
+#endif
+        (void)in, (void)n, (void)exposure, (void)out;
+        return 0;
+    }
+
+private:
+#if defined(DEEPSEA_AVX2_ENCODER)
+    __attribute__((target("avx2"))) std::size_t encode8_avx2(const float* in, std::size_t n,
+                                                             double exposure,
+                                                             std::uint8_t* out) const {
+        const __m256d e = _mm256_set1_pd(exposure);
+        const __m256i exponent = _mm256_set1_epi32(0x7f800000), one = _mm256_set1_epi32(0x3f800000);
+        const __m256i top_code = _mm256_set1_epi32(m_codes), low16 = _mm256_set1_epi32(0xffff);
+        const __m256i step = _mm256_set1_epi32(1), zero = _mm256_setzero_si256();
+        const int* start = reinterpret_cast<const int*>(m_start.data());
+        const int* threshold = reinterpret_cast<const int*>(m_threshold.data());
+        std::size_t i = 0;
+        for (; i + 8 <= n; i += 8) {
+            // float(v * exposure) in double, as operator() is given it
+            const __m128 lo =
+                _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(in + i)), e));
+            const __m128 hi =
+                _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(in + i + 4)), e));
+            const __m256i bits = _mm256_castps_si256(_mm256_set_m128(hi, lo));
+            // NaN or inf (all exponent bits), or negative (sign bit: below zero as an int)
+            const __m256i bad =
+                _mm256_or_si256(_mm256_cmpeq_epi32(_mm256_and_si256(bits, exponent), exponent),
+                                _mm256_cmpgt_epi32(zero, bits));
+            const __m256i top =
+                _mm256_andnot_si256(bad, _mm256_cmpgt_epi32(bits, _mm256_sub_epi32(one, step)));
+            const __m256i x = _mm256_andnot_si256(_mm256_or_si256(bad, top), bits);
+            // 16-bit starts read as 32-bit words at 2-byte offsets (the table has room after)
+            __m256i k = _mm256_and_si256(
+                _mm256_i32gather_epi32(start, _mm256_srli_epi32(x, m_shift), 2), low16);
+            const __m256i next = _mm256_i32gather_epi32(threshold, _mm256_add_epi32(k, step), 4);
+            k = _mm256_add_epi32(k, _mm256_andnot_si256(_mm256_cmpgt_epi32(next, x), step));
+            k = _mm256_blendv_epi8(k, top_code, top);
+            k = _mm256_andnot_si256(bad, k);
+            const __m128i k16 =
+                _mm_packus_epi32(_mm256_castsi256_si128(k), _mm256_extracti128_si256(k, 1));
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(k16, k16));
+        }
+        return i;
+    }
+#endif
+    static float from_bits(std::uint32_t b) {
+        float f;
+        std::memcpy(&f, &b, 4);
+        return f;
+    }
+    int m_codes, m_shift;
+    int m_steps = 0;
+    std::vector<std::uint32_t> m_threshold;  ///< as float bit patterns (ordered like the floats)
+    std::vector<std::uint16_t> m_start;
+};
+
+const SrgbEncoder& srgb_encoder(int bits) {
+    if (bits == 8) {
+        static const SrgbEncoder e8(255);
+        return e8;
+    }
+    static const SrgbEncoder e16(65535);
+    return e16;
+}
+
+}  // namespace
+
+void srgb_encode(const float* linear, std::size_t n, double exposure, std::uint8_t* codes) {
+    // Integer codes straight from the table (OpenImageIO's float to integer conversion of
+    // linear_to_srgb without a pow per value), times the exposure as apply_exposure rounds it.
+    const SrgbEncoder& enc = srgb_encoder(8);
+    const std::size_t done = enc.encode_vector(linear, n, exposure, codes);
+    for (std::size_t i = done; i < n; ++i)
+        codes[i] = std::uint8_t(enc(float(linear[i] * exposure)));
+}
+
+void srgb_encode(const float* linear, std::size_t n, double exposure, std::uint16_t* codes) {
+    const SrgbEncoder& enc = srgb_encoder(16);
+    for (std::size_t i = 0; i < n; ++i) codes[i] = std::uint16_t(enc(float(linear[i] * exposure)));
+}
+
+}  // namespace deepsea

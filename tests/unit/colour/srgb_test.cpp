@@ -1,0 +1,95 @@
+// The sRGB curve, its decode tables and the integer encoder (deepsea/colour/srgb.h).
+
+#include "deepsea/colour/srgb.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+namespace deepsea {
+namespace {
+
+TEST(Srgb, MatchesIec61966) {
+    EXPECT_FLOAT_EQ(srgb_to_linear(0.0f), 0.0f);
+    EXPECT_FLOAT_EQ(srgb_to_linear(1.0f), 1.0f);
+    EXPECT_NEAR(srgb_to_linear(0.5f), 0.2140411, 1e-6);
+    EXPECT_NEAR(srgb_to_linear(0.04045f), 0.04045 / 12.92, 1e-9);
+    EXPECT_NEAR(linear_to_srgb(0.0031308f), 0.0031308 * 12.92, 1e-7);
+    EXPECT_NEAR(linear_to_srgb(0.18f), 0.4613561, 1e-6);
+    for (int i = 0; i <= 1000; ++i) {
+        const float v = float(i) / 1000.0f;
+        EXPECT_NEAR(linear_to_srgb(srgb_to_linear(v)), v, 2e-6) << v;
+    }
+}
+
+TEST(Srgb, DecodesCodesInMemoryAsFilesAre) {
+    std::vector<std::uint8_t> c8(256);
+    for (int i = 0; i < 256; ++i) c8[i] = std::uint8_t(i);
+    std::vector<float> out(256);
+    srgb_decode(c8.data(), c8.size(), out.data());
+    for (int i = 0; i < 256; ++i) EXPECT_EQ(out[i], srgb_to_linear(float(i) / 255.0f)) << i;
+    const std::vector<std::uint16_t> c16{0, 1, 2570, 32768, 65534, 65535};
+    out.resize(c16.size());
+    srgb_decode(c16.data(), c16.size(), out.data());
+    for (std::size_t i = 0; i < c16.size(); ++i) {
+        EXPECT_EQ(out[i], srgb_to_linear(float(c16[i]) / 65535.0f)) << c16[i];
+    }
+}
+
+TEST(SrgbEncode, EveryStrideOfFloatsInZeroToOneGetsTheCodeOfTheFormula) {
+    // The table encoder against int(linear_to_srgb(v) * codes + 0.5f), what OpenImageIO
+    // stores, over a million float bit patterns spread evenly through [0, 1] (every
+    // 1009th), with exposure 1.
+    const std::uint32_t one = 0x3f800000u, stride = 1009;
+    std::vector<float> linear(one / stride + 1);
+    for (std::uint32_t i = 0; i <= one / stride; ++i) {
+        const std::uint32_t bits = i * stride;
+        std::memcpy(&linear[i], &bits, 4);
+    }
+    std::vector<std::uint8_t> codes8(linear.size());
+    std::vector<std::uint16_t> codes16(linear.size());
+    srgb_encode(linear.data(), linear.size(), 1.0, codes8.data());
+    srgb_encode(linear.data(), linear.size(), 1.0, codes16.data());
+    for (const int bits : {8, 16}) {
+        const int codes = bits == 8 ? 255 : 65535;
+        for (std::size_t i = 0; i < linear.size(); ++i) {
+            const int expect = int(linear_to_srgb(linear[i]) * float(codes) + 0.5f);
+            const int got = bits == 8 ? codes8[i] : codes16[i];
+            ASSERT_EQ(got, expect) << bits << " bits, value " << linear[i];
+        }
+    }
+}
+
+TEST(SrgbEncode, ValuesOutsideZeroToOneAndAnExposureGetTheCodesOfTheFormula) {
+    // Eight values at a time go through the vector path where the CPU has one: every special
+    // value in every one of the eight places, and the exposure multiplied in double first.
+    // Non-finite values and values <= 0 give 0, values >= 1 the top code.
+    const float inf = std::numeric_limits<float>::infinity();
+    const std::vector<float> special = {
+        0.0f,       -0.0f, -1e-30f,     -0.5f,      1.0f,
+        1.0000001f, 3e38f, inf,         -inf,       std::numeric_limits<float>::quiet_NaN(),
+        1e-38f,     0.5f,  0.99999994f, 0.0031308f, 1e-45f,
+        2.0f};
+    std::vector<float> linear(special.size() * 9);
+    for (std::size_t i = 0; i < linear.size(); ++i) {
+        linear[i] = i % 9 == 0 ? special[(i / 9) % special.size()] : 0.25f + 1e-3f * i;
+    }
+    for (const double exposure : {1.0, 0.7, 3.3}) {
+        std::vector<std::uint8_t> codes(linear.size());
+        srgb_encode(linear.data(), linear.size(), exposure, codes.data());
+        for (std::size_t i = 0; i < linear.size(); ++i) {
+            const float v = float(linear[i] * exposure);
+            const int expect = !std::isfinite(v) || v <= 0.0f ? 0
+                               : v >= 1.0f                    ? 255
+                                           : int(linear_to_srgb(v) * 255.0f + 0.5f);
+            ASSERT_EQ(int(codes[i]), expect) << "value " << linear[i] << " times " << exposure;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace deepsea
