@@ -1,7 +1,6 @@
 #include "deepsea/bake/bake.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -17,13 +16,6 @@
 namespace deepsea {
 
 namespace {
-
-/// Shortest text that reads back to exactly v (std::to_string prints 1e-300 as 0.000000).
-std::string short_number(double v) {
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
 
 /// par for one stage of a bake: the stage's `done` is reported as offset + done of `total`,
 /// so that the stages fill one progress bar.

@@ -1,6 +1,7 @@
 #include "deepsea/core/error.h"
 
 #include <algorithm>
+#include <charconv>
 
 #include "deepsea/core/parallel.h"
 
@@ -25,6 +26,12 @@ std::string one_line(const std::string& text, std::size_t max_chars) {
         out += ch;
     }
     return out;
+}
+
+std::string short_number(double v) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
 }
 
 void throw_error(int exit_code, const std::string& message) {

@@ -1,17 +1,12 @@
 #include "deepsea/optics/deep_ocean.h"
 
-#include "deepsea/core/error.h"
+#include <iterator>
+
+#include "preset_table.h"
 
 namespace deepsea {
 
 namespace {
-
-struct DeepRow {
-    const char* type;
-    Rgb c;  ///< beam attenuation, 1/m, R, G, B band means
-    Rgb b;  ///< scattering, 1/m
-    PhaseKind phase;
-};
 
 // Jerlov's types describe the sunlit surface layer; below it the water is clearer than type I
 // and near the seafloor it can be far more turbid. These presets add up, per wavelength,
@@ -47,7 +42,7 @@ struct DeepRow {
 // Petzold's clear and coastal waters are measured mixtures of particles and water of about
 // these b.
 // clang-format off
-constexpr DeepRow kDeep[] = {
+constexpr presets::Row kDeep[] = {
     {"clear",     {0.3956, 0.0949, 0.0429}, {0.0192, 0.0235, 0.0309}, PhaseKind::PetzoldClear},
     {"moderate",  {0.4361, 0.1404, 0.0952}, {0.0557, 0.0645, 0.0780}, PhaseKind::PetzoldClear},
     {"nepheloid", {0.5770, 0.2901, 0.2560}, {0.1824, 0.1992, 0.2227}, PhaseKind::PetzoldCoastal},
@@ -57,28 +52,12 @@ constexpr DeepRow kDeep[] = {
 }  // namespace
 
 const std::vector<std::string>& deep_ocean_types() {
-    static const std::vector<std::string> names = [] {
-        std::vector<std::string> n;
-        for (const auto& r : kDeep) n.emplace_back(r.type);
-        return n;
-    }();
+    static const std::vector<std::string> names = presets::types(kDeep, std::size(kDeep));
     return names;
 }
 
 Water deep_ocean_water(const std::string& type) {
-    for (const auto& r : kDeep) {
-        if (type == r.type) {
-            Water w;
-            w.name = std::string("deep-") + r.type;
-            w.c = r.c;
-            w.b = r.b;
-            w.phase.kind = r.phase;
-            return w;
-        }
-    }
-    std::string known;
-    for (const auto& n : deep_ocean_types()) known += (known.empty() ? "" : ", ") + n;
-    throw ConfigError("unknown deep-ocean water type '" + type + "' (known: " + known + ")");
+    return presets::water(kDeep, std::size(kDeep), type, "deep-", "deep-ocean", deep_ocean_types());
 }
 
 }  // namespace deepsea

@@ -1,17 +1,12 @@
 #include "deepsea/optics/jerlov.h"
 
-#include "deepsea/core/error.h"
+#include <iterator>
+
+#include "preset_table.h"
 
 namespace deepsea {
 
 namespace {
-
-struct JerlovRow {
-    const char* type;
-    Rgb c;  ///< beam attenuation, 1/m, R, G, B band means
-    Rgb b;  ///< scattering, 1/m
-    PhaseKind phase;
-};
 
 // Band means of the measured inherent optical properties of Jerlov water types:
 // S. Williamson, J. Hollins, "Measured IOPs of Jerlov water types", Applied Optics (2022),
@@ -21,7 +16,7 @@ struct JerlovRow {
 // Phase: the Petzold water whose b at 514 nm (clear 0.036, coastal 0.191, turbid 1.725 1/m)
 // is closest to the type's green b on a log scale.
 // clang-format off
-constexpr JerlovRow kJerlov[] = {
+constexpr presets::Row kJerlov[] = {
     {"IB",  {0.4901, 0.1982, 0.1763}, {0.1140, 0.1223, 0.1357}, PhaseKind::PetzoldCoastal},
     {"II",  {0.5433, 0.2598, 0.2594}, {0.1639, 0.1767, 0.1966}, PhaseKind::PetzoldCoastal},
     {"III", {0.6634, 0.3870, 0.4213}, {0.2704, 0.2872, 0.3106}, PhaseKind::PetzoldCoastal},
@@ -34,28 +29,12 @@ constexpr JerlovRow kJerlov[] = {
 }  // namespace
 
 const std::vector<std::string>& jerlov_types() {
-    static const std::vector<std::string> names = [] {
-        std::vector<std::string> n;
-        for (const auto& r : kJerlov) n.emplace_back(r.type);
-        return n;
-    }();
+    static const std::vector<std::string> names = presets::types(kJerlov, std::size(kJerlov));
     return names;
 }
 
 Water jerlov_water(const std::string& type) {
-    for (const auto& r : kJerlov) {
-        if (type == r.type) {
-            Water w;
-            w.name = std::string("jerlov-") + r.type;
-            w.c = r.c;
-            w.b = r.b;
-            w.phase.kind = r.phase;
-            return w;
-        }
-    }
-    std::string known;
-    for (const auto& n : jerlov_types()) known += (known.empty() ? "" : ", ") + n;
-    throw ConfigError("unknown Jerlov water type '" + type + "' (known: " + known + ")");
+    return presets::water(kJerlov, std::size(kJerlov), type, "jerlov-", "Jerlov", jerlov_types());
 }
 
 }  // namespace deepsea

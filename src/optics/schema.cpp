@@ -1,7 +1,6 @@
 #include "deepsea/optics/schema.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -12,20 +11,13 @@ namespace deepsea {
 
 namespace {
 
-/// Shortest text that reads back to exactly v.
-std::string fmt(double v) {
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
-
 const char* const kChannel[] = {"R", "G", "B"};
 
 void require_non_negative(const Rgb& x, const std::string& key) {
     for (int i = 0; i < 3; ++i)
         if (!(x[i] >= 0.0))
-            throw SchemaError(
-                key, std::string("must be >= 0 (") + kChannel[i] + " is " + fmt(x[i]) + ")");
+            throw SchemaError(key, std::string("must be >= 0 (") + kChannel[i] + " is " +
+                                       short_number(x[i]) + ")");
 }
 
 void validate_rid(const Rid& rid, const std::string& light) {
@@ -70,9 +62,9 @@ void validate(const Camera& c) {
                                               std::to_string(kMaxImageSide) + " on a side)");
     }
     if (!(c.fx > 0.0) || !std::isfinite(c.fx))
-        throw SchemaError("camera.fx", "must be > 0, got " + fmt(c.fx));
+        throw SchemaError("camera.fx", "must be > 0, got " + short_number(c.fx));
     if (!(c.fy > 0.0) || !std::isfinite(c.fy))
-        throw SchemaError("camera.fy", "must be > 0, got " + fmt(c.fy));
+        throw SchemaError("camera.fy", "must be > 0, got " + short_number(c.fy));
     if (!std::isfinite(c.cx)) throw SchemaError("camera.cx", "must be a finite number");
     if (!std::isfinite(c.cy)) throw SchemaError("camera.cy", "must be a finite number");
     // The ray through a pixel edge, per axis: tan(angle) = |edge - centre| / focal length.
@@ -83,11 +75,12 @@ void validate(const Camera& c) {
         if (!(off <= tan_max * focal)) {
             char deg[32];  // 89.99, not 89.9999641901378
             std::snprintf(deg, sizeof deg, "%.4g", std::atan2(off, focal) * 180.0 / M_PI);
-            throw SchemaError(key, "rays through the image's edges reach " + std::string(deg) +
-                                       " degrees from the axis (" + f + " = " + fmt(focal) +
-                                       ", centre " + fmt(centre) + ", " + std::to_string(size) +
-                                       " pixels); deepsea's limit is " + fmt(kMaxRayAngleDeg) +
-                                       " degrees per axis: give a longer focal length");
+            throw SchemaError(key,
+                              "rays through the image's edges reach " + std::string(deg) +
+                                  " degrees from the axis (" + f + " = " + short_number(focal) +
+                                  ", centre " + short_number(centre) + ", " + std::to_string(size) +
+                                  " pixels); deepsea's limit is " + short_number(kMaxRayAngleDeg) +
+                                  " degrees per axis: give a longer focal length");
         }
     };
     check_axis("camera.fx", "fx", c.fx, c.cx, c.width);
@@ -101,21 +94,24 @@ void validate(const Rig& rig) {
         const Light& l = rig.lights[i];
         const std::string key = "rig.lights[" + std::to_string(i) + "]";
         const Vec3& p = l.position;
-        const std::string where = "[" + fmt(p.x) + ", " + fmt(p.y) + ", " + fmt(p.z) + "] m";
+        const std::string where =
+            "[" + short_number(p.x) + ", " + short_number(p.y) + ", " + short_number(p.z) + "] m";
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             throw SchemaError(key + ".position",
                               "lamp '" + l.name + "' at " + where + ": coordinates must be finite");
         if (!(length(p) >= kLampNearFieldRadius))
             throw SchemaError(key + ".position",
-                              "lamp '" + l.name + "' at " + where + " is " + fmt(length(p)) +
+                              "lamp '" + l.name + "' at " + where + " is " +
+                                  short_number(length(p)) +
                                   " m from the camera centre, inside the near-field limit of " +
-                                  fmt(kLampNearFieldRadius) +
+                                  short_number(kLampNearFieldRadius) +
                                   " m (single-scattering backscatter diverges there)");
         if (!(length(p) <= kMaxLampDistance))
-            throw SchemaError(key + ".position",
-                              "lamp '" + l.name + "' at " + where + " is " + fmt(length(p)) +
-                                  " m from the camera centre, beyond the limit of " +
-                                  fmt(kMaxLampDistance) + " m (a rig's lamps move with it)");
+            throw SchemaError(
+                key + ".position",
+                "lamp '" + l.name + "' at " + where + " is " + short_number(length(p)) +
+                    " m from the camera centre, beyond the limit of " +
+                    short_number(kMaxLampDistance) + " m (a rig's lamps move with it)");
         const Vec3& d = l.direction;
         if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z))
             throw SchemaError(key + ".direction", "coordinates must be finite");
@@ -124,10 +120,10 @@ void validate(const Rig& rig) {
         require_non_negative(l.intensity, key + ".intensity");
         for (int c = 0; c < 3; ++c)
             if (!(l.intensity[c] <= kMaxLampIntensity))
-                throw SchemaError(key + ".intensity", std::string("must be at most ") +
-                                                          fmt(kMaxLampIntensity) +
-                                                          " W/sr per channel (" + kChannel[c] +
-                                                          " is " + fmt(l.intensity[c]) + ")");
+                throw SchemaError(key + ".intensity",
+                                  std::string("must be at most ") +
+                                      short_number(kMaxLampIntensity) + " W/sr per channel (" +
+                                      kChannel[c] + " is " + short_number(l.intensity[c]) + ")");
         validate_rid(l.rid, key);
         const auto [it, fresh] = seen.emplace(l.name, i);
         if (!fresh)
@@ -143,8 +139,8 @@ void validate(const Water& w) {
         if (w.b[i] > w.c[i])
             throw SchemaError("water.scattering",
                               std::string("scattering must not exceed attenuation (") +
-                                  kChannel[i] + ": b = " + fmt(w.b[i]) + " > c = " + fmt(w.c[i]) +
-                                  ")");
+                                  kChannel[i] + ": b = " + short_number(w.b[i]) +
+                                  " > c = " + short_number(w.c[i]) + ")");
     if (w.phase.kind == PhaseKind::HenyeyGreenstein && !(w.phase.g > -1.0 && w.phase.g < 1.0))
         throw SchemaError("water.phase.henyey_greenstein.g", "must be in (-1, 1)");
     if (!w.forward.enabled || w.forward.model == ForwardModel::PhaseFunction) return;
@@ -153,7 +149,8 @@ void validate(const Water& w) {
         if (w.forward.G[i] > w.c[i])
             throw SchemaError("water.forward_scatter.G",
                               std::string("G must not exceed attenuation c (") + kChannel[i] +
-                                  ": G = " + fmt(w.forward.G[i]) + " > c = " + fmt(w.c[i]) + ")");
+                                  ": G = " + short_number(w.forward.G[i]) +
+                                  " > c = " + short_number(w.c[i]) + ")");
     if (!(w.forward.k >= 0.0)) throw SchemaError("water.forward_scatter.k", "must be >= 0 rad/m");
 }
 

@@ -173,7 +173,6 @@ CLI::Validator finite(bool positive = false) {
         },
         "");
 }
-CLI::Validator positive_finite() { return finite(true); }
 
 }  // namespace
 
@@ -190,22 +189,17 @@ void setup_scene(CLI::App& sub) {
         ->check(CLI::Range(1, kMaxFlightSide))
         ->excludes(cam);
     // Defaults that follow from other options: --help shows the rule.
-    sub.add_option("--fx", a->fx, "focal length in pixels")
-        ->default_str("0.75*width")
-        ->check(positive_finite())
-        ->excludes(cam);
-    sub.add_option("--fy", a->fy, "focal length in pixels")
-        ->default_str("fx")
-        ->check(positive_finite())
-        ->excludes(cam);
-    sub.add_option("--cx", a->cx, "principal point in pixels")
-        ->default_str("width/2")
-        ->check(finite())
-        ->excludes(cam);
-    sub.add_option("--cy", a->cy, "principal point in pixels")
-        ->default_str("height/2")
-        ->check(finite())
-        ->excludes(cam);
+    const auto intrinsic = [&](const char* flag, double& value, const char* what, const char* rule,
+                               bool positive) {
+        sub.add_option(flag, value, what)
+            ->default_str(rule)
+            ->check(finite(positive))
+            ->excludes(cam);
+    };
+    intrinsic("--fx", a->fx, "focal length in pixels", "0.75*width", true);
+    intrinsic("--fy", a->fy, "focal length in pixels", "fx", true);
+    intrinsic("--cx", a->cx, "principal point in pixels", "width/2", false);
+    intrinsic("--cy", a->cy, "principal point in pixels", "height/2", false);
     sub.add_option("--altitude", a->flight.altitude, "metres above the mean seafloor");
     sub.add_option("--speed", a->flight.speed, "metres flown per frame along +x");
     sub.add_option("--pitch", a->flight.pitch_deg, "degrees from straight down, > 0 looks ahead");

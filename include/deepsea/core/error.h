@@ -13,6 +13,10 @@ namespace deepsea {
 /// report a name gigabytes long).
 std::string one_line(const std::string& text, std::size_t max_chars = 240);
 
+/// The shortest text that reads back to exactly v, for numbers in messages (std::to_string
+/// prints 1e-300 as 0.000000).
+std::string short_number(double v);
+
 /// Base of every deepsea exception.
 class Error : public std::runtime_error {
 public:

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "../message_of.h"
+#include "../temp_folder.h"
 #include "deepsea/asset/asset_integrity.h"
 #include "deepsea/core/error.h"
 #include "test_assets.h"
@@ -20,18 +22,8 @@ namespace fs = std::filesystem;
 
 const Camera kCam{64, 48, 50.0, 52.0, 31.5, 23.0};  // off-centre principal point, fx != fy
 
-class AssetFile : public ::testing::Test {
+class AssetFile : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        m_dir = fs::temp_directory_path() /
-                ("deepsea-asset-test-" + std::to_string(::getpid()) + "-" + info->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
-
     std::vector<char> read_bytes(const std::string& p) const {
         std::ifstream f(p, std::ios::binary);
         return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
@@ -48,13 +40,11 @@ protected:
         write_bytes(p, std::vector<char>(s.begin(), s.end()), s.size());
     }
     bool has_temp_files() const {
-        for (const auto& e : fs::directory_iterator(m_dir)) {
+        for (const auto& e : fs::directory_iterator(dir_)) {
             if (e.path().filename().string().find(".tmp") != std::string::npos) return true;
         }
         return false;
     }
-
-    fs::path m_dir;
 };
 
 Asset smooth_asset(DepthScheme scheme = DepthScheme::Uniform) {
@@ -309,12 +299,7 @@ TEST_F(AssetFile, VdbWithoutDeepseaMetadataIsAssetError) {
 
 /// The AssetError message of loading `p`, or "" when it loads.
 std::string load_error(const std::string& p) {
-    try {
-        load_asset(p);
-    } catch (const AssetError& e) {
-        return e.what();
-    }
-    return "";
+    return test::message_of<AssetError>([&] { load_asset(p); });
 }
 
 TEST_F(AssetFile, EveryChangedByteIsRefusedBeforeOpenVdbParses) {
@@ -387,7 +372,7 @@ TEST_F(AssetFile, UnwritableTargetsAreIoErrorsAndLeaveNoFiles) {
     EXPECT_THROW(write_asset(path("no/such/dir/a.vdb"), a), IoError);
     EXPECT_THROW(require_writable(path("no/such/dir/a.vdb")), IoError);
     // The target is a non-empty directory: the temporary file is written, the rename fails.
-    fs::create_directories(m_dir / "busy.vdb" / "x");
+    fs::create_directories(dir_ / "busy.vdb" / "x");
     EXPECT_THROW(require_writable(path("busy.vdb")), IoError);
     EXPECT_THROW(write_asset(path("busy.vdb"), a), IoError);
     EXPECT_FALSE(has_temp_files());

@@ -7,20 +7,24 @@
 
 namespace deepsea::test {
 
-inline Rig two_lamp_rig() {
+/// Lamps "left" and "right", 0.5 m either side of the camera, their axes (-axis_x, 0, axis_z)
+/// and (axis_x, 0, axis_z) normalised, Gaussian beams of sigma_deg.
+inline Rig mirrored_lamps(const char* name, double axis_x, double axis_z, double sigma_deg) {
     Rig rig;
-    rig.name = "two-lamps";
+    rig.name = name;
     for (int s : {-1, 1}) {
         Light l;
         l.name = s < 0 ? "left" : "right";
         l.position = {0.5 * s, 0.0, 0.0};
-        l.direction = normalize(Vec3{-0.51 * s, 0.0, 0.86});
+        l.direction = normalize(Vec3{axis_x * s, 0.0, axis_z});
         l.intensity = {1.0, 0.9, 0.8};
-        l.rid.sigma_deg = 35.0;
+        l.rid.sigma_deg = sigma_deg;
         rig.lights.push_back(l);
     }
     return rig;
 }
+
+inline Rig two_lamp_rig() { return mirrored_lamps("two-lamps", -0.51, 0.86, 35.0); }
 
 inline Water test_water() {
     Water w;

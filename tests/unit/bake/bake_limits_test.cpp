@@ -27,12 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const Camera& kCam = test::kBakeCam;
-
-Rig two_lamps() { return test::two_lamp_rig(); }
-
-BakeSettings small_settings() { return test::small_bake_settings(); }
-
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -61,6 +55,17 @@ double seconds_to_stop(StopFlag& stop, double delay, const F& f) {
     setter.join();
     EXPECT_TRUE(cancelled) << "finished before the stop (make the work longer)";
     return std::chrono::duration<double>(end - set_at).count();
+}
+
+/// seconds_to_stop for a bake of the two lamps in Jerlov IB with settings s, without the
+/// bake's own check, on two threads.
+double bake_stops_after(BakeSettings s, double delay) {
+    s.check = false;
+    StopFlag stop{0};
+    return seconds_to_stop(stop, delay, [&] {
+        bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), s,
+             Parallel{2}.with_stop(&stop));
+    });
 }
 
 TEST(BakeLimits, ZMaxHasARange) {
@@ -108,14 +113,14 @@ TEST(BakeLimits, ALatticeOpenVdbCannotStoreIsRefusedBeforeAnyColumn) {
     // A narrow camera (0.04 degrees across), 1 cm deep, 4096 samples: cells of 0.4 x 0.6 x 2.4
     // micrometres, below OpenVDB's smallest transform.
     const Camera tele{64, 48, 1e5, 1e5, 31.5, 23.5};
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.z_max = kMinZMax;
     s.depth_samples = kMaxDepthSamples;
     s.check = false;
     long calls = 0;
     const Parallel par{0, 0, [&](long, long) { return ++calls > 0; }};
     try {
-        bake(tele, two_lamps(), jerlov_water("IB"), s, par);
+        bake(tele, test::two_lamp_rig(), jerlov_water("IB"), s, par);
         ADD_FAILURE() << "baked an unstorable lattice";
     } catch (const ConfigError& e) {
         const std::string what = e.what();
@@ -128,7 +133,7 @@ TEST(BakeLimits, ALatticeOpenVdbCannotStoreIsRefusedBeforeAnyColumn) {
     // ArithmeticError.
     Asset a;
     a.info.camera = tele;
-    a.info.rig = two_lamps();
+    a.info.rig = test::two_lamp_rig();
     a.info.water = jerlov_water("IB");
     a.info.lattice = make_lattice(tele, 8, DepthScheme::Uniform,
                                   depth_samples(DepthScheme::Uniform, kMaxDepthSamples, kMinZMax));
@@ -155,24 +160,20 @@ TEST(BakeLimits, AStopSetBeforehandComputesNothing) {
     StopFlag stop{SIGINT};
     long calls = 0;
     Parallel par{0, 0, [&](long, long) { return ++calls > 0; }};
-    EXPECT_THROW(
-        bake(kCam, two_lamps(), jerlov_water("IB"), small_settings(), par.with_stop(&stop)),
-        Cancelled);
+    EXPECT_THROW(bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"),
+                      test::small_bake_settings(), par.with_stop(&stop)),
+                 Cancelled);
     EXPECT_EQ(calls, 0);
 }
 
 TEST(BakeLimits, TheExactStageStopsWithinASecond) {
     // One column of a 1 px lattice is a few milliseconds; a whole grain of 16 of them with the
     // strictest quadrature is longer. The stop must land well within a second either way.
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.step = 1;
     s.depth_samples = 256;
     s.quadrature = Quadrature{kMinRelTol, 0.0, kMaxQuadratureDepth};
-    s.check = false;
-    StopFlag stop{0};
-    const double after = seconds_to_stop(stop, 0.3, [&] {
-        bake(kCam, two_lamps(), jerlov_water("IB"), s, Parallel{2}.with_stop(&stop));
-    });
+    const double after = bake_stops_after(s, 0.3);
     std::printf("exact stage: stopped %.3f s after the flag\n", after);
     EXPECT_LT(after, 0.5);
 }
@@ -180,14 +181,10 @@ TEST(BakeLimits, TheExactStageStopsWithinASecond) {
 TEST(BakeLimits, TheMonteCarloStagesStopWithinASecond) {
     // With the most paths, one Monte Carlo column takes minutes: the stop must reach inside it,
     // with no progress callback at all (the CLI's signal flag alone).
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.scattering = Scattering::Multiple;
     s.higher_orders.paths = kMaxPaths;
-    s.check = false;
-    StopFlag stop{0};
-    const double after = seconds_to_stop(stop, 0.5, [&] {
-        bake(kCam, two_lamps(), jerlov_water("IB"), s, Parallel{2}.with_stop(&stop));
-    });
+    const double after = bake_stops_after(s, 0.5);
     std::printf("Monte Carlo stage: stopped %.3f s after the flag\n", after);
     EXPECT_LT(after, 0.5);
     // The lamp tables (the stage after it) as well: many samples per node.
@@ -195,7 +192,7 @@ TEST(BakeLimits, TheMonteCarloStagesStopWithinASecond) {
     ls.samples = kMaxLampSamples;
     StopFlag stop2{0};
     const double after2 = seconds_to_stop(stop2, 0.3, [&] {
-        bake_lamp_field(two_lamps().lights[0], jerlov_water("IB"), ls,
+        bake_lamp_field(test::two_lamp_rig().lights[0], jerlov_water("IB"), ls,
                         Parallel{2}.with_stop(&stop2));
     });
     std::printf("lamp tables: stopped %.3f s after the flag\n", after2);
@@ -207,7 +204,7 @@ TEST(BakeLimits, OneRaysQuadratureIsBounded) {
     // long: the bisection went on toward 2^60 panels around the lamp's peak. Bounded, it still
     // gives the integral (the greedy pass puts the panels where the error is; the depth-first
     // bisection alone, cut at the bound, was 13 % off).
-    Rig rig = two_lamps();
+    Rig rig = test::two_lamp_rig();
     rig.lights[0].position = {0.05, 0.02, 1.0};
     const Vec3 dir = normalize(Vec3{0.05, 0.0, 1.0});
     std::vector<double> t;

@@ -5,13 +5,13 @@
 #include "deepsea/bake/bake.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
+#include "../temp_folder.h"
 #include "bake_fixtures.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
@@ -24,19 +24,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const Camera& kCam = test::kBakeCam;
-
-Rig two_lamps() { return test::two_lamp_rig(); }
-
-BakeSettings small_settings() { return test::small_bake_settings(); }
-
 TEST(Bake, ValuesAreTheExactCumulativeIntegrals) {
-    const Rig rig = two_lamps();
+    const Rig rig = test::two_lamp_rig();
     const Water water = jerlov_water("IB");
     for (DepthScheme scheme : {DepthScheme::Uniform, DepthScheme::Log, DepthScheme::Taylor}) {
-        BakeSettings s = small_settings();
+        BakeSettings s = test::small_bake_settings();
         s.scheme = scheme;
-        const Asset a = bake(kCam, rig, water, s);
+        const Asset a = bake(test::kBakeCam, rig, water, s);
         const Lattice& l = a.lattice();
         ASSERT_EQ(l.ni, lattice_count(64, 8));
         ASSERT_EQ(l.nj, lattice_count(48, 8));
@@ -44,7 +38,7 @@ TEST(Bake, ValuesAreTheExactCumulativeIntegrals) {
         ASSERT_EQ(a.values.size(), std::size_t(3 * l.ni * l.nj * l.nk()));
         // Corners, the centre and an odd column: t = z |r| along the unit ray.
         for (auto [i, j] : {std::pair{0, 0}, {l.ni - 1, l.nj - 1}, {4, 3}, {1, 5}}) {
-            const Vec3 ray = kCam.ray(l.u(i), l.v(j));
+            const Vec3 ray = test::kBakeCam.ray(l.u(i), l.v(j));
             std::vector<double> t;
             for (double z : l.z) t.push_back(z * length(ray));
             const auto C = backscatter_cumulative(rig, water, ray / length(ray), t, s.quadrature);
@@ -61,10 +55,10 @@ TEST(Bake, ValuesAreTheExactCumulativeIntegrals) {
 }
 
 TEST(Bake, BitIdenticalAtOneAndTwoThreads) {
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.z_max = 0.0;  // auto: the z_max search is parallel too
-    const Asset a1 = bake(kCam, two_lamps(), jerlov_water("3C"), s, {1});
-    const Asset a2 = bake(kCam, two_lamps(), jerlov_water("3C"), s, {2});
+    const Asset a1 = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("3C"), s, {1});
+    const Asset a2 = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("3C"), s, {2});
     ASSERT_EQ(a1.values.size(), a2.values.size());
     EXPECT_EQ(a1.lattice().z, a2.lattice().z);
     EXPECT_EQ(0, std::memcmp(a1.values.data(), a2.values.data(), a1.values.size() * sizeof(float)));
@@ -72,7 +66,7 @@ TEST(Bake, BitIdenticalAtOneAndTwoThreads) {
 }
 
 TEST(Bake, ProgressReachesTheTotal) {
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     long last = 0, total = 0, calls = 0;
     const Parallel par{0, 0, [&](long done, long t) {
                            EXPECT_GT(done, last);  // serialised and increasing
@@ -81,14 +75,14 @@ TEST(Bake, ProgressReachesTheTotal) {
                            ++calls;
                            return true;
                        }};
-    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s, par);
+    const Asset a = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), s, par);
     EXPECT_GT(calls, 0);
     EXPECT_EQ(last, a.lattice().columns());
     EXPECT_EQ(total, a.lattice().columns());
     // With an auto z_max the search comes first, on the same bar: twice the columns.
     s.z_max = 0.0;
     last = 0;
-    const Asset b = bake(kCam, two_lamps(), jerlov_water("IB"), s, par);
+    const Asset b = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), s, par);
     EXPECT_EQ(last, 2 * b.lattice().columns());
     EXPECT_EQ(total, 2 * b.lattice().columns());
 }
@@ -99,25 +93,27 @@ TEST(Bake, ProgressCanCancel) {
                            last = done;
                            return done < 3;
                        }};
-    EXPECT_THROW(bake(kCam, two_lamps(), jerlov_water("IB"), small_settings(), par), Cancelled);
+    EXPECT_THROW(bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"),
+                      test::small_bake_settings(), par),
+                 Cancelled);
     EXPECT_GE(last, 3);
-    EXPECT_LT(
-        last,
-        bake_request(kCam, two_lamps(), jerlov_water("IB"), small_settings()).lattice.columns());
+    EXPECT_LT(last, bake_request(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"),
+                                 test::small_bake_settings())
+                        .lattice.columns());
 }
 
 TEST(Bake, AutoZMaxMeetsItsTolerance) {
-    const Rig rig = two_lamps();
+    const Rig rig = test::two_lamp_rig();
     const Water water = jerlov_water("IB");
     const double tol = 1e-3;
-    const double z_max = auto_z_max(kCam, rig, water, 8, tol);
+    const double z_max = auto_z_max(test::kBakeCam, rig, water, 8, tol);
     ASSERT_GT(z_max, 0.5);
     ASSERT_LT(z_max, 100.0);
     const double t_far = far_path_length(water, tol);
     double worst = 0.0, worst_before = 0.0;
     for (int i = 0; i < lattice_count(64, 8); ++i) {
         for (int j = 0; j < lattice_count(48, 8); ++j) {
-            const Vec3 ray = kCam.ray(i * 8.0, j * 8.0);
+            const Vec3 ray = test::kBakeCam.ray(i * 8.0, j * 8.0);
             const double st = length(ray);
             // The tail beyond z_max, and beyond a depth 10 % shorter (which must miss it
             // somewhere, or the search was needlessly deep).
@@ -134,39 +130,41 @@ TEST(Bake, AutoZMaxMeetsItsTolerance) {
     EXPECT_GT(worst_before, tol);
 
     // bake() with z_max = auto uses that depth and records the request, not the result.
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.z_max = 0.0;
     s.tolerance = tol;
-    const Asset a = bake(kCam, rig, water, s);
+    const Asset a = bake(test::kBakeCam, rig, water, s);
     EXPECT_DOUBLE_EQ(a.lattice().z_max(), z_max);
     EXPECT_TRUE(a.info.z_max_auto);
     EXPECT_EQ(a.info.tolerance, tol);
 }
 
 TEST(Bake, RequestHashMatchesTheBakedAsset) {
-    const Rig rig = two_lamps();
+    const Rig rig = test::two_lamp_rig();
     const Water water = jerlov_water("IB");
     for (double z_max : {0.0, 6.0}) {  // auto and fixed
-        BakeSettings s = small_settings();
+        BakeSettings s = test::small_bake_settings();
         s.z_max = z_max;
-        const BakeInfo want = bake_request(kCam, rig, water, s);
-        const Asset a = bake(kCam, rig, water, s);
+        const BakeInfo want = bake_request(test::kBakeCam, rig, water, s);
+        const Asset a = bake(test::kBakeCam, rig, water, s);
         EXPECT_EQ(want.input_hash, a.info.input_hash) << "z_max " << z_max;
         EXPECT_EQ(input_hash(a.info), a.info.input_hash);
         // Any setting is an input (threads and progress are not settings but a Parallel).
         s.depth_samples += 1;
-        EXPECT_NE(bake_request(kCam, rig, water, s).input_hash, want.input_hash);
+        EXPECT_NE(bake_request(test::kBakeCam, rig, water, s).input_hash, want.input_hash);
     }
-    BakeSettings s = small_settings();
-    const std::string h = bake_request(kCam, rig, water, s).input_hash;
+    BakeSettings s = test::small_bake_settings();
+    const std::string h = bake_request(test::kBakeCam, rig, water, s).input_hash;
     s.step = 4;
-    EXPECT_NE(bake_request(kCam, rig, water, s).input_hash, h);
-    s = small_settings();
+    EXPECT_NE(bake_request(test::kBakeCam, rig, water, s).input_hash, h);
+    s = test::small_bake_settings();
     s.z_max = 0.0;
-    const std::string h_auto = bake_request(kCam, rig, water, s).input_hash;
+    const std::string h_auto = bake_request(test::kBakeCam, rig, water, s).input_hash;
     s.tolerance = 1e-3;
-    EXPECT_NE(bake_request(kCam, rig, water, s).input_hash, h_auto);
-    EXPECT_NE(bake_request(kCam, rig, jerlov_water("3C"), small_settings()).input_hash, h);
+    EXPECT_NE(bake_request(test::kBakeCam, rig, water, s).input_hash, h_auto);
+    EXPECT_NE(bake_request(test::kBakeCam, rig, jerlov_water("3C"), test::small_bake_settings())
+                  .input_hash,
+              h);
 }
 
 TEST(Bake, ValidateRejectsBadSettings) {
@@ -195,36 +193,26 @@ TEST(Bake, ValidateRejectsBadSettings) {
     rejects([](BakeSettings& s) { s.tolerance = 0.0; }, "tolerance");
     rejects([](BakeSettings& s) { s.tolerance = 0.5; }, "tolerance");
     // bake() validates too, and refuses a rig without lamps.
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.depth_samples = 1;
-    EXPECT_THROW(bake(kCam, two_lamps(), jerlov_water("IB"), s), ConfigError);
-    EXPECT_THROW(bake(kCam, Rig{}, jerlov_water("IB"), small_settings()), ConfigError);
+    EXPECT_THROW(bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), s), ConfigError);
+    EXPECT_THROW(bake(test::kBakeCam, Rig{}, jerlov_water("IB"), test::small_bake_settings()),
+                 ConfigError);
     try {
-        bake(kCam, two_lamps(), jerlov_water("IB"), small_settings(), {-1});
+        bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), test::small_bake_settings(),
+             {-1});
         ADD_FAILURE() << "accepted threads = -1";
     } catch (const ConfigError& e) {
         EXPECT_NE(std::string(e.what()).find("threads"), std::string::npos) << e.what();
     }
 }
 
-class BakeFile : public ::testing::Test {
-protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        m_dir = fs::temp_directory_path() /
-                ("deepsea-bake-test-" + std::to_string(::getpid()) + "-" + info->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-    std::string path(const std::string& name) const { return (m_dir / name).string(); }
-    fs::path m_dir;
-};
+class BakeFile : public test::TempFolderTest {};
 
 TEST_F(BakeFile, RoundTripSamplesMatch) {
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.scheme = DepthScheme::Log;
-    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s);
+    const Asset a = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), s);
     for (bool half : {false, true}) {
         WriteOptions opt;
         opt.half = half;
@@ -249,7 +237,8 @@ TEST_F(BakeFile, RoundTripSamplesMatch) {
 }
 
 TEST_F(BakeFile, FailedWriteLeavesNoFile) {
-    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), small_settings());
+    const Asset a =
+        bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), test::small_bake_settings());
     const std::string missing = path("no/such/dir/a.vdb");
     EXPECT_THROW(require_writable(missing), IoError);
     EXPECT_THROW(write_asset(missing, a), IoError);
@@ -264,7 +253,7 @@ TEST_F(BakeFile, FailedWriteLeavesNoFile) {
     EXPECT_EQ(fs::file_size(path("a.vdb")), size);
     EXPECT_NO_THROW(load_asset(path("a.vdb")));
     int files = 0;
-    for (const auto& e : fs::directory_iterator(m_dir)) {
+    for (const auto& e : fs::directory_iterator(dir_)) {
         (void)e;
         ++files;
     }
@@ -272,12 +261,12 @@ TEST_F(BakeFile, FailedWriteLeavesNoFile) {
 }
 
 TEST(BakeAccuracy, SmallAssetIsAccurateAndDeterministic) {
-    BakeSettings s = small_settings();
+    BakeSettings s = test::small_bake_settings();
     s.step = 4;
     s.depth_samples = 32;
     s.scheme = DepthScheme::Log;
     s.z_max = 0.0;
-    const Asset a = bake(kCam, two_lamps(), jerlov_water("IB"), s);
+    const Asset a = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("IB"), s);
     AccuracyOptions opt;
     opt.quadrature = {1e-7, 1e-15, 40};  // the default 1e-9 is for the docs' tables: slow
     opt.stride = 9;
@@ -304,12 +293,12 @@ namespace deepsea {
 TEST_F(BakeFile, MultipleScatteringRoundTripAndDamage) {
     // A multiple-scattering asset: more light than single scattering at every column, the
     // record of how it was made, one lamp table per lamp (equal ones shared), all read back.
-    BakeSettings s = small_settings();
-    const Asset single = bake(kCam, two_lamps(), jerlov_water("3C"), s);
+    BakeSettings s = test::small_bake_settings();
+    const Asset single = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("3C"), s);
     s.scattering = Scattering::Multiple;
     s.higher_orders.paths = 512;
     s.higher_orders.lamp_samples = 32;
-    const Asset a = bake(kCam, two_lamps(), jerlov_water("3C"), s);
+    const Asset a = bake(test::kBakeCam, test::two_lamp_rig(), jerlov_water("3C"), s);
     EXPECT_EQ(a.info.scattering, Scattering::Multiple);
     EXPECT_NE(a.info.input_hash, single.info.input_hash);
     EXPECT_GT(a.info.higher_orders.fraction, 0.1);  // 3C: far more than single scattering

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "../asset/test_assets.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/bake/accuracy.h"
 #include "deepsea/bake/bake.h"
@@ -21,18 +22,7 @@ namespace {
 
 /// volumes/demo.yaml's rig with another beam width.
 Rig demo_rig(double sigma_deg) {
-    Rig rig;
-    rig.name = "demo";
-    for (int s : {-1, 1}) {
-        Light l;
-        l.name = s < 0 ? "left" : "right";
-        l.position = {0.5 * s, 0.0, 0.0};
-        l.direction = normalize(Vec3{-0.510586 * s, 0.0, 0.859826});
-        l.intensity = {1.0, 0.9, 0.8};
-        l.rid.sigma_deg = sigma_deg;
-        rig.lights.push_back(l);
-    }
-    return rig;
+    return test::mirrored_lamps("demo", -0.510586, 0.859826, sigma_deg);
 }
 
 /// The full comparison `deepsea bake --check` prints, on a grid of test pixels that falls at

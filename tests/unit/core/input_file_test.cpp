@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 
+#include "../message_of.h"
 #include "../temp_folder.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
@@ -25,12 +26,7 @@ class InputFile : public test::TempFolderTest {};
 /// The IoError's message of f(), or "" if it throws none.
 template <typename F>
 std::string io_error(F f) {
-    try {
-        f();
-    } catch (const IoError& e) {
-        return e.what();
-    }
-    return "";
+    return test::message_of<IoError>(f);
 }
 
 }  // namespace

@@ -4,13 +4,13 @@
 #include "deepsea/io/config.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "../temp_folder.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/deep_ocean.h"
 #include "deepsea/optics/jerlov.h"
@@ -250,22 +250,13 @@ TEST(Config, PresetAndOverrides) {
     EXPECT_NEAR(s.water->b.r / s.water->c.r, s.water->b.b / s.water->c.b, 1e-12);
 }
 
-class ConfigFiles : public ::testing::Test {
+class ConfigFiles : public test::TempFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() /
-               ("deepsea-cfg-" + std::to_string(::getpid()) + "-" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     std::string file(const std::string& name, const std::string& text) {
-        const std::string p = (dir_ / name).string();
+        const std::string p = path(name);
         std::ofstream(p) << text;
         return p;
     }
-    fs::path dir_;
 };
 
 TEST_F(ConfigFiles, SectionsMergeAcrossFiles) {

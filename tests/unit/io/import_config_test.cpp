@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "../message_of.h"
 #include "../temp_folder.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
@@ -41,12 +42,7 @@ protected:
     }
     /// The ConfigError message for text, or "" if it converts.
     std::string error(const std::string& text) {
-        try {
-            import_config(file(text));
-        } catch (const ConfigError& e) {
-            return e.what();
-        }
-        return "";
+        return test::message_of<ConfigError>([&] { import_config(file(text)); });
     }
     static std::string replaced(std::string text, const std::string& from, const std::string& to) {
         const auto p = text.find(from);

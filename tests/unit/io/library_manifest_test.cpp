@@ -1,12 +1,13 @@
 #include "deepsea/io/library_manifest.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "../message_of.h"
+#include "../temp_folder.h"
 #include "deepsea/core/error.h"
 
 namespace deepsea {
@@ -14,31 +15,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class Manifest : public ::testing::Test {
+class Manifest : public test::TempFolderTest {
 protected:
     void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        m_dir = fs::temp_directory_path() /
-                ("deepsea-lib-" + std::to_string(::getpid()) + "-" + info->name());
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir / "rigs");
+        TempFolderTest::SetUp();
+        fs::create_directories(dir_ / "rigs");
         for (const char* f : {"cam.yaml", "rigs/a.yaml", "rigs/b.yaml", "w.yaml"})
-            std::ofstream((m_dir / f).string()) << "# placeholder\n";
+            std::ofstream((dir_ / f).string()) << "# placeholder\n";
     }
-    void TearDown() override { fs::remove_all(m_dir); }
     LibraryManifest parse(const std::string& text) {
-        return parse_library_manifest(text, "lib.yaml", m_dir.string());
+        return parse_library_manifest(text, "lib.yaml", dir_.string());
     }
     /// The ConfigError message, or "" if text parses.
     std::string error(const std::string& text) {
-        try {
-            parse(text);
-        } catch (const ConfigError& e) {
-            return e.what();
-        }
-        return "";
+        return test::message_of<ConfigError>([&] { parse(text); });
     }
-    fs::path m_dir;
 };
 
 TEST_F(Manifest, ExpandsSortedUniqueCombinations) {
@@ -48,7 +39,7 @@ TEST_F(Manifest, ExpandsSortedUniqueCombinations) {
         "waters: [jerlov:IB, w.yaml]\n"
         "bake: {xy_step: 64, depth_samples: 4, z_max: 6, depth_scheme: sqrt, tolerance: 0.01}\n");
     ASSERT_EQ(m.rigs.size(), 2u);
-    EXPECT_EQ(m.rigs[0], (m_dir / "rigs/a.yaml").string());
+    EXPECT_EQ(m.rigs[0], (dir_ / "rigs/a.yaml").string());
     ASSERT_EQ(m.entries.size(), 4u);
     // Sorted as strings: the resolved path (here absolute) before the jerlov: spec.
     EXPECT_EQ(m.entries[0].name, "cam__a__w.vdb");
@@ -90,7 +81,7 @@ TEST_F(Manifest, ErrorsNameFileLineAndKey) {
     EXPECT_EQ(preset.rfind("lib.yaml:3: waters[1]: unknown water preset 'deep:murky'", 0), 0u)
         << preset;
     // Same stem twice: both would write one asset.
-    std::ofstream((m_dir / "jerlov-IB.yaml").string()) << "# placeholder\n";
+    std::ofstream((dir_ / "jerlov-IB.yaml").string()) << "# placeholder\n";
     EXPECT_NE(
         error("cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\nwaters: [jerlov:IB, jerlov-IB.yaml]\n")
             .find("two entries would both write cam__a__jerlov-IB.vdb"),
@@ -98,12 +89,12 @@ TEST_F(Manifest, ErrorsNameFileLineAndKey) {
 }
 
 TEST_F(Manifest, LoadResolvesPathsAgainstTheManifestsFolder) {
-    const std::string path = (m_dir / "lib.yaml").string();
+    const std::string path = (dir_ / "lib.yaml").string();
     std::ofstream(path) << "cameras: [cam.yaml]\nrigs: [rigs/a.yaml]\nwaters: [w.yaml]\n";
     const LibraryManifest m = load_library_manifest(path);
     ASSERT_EQ(m.entries.size(), 1u);
-    EXPECT_EQ(m.entries[0].camera, (m_dir / "cam.yaml").string());
-    EXPECT_THROW(load_library_manifest((m_dir / "none.yaml").string()), IoError);
+    EXPECT_EQ(m.entries[0].camera, (dir_ / "cam.yaml").string());
+    EXPECT_THROW(load_library_manifest((dir_ / "none.yaml").string()), IoError);
 }
 
 TEST(LibraryManifestShipped, VolumesLibraryExpands) {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "../message_of.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/schema.h"
 
@@ -18,12 +19,7 @@ namespace {
 /// The message of the ConfigError that f throws ("" if none).
 template <class F>
 std::string error_of(F f) {
-    try {
-        f();
-    } catch (const ConfigError& e) {
-        return e.what();
-    }
-    return "";
+    return test::message_of<ConfigError>(f);
 }
 
 bool starts_with(const std::string& s, const std::string& prefix) {

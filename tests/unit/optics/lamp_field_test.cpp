@@ -19,6 +19,18 @@ Water hg_water() {
     return w;
 }
 
+/// The lamp's table on nr x ntheta nodes from r0 to r_max metres, `samples` directions a node.
+LampField table(const Light& lamp, const Water& w, int nr, int ntheta, double r0, double r_max,
+                int samples) {
+    LampFieldSettings s;
+    s.nr = nr;
+    s.ntheta = ntheta;
+    s.r0 = r0;
+    s.r_max = r_max;
+    s.samples = samples;
+    return bake_lamp_field(lamp, w, s);
+}
+
 }  // namespace
 
 TEST(LampField, TableGivesTheScatteredIrradianceOfARotatedLampAnywhere) {
@@ -30,13 +42,7 @@ TEST(LampField, TableGivesTheScatteredIrradianceOfARotatedLampAnywhere) {
     lamp.intensity = Rgb(1.0, 0.8, 0.6);
     lamp.rid.sigma_deg = 30.0;
     const Water w = hg_water();
-    LampFieldSettings s;
-    s.nr = 24;
-    s.ntheta = 25;
-    s.r0 = 0.05;
-    s.r_max = 10.0;
-    s.samples = 2048;
-    const LampField f = bake_lamp_field(lamp, w, s);
+    const LampField f = table(lamp, w, 24, 25, 0.05, 10.0, 2048);
     EXPECT_GT(f.rel_std_error, 0.0);
     EXPECT_LT(f.rel_std_error, 0.1);
 
@@ -78,13 +84,7 @@ TEST(LampField, TableGivesTheScatteredIrradianceOfARotatedLampAnywhere) {
 
 TEST(LampField, NoScatteredLightBeyondTheTable) {
     Light lamp;
-    LampFieldSettings s;
-    s.nr = 4;
-    s.ntheta = 5;
-    s.r0 = 0.1;
-    s.r_max = 2.0;
-    s.samples = 16;
-    const LampField f = bake_lamp_field(lamp, hg_water(), s);
+    const LampField f = table(lamp, hg_water(), 4, 5, 0.1, 2.0, 16);
     double e[3];
     lamp_field_irradiance(LampFieldView<double>(f), 0.0, 0.0, 2.5, 0.0, 0.0, -1.0, e[0], e[1],
                           e[2]);
@@ -104,13 +104,7 @@ TEST(LampField, QuadraticFormInAnyFrameIsTheSameIrradiance) {
     // normal expressed in the lamp frame: the rotation of b and Q is right.
     Light lamp;
     lamp.direction = normalize(Vec3(0.4, -0.3, 0.85));
-    LampFieldSettings s;
-    s.nr = 8;
-    s.ntheta = 9;
-    s.r0 = 0.1;
-    s.r_max = 8.0;
-    s.samples = 64;
-    const LampField f = bake_lamp_field(lamp, hg_water(), s);
+    const LampField f = table(lamp, hg_water(), 8, 9, 0.1, 8.0, 64);
     Vec3 ex, ey;
     lamp_frame(lamp.direction, ex, ey);
     const Vec3& a = lamp.direction;

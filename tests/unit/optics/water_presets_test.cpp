@@ -28,32 +28,29 @@ TEST(DeepOcean, PresetsArePhysical) {
     EXPECT_THROW(deep_ocean_water("murky"), ConfigError);
 }
 
+/// docs/model.md, "Deep-sea water": the table of band means.
+struct DocumentedRow {
+    const char* type;
+    Rgb c, b;
+    PhaseKind phase;
+};
+// clang-format off
+const DocumentedRow kDocumented[] = {
+    {"clear",     {0.3956, 0.0949, 0.0429}, {0.0192, 0.0235, 0.0309}, PhaseKind::PetzoldClear},
+    {"moderate",  {0.4361, 0.1404, 0.0952}, {0.0557, 0.0645, 0.0780}, PhaseKind::PetzoldClear},
+    {"nepheloid", {0.5770, 0.2901, 0.2560}, {0.1824, 0.1992, 0.2227}, PhaseKind::PetzoldCoastal},
+};
+// clang-format on
+
 TEST(DeepOcean, ValuesAsDocumented) {
-    // docs/model.md, "Deep-sea water": the table of band means.
-    const Water clear = deep_ocean_water("clear");
-    EXPECT_DOUBLE_EQ(clear.c.r, 0.3956);
-    EXPECT_DOUBLE_EQ(clear.c.g, 0.0949);
-    EXPECT_DOUBLE_EQ(clear.c.b, 0.0429);
-    EXPECT_DOUBLE_EQ(clear.b.r, 0.0192);
-    EXPECT_DOUBLE_EQ(clear.b.g, 0.0235);
-    EXPECT_DOUBLE_EQ(clear.b.b, 0.0309);
-    EXPECT_EQ(clear.phase.kind, PhaseKind::PetzoldClear);
-    const Water moderate = deep_ocean_water("moderate");
-    EXPECT_DOUBLE_EQ(moderate.c.r, 0.4361);
-    EXPECT_DOUBLE_EQ(moderate.c.g, 0.1404);
-    EXPECT_DOUBLE_EQ(moderate.c.b, 0.0952);
-    EXPECT_DOUBLE_EQ(moderate.b.r, 0.0557);
-    EXPECT_DOUBLE_EQ(moderate.b.g, 0.0645);
-    EXPECT_DOUBLE_EQ(moderate.b.b, 0.0780);
-    EXPECT_EQ(moderate.phase.kind, PhaseKind::PetzoldClear);
-    const Water neph = deep_ocean_water("nepheloid");
-    EXPECT_DOUBLE_EQ(neph.c.r, 0.5770);
-    EXPECT_DOUBLE_EQ(neph.c.g, 0.2901);
-    EXPECT_DOUBLE_EQ(neph.c.b, 0.2560);
-    EXPECT_DOUBLE_EQ(neph.b.r, 0.1824);
-    EXPECT_DOUBLE_EQ(neph.b.g, 0.1992);
-    EXPECT_DOUBLE_EQ(neph.b.b, 0.2227);
-    EXPECT_EQ(neph.phase.kind, PhaseKind::PetzoldCoastal);
+    for (const DocumentedRow& row : kDocumented) {
+        const Water w = deep_ocean_water(row.type);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_DOUBLE_EQ(w.c[c], row.c[c]) << row.type << " c[" << c << "]";
+            EXPECT_DOUBLE_EQ(w.b[c], row.b[c]) << row.type << " b[" << c << "]";
+        }
+        EXPECT_EQ(w.phase.kind, row.phase) << row.type;
+    }
 }
 
 TEST(DeepOcean, TurbidityOrdersThePresets) {

@@ -27,16 +27,21 @@ double worst_error(const std::vector<double>& columns, const ColumnBasis& b) {
     return worst;
 }
 
+/// columns[j * rows + i] = f(i, j).
+template <class F>
+std::vector<double> tabulate(int rows, int cols, F f) {
+    std::vector<double> m(std::size_t(rows) * cols);
+    for (int j = 0; j < cols; ++j)
+        for (int i = 0; i < rows; ++i) m[std::size_t(j) * rows + i] = f(i, j);
+    return m;
+}
+
 TEST(ColumnBasis, CombinationsOfTwoFunctionsNeedTwo) {
     const int rows = 200, cols = 9;
-    std::vector<double> m(std::size_t(rows) * cols);
-    for (int j = 0; j < cols; ++j) {
-        for (int i = 0; i < rows; ++i) {
-            const double d = 0.05 * i;
-            m[std::size_t(j) * rows + i] =
-                (j + 1) * std::exp(-0.3 * d) - 0.5 * j * d * std::exp(-d);
-        }
-    }
+    const std::vector<double> m = tabulate(rows, cols, [](int i, int j) {
+        const double d = 0.05 * i;
+        return (j + 1) * std::exp(-0.3 * d) - 0.5 * j * d * std::exp(-d);
+    });
     const ColumnBasis b = span_columns(m, rows, cols, 1e-12);
     EXPECT_EQ(b.rank, 2);
     EXPECT_LE(worst_error(m, b), 1e-12);
@@ -56,18 +61,15 @@ TEST(ColumnBasis, EveryColumnComesBackWithinTheTolerance) {
     // Poisson-mixed exponentials, like the forward scatter's weights: nearly dependent, so a
     // looser tolerance needs fewer functions, and each meets its own bar.
     const int rows = 500, cols = 12;
-    std::vector<double> m(std::size_t(rows) * cols);
-    for (int j = 0; j < cols; ++j) {
-        for (int i = 0; i < rows; ++i) {
-            const double bd = 0.02 * i;
-            double term = std::exp(-1.5 * bd), sum = 0.0;
-            for (int n = 1; n < 30; ++n) {
-                term *= bd / n;
-                sum += term * std::exp(-0.3 * std::abs(n - j));
-            }
-            m[std::size_t(j) * rows + i] = sum;
+    const std::vector<double> m = tabulate(rows, cols, [](int i, int j) {
+        const double bd = 0.02 * i;
+        double term = std::exp(-1.5 * bd), sum = 0.0;
+        for (int n = 1; n < 30; ++n) {
+            term *= bd / n;
+            sum += term * std::exp(-0.3 * std::abs(n - j));
         }
-    }
+        return sum;
+    });
     int last_rank = 0;
     for (const double tol : {1e-3, 1e-6, 1e-9, 1e-12}) {
         const ColumnBasis b = span_columns(m, rows, cols, tol);
