@@ -13,6 +13,9 @@
 
 namespace deepsea::io_detail {
 
+/// The eight bytes every PNG file starts with.
+inline constexpr std::uint8_t kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+
 /// The whole file into `bytes` (its capacity reused from frame to frame).
 void read_whole_file(const std::string& path, std::vector<std::uint8_t>& bytes);
 

@@ -9,8 +9,10 @@
 #endif
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
 #include "codec_files.h"
@@ -296,6 +298,51 @@ bool decode_png_grey16(const std::string& path, int& width, int& height,
     const int err = spng_decode_image(c.ctx, values.data(), n * 2, SPNG_FMT_PNG, 0);
     if (err) png_fail(path, err);
     return true;
+}
+
+void decode_png_samples(const std::string& path, PngSamples& out) {
+    const auto scratch = decode_scratch.take();
+    read_whole_file(path, scratch->file);
+    SpngCtx c;
+    const spng_ihdr ihdr = png_header(path, c, scratch->file);
+    spng_trns trns{};
+    const int has_trns = spng_get_trns(c.ctx, &trns);
+    if (has_trns != 0 && has_trns != SPNG_ECHUNKAVAIL) png_fail(path, has_trns);
+    const bool grey = ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE ||
+                      ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA;
+    const bool alpha = has_trns == 0 || ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA ||
+                       ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR_ALPHA;
+    out.channels = grey ? std::vector<std::string>{"Y"} : std::vector<std::string>{"R", "G", "B"};
+    out.index = grey ? std::vector<int>{0} : std::vector<int>{0, 1, 2};
+    if (alpha) {
+        out.channels.push_back("A");
+        out.index.push_back(3);
+    }
+    out.width = int(ihdr.width);
+    out.height = int(ihdr.height);
+    out.bits = ihdr.bit_depth == 16 ? 16 : 8;
+    if (out.bits != 16) {
+        out.rgba16.clear();
+        return;
+    }
+    const std::size_t n = std::size_t(out.width) * out.height;
+    out.rgba16.resize(n * 4);
+    const int err =
+        spng_decode_image(c.ctx, out.rgba16.data(), n * 8, SPNG_FMT_RGBA16, SPNG_DECODE_TRNS);
+    if (err) png_fail(path, err);
+}
+
+bool has_png_signature(const std::string& path) {
+    // Regular files only: opening a pipe or a device would wait or read without end (the
+    // readers refuse those with their own message).
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;
+    std::uint8_t head[8] = {};
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return false;
+    const std::size_t got = std::fread(head, 1, 8, f);
+    std::fclose(f);
+    return got == 8 && std::memcmp(head, kPngSignature, 8) == 0;
 }
 
 }  // namespace deepsea::io_detail
