@@ -160,6 +160,56 @@ TEST_F(FastCodecs, PngsOfEveryKindReadAsOpenImageIOReadsThem) {
     }
 }
 
+TEST_F(FastCodecs, PngDepthOfEveryKindReadsAsOpenImageIOReadsIt) {
+    // PNG depth is read by libspng (OpenImageIO's libpng prints its errors on stderr): each
+    // channel OpenImageIO names (Y, Y A, R G B, R G B A) gives its 16-bit values times the
+    // scale; 8-bit files and channels the file lacks are InputErrors naming the channels. Also
+    // under another name (.tif), where OpenImageIO would have read it.
+    std::mt19937 rng(5);
+    for (int nch : {1, 2, 3, 4}) {
+        for (OIIO::TypeDesc type : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
+            const std::string p = path("d" + std::to_string(nch) + type.c_str() + ".png");
+            OIIO::ImageSpec spec(19, 7, nch, type);
+            spec.attribute("oiio:UnassociatedAlpha", 1);
+            std::vector<std::uint16_t> px(std::size_t(19) * 7 * nch);
+            for (auto& v : px) v = std::uint16_t(rng());
+            auto out = OIIO::ImageOutput::create(p);
+            ASSERT_TRUE(out && out->open(p, spec));
+            ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, px.data()));
+            out->close();
+            fs::copy_file(p, p + ".tif", fs::copy_options::overwrite_existing);
+            auto in = OIIO::ImageInput::open(p);
+            ASSERT_TRUE(in);
+            const std::vector<std::string> names = in->spec().channelnames;
+            in.reset();
+            const std::vector<std::uint16_t> ref = oiio_pixels<std::uint16_t>(p, type);
+            std::string all;
+            for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+            for (const std::string& file : {p, p + ".tif"}) {
+                DepthReadOptions opt;
+                for (int c = 0; c < nch; ++c) {
+                    opt.channel = names[c];
+                    if (type == OIIO::TypeDesc::UINT8) {
+                        EXPECT_THROW((void)read_depth(file, opt), InputError) << file;
+                        continue;
+                    }
+                    const Image d = read_depth(file, opt);
+                    ASSERT_EQ(d.data.size(), std::size_t(19) * 7) << file;
+                    for (std::size_t i = 0; i < d.data.size(); ++i)
+                        ASSERT_EQ(d.data[i], float(double(ref[i * nch + c]) * 0.001)) << file;
+                }
+                opt.channel = "Z";
+                try {
+                    (void)read_depth(file, opt);
+                    ADD_FAILURE() << file;
+                } catch (const InputError& e) {
+                    EXPECT_EQ(e.what(), file + " has no channel 'Z' (it has " + all + ")");
+                }
+            }
+        }
+    }
+}
+
 TEST_F(FastCodecs, JpegPixelsAreOpenImageIOsAndCarryMetadata) {
     const Image img = probe_image(96, 64);
     write_color(path("fast.jpg"), img, 8, {{"deepsea:exposure", "2.5"}});
