@@ -149,9 +149,11 @@ ExrReader::~ExrReader() = default;
 
 void ExrReader::read(const std::vector<int>& channels, float* dst) {
     static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "EXR samples are little-endian");
+#if DEEPSEA_EXR_OWN_ZIP
     std::vector<std::string> names;
     for (const int c : channels) names.push_back(m_channels[c]);
     if (read_zip_floats(*m_impl->file, m_path, names, m_width, m_height, m_impl->y0, dst)) return;
+#endif
     const std::size_t w = std::size_t(m_width), nc = channels.size();
     Imf::FrameBuffer fb;
     for (std::size_t c = 0; c < nc; ++c) {

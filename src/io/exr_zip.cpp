@@ -20,6 +20,7 @@
 #include "deepsea/core/error.h"
 #include "file_checks.h"
 
+#if DEEPSEA_EXR_OWN_ZIP
 namespace deepsea::io_detail {
 
 namespace {
@@ -195,3 +196,4 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
 }
 
 }  // namespace deepsea::io_detail
+#endif  // DEEPSEA_EXR_OWN_ZIP

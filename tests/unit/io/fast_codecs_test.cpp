@@ -281,8 +281,9 @@ TEST_F(FastCodecs, DepthExrReadsTheDataWindowAndHalfChannels) {
 }
 
 TEST_F(FastCodecs, ZipExrFloatsReadAsWrittenInEveryBlockLayout) {
-    // ZIP (16-line blocks) and ZIPS (1 line) float channels are inflated by deepsea itself;
-    // half channels beside them, other compressions and line orders go through OpenEXR. Odd
+    // ZIP (16-line blocks) and ZIPS (1 line) float channels are inflated by deepsea itself with
+    // OpenEXR < 3.2 (exr_zip.h); half channels beside them, other compressions and line orders
+    // go through OpenEXR. Odd
     // sizes (a last block of 5 lines), a data window away from (0, 0), a half channel before
     // the floats in the file's order, compressible and incompressible (random) values, and
     // both line orders: every case must read back exactly.
