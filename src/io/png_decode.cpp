@@ -4,10 +4,6 @@
 #include <libdeflate.h>
 #include <spng.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +11,7 @@
 #include <filesystem>
 #include <utility>
 
+#include "byte_simd.h"
 #include "codec_files.h"
 #include "deepsea/core/error.h"
 #include "fast_codecs.h"
@@ -56,52 +53,6 @@ spng_ihdr png_header(const std::string& path, SpngCtx& c, const std::vector<std:
 std::uint32_t be32_at(const std::uint8_t* p) {
     return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
 }
-
-#if defined(__SSE2__)
-/// PNG's Paeth filter from a row's second pixel on, one pixel (B <= 8 bytes) per step in 16-bit
-/// lanes and without branches: the scalar choice between left, up and up-left mispredicts on
-/// real images (12 ns a pixel on the Paeth rows of the authors' frames, 3.8 ns here). Each
-/// step loads 8 bytes from the pixel's start, so it stops where that would pass the row's end
-/// (the scalar loop does the rest), and stores exactly the pixel's B bytes: in place, the next
-/// pixel's filtered bytes lie just after it. The first pixel must be done. Returns the first
-/// byte not done.
-template <int B>
-std::size_t paeth_sse2(const std::uint8_t* x, const std::uint8_t* up, std::uint8_t* out,
-                       std::size_t n) {
-    static_assert(B <= 8);
-    const __m128i zero = _mm_setzero_si128(), bytes = _mm_set1_epi16(0xff);
-    std::uint8_t pixel[8] = {};
-    const auto load = [&](const std::uint8_t* p) {
-        return _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), zero);
-    };
-    const auto load_pixel = [&](const std::uint8_t* p) {
-        std::memcpy(pixel, p, B);
-        return load(pixel);
-    };
-    const auto abs16 = [](__m128i v) {
-        return _mm_max_epi16(v, _mm_sub_epi16(_mm_setzero_si128(), v));
-    };
-    __m128i left = load_pixel(out), upleft = load_pixel(up);
-    std::size_t i = B;
-    for (; i + 8 <= n; i += B) {
-        const __m128i above = load(up + i);
-        const __m128i bc = _mm_sub_epi16(above, upleft), ac = _mm_sub_epi16(left, upleft);
-        const __m128i pa = abs16(bc), pb = abs16(ac), pc = abs16(_mm_add_epi16(bc, ac));
-        // left if pa <= pb and pa <= pc; else up if pb <= pc; else up-left
-        const __m128i not_left = _mm_or_si128(_mm_cmpgt_epi16(pa, pb), _mm_cmpgt_epi16(pa, pc));
-        const __m128i not_up = _mm_cmpgt_epi16(pb, pc);
-        const __m128i other =
-            _mm_or_si128(_mm_and_si128(not_up, upleft), _mm_andnot_si128(not_up, above));
-        const __m128i pred =
-            _mm_or_si128(_mm_and_si128(not_left, other), _mm_andnot_si128(not_left, left));
-        left = _mm_and_si128(_mm_add_epi16(load(x + i), pred), bytes);
-        upleft = above;
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(pixel), _mm_packus_epi16(left, zero));
-        std::memcpy(out + i, pixel, B);
-    }
-    return i;
-}
-#endif
 
 /// Undoes PNG's row filters: `rows` rows of n bytes, each after its filter byte in src, into
 /// dst (rows of n bytes, the row above read back from dst); bpp bytes per pixel. False for a
