@@ -8,9 +8,7 @@
 
 #include <algorithm>
 #include <cstring>
-#include <exception>
 #include <mutex>
-#include <new>
 
 #include "byte_simd.h"
 #include "codec_files.h"
@@ -101,7 +99,7 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
     for (int g0 = 0; g0 < blocks && error.empty(); g0 += group) {
         const int g1 = std::min(blocks, g0 + group);
         start.assign(std::size_t(g1 - g0) + 1, 0);
-        try {
+        exr_call(path, [&] {
             for (int b = g0; b < g1; ++b) {
                 const std::size_t at = start[b - g0];
                 if (packed.size() < at + block_bytes) packed.resize(at + block_bytes);
@@ -112,13 +110,7 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
                             "block at line " + std::to_string(y0 + b * lines) + " is too large");
                 start[b - g0 + 1] = at + std::size_t(size);
             }
-        } catch (const Error&) {
-            throw;
-        } catch (const std::bad_alloc&) {
-            throw;  // out of memory, not a damaged file
-        } catch (const std::exception& e) {
-            io_fail(path, e.what());
-        }
+        });
         tbb::this_task_arena::isolate([&] {
             tbb::parallel_for(g0, g1, [&](int b) {
                 thread_local Decompressor inflater;

@@ -186,6 +186,17 @@ bool decode_png_rgb_direct(DecodeScratch& s, const spng_ihdr& ihdr, PngRgb& out)
     return true;
 }
 
+/// The RGB of n RGBA pixels.
+template <class T>
+void drop_alpha(const std::vector<T>& rgba, std::size_t n, std::vector<T>& rgb) {
+    rgb.resize(n * 3);
+    for (std::size_t i = 0; i < n; ++i) {
+        rgb[i * 3 + 0] = rgba[i * 4 + 0];
+        rgb[i * 3 + 1] = rgba[i * 4 + 1];
+        rgb[i * 3 + 2] = rgba[i * 4 + 2];
+    }
+}
+
 thread_local std::vector<std::uint16_t> t_rgba16;
 thread_local std::vector<std::uint8_t> t_rgba8;
 
@@ -207,12 +218,7 @@ void decode_png_rgb(const std::string& path, PngRgb& out) {
         t_rgba16.resize(n * 4);
         err = spng_decode_image(c.ctx, t_rgba16.data(), n * 8, SPNG_FMT_RGBA16, 0);
         if (err) png_fail(path, err);
-        out.rgb16.resize(n * 3);
-        for (std::size_t i = 0; i < n; ++i) {
-            out.rgb16[i * 3 + 0] = t_rgba16[i * 4 + 0];
-            out.rgb16[i * 3 + 1] = t_rgba16[i * 4 + 1];
-            out.rgb16[i * 3 + 2] = t_rgba16[i * 4 + 2];
-        }
+        drop_alpha(t_rgba16, n, out.rgb16);
     } else if (ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA ||
                ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR_ALPHA) {
         // With alpha: through RGBA8 (libspng's RGB8 from grey + alpha is not the grey).
@@ -220,12 +226,7 @@ void decode_png_rgb(const std::string& path, PngRgb& out) {
         t_rgba8.resize(n * 4);
         err = spng_decode_image(c.ctx, t_rgba8.data(), n * 4, SPNG_FMT_RGBA8, 0);
         if (err) png_fail(path, err);
-        out.rgb8.resize(n * 3);
-        for (std::size_t i = 0; i < n; ++i) {
-            out.rgb8[i * 3 + 0] = t_rgba8[i * 4 + 0];
-            out.rgb8[i * 3 + 1] = t_rgba8[i * 4 + 1];
-            out.rgb8[i * 3 + 2] = t_rgba8[i * 4 + 2];
-        }
+        drop_alpha(t_rgba8, n, out.rgb8);
     } else {
         out.bits = 8;
         out.rgb8.resize(n * 3);

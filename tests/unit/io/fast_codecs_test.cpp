@@ -132,20 +132,27 @@ TEST_F(FastCodecs, PngDecodesWithOpenImageIOWithItsMetadata) {
     EXPECT_EQ(read_color(path("grey.png")).channels, 3);
 }
 
+/// A 19x7 PNG of `nch` channels (grey, grey + alpha, RGB, RGBA) and `type` (8 or 16 bits) of
+/// random values, written by OpenImageIO itself (libpng), the values as they are (alpha
+/// unassociated). False if OpenImageIO fails.
+bool write_oiio_png(const std::string& p, int nch, OIIO::TypeDesc type, std::mt19937& rng) {
+    OIIO::ImageSpec spec(19, 7, nch, type);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    std::vector<std::uint16_t> px(std::size_t(19) * 7 * nch);
+    for (auto& v : px) v = std::uint16_t(rng());
+    auto out = OIIO::ImageOutput::create(p);
+    if (!out || !out->open(p, spec) || !out->write_image(OIIO::TypeDesc::UINT16, px.data()))
+        return false;
+    return out->close();
+}
+
 TEST_F(FastCodecs, PngsOfEveryKindReadAsOpenImageIOReadsThem) {
     // Written by OpenImageIO itself (libpng): grey, grey + alpha, RGB, RGBA at 8 and 16 bits.
     std::mt19937 rng(3);
     for (int nch : {1, 2, 3, 4}) {
         for (OIIO::TypeDesc type : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
             const std::string p = path("k" + std::to_string(nch) + type.c_str() + ".png");
-            OIIO::ImageSpec spec(19, 7, nch, type);
-            spec.attribute("oiio:UnassociatedAlpha", 1);  // the values as they are
-            std::vector<std::uint16_t> px(std::size_t(19) * 7 * nch);
-            for (auto& v : px) v = std::uint16_t(rng());
-            auto out = OIIO::ImageOutput::create(p);
-            ASSERT_TRUE(out && out->open(p, spec));
-            ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, px.data()));
-            out->close();
+            ASSERT_TRUE(write_oiio_png(p, nch, type, rng));
             const std::vector<float> f = oiio_pixels<float>(p, OIIO::TypeDesc::FLOAT);
             const Image img = read_color(p);
             ASSERT_EQ(img.channels, 3);
@@ -169,14 +176,7 @@ TEST_F(FastCodecs, PngDepthOfEveryKindReadsAsOpenImageIOReadsIt) {
     for (int nch : {1, 2, 3, 4}) {
         for (OIIO::TypeDesc type : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
             const std::string p = path("d" + std::to_string(nch) + type.c_str() + ".png");
-            OIIO::ImageSpec spec(19, 7, nch, type);
-            spec.attribute("oiio:UnassociatedAlpha", 1);
-            std::vector<std::uint16_t> px(std::size_t(19) * 7 * nch);
-            for (auto& v : px) v = std::uint16_t(rng());
-            auto out = OIIO::ImageOutput::create(p);
-            ASSERT_TRUE(out && out->open(p, spec));
-            ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, px.data()));
-            out->close();
+            ASSERT_TRUE(write_oiio_png(p, nch, type, rng));
             fs::copy_file(p, p + ".tif", fs::copy_options::overwrite_existing);
             auto in = OIIO::ImageInput::open(p);
             ASSERT_TRUE(in);
