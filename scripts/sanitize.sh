@@ -12,8 +12,8 @@
 #   3. each libFuzzer target for FUZZ_SECONDS (default 20) from the seed corpus that
 #      scripts/fuzz-corpus.sh makes.
 # Any sanitizer report, in any process, fails the run: reports go to files under
-# build-san/sanitizer-logs as well (the image readers point stderr at /dev/null while a codec
-# runs, and some tests expect a command to fail), and the run fails if any file is there.
+# build-san/sanitizer-logs as well (some tests expect a command to fail, and check its stderr
+# for one line only), and the run fails if any file is there.
 # No Python module: an ASan-instrumented extension cannot be imported by Debian's python3.
 #   scripts/sanitize.sh [--no-fuzz | --fuzz-only]
 set -euo pipefail

@@ -10,12 +10,11 @@
 #include <OpenEXR/ImfThreading.h>
 
 #include <algorithm>
-#include <exception>
 #include <mutex>
-#include <new>
 #include <thread>
 #include <utility>
 
+#include "codec_files.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "exr_zip.h"
@@ -70,17 +69,11 @@ void write_exr(const std::string& path, int width, int height,
         }
     }
     write_atomically(path, [&](const std::string& tmp) {
-        try {
+        exr_call(path, [&] {
             Imf::OutputFile out(tmp.c_str(), header, threads);
             out.setFrameBuffer(fb);
             out.writePixels(height);
-        } catch (const Error&) {
-            throw;
-        } catch (const std::bad_alloc&) {
-            throw;  // out of memory, not a damaged file
-        } catch (const std::exception& e) {
-            io_fail(path, e.what());
-        }
+        });
     });
 }
 
@@ -92,13 +85,8 @@ struct ExrReader::Impl {
 ExrReader::ExrReader(const std::string& path) : m_impl(new Impl), m_path(path) {
     require_readable(path);
     check_exr_header(path);
-    try {
-        m_impl->file = std::make_unique<Imf::InputFile>(path.c_str(), exr_threads());
-    } catch (const std::bad_alloc&) {
-        throw;
-    } catch (const std::exception& e) {
-        io_fail(path, e.what());
-    }
+    exr_call(path,
+             [&] { m_impl->file = std::make_unique<Imf::InputFile>(path.c_str(), exr_threads()); });
     const Imf::Header& h = m_impl->file->header();
     const auto& dw = h.dataWindow();
     const long long w = (long long)dw.max.x - dw.min.x + 1, hh = (long long)dw.max.y - dw.min.y + 1;
@@ -149,9 +137,11 @@ ExrReader::~ExrReader() = default;
 
 void ExrReader::read(const std::vector<int>& channels, float* dst) {
     static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "EXR samples are little-endian");
+#if DEEPSEA_EXR_OWN_ZIP
     std::vector<std::string> names;
     for (const int c : channels) names.push_back(m_channels[c]);
     if (read_zip_floats(*m_impl->file, m_path, names, m_width, m_height, m_impl->y0, dst)) return;
+#endif
     const std::size_t w = std::size_t(m_width), nc = channels.size();
     Imf::FrameBuffer fb;
     for (std::size_t c = 0; c < nc; ++c) {
@@ -162,14 +152,10 @@ void ExrReader::read(const std::vector<int>& channels, float* dst) {
         fb.insert(m_channels[channels[c]],
                   Imf::Slice(Imf::FLOAT, base, sizeof(float) * nc, sizeof(float) * nc * w));
     }
-    try {
+    exr_call(m_path, [&] {
         m_impl->file->setFrameBuffer(fb);
         m_impl->file->readPixels(m_impl->y0, m_impl->y0 + m_height - 1);
-    } catch (const std::bad_alloc&) {
-        throw;
-    } catch (const std::exception& e) {
-        io_fail(m_path, e.what());
-    }
+    });
 }
 
 }  // namespace deepsea::io_detail

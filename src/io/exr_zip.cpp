@@ -6,20 +6,16 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <algorithm>
 #include <cstring>
-#include <exception>
 #include <mutex>
-#include <new>
 
+#include "byte_simd.h"
 #include "codec_files.h"
 #include "deepsea/core/error.h"
 #include "file_checks.h"
 
+#if DEEPSEA_EXR_OWN_ZIP
 namespace deepsea::io_detail {
 
 namespace {
@@ -34,20 +30,7 @@ void unzip_block(unsigned char* __restrict in, std::size_t n, unsigned char* __r
     std::size_t i = 1;
     unsigned char run = in[0];
 #if defined(__SSE2__)
-    const __m128i bias = _mm_set1_epi8(char(-128));
-    __m128i carry = _mm_set1_epi8(char(run));
-    for (; i + 16 <= n; i += 16) {
-        __m128i x = _mm_sub_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in + i)), bias);
-        x = _mm_add_epi8(x, _mm_slli_si128(x, 1));
-        x = _mm_add_epi8(x, _mm_slli_si128(x, 2));
-        x = _mm_add_epi8(x, _mm_slli_si128(x, 4));
-        x = _mm_add_epi8(x, _mm_slli_si128(x, 8));
-        x = _mm_add_epi8(x, carry);
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(in + i), x);
-        // byte 15 to every byte: bytes 8..15 doubled into words, word 7 to the high words,
-        // then dword 3 to every dword
-        carry = _mm_shuffle_epi32(_mm_shufflehi_epi16(_mm_unpackhi_epi8(x, x), 0xff), 0xff);
-    }
+    i = predictor_sums_sse2(in, n);
     run = in[i - 1];
 #endif
     for (; i < n; ++i) {
@@ -59,12 +42,7 @@ void unzip_block(unsigned char* __restrict in, std::size_t n, unsigned char* __r
     const unsigned char* hi = in + (n + 1) / 2;
     std::size_t k = 0;
 #if defined(__SSE2__)
-    for (; k + 16 <= half; k += 16) {
-        const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(lo + k));
-        const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(hi + k));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 2 * k), _mm_unpacklo_epi8(a, b));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(out + 2 * k + 16), _mm_unpackhi_epi8(a, b));
-    }
+    k = interleave_sse2(lo, hi, half, out);
 #endif
     for (; k < half; ++k) {
         out[2 * k] = lo[k];
@@ -121,7 +99,7 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
     for (int g0 = 0; g0 < blocks && error.empty(); g0 += group) {
         const int g1 = std::min(blocks, g0 + group);
         start.assign(std::size_t(g1 - g0) + 1, 0);
-        try {
+        exr_call(path, [&] {
             for (int b = g0; b < g1; ++b) {
                 const std::size_t at = start[b - g0];
                 if (packed.size() < at + block_bytes) packed.resize(at + block_bytes);
@@ -132,13 +110,7 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
                             "block at line " + std::to_string(y0 + b * lines) + " is too large");
                 start[b - g0 + 1] = at + std::size_t(size);
             }
-        } catch (const Error&) {
-            throw;
-        } catch (const std::bad_alloc&) {
-            throw;  // out of memory, not a damaged file
-        } catch (const std::exception& e) {
-            io_fail(path, e.what());
-        }
+        });
         tbb::this_task_arena::isolate([&] {
             tbb::parallel_for(g0, g1, [&](int b) {
                 thread_local Decompressor inflater;
@@ -195,3 +167,4 @@ bool read_zip_floats(Imf::InputFile& file, const std::string& path,
 }
 
 }  // namespace deepsea::io_detail
+#endif  // DEEPSEA_EXR_OWN_ZIP

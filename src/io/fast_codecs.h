@@ -32,6 +32,25 @@ void decode_png_rgb(const std::string& path, PngRgb& out);
 bool decode_png_grey16(const std::string& path, int& width, int& height,
                        std::vector<std::uint16_t>& values);
 
+/// A PNG as OpenImageIO presents it to a depth reader: channels named Y, Y A, R G B or
+/// R G B A (a palette expanded to RGB, a tRNS chunk read as alpha), 16 bits per sample or 8
+/// (files of 1 to 8 bits). For 16-bit files every pixel's samples as RGBA in `rgba16` (host
+/// order, grey in R, G and B): channel k of pixel i is rgba16[4 * i + index[k]].
+struct PngSamples {
+    int width = 0, height = 0, bits = 8;
+    std::vector<std::string> channels;
+    std::vector<int> index;
+    std::vector<std::uint16_t> rgba16;  ///< empty for 8-bit files
+};
+
+/// Decodes `path` into `out`, reusing its buffers. Errors as decode_png_rgb.
+void decode_png_samples(const std::string& path, PngSamples& out);
+
+/// True if the file starts with PNG's signature, whatever its name (false if it cannot be
+/// read): such files are read by libspng, never by OpenImageIO, whose libpng prints its errors
+/// on stderr.
+bool has_png_signature(const std::string& path);
+
 /// Writes a PNG atomically: `channels` (1 or 3) interleaved samples per pixel, 8 bits
 /// (`pixels8`) or 16 bits (`pixels16`, host order); `meta` as tEXt chunks; an sRGB chunk.
 /// Rows are filtered with "up" and deflated by libdeflate at level 1 (docs/runtime.md has the

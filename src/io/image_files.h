@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/core/error.h"
 #include "deepsea/core/image.h"
 #include "deepsea/io/image_io.h"
 #include "oiio_plugin.h"
@@ -48,6 +49,20 @@ inline void fit(Image& img, int width, int height, int channels) {
 /// one channel named Z, depth or depth.Z. InputError when that leaves no single choice.
 int depth_channel(const std::string& path, const std::vector<std::string>& names,
                   const DepthReadOptions& opt);
+
+/// InputError naming `path`: depth samples of type `pixel_name` (OpenImageIO's name: uint8,
+/// ...), which cannot hold a depth.
+[[noreturn]] inline void fail_depth_type(const std::string& path, const std::string& pixel_name) {
+    throw InputError(path + ": depth must be float or 16-bit integer, not " + pixel_name +
+                     " (8 bits cannot hold a useful depth range)");
+}
+
+/// A PNG (libspng) as read_color reads it, whatever its name.
+void read_png_color(const std::string& path, Image& out);
+
+/// A PNG's depth, whatever its name: a 16-bit grey file straight from its samples, else the
+/// channel chosen among those OpenImageIO would name (decode_png_samples) of a 16-bit file.
+void read_png_depth(const std::string& path, Image& out, const DepthReadOptions& opt);
 
 /// read_color of the formats without a fast path: PFM, and the others through OpenImageIO.
 Image read_color_oiio(const std::string& path);

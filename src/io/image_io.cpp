@@ -70,21 +70,8 @@ bool read_srgb_codes(const std::string& path, SrgbCodes& codes) {
     return false;
 }
 
-}  // namespace
-
-Image read_color(const std::string& path) {
-    Image img;
-    read_color(path, img);
-    return img;
-}
-
-void read_color(const std::string& path, Image& out) {
-    io_detail::PngRgb& p = t_png;
-    if (!read_srgb_codes(path, p)) {
-        out = io_detail::read_color_oiio(path);
-        return;
-    }
-    // The decode table straight from the integer codes.
+/// `codes` decoded to linear RGB in `out`, through the decode table.
+void decode_codes(const SrgbCodes& p, Image& out) {
     fit(out, p.width, p.height, 3);
     const std::size_t n = std::size_t(p.width) * p.height * 3;
     float* linear = out.data.data();
@@ -99,6 +86,54 @@ void read_color(const std::string& path, Image& out) {
             }
         });
     });
+}
+
+}  // namespace
+
+namespace io_detail {
+
+void read_png_color(const std::string& path, Image& out) {
+    decode_png_rgb(path, t_png);
+    decode_codes(t_png, out);
+}
+
+void read_png_depth(const std::string& path, Image& out, const DepthReadOptions& opt) {
+    if (opt.channel.empty() || opt.channel == "Y") {
+        thread_local std::vector<std::uint16_t> raw;
+        int w = 0, h = 0;
+        if (decode_png_grey16(path, w, h, raw)) {
+            fit(out, w, h, 1);
+            for (std::size_t i = 0; i < raw.size(); ++i)
+                out.data[i] = float(double(raw[i]) * opt.scale);
+            return;
+        }
+    }
+    PngSamples png;
+    decode_png_samples(path, png);
+    const int ch = depth_channel(path, png.channels, opt);
+    if (png.bits != 16) fail_depth_type(path, "uint8");
+    fit(out, png.width, png.height, 1);
+    const std::uint16_t* samples = png.rgba16.data() + png.index[ch];
+    for (std::size_t i = 0; i < out.data.size(); ++i)
+        out.data[i] = float(double(samples[4 * i]) * opt.scale);
+}
+
+}  // namespace io_detail
+
+Image read_color(const std::string& path) {
+    Image img;
+    read_color(path, img);
+    return img;
+}
+
+void read_color(const std::string& path, Image& out) {
+    io_detail::PngRgb& p = t_png;
+    if (!read_srgb_codes(path, p)) {
+        out = io_detail::read_color_oiio(path);
+        return;
+    }
+    // The decode table straight from the integer codes.
+    decode_codes(p, out);
 }
 
 void read_frame_color(const std::string& path, Frame& frame) {
@@ -118,6 +153,10 @@ Image read_depth(const std::string& path, const DepthReadOptions& opt) {
 
 void read_depth(const std::string& path, Image& out, const DepthReadOptions& opt) {
     const std::string ext = extension(path);
+    if (ext == ".png") {
+        io_detail::read_png_depth(path, out, opt);
+        return;
+    }
     if (ext == ".exr") {
         io_detail::ExrReader in(path);
         const int ch = io_detail::depth_channel(path, in.channels(), opt);
@@ -128,15 +167,6 @@ void read_depth(const std::string& path, Image& out, const DepthReadOptions& opt
         if (!in.is_float(ch))
             for (float& v : out.data) v = float(double(v) * opt.scale);
         return;
-    } else if (ext == ".png" && (opt.channel.empty() || opt.channel == "Y")) {
-        thread_local std::vector<std::uint16_t> raw;
-        int w = 0, h = 0;
-        if (io_detail::decode_png_grey16(path, w, h, raw)) {
-            fit(out, w, h, 1);
-            for (std::size_t i = 0; i < raw.size(); ++i)
-                out.data[i] = float(double(raw[i]) * opt.scale);
-            return;
-        }
     }
     out = io_detail::read_depth_oiio(path, opt);
 }

@@ -1,17 +1,13 @@
 // The image formats without a fast path (fast_codecs.h): PFM and .npy by hand
 // (depth_formats.h), the others through OpenImageIO's module (oiio_plugin.h).
 
-#include <fcntl.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <filesystem>
-#include <mutex>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -20,6 +16,7 @@
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/depth_formats.h"
+#include "fast_codecs.h"
 #include "file_checks.h"
 #include "image_files.h"
 #include "oiio_plugin.h"
@@ -30,50 +27,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Codec libraries (libpng above all) print their own errors and warnings on stderr before
-/// OIIO hands the same error back; deepsea reports it once, as its one line. So stderr points
-/// to /dev/null while any codec call runs (counted, so concurrent calls in a pipeline share
-/// one redirection and the last to finish restores it).
-class QuietCodecs {
-public:
-    QuietCodecs() {
-        std::lock_guard<std::mutex> lock(mutex());
-        if (count()++ > 0) return;
-        std::fflush(stderr);
-        saved() = ::dup(2);
-        const int null = ::open("/dev/null", O_WRONLY);
-        if (null >= 0) {
-            ::dup2(null, 2);
-            ::close(null);
-        }
-    }
-    ~QuietCodecs() {
-        std::lock_guard<std::mutex> lock(mutex());
-        if (--count() > 0) return;
-        if (saved() >= 0) {
-            ::dup2(saved(), 2);
-            ::close(saved());
-            saved() = -1;
-        }
-    }
-    QuietCodecs(const QuietCodecs&) = delete;
-    QuietCodecs& operator=(const QuietCodecs&) = delete;
-
-private:
-    static std::mutex& mutex() {
-        static std::mutex m;
-        return m;
-    }
-    static int& count() {
-        static int n = 0;
-        return n;
-    }
-    static int& saved() {
-        static int fd = -1;
-        return fd;
-    }
-};
-
 /// An image open in OpenImageIO (through the module): its header, checked before any pixel
 /// is allocated (a 76-byte PNG can claim 20000x20000), and its reader.
 class OiioInput {
@@ -83,10 +36,7 @@ public:
         check_exr_header(path);
         m_input.plugin = &io_detail::oiio(path);
         std::string error;
-        {
-            const QuietCodecs quiet;
-            m_input.handle = m_input.plugin->open(path, m_header, error);
-        }
+        m_input.handle = m_input.plugin->open(path, m_header, error);
         if (!m_input.handle) io_fail(path, error);
         check_image_size(m_header.width, m_header.height, m_header.channels, path);
         if (m_header.format_name == "png") {
@@ -109,7 +59,6 @@ public:
         static_assert(std::is_same_v<T, float> || std::is_same_v<T, std::uint16_t>);
         out.resize(std::size_t(m_header.width) * m_header.height * (chend - chbegin));
         std::string error;
-        const QuietCodecs quiet;
         if (!m_input.plugin->read(m_input.handle, chbegin, chend, std::is_same_v<T, std::uint16_t>,
                                   out.data(), error))
             io_fail(m_path, error);
@@ -147,21 +96,14 @@ void write_oiio(const std::string& path, const OiioWriteSpec& spec,
     const io_detail::OiioPlugin& oiio = io_detail::oiio(path);
     write_atomically(path, [&](const std::string& tmp) {
         std::string error;
-        io_detail::OiioWritten w;
-        {
-            const QuietCodecs quiet;
-            w = oiio.write(tmp, spec, data.data(), error);
-        }
+        const io_detail::OiioWritten w = oiio.write(tmp, spec, data.data(), error);
         if (w == io_detail::OiioWritten::NoWriter) fail_no_writer(path);
         if (w == io_detail::OiioWritten::Failed)
             io_fail(path, error.empty() ? std::string("write failed (disk full?)") : error);
     });
 }
 
-bool oiio_has_writer(const std::string& path) {
-    const QuietCodecs quiet;
-    return oiio(path).has_writer(path);
-}
+bool oiio_has_writer(const std::string& path) { return oiio(path).has_writer(path); }
 
 Image read_color_oiio(const std::string& path) {
     if (extension(path) == ".pfm") {
@@ -174,6 +116,13 @@ Image read_color_oiio(const std::string& path) {
         }
         require_finite_color(rgb, path);
         return rgb;
+    }
+    // OpenImageIO never sees a PNG (its libpng prints its errors on stderr, past the caller):
+    // one under another name is read as a PNG.
+    if (has_png_signature(path)) {
+        Image img;
+        read_png_color(path, img);
+        return img;
     }
     OiioInput in(path);
     const OiioHeader& spec = in.header();
@@ -229,6 +178,11 @@ Image read_depth_oiio(const std::string& path, const DepthReadOptions& opt) {
         return img;
     }
 
+    if (has_png_signature(path)) {  // as in read_color_oiio
+        Image img;
+        read_png_depth(path, img, opt);
+        return img;
+    }
     OiioInput in(path);
     const OiioHeader& spec = in.header();
     const int ch = depth_channel(path, spec.channel_names, opt);
@@ -241,8 +195,7 @@ Image read_depth_oiio(const std::string& path, const DepthReadOptions& opt) {
         for (std::size_t i = 0; i < raw.size(); ++i)
             img.data[i] = float(double(raw[i]) * opt.scale);
     } else {
-        throw InputError(path + ": depth must be float or 16-bit integer, not " + spec.pixel_name +
-                         " (8 bits cannot hold a useful depth range)");
+        fail_depth_type(path, spec.pixel_name);
     }
     return img;
 }

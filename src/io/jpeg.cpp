@@ -20,6 +20,9 @@ namespace deepsea::io_detail {
 
 namespace {
 
+/// libjpeg's error manager for one call: an error's message is kept here and the call jumps
+/// back (then one IoError names the file); nothing is printed (libjpeg's default
+/// output_message writes to stderr).
 struct JpegError {
     jpeg_error_mgr mgr;
     std::jmp_buf jump;
@@ -33,6 +36,17 @@ extern "C" void jpeg_error_exit(j_common_ptr cinfo) {
 }
 
 extern "C" void jpeg_silent(j_common_ptr, int) {}
+extern "C" void jpeg_no_output(j_common_ptr) {}
+
+/// Installs `err` as the error manager of the call: errors jump back, warnings and trace
+/// messages go to `emit`, nothing is printed.
+jpeg_error_mgr* jpeg_errors(JpegError& err, void (*emit)(j_common_ptr, int)) {
+    jpeg_error_mgr* mgr = jpeg_std_error(&err.mgr);
+    mgr->error_exit = jpeg_error_exit;
+    mgr->emit_message = emit;
+    mgr->output_message = jpeg_no_output;
+    return mgr;
+}
 
 }  // namespace
 
@@ -45,9 +59,7 @@ void write_jpeg(const std::string& path, int width, int height, int channels,
     // Plain C structs only between setjmp and longjmp (no destructors skipped).
     jpeg_compress_struct cinfo{};
     JpegError err;
-    cinfo.err = jpeg_std_error(&err.mgr);
-    err.mgr.error_exit = jpeg_error_exit;
-    err.mgr.emit_message = jpeg_silent;
+    cinfo.err = jpeg_errors(err, jpeg_silent);
     if (setjmp(err.jump)) {
         jpeg_destroy_compress(&cinfo);
         std::free(buf);
@@ -107,9 +119,7 @@ void decode_jpeg_rgb(const std::string& path, int& width, int& height,
     }
     jpeg_decompress_struct cinfo{};
     JpegError err;
-    cinfo.err = jpeg_std_error(&err.mgr);
-    err.mgr.error_exit = jpeg_error_exit;
-    err.mgr.emit_message = jpeg_warning_is_error;
+    cinfo.err = jpeg_errors(err, jpeg_warning_is_error);
     // Only C objects between here and the longjmp; the exception is thrown after it.
     long long w = 0, h = 0;
     if (setjmp(err.jump)) {

@@ -1,5 +1,9 @@
 // libdeepsea_oiio.so: the OpenImageIO calls of image_oiio.cpp, loaded on first use (see
 // oiio_plugin.h for why). Only OpenImageIO and the standard library: no deepsea code.
+//
+// Errors are taken per call with OpenImageIO's geterror() (the global one where no reader or
+// writer exists yet), which also clears them: every call leaves none pending, so a later call
+// never reports an earlier one's.
 
 #include "oiio_plugin.h"
 
@@ -59,6 +63,7 @@ void* open(const std::string& path, OiioHeader& header, std::string& error) {
         error = OIIO::geterror();
         return nullptr;
     }
+    (void)OIIO::geterror();  // what the readers tried before this one's format said
     const OIIO::ImageSpec& spec = in->spec();
     header.width = spec.width;
     header.height = spec.height;
@@ -73,17 +78,16 @@ void* open(const std::string& path, OiioHeader& header, std::string& error) {
 
 bool read(void* input, int begin, int end, bool as_uint16, void* out, std::string& error) {
     auto* in = static_cast<OIIO::ImageInput*>(input);
-    if (in->read_image(0, 0, begin, end, as_uint16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::FLOAT,
-                       out)) {
-        return true;
-    }
-    error = in->geterror();
-    return false;
+    const bool ok = in->read_image(0, 0, begin, end,
+                                   as_uint16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::FLOAT, out);
+    error = in->geterror();  // cleared also when the read succeeded
+    return ok;
 }
 
 void close(void* input) {
     std::unique_ptr<OIIO::ImageInput> in(static_cast<OIIO::ImageInput*>(input));
     in->close();
+    (void)in->geterror();
 }
 
 bool has_writer(const std::string& path) {
@@ -109,8 +113,8 @@ OiioWritten write(const std::string& path, const OiioWriteSpec& w, const float* 
     errno = 0;
     bool ok = out->write_image(OIIO::TypeDesc::FLOAT, data);
     ok = out->close() && ok;
-    if (ok) return OiioWritten::Written;
     error = out->geterror();
+    if (ok) return OiioWritten::Written;
     if (errno != 0) error += std::string(" (") + std::strerror(errno) + ")";
     return OiioWritten::Failed;
 }

@@ -4,15 +4,14 @@
 #include <libdeflate.h>
 #include <spng.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 
+#include "byte_simd.h"
 #include "codec_files.h"
 #include "deepsea/core/error.h"
 #include "fast_codecs.h"
@@ -54,52 +53,6 @@ spng_ihdr png_header(const std::string& path, SpngCtx& c, const std::vector<std:
 std::uint32_t be32_at(const std::uint8_t* p) {
     return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
 }
-
-#if defined(__SSE2__)
-/// PNG's Paeth filter from a row's second pixel on, one pixel (B <= 8 bytes) per step in 16-bit
-/// lanes and without branches: the scalar choice between left, up and up-left mispredicts on
-/// real images (12 ns a pixel on the Paeth rows of the authors' frames, 3.8 ns here). Each
-/// step loads 8 bytes from the pixel's start, so it stops where that would pass the row's end
-/// (the scalar loop does the rest), and stores exactly the pixel's B bytes: in place, the next
-/// pixel's filtered bytes lie just after it. The first pixel must be done. Returns the first
-/// byte not done.
-template <int B>
-std::size_t paeth_sse2(const std::uint8_t* x, const std::uint8_t* up, std::uint8_t* out,
-                       std::size_t n) {
-    static_assert(B <= 8);
-    const __m128i zero = _mm_setzero_si128(), bytes = _mm_set1_epi16(0xff);
-    std::uint8_t pixel[8] = {};
-    const auto load = [&](const std::uint8_t* p) {
-        return _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p)), zero);
-    };
-    const auto load_pixel = [&](const std::uint8_t* p) {
-        std::memcpy(pixel, p, B);
-        return load(pixel);
-    };
-    const auto abs16 = [](__m128i v) {
-        return _mm_max_epi16(v, _mm_sub_epi16(_mm_setzero_si128(), v));
-    };
-    __m128i left = load_pixel(out), upleft = load_pixel(up);
-    std::size_t i = B;
-    for (; i + 8 <= n; i += B) {
-        const __m128i above = load(up + i);
-        const __m128i bc = _mm_sub_epi16(above, upleft), ac = _mm_sub_epi16(left, upleft);
-        const __m128i pa = abs16(bc), pb = abs16(ac), pc = abs16(_mm_add_epi16(bc, ac));
-        // left if pa <= pb and pa <= pc; else up if pb <= pc; else up-left
-        const __m128i not_left = _mm_or_si128(_mm_cmpgt_epi16(pa, pb), _mm_cmpgt_epi16(pa, pc));
-        const __m128i not_up = _mm_cmpgt_epi16(pb, pc);
-        const __m128i other =
-            _mm_or_si128(_mm_and_si128(not_up, upleft), _mm_andnot_si128(not_up, above));
-        const __m128i pred =
-            _mm_or_si128(_mm_and_si128(not_left, other), _mm_andnot_si128(not_left, left));
-        left = _mm_and_si128(_mm_add_epi16(load(x + i), pred), bytes);
-        upleft = above;
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(pixel), _mm_packus_epi16(left, zero));
-        std::memcpy(out + i, pixel, B);
-    }
-    return i;
-}
-#endif
 
 /// Undoes PNG's row filters: `rows` rows of n bytes, each after its filter byte in src, into
 /// dst (rows of n bytes, the row above read back from dst); bpp bytes per pixel. False for a
@@ -233,6 +186,17 @@ bool decode_png_rgb_direct(DecodeScratch& s, const spng_ihdr& ihdr, PngRgb& out)
     return true;
 }
 
+/// The RGB of n RGBA pixels.
+template <class T>
+void drop_alpha(const std::vector<T>& rgba, std::size_t n, std::vector<T>& rgb) {
+    rgb.resize(n * 3);
+    for (std::size_t i = 0; i < n; ++i) {
+        rgb[i * 3 + 0] = rgba[i * 4 + 0];
+        rgb[i * 3 + 1] = rgba[i * 4 + 1];
+        rgb[i * 3 + 2] = rgba[i * 4 + 2];
+    }
+}
+
 thread_local std::vector<std::uint16_t> t_rgba16;
 thread_local std::vector<std::uint8_t> t_rgba8;
 
@@ -254,12 +218,7 @@ void decode_png_rgb(const std::string& path, PngRgb& out) {
         t_rgba16.resize(n * 4);
         err = spng_decode_image(c.ctx, t_rgba16.data(), n * 8, SPNG_FMT_RGBA16, 0);
         if (err) png_fail(path, err);
-        out.rgb16.resize(n * 3);
-        for (std::size_t i = 0; i < n; ++i) {
-            out.rgb16[i * 3 + 0] = t_rgba16[i * 4 + 0];
-            out.rgb16[i * 3 + 1] = t_rgba16[i * 4 + 1];
-            out.rgb16[i * 3 + 2] = t_rgba16[i * 4 + 2];
-        }
+        drop_alpha(t_rgba16, n, out.rgb16);
     } else if (ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA ||
                ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR_ALPHA) {
         // With alpha: through RGBA8 (libspng's RGB8 from grey + alpha is not the grey).
@@ -267,12 +226,7 @@ void decode_png_rgb(const std::string& path, PngRgb& out) {
         t_rgba8.resize(n * 4);
         err = spng_decode_image(c.ctx, t_rgba8.data(), n * 4, SPNG_FMT_RGBA8, 0);
         if (err) png_fail(path, err);
-        out.rgb8.resize(n * 3);
-        for (std::size_t i = 0; i < n; ++i) {
-            out.rgb8[i * 3 + 0] = t_rgba8[i * 4 + 0];
-            out.rgb8[i * 3 + 1] = t_rgba8[i * 4 + 1];
-            out.rgb8[i * 3 + 2] = t_rgba8[i * 4 + 2];
-        }
+        drop_alpha(t_rgba8, n, out.rgb8);
     } else {
         out.bits = 8;
         out.rgb8.resize(n * 3);
@@ -296,6 +250,51 @@ bool decode_png_grey16(const std::string& path, int& width, int& height,
     const int err = spng_decode_image(c.ctx, values.data(), n * 2, SPNG_FMT_PNG, 0);
     if (err) png_fail(path, err);
     return true;
+}
+
+void decode_png_samples(const std::string& path, PngSamples& out) {
+    const auto scratch = decode_scratch.take();
+    read_whole_file(path, scratch->file);
+    SpngCtx c;
+    const spng_ihdr ihdr = png_header(path, c, scratch->file);
+    spng_trns trns{};
+    const int has_trns = spng_get_trns(c.ctx, &trns);
+    if (has_trns != 0 && has_trns != SPNG_ECHUNKAVAIL) png_fail(path, has_trns);
+    const bool grey = ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE ||
+                      ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA;
+    const bool alpha = has_trns == 0 || ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE_ALPHA ||
+                       ihdr.color_type == SPNG_COLOR_TYPE_TRUECOLOR_ALPHA;
+    out.channels = grey ? std::vector<std::string>{"Y"} : std::vector<std::string>{"R", "G", "B"};
+    out.index = grey ? std::vector<int>{0} : std::vector<int>{0, 1, 2};
+    if (alpha) {
+        out.channels.push_back("A");
+        out.index.push_back(3);
+    }
+    out.width = int(ihdr.width);
+    out.height = int(ihdr.height);
+    out.bits = ihdr.bit_depth == 16 ? 16 : 8;
+    if (out.bits != 16) {
+        out.rgba16.clear();
+        return;
+    }
+    const std::size_t n = std::size_t(out.width) * out.height;
+    out.rgba16.resize(n * 4);
+    const int err =
+        spng_decode_image(c.ctx, out.rgba16.data(), n * 8, SPNG_FMT_RGBA16, SPNG_DECODE_TRNS);
+    if (err) png_fail(path, err);
+}
+
+bool has_png_signature(const std::string& path) {
+    // Regular files only: opening a pipe or a device would wait or read without end (the
+    // readers refuse those with their own message).
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) return false;
+    std::uint8_t head[8] = {};
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) return false;
+    const std::size_t got = std::fread(head, 1, 8, f);
+    std::fclose(f);
+    return got == 8 && std::memcmp(head, kPngSignature, 8) == 0;
 }
 
 }  // namespace deepsea::io_detail

@@ -75,8 +75,7 @@ void write_png(const std::string& path, int width, int height, int channels,
     if (!comp.c) io_fail(path, "out of memory");
     std::vector<std::uint8_t>& png = scratch->png;
     png.clear();
-    static const std::uint8_t sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    png.insert(png.end(), sig, sig + 8);
+    png.insert(png.end(), kPngSignature, kPngSignature + 8);
     std::vector<std::uint8_t> ihdr;
     put32(ihdr, std::uint32_t(width));
     put32(ihdr, std::uint32_t(height));

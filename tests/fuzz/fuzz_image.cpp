@@ -40,11 +40,6 @@ const char* extension_for(const std::uint8_t* data, std::size_t size) {
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-    deepsea::fuzz::keep_reports_visible();
-    return 0;
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string path =
         deepsea::fuzz::write_input(std::string("input") + extension_for(data, size), data, size);

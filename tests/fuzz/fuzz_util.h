@@ -1,9 +1,7 @@
 #pragma once
 // What the libFuzzer targets share: a private scratch folder on tmpfs where possible (the
-// readers under test take paths), and a report channel that survives the image readers'
-// stderr redirection.
+// readers under test take paths).
 
-#include <sanitizer/common_interface_defs.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -48,14 +46,6 @@ inline std::string write_input(const std::string& name, const std::uint8_t* data
         std::abort();
     }
     return path;
-}
-
-/// The image readers point stderr at /dev/null while a codec runs (image_io.cpp, QuietCodecs):
-/// sanitizer reports go to a copy of the original stderr instead, so that a crash inside a
-/// codec call is still explained.
-inline void keep_reports_visible() {
-    static const int fd = ::dup(2);
-    if (fd >= 0) __sanitizer_set_report_fd(reinterpret_cast<void*>(std::intptr_t(fd)));
 }
 
 }  // namespace deepsea::fuzz

@@ -156,6 +156,14 @@ bad "image: truncated PNG" "cut.png" "$ds" "${ref[@]}" --rgb "$work/cut.png" --d
 head -c 400 "$work/ok.jpg" > "$work/cut.jpg"
 bad "image: truncated JPEG" "cut.jpg" "$ds" "${ref[@]}" --rgb "$work/cut.jpg" --depth "$depth" \
   -o "$work/res.png"
+# A PNG never reaches OpenImageIO, whose libpng printed a line of its own before deepsea's: a
+# cut PNG as depth, and one named .tif, are read by libspng and fail with one line.
+head -c 30 "$rgb" > "$work/cut30.png"
+bad "depth: PNG cut in its header" "cut30.png" "$ds" "${ref[@]}" --rgb "$rgb" \
+  --depth "$work/cut30.png" -o "$work/res.png"
+cp "$work/cut30.png" "$work/cut30.tif"
+bad "image: cut PNG named .tif" "cut30.tif" "$ds" "${ref[@]}" --rgb "$work/cut30.tif" \
+  --depth "$depth" -o "$work/res.png"
 head -c $(($(stat -c %s "$depth") / 2)) "$depth" > "$work/cut.exr"
 bad "depth: truncated EXR" "cut.exr" "$ds" "${ref[@]}" --rgb "$rgb" --depth "$work/cut.exr" \
   -o "$work/res.png"

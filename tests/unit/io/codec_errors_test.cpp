@@ -66,6 +66,60 @@ TEST_F(CodecErrors, CorruptOrTruncatedFilesAreOneLineIoErrorsNamingTheFile) {
     }
 }
 
+TEST_F(CodecErrors, DamagedPngAndJpegNameTheFileAndNoCodecPrintsOnStderr) {
+    // Each codec's error comes back through its own hook (libjpeg's error manager, libspng's
+    // return codes, OpenImageIO's geterror()), and nothing reaches stderr: libpng, inside
+    // OpenImageIO, printed its errors there before deepsea's one line, so no PNG goes to
+    // OpenImageIO, not even under another name (.tif here, whose reader would pass it on).
+    // As depth (channel R), the 8-bit files are refused after their header is read.
+    write_color(path("ok.png"), probe_image(64, 48), 8);
+    write_color(path("ok16.png"), probe_image(64, 48), 16);
+    write_color(path("ok.jpg"), probe_image(64, 48), 8);
+    for (const std::string f : {"ok.png", "ok16.png", "ok.jpg"}) {
+        std::ifstream is(path(f), std::ios::binary);
+        const std::string bytes{std::istreambuf_iterator<char>(is), {}};
+        const std::string ext = fs::path(f).extension().string();
+        std::vector<std::pair<std::string, std::string>> damaged;
+        for (std::size_t cut : {std::size_t(8), std::size_t(30), std::size_t(60), std::size_t(200),
+                                bytes.size() / 2, bytes.size() - 5}) {
+            damaged.emplace_back("cut" + std::to_string(cut), bytes.substr(0, cut));
+        }
+        std::string flipped = bytes;
+        for (std::size_t i = bytes.size() / 3; i < bytes.size() / 3 + 64; ++i) flipped[i] ^= 0x5a;
+        damaged.emplace_back("flip", flipped);
+        for (const auto& [name, content] : damaged) {
+            for (const std::string& as : {ext, std::string(".tif")}) {
+                const std::string p = path(f.substr(0, f.size() - ext.size()) + "-" + name + as);
+                test::write_bytes(p, content);
+                for (const bool depth : {false, true}) {
+                    testing::internal::CaptureStderr();
+                    const std::string msg = error_of([&] {
+                        if (depth) {
+                            DepthReadOptions opt;
+                            opt.channel = "R";
+                            (void)read_depth(p, opt);
+                        } else {
+                            (void)read_color(p);
+                        }
+                    });
+                    const std::string printed = testing::internal::GetCapturedStderr();
+                    EXPECT_EQ(printed, "") << p << (depth ? " as depth" : " as colour");
+                    // As in CorruptOrTruncatedFilesAreOneLineIoErrorsNamingTheFile: damaged
+                    // entropy data may still decode, a PNG cut in its end chunk has its pixels.
+                    if (msg.empty() && ext == ".jpg" && name == "flip") continue;
+                    if (msg.empty() && ext == ".png" && content.size() + 5 == bytes.size())
+                        continue;
+                    // OpenImageIO's JPEG reader (a JPEG under another name) fills the rows a
+                    // cut file lacks, as libjpeg does, where deepsea's own reader refuses it.
+                    if (msg.empty() && ext == ".jpg" && as == ".tif" && !depth) continue;
+                    EXPECT_EQ(msg.rfind(p, 0), 0u) << p << (depth ? " as depth: " : ": ") << msg;
+                    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+                }
+            }
+        }
+    }
+}
+
 TEST_F(CodecErrors, HeaderSizesBeyondTheLimitAreRefusedBeforeAllocating) {
     // A valid 2x2 PNG and EXR whose headers are edited to claim 20000 x 20000.
     write_color(path("small.png"), Image(2, 2, 3, 0.5f), 8);

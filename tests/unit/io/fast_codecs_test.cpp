@@ -132,20 +132,27 @@ TEST_F(FastCodecs, PngDecodesWithOpenImageIOWithItsMetadata) {
     EXPECT_EQ(read_color(path("grey.png")).channels, 3);
 }
 
+/// A 19x7 PNG of `nch` channels (grey, grey + alpha, RGB, RGBA) and `type` (8 or 16 bits) of
+/// random values, written by OpenImageIO itself (libpng), the values as they are (alpha
+/// unassociated). False if OpenImageIO fails.
+bool write_oiio_png(const std::string& p, int nch, OIIO::TypeDesc type, std::mt19937& rng) {
+    OIIO::ImageSpec spec(19, 7, nch, type);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    std::vector<std::uint16_t> px(std::size_t(19) * 7 * nch);
+    for (auto& v : px) v = std::uint16_t(rng());
+    auto out = OIIO::ImageOutput::create(p);
+    if (!out || !out->open(p, spec) || !out->write_image(OIIO::TypeDesc::UINT16, px.data()))
+        return false;
+    return out->close();
+}
+
 TEST_F(FastCodecs, PngsOfEveryKindReadAsOpenImageIOReadsThem) {
     // Written by OpenImageIO itself (libpng): grey, grey + alpha, RGB, RGBA at 8 and 16 bits.
     std::mt19937 rng(3);
     for (int nch : {1, 2, 3, 4}) {
         for (OIIO::TypeDesc type : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
             const std::string p = path("k" + std::to_string(nch) + type.c_str() + ".png");
-            OIIO::ImageSpec spec(19, 7, nch, type);
-            spec.attribute("oiio:UnassociatedAlpha", 1);  // the values as they are
-            std::vector<std::uint16_t> px(std::size_t(19) * 7 * nch);
-            for (auto& v : px) v = std::uint16_t(rng());
-            auto out = OIIO::ImageOutput::create(p);
-            ASSERT_TRUE(out && out->open(p, spec));
-            ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, px.data()));
-            out->close();
+            ASSERT_TRUE(write_oiio_png(p, nch, type, rng));
             const std::vector<float> f = oiio_pixels<float>(p, OIIO::TypeDesc::FLOAT);
             const Image img = read_color(p);
             ASSERT_EQ(img.channels, 3);
@@ -156,6 +163,49 @@ TEST_F(FastCodecs, PngsOfEveryKindReadAsOpenImageIOReadsThem) {
                               decoded(f[i * nch + (use == 3 ? c : 0)],
                                       type == OIIO::TypeDesc::UINT8 ? 255 : 65535))
                         << p << " " << i;
+        }
+    }
+}
+
+TEST_F(FastCodecs, PngDepthOfEveryKindReadsAsOpenImageIOReadsIt) {
+    // PNG depth is read by libspng (OpenImageIO's libpng prints its errors on stderr): each
+    // channel OpenImageIO names (Y, Y A, R G B, R G B A) gives its 16-bit values times the
+    // scale; 8-bit files and channels the file lacks are InputErrors naming the channels. Also
+    // under another name (.tif), where OpenImageIO would have read it.
+    std::mt19937 rng(5);
+    for (int nch : {1, 2, 3, 4}) {
+        for (OIIO::TypeDesc type : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
+            const std::string p = path("d" + std::to_string(nch) + type.c_str() + ".png");
+            ASSERT_TRUE(write_oiio_png(p, nch, type, rng));
+            fs::copy_file(p, p + ".tif", fs::copy_options::overwrite_existing);
+            auto in = OIIO::ImageInput::open(p);
+            ASSERT_TRUE(in);
+            const std::vector<std::string> names = in->spec().channelnames;
+            in.reset();
+            const std::vector<std::uint16_t> ref = oiio_pixels<std::uint16_t>(p, type);
+            std::string all;
+            for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+            for (const std::string& file : {p, p + ".tif"}) {
+                DepthReadOptions opt;
+                for (int c = 0; c < nch; ++c) {
+                    opt.channel = names[c];
+                    if (type == OIIO::TypeDesc::UINT8) {
+                        EXPECT_THROW((void)read_depth(file, opt), InputError) << file;
+                        continue;
+                    }
+                    const Image d = read_depth(file, opt);
+                    ASSERT_EQ(d.data.size(), std::size_t(19) * 7) << file;
+                    for (std::size_t i = 0; i < d.data.size(); ++i)
+                        ASSERT_EQ(d.data[i], float(double(ref[i * nch + c]) * 0.001)) << file;
+                }
+                opt.channel = "Z";
+                try {
+                    (void)read_depth(file, opt);
+                    ADD_FAILURE() << file;
+                } catch (const InputError& e) {
+                    EXPECT_EQ(e.what(), file + " has no channel 'Z' (it has " + all + ")");
+                }
+            }
         }
     }
 }
@@ -231,8 +281,9 @@ TEST_F(FastCodecs, DepthExrReadsTheDataWindowAndHalfChannels) {
 }
 
 TEST_F(FastCodecs, ZipExrFloatsReadAsWrittenInEveryBlockLayout) {
-    // ZIP (16-line blocks) and ZIPS (1 line) float channels are inflated by deepsea itself;
-    // half channels beside them, other compressions and line orders go through OpenEXR. Odd
+    // ZIP (16-line blocks) and ZIPS (1 line) float channels are inflated by deepsea itself with
+    // OpenEXR < 3.2 (exr_zip.h); half channels beside them, other compressions and line orders
+    // go through OpenEXR. Odd
     // sizes (a last block of 5 lines), a data window away from (0, 0), a half channel before
     // the floats in the file's order, compressible and incompressible (random) values, and
     // both line orders: every case must read back exactly.
