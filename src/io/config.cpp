@@ -5,6 +5,7 @@
 #include <sstream>
 #include <utility>
 
+#include "camera_config.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/schema.h"
@@ -40,8 +41,21 @@ constexpr double kDefaultAlbedo = 0.66;
 //   fx, fy  pixels  > 0       yes
 //   cx, cy  pixels  any       yes   (pixel centres at integer coordinates, docs/model.md)
 
-Camera parse_camera(const Document& doc, const Field& f) {
-    const MapView m(doc, f, schema::kCamera);
+//   lens, sensor, processing: the camera stage (camera_config.cpp); optional
+
+/// The keys of the YAML camera section: the pinhole's (schema::kCamera, also the asset's) and
+/// the camera stage's.
+const std::vector<std::string>& camera_keys() {
+    static const std::vector<std::string> keys = [] {
+        std::vector<std::string> k = schema::kCamera;
+        k.insert(k.end(), camera_schema::kCameraModel.begin(), camera_schema::kCameraModel.end());
+        return k;
+    }();
+    return keys;
+}
+
+Camera parse_camera(const Document& doc, const Field& f, std::optional<CameraModel>& model) {
+    const MapView m(doc, f, camera_keys());
     Camera cam;
     cam.width = doc.integer(m.need("width"));
     cam.height = doc.integer(m.need("height"));
@@ -50,6 +64,7 @@ Camera parse_camera(const Document& doc, const Field& f) {
     cam.cx = doc.number(m.need("cx"));
     cam.cy = doc.number(m.need("cy"));
     validate(cam);
+    model = parse_camera_model(doc, m, cam);
     return cam;
 }
 
@@ -241,7 +256,7 @@ Parsed parse_document(const Document& doc) {
         // whatever parses also prints as a configuration that parses (fuzz_config's property).
         if (!c && !r && !w) doc.fail(doc.root().mark, "", kEmpty);
         if (c) {
-            out.setup.camera = parse_camera(doc, *c);
+            out.setup.camera = parse_camera(doc, *c, out.setup.camera_model);
             out.line["camera"] = yaml::line_of(c->key_mark);
         }
         if (r) {
@@ -298,6 +313,7 @@ Setup load_setup(const std::vector<std::string>& files) {
             dst = std::move(src);
             where[name] = here;
         };
+        if (p.setup.camera) all.camera_model = std::move(p.setup.camera_model);
         merge(all.camera, p.setup.camera, "camera");
         merge(all.rig, p.setup.rig, "rig");
         merge(all.water, p.setup.water, "water");
@@ -337,6 +353,7 @@ std::string setup_to_yaml(const Setup& s) {
           << "  fy: " << fmt(c.fy) << "\n"
           << "  cx: " << fmt(c.cx) << "\n"
           << "  cy: " << fmt(c.cy) << "\n";
+        if (s.camera_model) write_camera_model(o, *s.camera_model);
     }
     if (s.rig) {
         o << "rig:\n";

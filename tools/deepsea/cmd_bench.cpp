@@ -1,6 +1,7 @@
 // deepsea bench: times the compositor alone (no file I/O) on generated frames, each stage of a
-// frame's conversion on its own (decode, composite, encode), and whole sequences from files to
-// files. Medians over repeated runs; peak memory from /proc (VmHWM); CPU time from getrusage.
+// frame's conversion on its own (decode, composite, encode), the camera stage on a rendered
+// frame's radiance, and whole sequences from files to files. Medians over repeated runs; peak
+// memory from /proc (VmHWM); CPU time from getrusage.
 
 #include <malloc.h>
 #include <sys/resource.h>
@@ -20,6 +21,7 @@
 #include "commands.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/batch/sequence.h"
+#include "deepsea/camera/camera_stage.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/jerlov.h"
@@ -39,7 +41,7 @@ struct BenchArgs {
     bool json = false;
     bool no_forward = false;
     std::string scattering = "single";
-    std::string cases = "composite,stage,sequence";
+    std::string cases = "composite,stage,camera,sequence";
     std::string config = std::string(DEEPSEA_SOURCE_DIR) + "/volumes/demo.yaml";
 };
 
@@ -231,6 +233,51 @@ std::vector<Case> time_stages(const Asset& asset, const Camera& cam, const Bench
     return cases;
 }
 
+/// The camera stage (docs/camera.md) on one rendered frame's radiance, one thread pool as in a
+/// render: the default camera model with its exposure time set so that the radiance the
+/// automatic exposure maps to white fills the full well in G; the image alone ("camera"),
+/// every layer ("camera-layers"), and with a lens's barrel distortion ("camera-lens").
+std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const BenchArgs& a,
+                              int threads) {
+    if (!wanted(a.cases, "camera") && !wanted(a.cases, "camera-layers") &&
+        !wanted(a.cases, "camera-lens"))
+        return {};
+    FlightParams flight;
+    flight.camera = cam;
+    Frame frame = render_flight_frame(flight, 0);
+    Renderer renderer(asset, {cam});
+    Layers layers;
+    renderer.render(layers, frame, LayerSet::Final);
+    const double white = 1.0 / exposure_factor(Exposure{}, layers.final);
+    std::vector<Case> cases;
+    const auto time = [&](const std::string& name, CameraModel model, CameraLayerSet set) {
+        const CameraStage probe(model, cam);
+        model.sensor.exposure_time_ms = std::clamp(
+            model.sensor.full_well / (white * probe.electrons_per_radiance(1, 1.0)), 1e-3, 3.6e6);
+        const CameraStage stage(model, cam);
+        CameraOutput out;
+        std::uint64_t key = 0;
+        stage.apply(out, layers.final, key++, set);  // allocates the outputs
+        std::vector<double> t, cpu;
+        for (int r = 0; r < a.repeats; ++r) {
+            const double t0 = now_ms(), c0 = cpu_ms();
+            stage.apply(out, layers.final, key++, set);
+            t.push_back(now_ms() - t0);
+            cpu.push_back(cpu_ms() - c0);
+        }
+        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
+    };
+    if (wanted(a.cases, "camera")) time("camera", CameraModel{}, {});
+    if (wanted(a.cases, "camera-layers"))
+        time("camera-layers", CameraModel{}, CameraLayerSet::all());
+    if (wanted(a.cases, "camera-lens")) {
+        CameraModel lens;
+        lens.lens.distortion = {-0.12, 0.02, 0.0, 0.0, 0.0};
+        time("camera-lens", lens, {});
+    }
+    return cases;
+}
+
 /// Whole sequences from files to files (PNG colour + EXR depth in, PNG or JPEG out), as
 /// `deepsea render` runs them: `frames` file pairs (copies of two generated frames, so that the
 /// bench does not spend minutes generating scenes), three runs, the median reported with the
@@ -304,6 +351,7 @@ void run(const BenchArgs& a) {
         if (wanted(a.cases, "stage")) {
             for (Case& c : time_stages(asset, cam, a, threads)) cases.push_back(c);
         }
+        for (Case& c : time_camera(asset, cam, a, threads)) cases.push_back(c);
         for (Case& c : time_sequences(asset, cam, a, threads)) cases.push_back(c);
     }
     if (a.json) {
@@ -354,8 +402,8 @@ void setup_bench(CLI::App& sub) {
                    "single | multiple: the asset's scattering (multiple adds the lamps' "
                    "scattered light per pixel)");
     sub.add_option("--cases", a->cases,
-                   "comma-separated prefixes of the cases to run: composite, stage, "
-                   "sequence-png, sequence-jpeg");
+                   "comma-separated prefixes of the cases to run: composite, stage, camera "
+                   "(camera, camera-layers, camera-lens), sequence-png, sequence-jpeg");
     sub.add_flag("--json", a->json, "print JSON for scripts");
     sub.callback([a] { run(*a); });
 }

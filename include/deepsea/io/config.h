@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/camera/model.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/water.h"
@@ -17,6 +18,9 @@ namespace deepsea {
 /// Sections found so far; a later file may add sections but not repeat one.
 struct Setup {
     std::optional<Camera> camera;
+    /// The camera section's `lens`, `sensor` and `processing` (docs/camera.md): the camera
+    /// stage. Unset when the section gives none of them (the ideal camera).
+    std::optional<CameraModel> camera_model;
     std::optional<Rig> rig;
     std::optional<Water> water;
 };

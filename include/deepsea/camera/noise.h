@@ -1,0 +1,165 @@
+#pragma once
+/// \file The sensor's random numbers (docs/camera.md, "Noise"): counter-based, so that a pixel's
+/// noise depends only on (seed, frame key, pixel, channel), never on the order of frames, the
+/// thread count or which rows a thread ran. Fixed patterns (DSNU, PRNU) are keyed by the seed
+/// and the pixel only: the same in every frame of one camera. Each stream's key comes from
+/// core's SplitMix64 (random.h); each value's bits from a 32-bit hash of its counter.
+
+#include <cmath>
+#include <cstdint>
+
+#include "deepsea/camera/fast_math.h"
+#include "deepsea/core/random.h"
+
+namespace deepsea {
+
+/// Photon shot noise is drawn from the Poisson distribution (by inversion) when its mean is
+/// below this many electrons. At and above it, from a normal deviate z with the Poisson's
+/// first three moments (Cornish-Fisher): mean + sigma z + b (z^2 - 1), b = mean / (6 sigma^2),
+/// sigma^2 = mean (+ the read noise's variance where the two are drawn as one): its variance
+/// exceeds the Poisson's by 2 b^2 <= 1/18 electron^2 (0.35 % at 16 electrons), its skewness is
+/// the Poisson's 1 / sqrt(mean), and it is not rounded to whole electrons.
+inline constexpr double kGaussianShotNoiseFrom = 16.0;
+
+/// Cornish-Fisher's skewness term's factor b for a Poisson mean within a total variance.
+template <class F>
+[[gnu::always_inline]] inline F skew_factor(F mean, F variance) {
+    return mean / (F(6) * variance);
+}
+
+/// The random numbers' streams: each draws its own 32 bits per value.
+enum class NoiseStream : std::uint64_t {
+    Prnu = 1,  ///< fixed pattern: photo-response non-uniformity
+    Dsnu = 2,  ///< fixed pattern: dark signal non-uniformity
+    Shot = 3,  ///< temporal: shot noise (with read noise in one Gaussian where they add)
+    Read = 4,  ///< temporal: read noise where it is drawn on its own
+};
+
+/// The key of one stream: the counter is scrambled as counter * mul + add (mod 2^32, mul
+/// odd: a bijection), then hashed.
+struct NoiseKey {
+    std::uint32_t mul = 1, add = 0;
+};
+
+/// A stream's key from a 64-bit seed (core's SplitMix64).
+inline NoiseKey noise_key(std::uint64_t seed64) {
+    Rng rng(seed64);
+    const std::uint64_t b = rng.next();
+    return {std::uint32_t(b) | 1u, std::uint32_t(b >> 32)};
+}
+
+/// A fixed-pattern stream of a camera: the seed alone, the same in every frame.
+inline NoiseKey fixed_pattern_key(std::uint64_t seed, NoiseStream s) {
+    return noise_key(mix_seed(seed, 0x66697865645f7061ull /* "fixed_pa" */, std::uint64_t(s)));
+}
+
+/// A temporal stream of one frame: (seed, frame key).
+inline NoiseKey temporal_key(std::uint64_t seed, std::uint64_t frame_key, NoiseStream s) {
+    return noise_key(mix_seed(seed, frame_key, std::uint64_t(s)));
+}
+
+/// C. Wellons' "triple32" integer hash (2018; its measured avalanche bias, 0.021, is among
+/// the lowest of 32-bit hashes): 3 multiplies, vectorised natively (AVX2 vpmulld), where
+/// SplitMix64's 64-bit multiplies are emulated in three.
+[[gnu::always_inline]] inline std::uint32_t triple32(std::uint32_t x) {
+    x ^= x >> 17;
+    x *= 0xed5ad4bbu;
+    x ^= x >> 11;
+    x *= 0xac4c1b51u;
+    x ^= x >> 15;
+    x *= 0x31848babu;
+    x ^= x >> 14;
+    return x;
+}
+
+/// The counter of channel c (0 R, 1 G, 2 B) of pixel (u, v) in a width-wide image:
+/// 3 (v width + u) + c, below 2^32 for every image deepsea accepts (kMaxImagePixels).
+inline std::uint32_t noise_counter(int width, int u, int v, int c) {
+    return std::uint32_t(3 * (std::uint64_t(v) * std::uint64_t(width) + std::uint64_t(u)) +
+                         std::uint64_t(c));
+}
+
+/// 32 random bits of a stream for a counter: triple32(counter * mul + add).
+[[gnu::always_inline]] inline std::uint32_t noise_bits(NoiseKey k, std::uint32_t counter) {
+    return triple32(counter * k.mul + k.add);
+}
+
+/// The argument of Giles' erfinv for 32 random bits (the top 24): x = (2 i + 1) / 2^24 - 1,
+/// i = bits >> 8. Its 2^24 values are symmetric about 0.
+template <class F>
+[[gnu::always_inline]] inline F erfinv_argument(std::uint32_t bits) {
+    return F(std::int32_t(bits >> 8)) * F(1.0 / 8388608.0) + F(1.0 / 16777216.0 - 1.0);
+}
+
+/// w = -log(1 - x^2), which selects Giles' branch: the central one below 5 (|x| < 0.99663,
+/// 99.66 % of values), the tail one from 5.
+template <class F>
+[[gnu::always_inline]] inline F erfinv_w(F x) {
+    return -fast_log((F(1) - x) * (F(1) + x));
+}
+
+/// Giles' central branch: sqrt(2) erfinv(x) for w < 5.
+template <class F>
+[[gnu::always_inline]] inline F normal_central(F x, F w) {
+    const F a = w - F(2.5);
+    F p = F(2.81022636e-08);
+    p = F(3.43273939e-07) + p * a;
+    p = F(-3.5233877e-06) + p * a;
+    p = F(-4.39150654e-06) + p * a;
+    p = F(0.00021858087) + p * a;
+    p = F(-0.00125372503) + p * a;
+    p = F(-0.00417768164) + p * a;
+    p = F(0.246640727) + p * a;
+    p = F(1.50140941) + p * a;
+    return F(1.41421356237309505) * p * x;
+}
+
+/// Giles' tail branch: sqrt(2) erfinv(x) for w >= 5.
+template <class F>
+[[gnu::always_inline]] inline F normal_tail(F x, F w) {
+    const F b = std::sqrt(w) - F(3);
+    F q = F(-0.000200214257);
+    q = F(0.000100950558) + q * b;
+    q = F(0.00134934322) + q * b;
+    q = F(-0.00367342844) + q * b;
+    q = F(0.00573950773) + q * b;
+    q = F(-0.0076224613) + q * b;
+    q = F(0.00943887047) + q * b;
+    q = F(1.00167406) + q * b;
+    q = F(2.83297682) + q * b;
+    return F(1.41421356237309505) * q * x;
+}
+
+/// A standard normal number from 32 random bits (the top 24 used): sqrt(2) erfinv(x) with
+/// x = erfinv_argument(bits), by M. Giles' single-precision erfinv ("Approximating the erfinv
+/// function", GPU Computing Gems Jade, 2011; relative error below 4e-7 on [-1, 1]). The mean
+/// is exactly 0; the tails end at +-5.42 sigma (a normal variable passes it with probability
+/// 6e-8). The stage's rows evaluate the central branch for every value and take the 0.34 % in
+/// the tails to their exact path.
+template <class F>
+[[gnu::always_inline]] inline F normal_from_bits(std::uint32_t bits) {
+    const F x = erfinv_argument<F>(bits), w = erfinv_w(x);
+    return w < F(5) ? normal_central(x, w) : normal_tail(x, w);
+}
+
+/// A uniform number in (0, 1) from 32 random bits: (bits + 1/2) / 2^32.
+inline double uniform_from_bits(std::uint32_t bits) {
+    return (double(bits) + 0.5) * (1.0 / 4294967296.0);
+}
+
+/// The Poisson sample of mean `mean` (>= 0) that uniform u in (0, 1) gives by inversion: the
+/// smallest k with P(X <= k) >= u, summing p(k) = p(k - 1) mean / k from p(0) = exp(-mean).
+/// At most `max_k` (beyond it lies less probability than u resolves for means below
+/// kGaussianShotNoiseFrom).
+inline int poisson_by_inversion(double mean, double u, int max_k = 128) {
+    double p = std::exp(-mean), cdf = p;
+    int k = 0;
+    while (u > cdf && k < max_k) {
+        ++k;
+        p *= mean / k;
+        cdf += p;
+    }
+    return k;
+}
+
+}  // namespace deepsea

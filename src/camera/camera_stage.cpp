@@ -1,0 +1,274 @@
+#include "deepsea/camera/camera_stage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "deepsea/camera/noise.h"
+#include "deepsea/camera/processing.h"
+#include "deepsea/camera/sensor.h"
+#include "deepsea/optics/schema.h"
+#include "rows.h"
+
+namespace deepsea {
+
+using camera_rows::AlignedBytes;
+using camera_rows::line_bytes;
+
+namespace {
+
+const Camera& checked(const CameraModel& model, const Camera& camera) {
+    validate(model);
+    validate(camera);
+    return camera;
+}
+
+/// n aligned floats, shared (the stage's arrays: copies of a stage share them).
+std::shared_ptr<float> aligned_floats(std::size_t n) {
+    AlignedBytes bytes(line_bytes<float>(n));
+    const std::shared_ptr<unsigned char> owner(bytes.data.release(), AlignedBytes::Free());
+    return std::shared_ptr<float>(owner, reinterpret_cast<float*>(owner.get()));
+}
+
+/// One task's row buffers (3 x width values each), carved from one aligned allocation.
+struct Scratch {
+    AlignedBytes all;
+    float *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *exact_mean,
+        *exact_uniform, *exact_electrons, *exact_offset;
+    std::int32_t *index, *flag;
+
+    explicit Scratch(int width) {
+        const std::size_t n = 3 * std::size_t(width), f = line_bytes<float>(n),
+                          i = line_bytes<std::int32_t>(n);
+        all = AlignedBytes(13 * f + 2 * i);
+        std::size_t at = 0;
+        const auto take = [&](std::size_t bytes) {
+            const std::size_t here = at;
+            at += bytes;
+            return here;
+        };
+        for (float** p : {&radiance, &zeros, &gain, &mean, &raw, &linear, &image, &tmp, &scale,
+                          &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
+            *p = all.at<float>(take(f));
+        index = all.at<std::int32_t>(take(i));
+        flag = all.at<std::int32_t>(take(i));
+        std::memset(zeros, 0, f);
+    }
+    /// The per-channel scales of a frame, as a row.
+    void scales(const float s[3], int width) {
+        for (int u = 0; u < width; ++u)
+            for (int c = 0; c < 3; ++c) scale[3 * u + c] = s[c];
+    }
+    camera_rows::RowBuffers rows(const float* response, const float* dsnu) const {
+        return {
+            radiance,      response,        dsnu,        mean, flag, raw, linear, index, exact_mean,
+            exact_uniform, exact_electrons, exact_offset};
+    }
+};
+
+/// n floats from src to dst.
+void copy(const float* src, float* dst, int n) { std::memcpy(dst, src, sizeof(float) * n); }
+
+/// The image's size and 3 channels, reusing its memory when it has them.
+void ensure(Image& img, int width, int height) {
+    if (img.width != width || img.height != height || img.channels != 3)
+        img = Image(width, height, 3);
+}
+
+void check_exposure(const FrameExposure& e) {
+    if (!(e.exposure_time_ms > 0.0 && e.exposure_time_ms <= 3.6e6))
+        throw SchemaError(
+            "camera.sensor.exposure_time_ms",
+            "must be > 0 and at most 3.6e6 ms, got " + std::to_string(e.exposure_time_ms));
+    if (!(e.system_gain > 0.0 && e.system_gain <= 1e6))
+        throw SchemaError(
+            "camera.sensor.system_gain",
+            "must be > 0 and at most 1e6 DN per electron, got " + std::to_string(e.system_gain));
+}
+
+}  // namespace
+
+CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
+    : m_model(model),
+      m_camera(checked(model, intrinsics)),
+      m_map(intrinsics, model.lens.distortion) {
+    const int w = m_camera.width, h = m_camera.height;
+    const std::size_t n = 3 * std::size_t(w);
+    const std::shared_ptr<float> x2 = aligned_floats(std::size_t(w));
+    for (int u = 0; u < w; ++u) {
+        const double x = m_camera.ray_x(u);
+        x2.get()[u] = float(x * x);
+    }
+    m_x2 = x2;
+    // The pixels' fixed response: falloff x channel response (per millisecond) x PRNU, and
+    // the DSNU, each drawn once from the seed (Gaussian, Giles' erfinv).
+    const Sensor& s = m_model.sensor;
+    float resp[3];
+    for (int c = 0; c < 3; ++c) resp[c] = float(electrons_per_radiance(c, 1.0));
+    const double prnu = s.noise ? s.prnu_percent / 100.0 : 0.0;
+    const std::shared_ptr<float> response = aligned_floats(n * h);
+    const std::shared_ptr<float> dsnu =
+        s.noise && s.dsnu > 0.0 ? aligned_floats(n * h) : std::shared_ptr<float>();
+    const NoiseKey prnu_key = fixed_pattern_key(s.seed, NoiseStream::Prnu);
+    const NoiseKey dsnu_key = fixed_pattern_key(s.seed, NoiseStream::Dsnu);
+    parallel_for(
+        std::size_t(h),
+        [&](std::size_t v0, std::size_t v1) {
+            for (int v = int(v0); v < int(v1); ++v) {
+                float* row = response.get() + n * v;
+                const double y = m_camera.ray_y(v);
+                camera_rows::gain_row(m_model.lens.vignetting, x2.get(), float(y * y), resp, w,
+                                      row);
+                const std::uint32_t base = noise_counter(w, 0, v, 0);
+                for (std::size_t i = 0; i < n && prnu > 0.0; ++i) {
+                    const double z =
+                        normal_from_bits<double>(noise_bits(prnu_key, base + std::uint32_t(i)));
+                    row[i] = float(std::max(0.0, row[i] * (1.0 + prnu * z)));
+                }
+                if (!dsnu) continue;
+                float* d = dsnu.get() + n * v;
+                for (std::size_t i = 0; i < n; ++i)
+                    d[i] = float(s.dsnu * normal_from_bits<double>(
+                                              noise_bits(dsnu_key, base + std::uint32_t(i))));
+            }
+        },
+        Parallel().or_grain(8));
+    m_response = response;
+    m_dsnu = dsnu;
+}
+
+FrameExposure CameraStage::default_exposure() const {
+    return {m_model.sensor.exposure_time_ms, system_gain(m_model.sensor)};
+}
+
+double CameraStage::electrons_per_radiance(int channel, double exposure_time_ms) const {
+    return deepsea::electrons_per_radiance(m_model.lens, m_model.sensor, channel, exposure_time_ms);
+}
+
+void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t frame_key,
+                        CameraLayerSet layers, const Parallel& par) const {
+    apply(out, radiance, frame_key, default_exposure(), layers, par);
+}
+
+void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t frame_key,
+                        const FrameExposure& exposure, CameraLayerSet layers,
+                        const Parallel& par) const {
+    check_exposure(exposure);
+    const int w = m_camera.width, h = m_camera.height;
+    require_same_size(
+        radiance.width, radiance.height, w, h,
+        "camera stage: the radiance image and the camera (" + describe(m_camera) + ")");
+    if (radiance.channels != 3)
+        throw InputError("camera stage: the radiance image has " +
+                         std::to_string(radiance.channels) + " channels, not 3 (R, G, B)");
+    const Sensor& s = m_model.sensor;
+    const Processing& proc = m_model.processing;
+    const bool grey = proc.white_balance == WhiteBalance::GreyWorld;
+    const bool keep_raw = layers.raw || grey;
+
+    camera_rows::SensorParams sp;
+    sp.width = w;
+    sp.exposure_time_ms = float(exposure.exposure_time_ms);
+    sp.dark_electrons = float(dark_electrons(s, exposure.exposure_time_ms));
+    sp.full_well = float(s.full_well);
+    sp.gain = float(exposure.system_gain);
+    sp.black = float(black_level(s));
+    sp.max_dn = float(max_dn(s));
+    sp.read_noise = float(s.dark_noise);
+    sp.noise = s.noise;
+    sp.shot_key = temporal_key(s.seed, frame_key, NoiseStream::Shot);
+    sp.read_key = temporal_key(s.seed, frame_key, NoiseStream::Read);
+    float resp[3];  // the noise-free image's response: no PRNU
+    for (int c = 0; c < 3; ++c) resp[c] = float(electrons_per_radiance(c, 1.0));
+
+    camera_rows::ProcessParams pp;
+    pp.width = w;
+    pp.black = sp.black;
+    const Rgb wb = proc.white_balance == WhiteBalance::Gains ? proc.gains : Rgb(1.0);
+    const double range = max_dn(s) - black_level(s);
+    float scale[3];
+    for (int c = 0; c < 3; ++c) scale[c] = float(wb[c] / range);
+    if (proc.matrix) {
+        pp.matrix = true;
+        for (int i = 0; i < 9; ++i) pp.m[i] = float((*proc.matrix)[i]);
+    }
+    pp.curve = proc.curve;
+    pp.inv_gamma = float(1.0 / proc.gamma);
+
+    ensure(out.image, w, h);
+    keep_raw ? ensure(out.raw, w, h) : void(out.raw = Image());
+    layers.linear_dn ? ensure(out.linear_dn, w, h) : void(out.linear_dn = Image());
+    layers.noise_free ? ensure(out.noise_free, w, h) : void(out.noise_free = Image());
+    out.exposure = exposure;
+    out.white_balance = wb;
+    std::vector<double> row_sums(grey ? 3 * std::size_t(h) : 0);
+
+    const int n = 3 * w;
+    const Vignetting& vig = m_model.lens.vignetting;
+    parallel_for(
+        std::size_t(h),
+        [&](std::size_t v0, std::size_t v1) {
+            Scratch t(w);
+            t.scales(scale, w);
+            for (int v = int(v0); v < int(v1); ++v) {
+                if (m_map.empty())
+                    copy(radiance.row(v), t.radiance, n);
+                else
+                    m_map.resample_row(radiance, v, t.radiance);
+                const std::size_t at = std::size_t(n) * v;
+                camera_rows::sensor_row(
+                    sp, v, t.rows(m_response.get() + at, m_dsnu ? m_dsnu.get() + at : t.zeros));
+                if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v), n);
+                if (keep_raw) copy(t.raw, out.raw.row(v), n);
+                if (layers.noise_free) {  // its DN, in t.gain
+                    const double y = m_camera.ray_y(v);
+                    camera_rows::gain_row(vig, m_x2.get(), float(y * y), resp, w, t.gain);
+                    camera_rows::noise_free_row(sp, t.radiance, t.gain, t.gain);
+                }
+                if (grey) {
+                    double sum[3] = {0.0, 0.0, 0.0};
+                    for (int i = 0; i < n; ++i) sum[i % 3] += t.raw[i] - sp.black;
+                    for (int c = 0; c < 3; ++c) row_sums[3 * std::size_t(v) + c] = sum[c];
+                    if (layers.noise_free) copy(t.gain, out.noise_free.row(v), n);
+                    continue;
+                }
+                camera_rows::process_row(pp, t.scale, t.raw, t.tmp, t.image);
+                copy(t.image, out.image.row(v), n);
+                if (layers.noise_free) {
+                    camera_rows::process_row(pp, t.scale, t.gain, t.tmp, t.image);
+                    copy(t.image, out.noise_free.row(v), n);
+                }
+            }
+        },
+        par.or_grain(16));
+    if (!grey) return;
+
+    // Grey world: the frame's mean per channel (rows summed in order: the same at any thread
+    // count), then the processing pass over the kept DN.
+    Rgb means;
+    for (int v = 0; v < h; ++v)
+        for (int c = 0; c < 3; ++c) means[c] += row_sums[3 * std::size_t(v) + c];
+    out.white_balance = grey_world_gains(means / (double(w) * h));
+    for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
+    parallel_for(
+        std::size_t(h),
+        [&](std::size_t v0, std::size_t v1) {
+            Scratch t(w);
+            t.scales(scale, w);
+            for (int v = int(v0); v < int(v1); ++v) {
+                copy(out.raw.row(v), t.raw, n);
+                camera_rows::process_row(pp, t.scale, t.raw, t.tmp, t.image);
+                copy(t.image, out.image.row(v), n);
+                if (layers.noise_free) {
+                    copy(out.noise_free.row(v), t.raw, n);
+                    camera_rows::process_row(pp, t.scale, t.raw, t.tmp, t.image);
+                    copy(t.image, out.noise_free.row(v), n);
+                }
+            }
+        },
+        par.or_grain(16));
+}
+
+}  // namespace deepsea

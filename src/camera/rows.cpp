@@ -1,0 +1,268 @@
+// The camera stage's row kernels. Compiled with -ffast-math -fopenmp-simd (src/camera/
+// CMakeLists.txt): GCC vectorises the loops marked `omp simd`, calling glibc's vector math
+// (libmvec) for log, exp and sqrt, with an AVX2 clone picked at load time.
+
+#include "rows.h"
+
+#include <cmath>
+
+#include "deepsea/camera/processing.h"
+#include "deepsea/camera/sensor.h"
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(DEEPSEA_NO_CLONES)
+#define DEEPSEA_CAMERA_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define DEEPSEA_CAMERA_CLONES
+#endif
+
+namespace deepsea::camera_rows {
+
+namespace {
+
+// Values, not std::max/min's references: a reference to a temporary inside an `omp simd` loop
+// becomes a per-lane array that stops GCC from vectorising the loop.
+inline float max_of(float a, float b) { return a > b ? a : b; }
+inline float min_of(float a, float b) { return a < b ? a : b; }
+
+/// Below a Gaussian shot noise's reach of the full well: where clipping can happen, the shot
+/// and read noise are drawn apart (the read noise adds after the full well clips).
+constexpr float kClipReach = 5.5f;  // > the largest normal deviate, 5.42
+
+/// 1/k for the Poisson sums.
+struct Reciprocals {
+    float r[129];
+    Reciprocals() {
+        for (int k = 1; k <= 128; ++k) r[k] = 1.0f / float(k);
+    }
+};
+const Reciprocals kInv;
+
+/// The exact path's numbers for m gathered values: both normals in full (Giles' two
+/// branches), the Poisson's uniform, the Gaussian shot electrons.
+DEEPSEA_CAMERA_CLONES
+void gather_exact(const SensorParams& p, std::uint32_t base, int m, const RowBuffers& b) {
+    const std::int32_t* __restrict index = b.index;
+    const float* __restrict mean = b.mean;
+    const float* __restrict offset = b.dsnu;
+    float* __restrict cm = b.exact_mean;
+    float* __restrict cu = b.exact_uniform;
+    float* __restrict ce = b.exact_electrons;
+    float* __restrict co = b.exact_offset;
+    const NoiseKey shot_key = p.shot_key, read_key = p.read_key;
+    const float read_noise = p.read_noise, poisson_below = float(kGaussianShotNoiseFrom);
+#pragma omp simd
+    for (int j = 0; j < m; ++j) {
+        const std::int32_t i = index[j];
+        const std::uint32_t c = base + std::uint32_t(i);
+        const float mu = mean[i];
+        const std::uint32_t shot = noise_bits(shot_key, c);
+        const float z_shot = normal_from_bits<float>(shot);
+        const float z_read = normal_from_bits<float>(noise_bits(read_key, c));
+        const bool poisson = mu < poisson_below;
+        cm[j] = poisson ? mu : 0.0f;
+        cu[j] = poisson ? (float(std::int32_t(shot >> 8)) + 0.5f) * (1.0f / 16777216.0f) : 0.0f;
+        const float gaussian = mu + std::sqrt(mu) * z_shot + (z_shot * z_shot - 1.0f) / 6.0f;
+        ce[j] = gaussian > 0.0f ? gaussian : 0.0f;
+        co[j] = offset[i] + read_noise * z_read;
+    }
+}
+
+/// Poisson samples by inversion (poisson_by_inversion's sums, in float), 64 values at a time,
+/// for the values with a uniform (the others, uniform 0, stop at once and keep their Gaussian
+/// electrons). Each stops at mean + 8 sqrt(mean) + 8 at the most: where float sums could
+/// fail to reach a uniform within 1e-6 of 1, the tail is cut there (probability below 1e-7).
+DEEPSEA_CAMERA_CLONES
+void invert_exact(int m, const float* mean, const float* uniform, float* electrons) {
+    for (int j0 = 0; j0 < m; j0 += 64) {
+        const int len = j0 + 64 < m ? 64 : m - j0;
+        const float* mu = mean + j0;
+        const float* u = uniform + j0;
+        float p[64], cdf[64], k[64], cap[64];
+#pragma omp simd
+        for (int j = 0; j < len; ++j) {
+            p[j] = std::exp(-mu[j]);
+            cdf[j] = p[j];
+            k[j] = 0.0f;
+            cap[j] = mu[j] + 8.0f * std::sqrt(mu[j]) + 8.0f;
+        }
+        for (int it = 1; it <= 128; ++it) {
+            const float inv = kInv.r[it];
+            int any = 0;
+#pragma omp simd reduction(| : any)
+            for (int j = 0; j < len; ++j) {
+                const int go = u[j] > cdf[j] && k[j] < cap[j];
+                k[j] += float(go);
+                p[j] *= mu[j] * inv;
+                cdf[j] += p[j];
+                any |= go;
+            }
+            if (!any) break;
+        }
+        for (int j = 0; j < len; ++j)
+            if (u[j] > 0.0f) electrons[j0 + j] = k[j];
+    }
+}
+
+/// The exact path for the flagged values: the Poisson below kGaussianShotNoiseFrom electrons,
+/// near the full well the shot noise clipped before the read noise adds, and the normal's
+/// tails. Gathered, computed in vector loops, scattered back.
+void exact_path(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b) {
+    int m = 0, i = 0;
+    for (; i + 8 <= n; i += 8) {  // 8 flags at a time: most are 0
+        const std::int32_t* f = b.flag + i;
+        if ((f[0] | f[1] | f[2] | f[3] | f[4] | f[5] | f[6] | f[7]) == 0) continue;
+        for (int j = i; j < i + 8; ++j) {
+            b.index[m] = j;
+            m += b.flag[j];
+        }
+    }
+    for (; i < n; ++i) {
+        b.index[m] = i;
+        m += b.flag[i];
+    }
+    gather_exact(p, base, m, b);
+    invert_exact(m, b.exact_mean, b.exact_uniform, b.exact_electrons);
+    for (int j = 0; j < m; ++j) {
+        const int i = b.index[j];
+        const float electrons = b.exact_electrons[j], offset = b.exact_offset[j];
+        const float dn = p.gain * (min_of(electrons, p.full_well) + offset) + p.black;
+        b.raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), p.max_dn);
+        b.linear[i] = p.gain * (electrons + offset) + p.black;
+    }
+}
+
+}  // namespace
+
+DEEPSEA_CAMERA_CLONES
+void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp[3], int width,
+              float* gain) {
+    const float r = resp[0], g = resp[1], bl = resp[2];
+#pragma omp simd
+    for (int u = 0; u < width; ++u) {
+        const float f = vignetting_factor(vig, x2[u] + y2);
+        gain[3 * u] = f * r;
+        gain[3 * u + 1] = f * g;
+        gain[3 * u + 2] = f * bl;
+    }
+}
+
+DEEPSEA_CAMERA_CLONES
+void sensor_row(const SensorParams& p, int v, const RowBuffers& b) {
+    const int n = 3 * p.width;
+    const std::uint32_t base = noise_counter(p.width, 0, v, 0);
+    const float t = p.exposure_time_ms, dark = p.dark_electrons, fw = p.full_well, K = p.gain;
+    const float black = p.black, max_dn = p.max_dn;
+    // Locals, so that the loops do not reload them after every store.
+    const float* __restrict radiance = b.radiance;
+    const float* __restrict response = b.response;
+    const float* __restrict dsnu = b.dsnu;
+    float* __restrict mean_out = b.mean;
+    std::int32_t* __restrict flag = b.flag;
+    float* __restrict raw = b.raw;
+    float* __restrict linear = b.linear;
+    if (!p.noise) {
+#pragma omp simd
+        for (int i = 0; i < n; ++i) {
+            const float mean = max_of(radiance[i], 0.0f) * response[i] * t + dark;
+            const float dn = K * min_of(mean, fw) + black;
+            raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), max_dn);
+            linear[i] = K * mean + black;
+        }
+        return;
+    }
+    const float read_var = p.read_noise * p.read_noise;
+    const NoiseKey shot_key = p.shot_key;
+    int exact = 0;
+#pragma omp simd reduction(+ : exact)
+    for (int i = 0; i < n; ++i) {
+        const float mean = max_of(radiance[i], 0.0f) * response[i] * t + dark;
+        // Shot and read noise are independent here: one deviate of their summed variance.
+        const float variance = mean + read_var, sigma = std::sqrt(variance);
+        const float x = erfinv_argument<float>(noise_bits(shot_key, base + std::uint32_t(i)));
+        const float w = erfinv_w(x);
+        const float z = normal_central(x, w);  // the 0.34 % with w >= 5: the exact path
+        const float skew = skew_factor(mean, variance) * (z * z - 1.0f);
+        const float dn = K * (mean + sigma * z + skew + dsnu[i]) + black;
+        raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), max_dn);
+        linear[i] = dn;
+        mean_out[i] = mean;
+        const bool slow =
+            mean < float(kGaussianShotNoiseFrom) || mean + kClipReach * sigma >= fw || w >= 5.0f;
+        flag[i] = slow;
+        exact += slow;
+    }
+    if (exact) exact_path(p, base, n, b);
+}
+
+DEEPSEA_CAMERA_CLONES
+void noise_free_row(const SensorParams& p, const float* radiance, const float* response,
+                    float* dn) {
+    const int n = 3 * p.width;
+    const float t = p.exposure_time_ms, dark = p.dark_electrons, fw = p.full_well, K = p.gain;
+    const float black = p.black, max_dn = p.max_dn;
+#pragma omp simd
+    for (int i = 0; i < n; ++i) {
+        const float mean = max_of(radiance[i], 0.0f) * response[i] * t + dark;
+        dn[i] = min_of(K * min_of(mean, fw) + black, max_dn);
+    }
+}
+
+namespace {
+
+/// One variant of the processing loops, inlined into process_row's clones.
+template <bool kMatrix, OutputCurve kCurve>
+[[gnu::always_inline]] inline void process(const ProcessParams& p, const float* scale,
+                                           const float* dn, float* tmp, float* out) {
+    const int n = 3 * p.width;
+    const float black = p.black, inv_gamma = p.inv_gamma;
+#pragma omp simd
+    for (int i = 0; i < n; ++i) tmp[i] = (dn[i] - black) * scale[i];
+    if constexpr (kMatrix) {
+        const float m0 = p.m[0], m1 = p.m[1], m2 = p.m[2], m3 = p.m[3], m4 = p.m[4], m5 = p.m[5],
+                    m6 = p.m[6], m7 = p.m[7], m8 = p.m[8];
+#pragma omp simd
+        for (int u = 0; u < p.width; ++u) {
+            const float x = tmp[3 * u], y = tmp[3 * u + 1], z = tmp[3 * u + 2];
+            tmp[3 * u] = m0 * x + m1 * y + m2 * z;
+            tmp[3 * u + 1] = m3 * x + m4 * y + m5 * z;
+            tmp[3 * u + 2] = m6 * x + m7 * y + m8 * z;
+        }
+    }
+#pragma omp simd
+    for (int i = 0; i < n; ++i) {
+        const float x = min_of(max_of(tmp[i], 0.0f), 1.0f);
+        if constexpr (kCurve == OutputCurve::Srgb)
+            out[i] = srgb_curve(x);
+        else if constexpr (kCurve == OutputCurve::Gamma)
+            out[i] = gamma_encode(x, inv_gamma);
+        else
+            out[i] = x;
+    }
+}
+
+template <bool kMatrix>
+[[gnu::always_inline]] inline void process_curve(const ProcessParams& p, const float* scale,
+                                                 const float* dn, float* tmp, float* out) {
+    switch (p.curve) {
+        case OutputCurve::Srgb:
+            return process<kMatrix, OutputCurve::Srgb>(p, scale, dn, tmp, out);
+        case OutputCurve::Gamma:
+            return process<kMatrix, OutputCurve::Gamma>(p, scale, dn, tmp, out);
+        case OutputCurve::Linear:
+            break;
+    }
+    process<kMatrix, OutputCurve::Linear>(p, scale, dn, tmp, out);
+}
+
+}  // namespace
+
+DEEPSEA_CAMERA_CLONES
+void process_row(const ProcessParams& p, const float* scale, const float* dn, float* tmp,
+                 float* out) {
+    if (p.matrix)
+        process_curve<true>(p, scale, dn, tmp, out);
+    else
+        process_curve<false>(p, scale, dn, tmp, out);
+}
+
+}  // namespace deepsea::camera_rows

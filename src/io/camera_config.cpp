@@ -1,0 +1,199 @@
+#include "camera_config.h"
+
+#include "deepsea/camera/distortion.h"
+
+namespace deepsea {
+
+namespace {
+
+using yaml::Document;
+using yaml::Field;
+using yaml::fmt;
+using yaml::join;
+using yaml::MapView;
+
+// ---------------------------------------------------------------------------------------------
+// camera.lens, camera.sensor, camera.processing (units, defaults and ranges: docs/camera.md;
+// the ranges are checked by validate(CameraModel) in the camera layer)
+//
+//   lens.f_number, lens.transmittance                  numbers
+//   lens.vignetting: {natural: bool, k1, k2, k3}       numbers
+//   lens.distortion: {k1, k2, p1, p2, k3}              OpenCV's distCoeffs
+//   sensor.pixel_pitch_um, exposure_time_ms, full_well, dark_noise, dark_current, dsnu,
+//          prnu_percent, black_level                   numbers
+//   sensor.quantum_efficiency, wavelength_nm           [r, g, b]
+//   sensor.system_gain | sensor.iso                    a number (not both)
+//   sensor.bits, sensor.seed                           integers (seed >= 0)
+//   sensor.noise                                       bool
+//   processing.white_balance                           none | grey_world | {gains: [r, g, b]}
+//   processing.matrix                                  9 numbers, row-major
+//   processing.curve                                   linear | srgb | {gamma: g}
+
+void parse_lens(const Document& doc, const Field& f, Lens& lens) {
+    const MapView m(doc, f, camera_schema::kLens);
+    if (const Field* x = m.opt("f_number")) lens.f_number = doc.number(*x);
+    if (const Field* x = m.opt("transmittance")) lens.transmittance = doc.number(*x);
+    if (const Field* v = m.opt("vignetting")) {
+        const MapView vm(doc, *v, camera_schema::kVignetting);
+        Vignetting& g = lens.vignetting;
+        if (const Field* x = vm.opt("natural")) g.natural = doc.boolean(*x);
+        if (const Field* x = vm.opt("k1")) g.k1 = doc.number(*x);
+        if (const Field* x = vm.opt("k2")) g.k2 = doc.number(*x);
+        if (const Field* x = vm.opt("k3")) g.k3 = doc.number(*x);
+    }
+    if (const Field* d = m.opt("distortion")) {
+        const MapView dm(doc, *d, camera_schema::kDistortion);
+        Distortion& k = lens.distortion;
+        for (const auto& [key, value] :
+             {std::pair{"k1", &k.k1}, std::pair{"k2", &k.k2}, std::pair{"p1", &k.p1},
+              std::pair{"p2", &k.p2}, std::pair{"k3", &k.k3}})
+            if (const Field* x = dm.opt(key)) *value = doc.number(*x);
+    }
+}
+
+void parse_sensor(const Document& doc, const Field& f, Sensor& s) {
+    const MapView m(doc, f, camera_schema::kSensor);
+    for (const auto& [key, value] :
+         {std::pair{"pixel_pitch_um", &s.pixel_pitch_um},
+          std::pair{"exposure_time_ms", &s.exposure_time_ms}, std::pair{"iso", &s.iso},
+          std::pair{"full_well", &s.full_well}, std::pair{"dark_noise", &s.dark_noise},
+          std::pair{"dark_current", &s.dark_current}, std::pair{"dsnu", &s.dsnu},
+          std::pair{"prnu_percent", &s.prnu_percent}})
+        if (const Field* x = m.opt(key)) *value = doc.number(*x);
+    if (const Field* x = m.opt("quantum_efficiency")) s.quantum_efficiency = doc.rgb(*x);
+    if (const Field* x = m.opt("wavelength_nm")) s.wavelength_nm = doc.rgb(*x);
+    if (m.has("system_gain") && m.has("iso"))
+        doc.fail(*m.opt("iso"), "give system_gain or iso, not both");
+    if (const Field* x = m.opt("system_gain")) s.system_gain = doc.number(*x);
+    if (const Field* x = m.opt("bits")) s.bits = doc.integer(*x);
+    if (const Field* x = m.opt("black_level")) s.black_level = doc.number(*x);
+    if (const Field* x = m.opt("noise")) s.noise = doc.boolean(*x);
+    if (const Field* x = m.opt("seed")) {
+        const int seed = doc.integer(*x);
+        if (seed < 0) doc.fail(*x, "must be >= 0, got " + std::to_string(seed));
+        s.seed = std::uint64_t(seed);
+    }
+}
+
+void parse_processing(const Document& doc, const Field& f, Processing& p) {
+    const MapView m(doc, f, camera_schema::kProcessing);
+    if (const Field* wb = m.opt("white_balance")) {
+        if (wb->node.IsMap()) {
+            const MapView gm(doc, *wb, std::vector<std::string>{"gains"});
+            p.white_balance = WhiteBalance::Gains;
+            p.gains = doc.rgb(gm.need("gains"));
+        } else {
+            const std::string v = doc.string(*wb);
+            if (v == "none")
+                p.white_balance = WhiteBalance::None;
+            else if (v == "grey_world")
+                p.white_balance = WhiteBalance::GreyWorld;
+            else
+                doc.fail(*wb, "expected none, grey_world or {gains: [r, g, b]}, got '" + v + "'");
+        }
+    }
+    if (const Field* x = m.opt("matrix")) {
+        const std::vector<double> v = doc.numbers(*x, 9, "numbers (a 3x3 matrix, row-major)");
+        std::array<double, 9> a{};
+        for (int i = 0; i < 9; ++i) a[i] = v[i];
+        p.matrix = a;
+    }
+    if (const Field* c = m.opt("curve")) {
+        if (c->node.IsMap()) {
+            const MapView cm(doc, *c, std::vector<std::string>{"gamma"});
+            p.curve = OutputCurve::Gamma;
+            p.gamma = doc.number(cm.need("gamma"));
+        } else {
+            const std::string v = doc.string(*c);
+            if (v == "linear")
+                p.curve = OutputCurve::Linear;
+            else if (v == "srgb")
+                p.curve = OutputCurve::Srgb;
+            else
+                doc.fail(*c, "expected linear, srgb or {gamma: g}, got '" + v + "'");
+        }
+    }
+}
+
+std::string triple(const Rgb& v) {
+    return "[" + fmt(v.r) + ", " + fmt(v.g) + ", " + fmt(v.b) + "]";
+}
+
+}  // namespace
+
+std::optional<CameraModel> parse_camera_model(const Document& doc, const MapView& m,
+                                              const Camera& intrinsics) {
+    const Field *lens = m.opt("lens"), *sensor = m.opt("sensor"), *proc = m.opt("processing");
+    if (!lens && !sensor && !proc) return std::nullopt;
+    CameraModel model;
+    if (lens) parse_lens(doc, *lens, model.lens);
+    if (sensor) parse_sensor(doc, *sensor, model.sensor);
+    if (proc) parse_processing(doc, *proc, model.processing);
+    validate(model);
+    check_distortion(model.lens.distortion, intrinsics);
+    return model;
+}
+
+void write_camera_model(std::ostream& o, const CameraModel& model) {
+    const Lens& l = model.lens;
+    const Vignetting& v = l.vignetting;
+    const Distortion& d = l.distortion;
+    o << "  lens:\n"
+      << "    f_number: " << fmt(l.f_number) << "\n"
+      << "    transmittance: " << fmt(l.transmittance) << "\n"
+      << "    vignetting: {natural: " << (v.natural ? "true" : "false") << ", k1: " << fmt(v.k1)
+      << ", k2: " << fmt(v.k2) << ", k3: " << fmt(v.k3) << "}\n"
+      << "    distortion: {k1: " << fmt(d.k1) << ", k2: " << fmt(d.k2) << ", p1: " << fmt(d.p1)
+      << ", p2: " << fmt(d.p2) << ", k3: " << fmt(d.k3) << "}\n";
+    const Sensor& s = model.sensor;
+    o << "  sensor:\n"
+      << "    pixel_pitch_um: " << fmt(s.pixel_pitch_um) << "\n"
+      << "    exposure_time_ms: " << fmt(s.exposure_time_ms) << "\n"
+      << "    quantum_efficiency: " << triple(s.quantum_efficiency) << "\n"
+      << "    wavelength_nm: " << triple(s.wavelength_nm) << "\n";
+    if (s.system_gain)
+        o << "    system_gain: " << fmt(*s.system_gain) << "\n";
+    else
+        o << "    iso: " << fmt(s.iso) << "\n";
+    o << "    full_well: " << fmt(s.full_well) << "\n"
+      << "    bits: " << s.bits << "\n";
+    if (s.black_level) o << "    black_level: " << fmt(*s.black_level) << "\n";
+    o << "    dark_noise: " << fmt(s.dark_noise) << "\n"
+      << "    dark_current: " << fmt(s.dark_current) << "\n"
+      << "    dsnu: " << fmt(s.dsnu) << "\n"
+      << "    prnu_percent: " << fmt(s.prnu_percent) << "\n"
+      << "    noise: " << (s.noise ? "true" : "false") << "\n"
+      << "    seed: " << s.seed << "\n";
+    const Processing& p = model.processing;
+    o << "  processing:\n    white_balance: ";
+    switch (p.white_balance) {
+        case WhiteBalance::None:
+            o << "none\n";
+            break;
+        case WhiteBalance::GreyWorld:
+            o << "grey_world\n";
+            break;
+        case WhiteBalance::Gains:
+            o << "{gains: " << triple(p.gains) << "}\n";
+            break;
+    }
+    if (p.matrix) {
+        std::vector<std::string> m;
+        for (double x : *p.matrix) m.push_back(fmt(x));
+        o << "    matrix: [" << join(m) << "]\n";
+    }
+    o << "    curve: ";
+    switch (p.curve) {
+        case OutputCurve::Linear:
+            o << "linear\n";
+            break;
+        case OutputCurve::Srgb:
+            o << "srgb\n";
+            break;
+        case OutputCurve::Gamma:
+            o << "{gamma: " << fmt(p.gamma) << "}\n";
+            break;
+    }
+}
+
+}  // namespace deepsea
