@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deepsea/core/error.h"
+#include "deepsea/core/hash.h"
 #include "deepsea/optics/schema.h"
 
 namespace deepsea {
@@ -393,12 +394,7 @@ std::string input_hash(const BakeInfo& info) {
                     {"settings", settings_json(info)}};
     // nlohmann's objects keep keys sorted, so dump() is canonical for equal inputs.
     const std::string text = j.dump();
-    std::uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bit
-    for (unsigned char ch : text) {
-        h ^= ch;
-        h *= 1099511628211ull;
-    }
-    return "fnv1a64:" + hex64(h);
+    return "fnv1a64:" + hex64(fnv1a64(text));
 }
 
 namespace {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "deepsea/asset/asset_file.h"
+#include "deepsea/core/hash.h"
 
 namespace deepsea::asset_vdb {
 
@@ -33,14 +34,15 @@ inline void init_openvdb() {
 /// FNV-1a over the bit patterns of the stored floats: OpenVDB does not notice every truncated
 /// or damaged file (a short read can leave zeros), so the loader compares this.
 inline std::uint64_t checksum(const float* v, std::size_t n) {
-    std::uint64_t h = 1469598103934665603ull;
+    // Little-endian bytes of each float, as the files written on x86 and ARM hold them.
+    std::uint64_t h = kFnv1aBasis;
     for (std::size_t i = 0; i < n; ++i) {
         std::uint32_t bits;
         std::memcpy(&bits, &v[i], 4);
-        for (int b = 0; b < 4; ++b) {
-            h ^= (bits >> (8 * b)) & 0xffu;
-            h *= 1099511628211ull;
-        }
+        const unsigned char b[4] = {
+            static_cast<unsigned char>(bits), static_cast<unsigned char>(bits >> 8),
+            static_cast<unsigned char>(bits >> 16), static_cast<unsigned char>(bits >> 24)};
+        h = fnv1a64(b, 4, h);
     }
     return h;
 }

@@ -57,7 +57,7 @@ LayerSet FrameWriter::layer_set(const FrameJob& job) const {
 }
 
 bool FrameWriter::streams(const FrameJob& job, double exposure) const {
-    return job.layers.empty() && exposure != 0.0 && !job.output.empty() &&
+    return !m_layers.camera && job.layers.empty() && exposure != 0.0 && !job.output.empty() &&
            writes_encoded(job.output);
 }
 
@@ -89,6 +89,12 @@ void FrameWriter::write(const FrameJob& job, const Layers& layers, const ImageMe
         write_color(job.output, job.layers.empty() ? m_final : layers.final, m_bits, meta,
                     exposure);
     }
+}
+
+void FrameWriter::write(const FrameJob& job, const Layers& layers, const CameraOutput& recorded,
+                        const ImageMetadata& meta) const {
+    if (!job.layers.empty()) write_layers(job.layers, layers, meta, m_layers, &recorded);
+    if (!job.output.empty()) write_display(job.output, recorded.image, m_bits, meta);
 }
 
 }  // namespace deepsea

@@ -15,6 +15,7 @@
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/hash.h"
 #include "deepsea/io/image_io.h"
 
 namespace deepsea {
@@ -194,6 +195,8 @@ void check_outputs_are_not_inputs(const std::vector<FrameJob>& jobs) {
 }
 
 }  // namespace
+
+std::uint64_t frame_key(const FrameJob& job) { return fnv1a64(stem(job.rgb)); }
 
 bool FrameFiles::sequence() const { return is_pattern(rgb); }
 

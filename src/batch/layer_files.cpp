@@ -6,10 +6,35 @@
 
 namespace deepsea {
 
+const std::vector<std::string>& camera_layer_names() {
+    static const std::vector<std::string> names{"raw", "linear_dn", "noise_free"};
+    return names;
+}
+
+std::vector<std::string> all_layer_names(bool camera) {
+    std::vector<std::string> all = layer_names();
+    if (camera) all.insert(all.end(), camera_layer_names().begin(), camera_layer_names().end());
+    return all;
+}
+
+namespace {
+
+bool named(const std::vector<std::string>& names, const std::string& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+bool is_camera_layer(const std::string& name) { return named(camera_layer_names(), name); }
+
+}  // namespace
+
 LayerSet LayerOutput::compositor_set() const {
     for (const std::string& n : names)
-        if (n != "final") return LayerSet::All;
+        if (n != "final" && !is_camera_layer(n)) return LayerSet::All;
     return LayerSet::Final;
+}
+
+CameraLayerSet LayerOutput::camera_set() const {
+    return {named(names, "raw"), named(names, "linear_dn"), named(names, "noise_free")};
 }
 
 std::string LayerOutput::describe() const {
@@ -19,8 +44,8 @@ std::string LayerOutput::describe() const {
     return s;
 }
 
-std::vector<std::string> parse_layer_set(const std::string& list) {
-    const std::vector<std::string>& known = layer_names();
+std::vector<std::string> parse_layer_set(const std::string& list, bool camera) {
+    const std::vector<std::string> known = all_layer_names(camera);
     std::string known_list;
     for (const std::string& n : known) known_list += (known_list.empty() ? "" : ", ") + n;
     std::vector<bool> chosen(known.size(), false);
@@ -36,6 +61,11 @@ std::vector<std::string> parse_layer_set(const std::string& list) {
             continue;
         }
         const auto it = std::find(known.begin(), known.end(), name);
+        if (it == known.end() && is_camera_layer(name)) {
+            throw ConfigError("--layer-set: layer '" + name +
+                              "' is the camera stage's: give --camera a YAML whose camera "
+                              "section has lens, sensor or processing");
+        }
         if (it == known.end()) {
             throw ConfigError("--layer-set: unknown layer '" + name + "' (layers: " + known_list +
                               ", or all)");
@@ -54,7 +84,7 @@ std::vector<std::string> parse_layer_set(const std::string& list) {
 }
 
 void write_layers(const std::string& path, const Layers& l, const ImageMetadata& meta,
-                  const LayerOutput& out) {
+                  const LayerOutput& out, const CameraOutput* camera) {
     const std::vector<std::string> rgb{"R", "G", "B"};
     const std::vector<ExrLayer> all{{"final", &l.final, rgb},
                                     {"direct", &l.direct, rgb},
@@ -64,9 +94,18 @@ void write_layers(const std::string& path, const Layers& l, const ImageMetadata&
                                     {"depth", &l.depth, {"Z"}},
                                     {"normal", &l.normal, {"X", "Y", "Z"}}};
     std::vector<ExrLayer> chosen;
-    for (const ExrLayer& layer : all) {
-        if (std::find(out.names.begin(), out.names.end(), layer.name) != out.names.end())
-            chosen.push_back(layer);
+    for (const ExrLayer& layer : all)
+        if (named(out.names, layer.name)) chosen.push_back(layer);
+    if (camera) {
+        for (const ExrLayer& layer :
+             {ExrLayer{"raw", &camera->raw, rgb}, ExrLayer{"linear_dn", &camera->linear_dn, rgb},
+              ExrLayer{"noise_free", &camera->noise_free, rgb}}) {
+            if (named(out.names, layer.name)) chosen.push_back(layer);
+        }
+    } else {
+        for (const std::string& n : camera_layer_names())
+            if (named(out.names, n))
+                throw InputError(path + ": layer '" + n + "' is the camera stage's: none given");
     }
     write_exr_layers(path, chosen, meta, out.half);
 }

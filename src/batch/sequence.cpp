@@ -15,6 +15,7 @@
 #include "deepsea/batch/frame_files.h"
 #include "deepsea/batch/sequence_manifest.h"
 #include "deepsea/core/error.h"
+#include "deepsea/io/config.h"
 #include "deepsea/runtime/renderer.h"
 
 namespace deepsea {
@@ -32,6 +33,8 @@ struct Slot {
     Frame frame;
     Layers layers;  ///< filled only for jobs that write layers
     FrameWriter writer;
+    CameraOutput recorded;  ///< with a camera stage: the frame as recorded
+    ImageMetadata meta;     ///< with a camera stage: the run's metadata and this frame's
 };
 
 std::string absolute(const std::string& pattern) {
@@ -46,11 +49,20 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.rgb = absolute(opt.rgb_pattern);
     m.depth = absolute(opt.depth_pattern);
     m.camera = opt.camera.width > 0 ? opt.camera : asset.info.camera;
-    m.auto_exposure = opt.exposure.automatic;
-    m.percentile = opt.exposure.percentile;
-    m.target = opt.exposure.target;
-    m.max_clipped = opt.exposure.max_clipped;
-    m.exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
+    if (opt.camera_model) {
+        Setup setup;
+        setup.camera = m.camera;
+        setup.camera_model = opt.camera_model;
+        m.camera_stage = setup_to_yaml(setup);
+        m.auto_exposure = false;
+        m.exposure = 1.0;  // the radiance goes to the camera as it is
+    } else {
+        m.auto_exposure = opt.exposure.automatic;
+        m.percentile = opt.exposure.percentile;
+        m.target = opt.exposure.target;
+        m.max_clipped = opt.exposure.max_clipped;
+        m.exposure = opt.exposure.automatic ? 0.0 : opt.exposure.factor;
+    }
     m.image = !jobs.empty() && !jobs.front().output.empty();
     if (m.image) m.image_format = image_format(jobs.front().output);
     m.bits = opt.bits;
@@ -93,6 +105,21 @@ ImageMetadata output_metadata(const Asset& asset, double exposure, const std::st
     return meta;
 }
 
+ImageMetadata camera_metadata(const CameraOutput& recorded, std::uint64_t frame_key) {
+    const auto num = [](double v) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.17g", v);
+        return std::string(text);
+    };
+    char key[24];
+    std::snprintf(key, sizeof key, "%016llx", static_cast<unsigned long long>(frame_key));
+    const Rgb& wb = recorded.white_balance;
+    return {{"deepsea:frame_key", key},
+            {"deepsea:exposure_time_ms", num(recorded.exposure.exposure_time_ms)},
+            {"deepsea:system_gain", num(recorded.exposure.system_gain)},
+            {"deepsea:white_balance", num(wb.r) + " " + num(wb.g) + " " + num(wb.b)}};
+}
+
 SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
                                const SequenceOptions& opt) {
     SequenceResult result;
@@ -130,7 +157,10 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
         }
     }
 
+    if (opt.camera_model && !opt.layer_output.camera)
+        throw InputError("render_sequence: a camera stage needs layer_output.camera");
     Renderer renderer(asset, {opt.camera, opt.forward});
+    std::unique_ptr<CameraStage> stage;  // made for the first frame's camera, remade per size
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy
     double exposure = record.exposure;
     ImageMetadata meta;
@@ -155,104 +185,134 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     };
 
     tbb::parallel_pipeline(
-        kTokens, tbb::make_filter<void, Slot*>(
-                     tbb::filter_mode::serial_in_order,
-                     [&](tbb::flow_control& fc) -> Slot* {
-                         if (next >= int(jobs.size()) || stop) {
-                             fc.stop();
-                             return nullptr;
-                         }
-                         Slot* s = nullptr;
-                         {
-                             std::lock_guard<std::mutex> lock(mutex);
-                             s = free_slots.back();  // the pipeline holds at most kTokens frames
-                             free_slots.pop_back();
-                         }
-                         s->index = next;
-                         s->error.clear();
-                         s->error_code = 0;
-                         const FrameJob& job = jobs[next++];
-                         s->skip = opt.resume && outputs_complete(job, opt.layer_output);
-                         if (s->skip) return s;
-                         try {
-                             read_frame(job, opt.depth_read, s->frame);  // into the slot's buffers
-                         } catch (...) {
-                             record_failure(*s, "");
-                         }
-                         return s;
-                     }) &
-                     tbb::make_filter<Slot*, Slot*>(
-                         tbb::filter_mode::serial_in_order,
-                         [&](Slot* s) -> Slot* {
-                             if (s->skip || !s->error.empty()) return s;
-                             try {
-                                 const FrameJob& job = jobs[s->index];
-                                 // Jobs that want only the image composite into `shared`; the
-                                 // writer keeps what it needs of it (PNG and JPEG codes: a quarter
-                                 // of the float image). Once the exposure is known, such an image
-                                 // is encoded row by row as the compositor finishes it, and no
-                                 // float image is kept.
-                                 Layers& out = job.layers.empty() ? shared : s->layers;
-                                 if (s->writer.streams(job, exposure)) {
-                                     const Image& z = s->frame.depth;
-                                     renderer.render(
-                                         out, s->frame,
-                                         s->writer.streaming_rows(job, z.width, z.height, exposure),
-                                         opt.depth_kind);
-                                 } else {
-                                     renderer.render(out, s->frame, s->writer.layer_set(job),
-                                                     opt.depth_kind);
-                                     if (exposure == 0.0) {
-                                         exposure = exposure_factor(opt.exposure, out.final);
-                                         record.exposure_frame = job.rgb;
-                                     }
-                                     s->writer.keep(job, out, exposure);
-                                 }
-                             } catch (const AssetError& e) {
-                                 // The asset does not fit the first frame composited: it fits none
-                                 // of the sequence, stop everything. A later frame of another shape
-                                 // fails alone.
-                                 if (meta.empty())
-                                     throw AssetError(jobs[s->index].rgb + ": " + e.what());
-                                 record_failure(*s, jobs[s->index].rgb);
-                             } catch (...) {
-                                 record_failure(*s, jobs[s->index].rgb);
-                             }
-                             if (s->error.empty() && meta.empty()) {
-                                 meta = output_metadata(asset, exposure, opt.version);
-                                 // Before the first output: a kill from here on leaves manifests
-                                 // that hold the exposure of every frame written. A manifest that
-                                 // cannot be written stops everything.
-                                 std::lock_guard<std::mutex> lock(mutex);
-                                 record.exposure = exposure;
-                                 write_manifests();
-                                 recorded = true;
-                             }
-                             return s;
-                         }) &
-                     tbb::make_filter<Slot*, void>(tbb::filter_mode::parallel, [&](Slot* s) {
-                         const FrameJob& job = jobs[s->index];
-                         if (!s->skip && s->error.empty()) {
-                             try {
-                                 s->writer.write(job, s->layers, meta, exposure);
-                             } catch (...) {
-                                 record_failure(*s, "");
-                             }
-                         }
-                         std::lock_guard<std::mutex> lock(mutex);
-                         if (s->skip) {
-                             ++result.skipped;
-                         } else if (s->error.empty()) {
-                             ++result.written;
-                             write_manifests();
-                         } else {
-                             result.errors.push_back(s->error);
-                             result.error_codes.push_back(s->error_code);
-                         }
-                         ++done;
-                         free_slots.push_back(s);
-                         if (opt.progress && !opt.progress(done, int(jobs.size()))) stop = true;
-                     }));
+        kTokens,
+        tbb::make_filter<void, Slot*>(
+            tbb::filter_mode::serial_in_order,
+            [&](tbb::flow_control& fc) -> Slot* {
+                if (next >= int(jobs.size()) || stop) {
+                    fc.stop();
+                    return nullptr;
+                }
+                Slot* s = nullptr;
+                {
+                    std::lock_guard<std::mutex> lock(mutex);
+                    s = free_slots.back();  // the pipeline holds at most kTokens frames
+                    free_slots.pop_back();
+                }
+                s->index = next;
+                s->error.clear();
+                s->error_code = 0;
+                const FrameJob& job = jobs[next++];
+                s->skip = opt.resume && outputs_complete(job, opt.layer_output);
+                if (s->skip) return s;
+                try {
+                    read_frame(job, opt.depth_read, s->frame);  // into the slot's buffers
+                } catch (...) {
+                    record_failure(*s, "");
+                }
+                return s;
+            }) &
+            tbb::make_filter<Slot*, Slot*>(
+                tbb::filter_mode::serial_in_order,
+                [&](Slot* s) -> Slot* {
+                    if (s->skip || !s->error.empty()) return s;
+                    try {
+                        const FrameJob& job = jobs[s->index];
+                        // Jobs that want only the image composite into `shared`; the
+                        // writer keeps what it needs of it (PNG and JPEG codes: a quarter
+                        // of the float image). Once the exposure is known, such an image
+                        // is encoded row by row as the compositor finishes it, and no
+                        // float image is kept.
+                        Layers& out = job.layers.empty() ? shared : s->layers;
+                        if (opt.camera_model) {
+                            renderer.render(out, s->frame, s->writer.layer_set(job),
+                                            opt.depth_kind);
+                            if (!stage || !(stage->camera() == renderer.camera()))
+                                stage = std::make_unique<CameraStage>(*opt.camera_model,
+                                                                      renderer.camera());
+                            const std::uint64_t key = frame_key(job);
+                            stage->apply(s->recorded, out.final, key,
+                                         job.layers.empty() ? CameraLayerSet{}
+                                                            : opt.layer_output.camera_set());
+                            s->meta = camera_metadata(s->recorded, key);
+                            result.camera_exposure = s->recorded.exposure;
+                        } else if (s->writer.streams(job, exposure)) {
+                            const Image& z = s->frame.depth;
+                            renderer.render(
+                                out, s->frame,
+                                s->writer.streaming_rows(job, z.width, z.height, exposure),
+                                opt.depth_kind);
+                        } else {
+                            renderer.render(out, s->frame, s->writer.layer_set(job),
+                                            opt.depth_kind);
+                            if (exposure == 0.0) {
+                                exposure = exposure_factor(opt.exposure, out.final);
+                                record.exposure_frame = job.rgb;
+                            }
+                            s->writer.keep(job, out, exposure);
+                        }
+                    } catch (const AssetError& e) {
+                        // The asset does not fit the first frame composited: it fits none
+                        // of the sequence, stop everything. A later frame of another shape
+                        // fails alone.
+                        if (meta.empty()) throw AssetError(jobs[s->index].rgb + ": " + e.what());
+                        record_failure(*s, jobs[s->index].rgb);
+                    } catch (const ConfigError& e) {
+                        // The camera stage refuses the first frame's camera (a lens
+                        // that folds it over): so every frame of its size.
+                        if (meta.empty()) throw ConfigError(jobs[s->index].rgb + ": " + e.what());
+                        record_failure(*s, jobs[s->index].rgb);
+                    } catch (...) {
+                        record_failure(*s, jobs[s->index].rgb);
+                    }
+                    if (s->error.empty() && meta.empty()) {
+                        meta = output_metadata(asset, exposure, opt.version);
+                        if (opt.camera_model) {  // no exposure factor: the camera's
+                            meta.erase(std::remove_if(meta.begin(), meta.end(),
+                                                      [](const auto& kv) {
+                                                          return kv.first == "deepsea:exposure";
+                                                      }),
+                                       meta.end());
+                        }
+                        // Before the first output: a kill from here on leaves manifests
+                        // that hold the exposure of every frame written. A manifest that
+                        // cannot be written stops everything.
+                        std::lock_guard<std::mutex> lock(mutex);
+                        record.exposure = exposure;
+                        write_manifests();
+                        recorded = true;
+                    }
+                    return s;
+                }) &
+            tbb::make_filter<Slot*, void>(tbb::filter_mode::parallel, [&](Slot* s) {
+                const FrameJob& job = jobs[s->index];
+                if (!s->skip && s->error.empty()) {
+                    try {
+                        if (opt.camera_model) {
+                            ImageMetadata m = meta;
+                            m.insert(m.end(), s->meta.begin(), s->meta.end());
+                            s->writer.write(job, s->layers, s->recorded, m);
+                        } else {
+                            s->writer.write(job, s->layers, meta, exposure);
+                        }
+                    } catch (...) {
+                        record_failure(*s, "");
+                    }
+                }
+                std::lock_guard<std::mutex> lock(mutex);
+                if (s->skip) {
+                    ++result.skipped;
+                } else if (s->error.empty()) {
+                    ++result.written;
+                    write_manifests();
+                } else {
+                    result.errors.push_back(s->error);
+                    result.error_codes.push_back(s->error_code);
+                }
+                ++done;
+                free_slots.push_back(s);
+                if (opt.progress && !opt.progress(done, int(jobs.size()))) stop = true;
+            }));
 
     if (recorded) write_manifests();
     result.interrupted = done < int(jobs.size());

@@ -21,7 +21,10 @@ std::string manifest_to_json(const SequenceManifest& m) {
     j["inputs"] = {{"rgb", m.rgb}, {"depth", m.depth}};
     j["camera"] = {{"width", m.camera.width}, {"height", m.camera.height}, {"fx", m.camera.fx},
                    {"fy", m.camera.fy},       {"cx", m.camera.cx},         {"cy", m.camera.cy}};
-    j["exposure"] = {{"mode", m.auto_exposure ? "auto" : "fixed"},
+    j["camera_stage"] = m.camera_stage.empty() ? "none" : m.camera_stage;
+    j["exposure"] = {{"mode", !m.camera_stage.empty() ? "camera"
+                              : m.auto_exposure       ? "auto"
+                                                      : "fixed"},
                      {"factor", m.exposure},
                      {"chosen_on", m.exposure_frame},
                      {"percentile", m.percentile},
@@ -84,9 +87,15 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
     m.camera.cx = get<double>(j, path, "camera", "cx");
     m.camera.cy = get<double>(j, path, "camera", "cy");
     const std::string mode = get<std::string>(j, path, "exposure", "mode");
-    if (mode != "auto" && mode != "fixed")
-        throw InputError(path + ": exposure.mode: expected auto or fixed, got '" + mode + "'");
+    if (mode != "auto" && mode != "fixed" && mode != "camera")
+        throw InputError(path + ": exposure.mode: expected auto, fixed or camera, got '" + mode +
+                         "'");
     m.auto_exposure = mode == "auto";
+    // "camera_stage" came with the camera stage; a manifest from before it had none.
+    m.camera_stage = j.contains("camera_stage") ? get<std::string>(j, path, "camera_stage") : "";
+    if (m.camera_stage == "none") m.camera_stage.clear();
+    if ((mode == "camera") != !m.camera_stage.empty())
+        throw InputError(path + ": exposure.mode: '" + mode + "' does not match camera_stage");
     m.exposure = get<double>(j, path, "exposure", "factor");
     if (!(m.exposure >= 0.0)) throw InputError(path + ": exposure.factor: must be >= 0");
     m.exposure_frame = get<std::string>(j, path, "exposure", "chosen_on");
@@ -149,6 +158,12 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
     if (folder.asset_hash != run.asset_hash) differ("the asset", folder.asset_hash, run.asset_hash);
     if (!(folder.camera == run.camera))
         differ("the camera", describe(folder.camera), describe(run.camera));
+    if (folder.camera_stage != run.camera_stage)
+        differ("the camera stage", folder.camera_stage.empty() ? "none" : "one camera",
+               run.camera_stage.empty()      ? "none"
+               : folder.camera_stage.empty() ? "a camera (--camera's lens, sensor or processing)"
+                                             : "another camera (--camera's lens, sensor or "
+                                               "processing differ)");
     if (folder.auto_exposure != run.auto_exposure)
         differ("the exposure", folder.auto_exposure ? "auto" : "fixed",
                run.auto_exposure ? "auto" : "fixed");

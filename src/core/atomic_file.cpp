@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "deepsea/core/error.h"
+#include "deepsea/core/hash.h"
 
 namespace deepsea {
 
@@ -45,8 +46,7 @@ std::string temporary_stem(const std::string& stem, const std::string& ext) {
     const std::size_t budget =
         kNameMax > kTmpOverhead + ext.size() + 24 ? kNameMax - kTmpOverhead - ext.size() : 24;
     if (stem.size() <= budget) return stem;
-    std::uint64_t h = 1469598103934665603ull;
-    for (const unsigned char ch : stem) h = (h ^ ch) * 1099511628211ull;
+    const std::uint64_t h = fnv1a64(stem);
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
     return stem.substr(0, budget - 17) + "~" + hex;

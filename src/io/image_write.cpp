@@ -78,16 +78,67 @@ void write_encoded(const std::string& path, const EncodedImage& img, const Image
     }
 }
 
-void write_color(const std::string& path, const Image& linear_rgb, int bits,
-                 const ImageMetadata& meta, double exposure) {
-    if (linear_rgb.channels != 3 && linear_rgb.channels != 1)
-        throw InputError(path + ": write_color needs 1 or 3 channels, got " +
-                         std::to_string(linear_rgb.channels));
-    if (linear_rgb.empty()) throw InputError(path + ": empty image");
+namespace {
+
+/// The checks write_color and write_display share: 1 or 3 channels, not empty, 8 or 16 bits.
+void check_colour_image(const std::string& path, const Image& img, int bits, const char* fn) {
+    if (img.channels != 3 && img.channels != 1)
+        throw InputError(path + ": " + fn + " needs 1 or 3 channels, got " +
+                         std::to_string(img.channels));
+    if (img.empty()) throw InputError(path + ": empty image");
     if (bits != 8 && bits != 16)
         throw InputError(path + ": bit depth must be 8 or 16, got " + std::to_string(bits));
+}
+
+/// Writes `data` (img's size and channels, values ready for the file: linear for float
+/// formats, encoded in [0, 1] for integer ones) through OpenEXR (half, ZIP) or OpenImageIO.
+void write_float_samples(const std::string& path, const Image& img, int bits,
+                         const ImageMetadata& meta, const std::vector<float>& data,
+                         const char* integer_colour_space) {
     const std::string ext = extension(path);
-    const int nch = linear_rgb.channels;
+    const int nch = img.channels;
+    const std::vector<std::string> names =
+        nch == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
+    if (ext == ".exr") {
+        // Through OpenEXR itself, as OpenImageIO wrote them: half, ZIP, the metadata as string
+        // attributes.
+        std::vector<io_detail::ExrChannel> channels;
+        for (int c = 0; c < nch; ++c) channels.push_back({names[c], data.data() + c, nch});
+        io_detail::write_exr(path, img.width, img.height, channels, true, "zip", meta);
+        return;
+    }
+    io_detail::OiioWriteSpec spec;
+    spec.width = img.width;
+    spec.height = img.height;
+    spec.channels = nch;
+    spec.channel_names = names;
+    spec.attributes = meta;
+    if (is_linear_extension(ext)) {
+        spec.pixel = OiioPixel::Float;
+        spec.attributes.emplace_back("oiio:ColorSpace", "Linear");
+    } else {
+        spec.pixel = bits == 16 ? OiioPixel::UInt16 : OiioPixel::UInt8;
+        if (integer_colour_space)
+            spec.attributes.emplace_back("oiio:ColorSpace", integer_colour_space);
+    }
+    io_detail::write_oiio(path, spec, data);
+}
+
+/// round(v (2^bits - 1)) of v clamped to [0, 1]; NaN as 0.
+template <class Code>
+void quantise(const float* v, std::size_t n, float max_code, Code* codes) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const float x = v[i] > 0.0f ? (v[i] < 1.0f ? v[i] : 1.0f) : 0.0f;
+        codes[i] = Code(x * max_code + 0.5f);
+    }
+}
+
+}  // namespace
+
+void write_color(const std::string& path, const Image& linear_rgb, int bits,
+                 const ImageMetadata& meta, double exposure) {
+    check_colour_image(path, linear_rgb, bits, "write_color");
+    const std::string ext = extension(path);
     const std::size_t n = linear_rgb.data.size();
     // The same float as apply_exposure's: the factor in double, rounded once.
     const auto exposed = [&](std::size_t i) { return float(linear_rgb.data[i] * exposure); };
@@ -114,31 +165,39 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
                               }
                           });
     }
-    const std::vector<std::string> names =
-        nch == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"Y"};
-    if (ext == ".exr") {
-        // Through OpenEXR itself, as OpenImageIO wrote them: half, ZIP, the metadata as string
-        // attributes.
-        std::vector<io_detail::ExrChannel> channels;
-        for (int c = 0; c < nch; ++c) channels.push_back({names[c], data.data() + c, nch});
-        io_detail::write_exr(path, linear_rgb.width, linear_rgb.height, channels, true, "zip",
-                             meta);
+    write_float_samples(path, linear_rgb, bits, meta, data, "sRGB");
+}
+
+void encode_display(const Image& display, int bits, const std::string& path, EncodedImage& out) {
+    prepare_encoded(display.width, display.height, display.channels, bits, path, out);
+    const float* in = display.data.data();
+    const float max_code = out.bits == 8 ? 255.0f : 65535.0f;
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, display.data.size(), 1 << 16), [&](const auto& r) {
+                if (out.bits == 8)
+                    quantise(in + r.begin(), r.size(), max_code, out.codes8.data() + r.begin());
+                else
+                    quantise(in + r.begin(), r.size(), max_code, out.codes16.data() + r.begin());
+            });
+    });
+}
+
+void write_display(const std::string& path, const Image& display, int bits,
+                   const ImageMetadata& meta) {
+    check_colour_image(path, display, bits, "write_display");
+    if (writes_encoded(path)) {
+        thread_local EncodedImage codes;  // kept from frame to frame
+        encode_display(display, bits, path, codes);
+        write_encoded(path, codes, meta);
         return;
     }
-    io_detail::OiioWriteSpec spec;
-    spec.width = linear_rgb.width;
-    spec.height = linear_rgb.height;
-    spec.channels = nch;
-    spec.channel_names = names;
-    spec.attributes = meta;
-    if (is_linear_extension(ext)) {
-        spec.pixel = OiioPixel::Float;
-        spec.attributes.emplace_back("oiio:ColorSpace", "Linear");
-    } else {
-        spec.pixel = bits == 16 ? OiioPixel::UInt16 : OiioPixel::UInt8;
-        spec.attributes.emplace_back("oiio:ColorSpace", "sRGB");
+    std::vector<float> data(display.data.size());
+    for (std::size_t i = 0; i < data.size(); ++i) {
+        const float v = display.data[i];
+        data[i] = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
     }
-    io_detail::write_oiio(path, spec, data);
+    write_float_samples(path, display, bits, meta, data, nullptr);
 }
 
 void write_depth_exr(const std::string& path, const Image& depth) {

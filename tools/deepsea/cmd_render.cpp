@@ -19,7 +19,7 @@ namespace {
 
 struct RenderArgs {
     DepthFlags depth;
-    std::string asset, rgb, depth_path, output, layers, exposure = "auto", camera;
+    std::string asset, rgb, depth_path, output, layers, exposure, camera;
     std::string layer_set = "all", format;
     bool resume = false, no_forward = false, half = false;
     int bits = 8;
@@ -28,7 +28,7 @@ struct RenderArgs {
 
 void run(const RenderArgs& a) {
     SequenceOptions opt;
-    opt.exposure = parse_exposure(a.exposure);
+    opt.exposure = parse_exposure(a.exposure.empty() ? "auto" : a.exposure);
     opt.depth_read = a.depth.read_options();
     opt.depth_kind = a.depth.depth_kind();
     opt.resume = a.resume;
@@ -36,14 +36,20 @@ void run(const RenderArgs& a) {
     opt.bits = a.bits;
     if ((a.half || a.layer_set != "all") && a.layers.empty())
         throw ConfigError("--layer-set and --half choose what --layers writes: give --layers");
-    opt.layer_output.names = parse_layer_set(a.layer_set);
-    opt.layer_output.half = a.half;
     opt.version = DEEPSEA_VERSION;
     if (!a.camera.empty()) {
         Setup s = load_setup({a.camera});
         if (!s.camera) throw ConfigError(a.camera + ": no camera section");
         opt.camera = *s.camera;
+        opt.camera_model = s.camera_model;
     }
+    if (opt.camera_model && !a.exposure.empty())
+        throw ConfigError("--exposure: " + a.camera +
+                          " records the frames with a camera (lens, sensor, processing), whose "
+                          "exposure is camera.sensor's exposure_time_ms and gain");
+    opt.layer_output.camera = opt.camera_model.has_value();
+    opt.layer_output.names = parse_layer_set(a.layer_set, opt.layer_output.camera);
+    opt.layer_output.half = a.half;
     // Everything that can be checked without rendering is checked before the asset is loaded
     // and before any folder is made.
     const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers, a.format};
@@ -77,8 +83,16 @@ void run(const RenderArgs& a) {
         std::printf("removed %d stale temporary file(s) of an interrupted run\n",
                     folders->stale_removed());
     }
-    std::printf("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n",
-                r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
+    if (opt.camera_model) {
+        std::printf(
+            "rendered %d frame(s), skipped %d, failed %zu in %.2f s (camera: %.6g ms, "
+            "%.6g DN/e-)\n",
+            r.written, r.skipped, r.errors.size(), r.seconds, r.camera_exposure.exposure_time_ms,
+            r.camera_exposure.system_gain);
+    } else {
+        std::printf("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n",
+                    r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
+    }
     if (r.interrupted) {
         const int left = r.total - r.written - r.skipped - int(r.errors.size());
         throw Cancelled("stopped by signal " + std::to_string(stop_signal()) + " with " +
@@ -114,7 +128,7 @@ void setup_render(CLI::App& sub) {
     const CLI::Validator layer_names(
         [](std::string& text) -> std::string {
             try {
-                (void)parse_layer_set(text);
+                (void)parse_layer_set(text, true);  // camera layers: checked once --camera is read
             } catch (const Error& e) {
                 const std::string m = e.what(), prefix = "--layer-set: ";  // CLI11 names it
                 return m.rfind(prefix, 0) == 0 ? m.substr(prefix.size()) : m;
@@ -124,12 +138,16 @@ void setup_render(CLI::App& sub) {
         "");
     sub.add_option("--layer-set", a->layer_set,
                    "layers the --layers files hold, comma-separated: final, direct, forward, "
-                   "backscatter, transmission, depth, normal, or all")
+                   "backscatter, transmission, depth, normal, with a camera stage raw, "
+                   "linear_dn, noise_free, or all")
         ->check(layer_names);
     sub.add_flag("--half", a->half, "write the --layers files in half floats (16 bits)");
     sub.add_option("--exposure", a->exposure,
-                   "'auto' (first frame's, then kept, in the sequence manifest) or a factor");
-    sub.add_option("--camera", a->camera, "YAML with the frames' camera (default: the asset's)");
+                   "'auto' (the default: first frame's, then kept, in the sequence manifest) or "
+                   "a factor; not with a camera stage");
+    sub.add_option("--camera", a->camera,
+                   "YAML with the frames' camera (default: the asset's); with lens, sensor or "
+                   "processing keys, a camera stage records each frame (docs/camera.md)");
     sub.add_option("--format", a->format,
                    "a sequence's image format (default png); one frame: -o's extension")
         ->check(CLI::IsMember({"png", "jpg", "tif", "exr"}));

@@ -28,7 +28,9 @@ bool outputs_complete(const FrameJob& job, const LayerOutput& layers);
 
 /// The outputs of one frame at a time: the layer file, and the exposed image, encoded as the
 /// compositor finishes its rows where it can (PNG and JPEG once the exposure is known, with no
-/// layer file), else from the final layer. Keeps its buffers between frames.
+/// layer file), else from the final layer. With a camera stage (LayerOutput::camera) the image
+/// is the camera's display values and the layer file also holds its layers. Keeps its buffers
+/// between frames.
 class FrameWriter {
 public:
     FrameWriter(int bits, LayerOutput layers) : m_bits(bits), m_layers(std::move(layers)) {}
@@ -36,7 +38,7 @@ public:
     /// The layers the renderer must fill for `job`: all the layer file names, or the image's.
     LayerSet layer_set(const FrameJob& job) const;
     /// True when `job`'s image can be encoded row by row (streaming_rows) at `exposure` (0:
-    /// not yet known).
+    /// not yet known): never with a camera stage, which needs the whole radiance.
     bool streams(const FrameJob& job, double exposure) const;
     /// The rows callback that encodes a width x height image for `job` times `exposure`.
     FinalRows streaming_rows(const FrameJob& job, int width, int height, double exposure);
@@ -48,6 +50,10 @@ public:
     /// atomically. IoError naming the file.
     void write(const FrameJob& job, const Layers& layers, const ImageMetadata& meta,
                double exposure) const;
+    /// With a camera stage: the layer file from `layers` and `recorded`'s layers, the image
+    /// from `recorded.image` (display values, write_display), with `meta`, atomically.
+    void write(const FrameJob& job, const Layers& layers, const CameraOutput& recorded,
+               const ImageMetadata& meta) const;
 
 private:
     int m_bits;

@@ -3,6 +3,7 @@
 /// colour / depth pair of two glob patterns. The one place that finds, pairs and checks frame
 /// files, before any work and without creating anything.
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,11 @@ struct FrameJob {
     std::string output;  ///< exposed image (PNG/JPEG/TIFF/EXR)
     std::string layers;  ///< multi-layer EXR
 };
+
+/// The frame's key for a camera's noise (camera_stage.h): FNV-1a (core/hash.h) of the colour
+/// file's stem, so that a frame gets the same noise rendered alone, in a sequence, on any shard,
+/// in any order, and two frames of a sequence (distinct stems) get different noise.
+std::uint64_t frame_key(const FrameJob& job);
 
 /// What the user named: colour and depth inputs (files or quoted glob patterns such as
 /// 'dir/*.png') and the outputs (files for one frame, folders for a sequence; empty: none).

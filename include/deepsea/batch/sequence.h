@@ -2,13 +2,16 @@
 /// \file Rendering frames and whole sequences with a loaded asset: a TBB pipeline in which
 /// reading, compositing and writing overlap; the asset is loaded once by the caller.
 
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "deepsea/asset/asset.h"
 #include "deepsea/batch/frame_jobs.h"
 #include "deepsea/batch/layer_files.h"
+#include "deepsea/camera/camera_stage.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
@@ -29,6 +32,12 @@ struct SequenceOptions {
     LayerOutput layer_output;
     /// The frames' camera; unset (width 0): the asset's camera, resampled to the frame size.
     Camera camera;
+    /// The camera stage (docs/camera.md): each frame's radiance is recorded by this camera
+    /// (lens, sensor, processing) over the frames' camera, with frame_key(job) as its noise's
+    /// frame key; the image is its display values and `exposure` is not used. Its layers
+    /// (raw, linear_dn, noise_free) may be named in layer_output (whose `camera` must then be
+    /// true). Unset: the image is the radiance times the exposure factor.
+    std::optional<CameraModel> camera_model;
     /// Called with (0, total) first and after each frame, in order, with (frames done, total);
     /// false stops the sequence once the frames in flight are finished (SequenceResult::
     /// interrupted).
@@ -50,11 +59,17 @@ struct SequenceResult {
     bool interrupted = false;         ///< progress said stop before every frame was done
     double seconds = 0.0;
     double exposure = 0.0;  ///< the factor used (0 if no frame was composited or kept)
+    /// With a camera stage: the last frame's exposure time and gain (0 before any frame).
+    FrameExposure camera_exposure;
 };
 
 /// The metadata every output of a render carries: deepsea:exposure (the factor, %.17g),
 /// deepsea:asset_hash and, if known, deepsea:version.
 ImageMetadata output_metadata(const Asset& asset, double exposure, const std::string& version);
+
+/// The metadata a frame recorded by a camera stage adds (docs/camera.md): deepsea:frame_key,
+/// deepsea:exposure_time_ms, deepsea:system_gain and deepsea:white_balance (three gains).
+ImageMetadata camera_metadata(const CameraOutput& recorded, std::uint64_t frame_key);
 
 /// Renders every job; a frame that cannot be read or written is reported in `errors` and
 /// skipped, the rest are written. With manifests, reads them first (check_same_inputs, and

@@ -19,7 +19,10 @@ struct SequenceManifest {
     std::string asset_hash;  ///< the asset's input hash (BakeInfo::input_hash)
     std::string rgb, depth;  ///< input patterns, absolute
     Camera camera;           ///< the frames' camera as given (--camera), or the asset's
-    bool auto_exposure = true;
+    /// The camera stage that records the frames, as the setup YAML's camera section
+    /// (setup_to_yaml); empty: none, the exposure factor makes the image.
+    std::string camera_stage;
+    bool auto_exposure = true;  ///< without a camera stage: auto or a fixed factor
     double percentile = 0, target = 0, max_clipped = 0;  ///< auto exposure's settings
     double exposure = 0;               ///< the factor every frame uses; 0 until chosen
     std::string exposure_frame;        ///< auto: the colour file it was chosen on

@@ -114,6 +114,16 @@ void encode_srgb_samples(const float* linear, std::size_t n, double exposure, st
 void write_encoded(const std::string& path, const EncodedImage& img,
                    const ImageMetadata& meta = {});
 
+/// A camera's display values (camera/camera_stage.h, CameraOutput::image: already through its
+/// output curve, in [0, 1]) as integer codes round(v (2^bits - 1)) in the format of `path`
+/// (PNG: `bits`, JPEG: 8), with no further curve; v is clamped to [0, 1], NaN to 0.
+void encode_display(const Image& display, int bits, const std::string& path, EncodedImage& out);
+/// Writes display values as encode_display's codes (PNG, JPEG), 8- or 16-bit TIFF codes, or
+/// the values themselves, clamped to [0, 1], in float formats (EXR: half): no exposure, no
+/// sRGB curve. `meta` and atomicity as write_color. Throws IoError.
+void write_display(const std::string& path, const Image& display, int bits = 8,
+                   const ImageMetadata& meta = {});
+
 /// Throws IoError naming `path` unless an image can be written there: an extension deepsea
 /// writes (`exr_only`: .exr, for layers; else .png, .jpg, .jpeg, .tif, .tiff, .exr, .hdr), an
 /// existing writable folder, not a folder itself. Call it before the work, not after.
