@@ -1,6 +1,8 @@
 #include "camera_config.h"
 
 #include "deepsea/camera/distortion.h"
+#include "deepsea/camera/presets.h"
+#include "deepsea/optics/schema.h"
 
 namespace deepsea {
 
@@ -19,6 +21,8 @@ using yaml::MapView;
 //   lens.f_number, lens.transmittance                  numbers
 //   lens.vignetting: {natural: bool, k1, k2, k3}       numbers
 //   lens.distortion: {k1, k2, p1, p2, k3}              OpenCV's distCoeffs
+//   sensor.preset                                      a name (camera/presets.h), read first:
+//                                                      the other sensor keys override it
 //   sensor.pixel_pitch_um, exposure_time_ms, full_well, dark_noise, dark_current, dsnu,
 //          prnu_percent, black_level                   numbers
 //   sensor.quantum_efficiency, wavelength_nm           [r, g, b]
@@ -53,6 +57,14 @@ void parse_lens(const Document& doc, const Field& f, Lens& lens) {
 
 void parse_sensor(const Document& doc, const Field& f, Sensor& s) {
     const MapView m(doc, f, camera_schema::kSensor);
+    // A preset first: the keys below override its values.
+    if (const Field* x = m.opt("preset")) {
+        try {
+            s = sensor_preset(doc.string(*x));
+        } catch (const SchemaError& e) {
+            doc.fail(*x, e.problem());
+        }
+    }
     for (const auto& [key, value] :
          {std::pair{"pixel_pitch_um", &s.pixel_pitch_um},
           std::pair{"exposure_time_ms", &s.exposure_time_ms}, std::pair{"iso", &s.iso},

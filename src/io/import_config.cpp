@@ -1,10 +1,13 @@
 #include "deepsea/io/import_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "camera_config.h"
+#include "deepsea/camera/sensor.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/vec.h"
@@ -94,6 +97,65 @@ std::vector<std::vector<double>> rows(const Document& doc, const Field& f, int c
     return out;
 }
 
+/// Their camera: white_balance, scale_factor and auto_iso, as their renderer applies them
+/// (docs/import-config.md, "Their camera"). Their display value (0-255) is
+/// 255 * scale_factor * pi * L for deepsea's radiance L (their albedo is the 8-bit value and
+/// their direct term has no 1/pi), times white_balance per channel, clipped at 255, written with
+/// no curve. A noise-free camera with an equal response per joule in R, G and B, no falloff, and
+/// an exposure whose full well is radiance H / (pi scale_factor) reproduces it with
+/// white-balance gains H * white_balance and the linear curve, where H = max(1, 1 / min gain)
+/// leaves the raw signal the headroom their clip after white balance has.
+void write_camera_stage(std::ostream& y, const Document& doc, const MapView& m) {
+    const Field* sf = m.opt("scale_factor");
+    if (!sf) return;
+    const double scale = doc.number(*sf);
+    if (!(scale > 0.0)) doc.fail(*sf, "must be > 0, got " + yaml::fmt(scale));
+    std::vector<double> wb{1.0, 1.0, 1.0};
+    if (const Field* f = m.opt("white_balance")) {
+        wb = doc.numbers(*f, 3, "r, g, b");
+        for (double g : wb)
+            if (!(g > 0.0)) doc.fail(*f, "each gain must be > 0, got " + yaml::fmt(g));
+    }
+    const bool auto_iso = m.opt("auto_iso") && doc.boolean(*m.opt("auto_iso"));
+    const double headroom = std::max(1.0, 1.0 / std::min({wb[0], wb[1], wb[2]}));
+
+    CameraModel cam;
+    cam.lens.vignetting.natural = false;
+    Sensor& s = cam.sensor;
+    // Equal electrons per joule in every channel: eta_c proportional to 1 / lambda_c.
+    for (int c = 0; c < 3; ++c) s.quantum_efficiency[c] = 0.5 * 550.0 / s.wavelength_nm[c];
+    s.bits = 16;
+    s.full_well = 65535.0;
+    s.system_gain = 1.0;
+    s.black_level = 0.0;
+    s.noise = false;
+    const double per_ms = electrons_per_radiance(cam.lens, s, 1, 1.0);
+    s.exposure_time_ms = s.full_well * M_PI * scale / headroom / per_ms;
+    Processing& p = cam.processing;
+    p.curve = OutputCurve::Linear;
+    if (!auto_iso) {
+        p.white_balance = WhiteBalance::Gains;
+        p.gains = Rgb{headroom * wb[0], headroom * wb[1], headroom * wb[2]};
+    }
+
+    y << "  # Their camera (docs/import-config.md): a noise-free sensor with the same response\n"
+         "  # per joule in R, G and B, no lens falloff, and no output curve, as their renderer.\n"
+         "  # scale_factor "
+      << scale << ": display value = pi * " << scale
+      << " * radiance (their 255 = 1), from the exposure time.\n";
+    if (auto_iso) {
+        y << "  # auto_iso: true: their writer stretches each frame's [min, max] (all channels\n"
+             "  # together) to 0-255 and skips white_balance. The stretch has no counterpart in\n"
+             "  # the camera section (deepsea's auto exposure will be it); white balance is off.\n";
+    } else {
+        y << "  # white_balance [" << wb[0] << ", " << wb[1] << ", " << wb[2]
+          << "]: gains after the sensor, clipped at 1 as theirs at 255";
+        if (headroom > 1.0) y << " (times " << headroom << ": the raw headroom they have)";
+        y << ".\n";
+    }
+    write_camera_model(y, cam);
+}
+
 std::string convert(const Document& doc) {
     // Their files hold many keys deepsea has no use for (listed at the end of the output), and
     // other versions may add more: only the keys read below are checked.
@@ -129,11 +191,14 @@ std::string convert(const Document& doc) {
              "# renderers put pixel centres at integer coordinates.\n";
     }
     y << "camera:\n  width: " << width << "\n  height: " << height << "\n  fx: " << K.fx
-      << "\n  fy: " << K.fy << "\n  cx: " << K.cx << "\n  cy: " << K.cy << "\n\n";
+      << "\n  fy: " << K.fy << "\n  cx: " << K.cx << "\n  cy: " << K.cy << "\n";
+    write_camera_stage(y, doc, m);
+    y << "\n";
     y << "# light_positions_XYZ are camera-frame metres as in deepsea. Directions: +z (the\n"
          "# optical axis) rotated by light_orientations_RollPitchYaw (about x, then y, then z).\n"
-         "# light_spectrum_RGB (relative) becomes the intensity in W/sr; their scale_factor is an\n"
-         "# ad-hoc brightness that deepsea's exposure replaces.\n";
+         "# light_spectrum_RGB (relative) becomes the intensity in W/sr; their scale_factor is "
+         "the\n"
+         "# camera's exposure above.\n";
     y << "rig:\n  name: deepsearenderer\n  lights:\n";
     for (int i = 0; i < n; ++i) {
         const Vec3 d = axis_from_rpy(rpy[i][0], rpy[i][1], rpy[i][2]);
@@ -188,12 +253,11 @@ std::string convert(const Document& doc) {
     }
     y << "  forward_scatter: on\n\n";
     y << "# Not converted (no deepsea counterpart):\n"
-         "#   scale_factor, scale_factor_bs: ad-hoc gains for direct and backscatter; deepsea "
-         "keeps\n"
-         "#     both in radiance and applies one exposure.\n"
+         "#   scale_factor_bs: an extra gain on their backscatter alone; deepsea keeps direct\n"
+         "#     and backscatter in the same radiance under one exposure (scale_factor, above).\n"
          "#   volumetric_max_depth, num_volumetric_slabs, slab_sampling_method: their slab table;\n"
          "#     deepsea bakes exact cumulative integrals (deepsea bake --z-max/--depth-samples).\n"
-         "#   white_balance, auto_iso: camera processing after rendering.\n"
+
          "#   light_ambient_RGB: Phong ambient; there is no ambient light at 3,000 m.\n"
          "#   depth_smooth_window_size, refine_depth: input clean-up, not part of the model.\n"
          "#   render_back_scatter, write_slab, write_uw_img_in_exr: output switches (see "

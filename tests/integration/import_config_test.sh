@@ -9,6 +9,9 @@ rm -rf "$work"; mkdir -p "$work"
 "$ds" import-config "$cfg" -o "$work/authors.yaml"
 grep -q "preset: jerlov:IB" "$work/authors.yaml"
 grep -q "phase: {petzold: clear}" "$work/authors.yaml"
+# their white_balance, scale_factor and auto_iso: the camera stage (docs/import-config.md)
+grep -q "white_balance: {gains: \[2.28613, 1, 1.361328\]}" "$work/authors.yaml"
+grep -q "curve: linear" "$work/authors.yaml"
 # the left lamp (x = -0.5) turns toward the optical axis: direction x > 0
 awk '/position: \[-0.5/{getline; print}' "$work/authors.yaml" | grep -q "direction: \[0.51"
 "$ds" bake --config "$work/authors.yaml" --xy-step 64 --depth-samples 4 --z-max 4 -o "$work/x.vdb" >/dev/null

@@ -131,7 +131,8 @@ inline const std::vector<std::string> kLens = {"f_number", "transmittance", "vig
                                                "distortion"};
 inline const std::vector<std::string> kVignetting = {"natural", "k1", "k2", "k3"};
 inline const std::vector<std::string> kDistortion = {"k1", "k2", "p1", "p2", "k3"};
-inline const std::vector<std::string> kSensor = {"pixel_pitch_um",
+inline const std::vector<std::string> kSensor = {"preset",
+                                                 "pixel_pitch_um",
                                                  "exposure_time_ms",
                                                  "quantum_efficiency",
                                                  "wavelength_nm",

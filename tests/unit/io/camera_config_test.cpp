@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "deepsea/camera/presets.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
 
@@ -120,6 +121,29 @@ TEST(CameraConfig, BadValuesNameFileLineAndKey) {
         const std::string e = error_of(replaced(kCamera, c.from, c.to));
         EXPECT_EQ(e.rfind(c.expect, 0), 0u) << "got: " << e << "\nexpected: " << c.expect;
     }
+}
+
+TEST(CameraConfig, SensorPresetWithOverrides) {
+    // The preset's values, and the keys given beside it override them (whatever their order).
+    const std::string head = kCamera.substr(0, kCamera.find("  sensor:"));
+    const deepsea::Setup s = parse_setup(head +
+                                             "  sensor:\n"
+                                             "    exposure_time_ms: 4\n"
+                                             "    dark_noise: 5\n"
+                                             "    preset: mvbluefox3-2051c\n",
+                                         "cam.yaml");
+    ASSERT_TRUE(s.camera_model);
+    const Sensor& got = s.camera_model->sensor;
+    const Sensor& preset = sensor_preset("mvbluefox3-2051c");
+    EXPECT_EQ(got.full_well, preset.full_well);
+    EXPECT_EQ(got.pixel_pitch_um, 3.45);
+    EXPECT_EQ(got.quantum_efficiency.g, preset.quantum_efficiency.g);
+    EXPECT_EQ(got.dark_noise, 5.0);
+    EXPECT_EQ(got.exposure_time_ms, 4.0);
+    // An unknown name: one line at its line, naming the key and the known names.
+    const std::string e = error_of(head + "  sensor:\n    preset: gopro\n");
+    EXPECT_EQ(e, "cam.yaml:14: camera.sensor.preset: unknown preset 'gopro'; known: " +
+                     sensor_preset_names());
 }
 
 TEST(CameraConfig, SetupToYamlRoundTrips) {

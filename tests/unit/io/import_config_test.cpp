@@ -10,6 +10,7 @@
 
 #include "../message_of.h"
 #include "../temp_folder.h"
+#include "deepsea/camera/camera_stage.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
 #include "deepsea/optics/jerlov.h"
@@ -116,6 +117,60 @@ TEST_F(ImportConfig, FieldOfViewFormOfTheIntrinsics) {
     }
 }
 
+/// The display value the converted camera gives a flat field of radiance L (noise is off).
+Rgb displayed(const deepsea::Setup& s, Rgb L) {
+    const Camera cam{16, 8, 20.0, 20.0, 7.5, 3.5};
+    CameraStage stage(*s.camera_model, cam);
+    CameraOutput out;
+    Image radiance(cam.width, cam.height, 3);
+    for (std::size_t i = 0; i < radiance.data.size(); ++i) radiance.data[i] = float(L[int(i % 3)]);
+    stage.apply(out, radiance, 0);
+    const std::size_t corner = 3 * std::size_t(cam.width * cam.height - 1);  // falloff is off
+    return {out.image.data[corner], out.image.data[corner + 1], out.image.data[corner + 2]};
+}
+
+TEST_F(ImportConfig, TheirCameraBecomesTheCameraStage) {
+    // Their writer: 255 * scale_factor * pi * L (their albedo is the 8-bit value, their direct
+    // term has no 1/pi), times white_balance, clipped at 255, no curve.
+    const std::string text =
+        kAuthors + "white_balance: [2.28613, 1.0, 1.361328]\nauto_iso: false\n";
+    const deepsea::Setup s = parse_setup(import_config(file(text)), "converted.yaml");
+    ASSERT_TRUE(s.camera_model);
+    const CameraModel& m = *s.camera_model;
+    EXPECT_FALSE(m.sensor.noise);
+    EXPECT_FALSE(m.lens.vignetting.natural);
+    EXPECT_EQ(m.processing.curve, OutputCurve::Linear);
+    EXPECT_EQ(m.processing.white_balance, WhiteBalance::Gains);
+    EXPECT_EQ(m.processing.gains.r, 2.28613);
+    const double wb[3] = {2.28613, 1.0, 1.361328}, s10 = 10.0 * M_PI;
+    const Rgb L{0.2 / s10, 0.5 / s10, 0.6 / s10};  // their 0.2 * 2.29, 0.5, 0.6 * 1.36 of 255
+    const Rgb got = displayed(s, L);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], wb[c] * s10 * L[c], 1e-4) << c;
+    // Clipped at 1 where theirs clips at 255.
+    EXPECT_EQ(displayed(s, Rgb(2.0 / s10)).g, 1.0f);
+    // A gain below 1: the raw signal keeps the headroom their clip after the gain has.
+    const deepsea::Setup low = parse_setup(
+        import_config(file(kAuthors + "white_balance: [0.5, 1.0, 2.0]\n")), "converted.yaml");
+    const Rgb bright = displayed(low, Rgb(1.5 / s10));
+    EXPECT_NEAR(bright.r, 0.75, 1e-4);
+    EXPECT_EQ(bright.g, 1.0f);
+    EXPECT_EQ(bright.b, 1.0f);
+}
+
+TEST_F(ImportConfig, TheirAutoIsoAndAConfigWithoutScaleFactor) {
+    // auto_iso: their writer stretches [min, max] and skips white_balance: no gains here.
+    const deepsea::Setup a = parse_setup(
+        import_config(file(kAuthors + "white_balance: [2.0, 1.0, 1.5]\nauto_iso: true\n")),
+        "converted.yaml");
+    ASSERT_TRUE(a.camera_model);
+    EXPECT_EQ(a.camera_model->processing.white_balance, WhiteBalance::None);
+    EXPECT_NEAR(displayed(a, Rgb(0.5 / (10.0 * M_PI))).g, 0.5, 1e-4);
+    // No scale_factor: no camera stage (radiance out, as before).
+    const deepsea::Setup none = parse_setup(
+        import_config(file(replaced(kAuthors, "scale_factor: 10.0\n", ""))), "converted.yaml");
+    EXPECT_FALSE(none.camera_model);
+}
+
 TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
     const std::string f = (dir_ / "cfg.yaml").string();
     auto starts = [&](const std::string& text, const std::string& want) {
@@ -138,6 +193,10 @@ TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
     starts(replaced(kAuthors, "vsf_type: 1\n", ""), ":1: vsf_type: missing required key");
     starts(replaced(kAuthors, "[0.25, 0.35, 0.4]", "[0.25, x, 0.4]"),
            ":6: light_spectrum_RGB[1]: expected a number");
+    starts(replaced(kAuthors, "scale_factor: 10.0", "scale_factor: 0"),
+           ":1: scale_factor: must be > 0, got 0");
+    starts(kAuthors + "white_balance: [1.0, 0, 1.0]\n",
+           ":12: white_balance: each gain must be > 0, got 0");
     // Values their format allows but deepsea's schema does not: named in the converted text.
     const std::string zero_fx = error(replaced(kAuthors, "[600.0, 0.0, 400.0", "[0.0, 0.0, 400.0"));
     EXPECT_NE(zero_fx.find("(converted)"), std::string::npos) << zero_fx;
