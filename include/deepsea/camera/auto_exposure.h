@@ -26,6 +26,7 @@ struct ExposureLimits {
     double min_system_gain = 0.0, max_system_gain = 0.0;            ///< K, DN per electron
 };
 
+/// The settings' limits with the unset gains resolved against the sensor.
 ExposureLimits exposure_limits(const AutoExposure& ae, const Sensor& sensor);
 
 /// A metered value at or above this fraction of the clip level counts as saturated.
