@@ -9,11 +9,13 @@
 ///
 /// or renderer.render(layers, frame) for a deepsea::Frame read from files (io/image_io.h).
 /// Setups (camera, rig, water) come from YAML (io/config.h); images from files (io/image_io.h).
-/// A CameraStage (camera/camera_stage.h) records the radiance as a real camera would.
+/// A CameraStage (camera/camera_stage.h) records the radiance as a real camera would; its
+/// auto-exposure controller (camera/auto_exposure.h) sets each frame's exposure in a sequence.
 
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/batch/layer_files.h"
+#include "deepsea/camera/auto_exposure.h"
 #include "deepsea/camera/camera_stage.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/frame.h"

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "deepsea/camera/auto_exposure.h"
 #include "deepsea/camera/processing.h"
 #include "deepsea/camera/sensor.h"
 #include "deepsea/optics/schema.h"
@@ -105,6 +106,29 @@ void validate_processing(const Processing& p) {
         require(p.gamma >= 0.1 && p.gamma <= 10.0, k + "curve.gamma", "in [0.1, 10]", p.gamma);
 }
 
+void validate_auto_exposure(const AutoExposure& a, const Sensor& s) {
+    const std::string k = "camera.auto_exposure.";
+    if (a.metering == Metering::Percentile)
+        require(a.percentile > 0.0 && a.percentile <= 100.0, k + "metering.percentile",
+                "in (0, 100]", a.percentile);
+    require(a.target > 0.0 && a.target < 1.0, k + "target", "in (0, 1)", a.target);
+    require(a.damping > 0.0 && a.damping <= 1.0, k + "damping", "in (0, 1]", a.damping);
+    bounded(a.min_exposure_time_ms > 0.0, "> 0", 3.6e6, " ms (an hour)", k + "min_exposure_time_ms",
+            a.min_exposure_time_ms);
+    bounded(a.max_exposure_time_ms >= a.min_exposure_time_ms,
+            ">= min_exposure_time_ms = " + fmt(a.min_exposure_time_ms) + " ms", 3.6e6,
+            " ms (an hour)", k + "max_exposure_time_ms", a.max_exposure_time_ms);
+    if (a.min_system_gain)
+        bounded(*a.min_system_gain > 0.0, "> 0", 1e6, " DN per electron", k + "min_system_gain",
+                *a.min_system_gain);
+    // The default maximum follows the minimum; only a given one can lie below it.
+    const ExposureLimits lim = exposure_limits(a, s);
+    if (a.max_system_gain)
+        bounded(lim.max_system_gain >= lim.min_system_gain,
+                ">= min_system_gain = " + fmt(lim.min_system_gain) + " DN per electron", 1e6,
+                " DN per electron", k + "max_system_gain", lim.max_system_gain);
+}
+
 }  // namespace
 
 double max_dn(const Sensor& s) { return std::ldexp(1.0, s.bits) - 1.0; }
@@ -131,6 +155,7 @@ void validate(const CameraModel& m) {
     validate_lens(m.lens);
     validate_sensor(m.sensor);
     validate_processing(m.processing);
+    validate_auto_exposure(m.auto_exposure, m.sensor);
 }
 
 Rgb grey_world_gains(const Rgb& means) {

@@ -15,7 +15,8 @@ using yaml::join;
 using yaml::MapView;
 
 // ---------------------------------------------------------------------------------------------
-// camera.lens, camera.sensor, camera.processing (units, defaults and ranges: docs/camera.md;
+// camera.lens, camera.sensor, camera.processing, camera.auto_exposure (units, defaults and
+// ranges: docs/camera.md;
 // the ranges are checked by validate(CameraModel) in the camera layer)
 //
 //   lens.f_number, lens.transmittance                  numbers
@@ -32,6 +33,10 @@ using yaml::MapView;
 //   processing.white_balance                           none | grey_world | {gains: [r, g, b]}
 //   processing.matrix                                  9 numbers, row-major
 //   processing.curve                                   linear | srgb | {gamma: g}
+//   auto_exposure.enabled                              bool; true when the map is given
+//   auto_exposure.metering                             mean | {percentile: p}
+//   auto_exposure.target, damping, min_exposure_time_ms, max_exposure_time_ms,
+//          min_system_gain, max_system_gain            numbers
 
 void parse_lens(const Document& doc, const Field& f, Lens& lens) {
     const MapView m(doc, f, camera_schema::kLens);
@@ -127,6 +132,30 @@ void parse_processing(const Document& doc, const Field& f, Processing& p) {
     }
 }
 
+void parse_auto_exposure(const Document& doc, const Field& f, AutoExposure& a) {
+    const MapView m(doc, f, camera_schema::kAutoExposure);
+    a.enabled = true;  // the map given: on, unless it says otherwise
+    if (const Field* x = m.opt("enabled")) a.enabled = doc.boolean(*x);
+    if (const Field* x = m.opt("metering")) {
+        if (x->node.IsMap()) {
+            const MapView pm(doc, *x, std::vector<std::string>{"percentile"});
+            a.metering = Metering::Percentile;
+            a.percentile = doc.number(pm.need("percentile"));
+        } else {
+            const std::string v = doc.string(*x);
+            if (v != "mean") doc.fail(*x, "expected mean or {percentile: p}, got '" + v + "'");
+            a.metering = Metering::Mean;
+        }
+    }
+    for (const auto& [key, value] :
+         {std::pair{"target", &a.target}, std::pair{"damping", &a.damping},
+          std::pair{"min_exposure_time_ms", &a.min_exposure_time_ms},
+          std::pair{"max_exposure_time_ms", &a.max_exposure_time_ms}})
+        if (const Field* x = m.opt(key)) *value = doc.number(*x);
+    if (const Field* x = m.opt("min_system_gain")) a.min_system_gain = doc.number(*x);
+    if (const Field* x = m.opt("max_system_gain")) a.max_system_gain = doc.number(*x);
+}
+
 std::string triple(const Rgb& v) {
     return "[" + fmt(v.r) + ", " + fmt(v.g) + ", " + fmt(v.b) + "]";
 }
@@ -135,12 +164,14 @@ std::string triple(const Rgb& v) {
 
 std::optional<CameraModel> parse_camera_model(const Document& doc, const MapView& m,
                                               const Camera& intrinsics) {
-    const Field *lens = m.opt("lens"), *sensor = m.opt("sensor"), *proc = m.opt("processing");
-    if (!lens && !sensor && !proc) return std::nullopt;
+    const Field *lens = m.opt("lens"), *sensor = m.opt("sensor"), *proc = m.opt("processing"),
+                *ae = m.opt("auto_exposure");
+    if (!lens && !sensor && !proc && !ae) return std::nullopt;
     CameraModel model;
     if (lens) parse_lens(doc, *lens, model.lens);
     if (sensor) parse_sensor(doc, *sensor, model.sensor);
     if (proc) parse_processing(doc, *proc, model.processing);
+    if (ae) parse_auto_exposure(doc, *ae, model.auto_exposure);
     validate(model);
     check_distortion(model.lens.distortion, intrinsics);
     return model;
@@ -206,6 +237,19 @@ void write_camera_model(std::ostream& o, const CameraModel& model) {
             o << "{gamma: " << fmt(p.gamma) << "}\n";
             break;
     }
+    const AutoExposure& a = model.auto_exposure;
+    o << "  auto_exposure:\n"
+      << "    enabled: " << (a.enabled ? "true" : "false") << "\n"
+      << "    metering: "
+      << (a.metering == Metering::Mean ? std::string("mean")
+                                       : "{percentile: " + fmt(a.percentile) + "}")
+      << "\n"
+      << "    target: " << fmt(a.target) << "\n"
+      << "    damping: " << fmt(a.damping) << "\n"
+      << "    min_exposure_time_ms: " << fmt(a.min_exposure_time_ms) << "\n"
+      << "    max_exposure_time_ms: " << fmt(a.max_exposure_time_ms) << "\n";
+    if (a.min_system_gain) o << "    min_system_gain: " << fmt(*a.min_system_gain) << "\n";
+    if (a.max_system_gain) o << "    max_system_gain: " << fmt(*a.max_system_gain) << "\n";
 }
 
 }  // namespace deepsea

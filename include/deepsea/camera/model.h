@@ -10,8 +10,8 @@
 /// demosaic (each pixel records R, G and B, as three co-sited photosites), spectral integration
 /// (each channel is one mean wavelength), the sensor's non-linearity, dark current's growth
 /// with temperature and its pixel-to-pixel spread, defect and hot pixels, row and column
-/// noise, blooming, the rolling shutter, and an auto-exposure controller (later: FrameExposure
-/// is where its settings go).
+/// noise, blooming and the rolling shutter. The auto-exposure controller that acts on its
+/// settings (AutoExposure, below) is in auto_exposure.h.
 
 #include <array>
 #include <cstdint>
@@ -103,11 +103,36 @@ struct Processing {
     double gamma = 2.2;  ///< OutputCurve::Gamma: encoded = x^(1/gamma), gamma > 0
 };
 
+/// What the auto-exposure meter reads from a frame's raw DN (per pixel its brightest channel).
+enum class Metering { Mean, Percentile };
+
+/// An auto-exposure controller like a robot camera's (auto_exposure.h, docs/camera.md, "Auto
+/// exposure"): from frame to frame of a sequence it moves the exposure time and the system gain
+/// so that the metered level reaches `target`, a damped step per frame, within the limits.
+/// Exposure time is used first, up to its limit, then gain (as real cameras do: gain adds noise).
+struct AutoExposure {
+    bool enabled = false;  ///< off: every frame has the sensor's exposure time and gain
+    Metering metering = Metering::Percentile;
+    double percentile = 99.0;  ///< Metering::Percentile: p in (0, 100], nearest rank
+    /// The metered value's target above the black level, as a fraction of the DN range
+    /// (2^bits - 1 - black_level), in (0, 1).
+    double target = 0.5;
+    /// d in (0, 1]: the fraction of the step (in log exposure) to the target taken per frame;
+    /// 1 takes it at once.
+    double damping = 0.5;
+    double min_exposure_time_ms = 0.01;  ///< > 0
+    double max_exposure_time_ms = 30.0;  ///< >= min (30 ms fits a 30 frames/s period)
+    /// K limits, DN per electron. Unset: the sensor's K (system_gain or iso) and 16 times the
+    /// minimum (24 dB of gain).
+    std::optional<double> min_system_gain, max_system_gain;
+};
+
 /// A camera: what turns radiance into a recorded image.
 struct CameraModel {
     Lens lens;
     Sensor sensor;
     Processing processing;
+    AutoExposure auto_exposure;
 };
 
 /// The system gain K (DN per electron) the sensor's settings give.
@@ -118,15 +143,17 @@ double black_level(const Sensor& sensor);
 double max_dn(const Sensor& sensor);
 
 /// Throws SchemaError (a ConfigError, optics/schema.h) naming the first value out of range as
-/// "camera.sensor.full_well: must be >= 1, got 0". Checks every key of the three structs. A
-/// distortion that folds the image over is refused where the intrinsics are known
-/// (distortion.h, check_distortion; CameraStage's constructor calls both).
+/// "camera.sensor.full_well: must be >= 1, got 0". Checks every key of the four structs (the
+/// auto exposure's also when it is off). A distortion that folds the image over is refused
+/// where the intrinsics are known (distortion.h, check_distortion; CameraStage's constructor
+/// calls both).
 void validate(const CameraModel& model);
 
 /// The keys of each map of the camera model, in the order docs/camera.md lists them: what the
-/// YAML reader of `camera: {lens:, sensor:, processing:}` will accept.
+/// YAML reader of `camera: {lens:, sensor:, processing:, auto_exposure:}` will accept.
 namespace camera_schema {
-inline const std::vector<std::string> kCameraModel = {"lens", "sensor", "processing"};
+inline const std::vector<std::string> kCameraModel = {"lens", "sensor", "processing",
+                                                      "auto_exposure"};
 inline const std::vector<std::string> kLens = {"f_number", "transmittance", "vignetting",
                                                "distortion"};
 inline const std::vector<std::string> kVignetting = {"natural", "k1", "k2", "k3"};
@@ -148,6 +175,14 @@ inline const std::vector<std::string> kSensor = {"preset",
                                                  "noise",
                                                  "seed"};
 inline const std::vector<std::string> kProcessing = {"white_balance", "matrix", "curve"};
+inline const std::vector<std::string> kAutoExposure = {"enabled",
+                                                       "metering",
+                                                       "target",
+                                                       "damping",
+                                                       "min_exposure_time_ms",
+                                                       "max_exposure_time_ms",
+                                                       "min_system_gain",
+                                                       "max_system_gain"};
 }  // namespace camera_schema
 
 }  // namespace deepsea

@@ -1,6 +1,6 @@
-// The camera section's camera-stage keys (src/io/camera_config.cpp; docs/config.md,
-// docs/camera.md): what they parse to, their defaults, the errors at the key's line, and the
-// round trip through setup_to_yaml.
+// The camera section's camera-stage keys, auto_exposure's too (src/io/camera_config.cpp;
+// docs/config.md, docs/camera.md): what they parse to, their defaults, the errors at the key's
+// line, and the round trip through setup_to_yaml.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -146,6 +146,70 @@ TEST(CameraConfig, SensorPresetWithOverrides) {
                      sensor_preset_names());
 }
 
+// The pinhole keys and an auto_exposure map alone (lines 8-14).
+const std::string kAutoExposure = kCamera.substr(0, kCamera.find("  lens:")) +
+                                  "  auto_exposure:\n"                // 8
+                                  "    metering: {percentile: 98}\n"  // 9
+                                  "    target: 0.4\n"                 // 10
+                                  "    damping: 0.25\n"               // 11
+                                  "    min_exposure_time_ms: 0.05\n"  // 12
+                                  "    max_exposure_time_ms: 33\n"    // 13
+                                  "    max_system_gain: 4\n";         // 14
+
+TEST(CameraConfig, AutoExposureKeys) {
+    const deepsea::Setup s = parse_setup(kAutoExposure, "cam.yaml");
+    ASSERT_TRUE(s.camera_model);  // the map alone makes a camera stage (default lens, sensor)
+    const AutoExposure& a = s.camera_model->auto_exposure;
+    EXPECT_TRUE(a.enabled);  // on when the map is given
+    EXPECT_EQ(a.metering, Metering::Percentile);
+    EXPECT_EQ(a.percentile, 98.0);
+    EXPECT_EQ(a.target, 0.4);
+    EXPECT_EQ(a.damping, 0.25);
+    EXPECT_EQ(a.min_exposure_time_ms, 0.05);
+    EXPECT_EQ(a.max_exposure_time_ms, 33.0);
+    EXPECT_FALSE(a.min_system_gain);  // left out: the sensor's K
+    EXPECT_EQ(*a.max_system_gain, 4.0);
+    const deepsea::Setup off =
+        parse_setup(replaced(replaced(kAutoExposure, "{percentile: 98}", "mean"),
+                             "    target: 0.4\n", "    enabled: false\n"),
+                    "cam.yaml");
+    EXPECT_FALSE(off.camera_model->auto_exposure.enabled);
+    EXPECT_EQ(off.camera_model->auto_exposure.metering, Metering::Mean);
+    EXPECT_EQ(off.camera_model->auto_exposure.target, AutoExposure().target);
+    // Without the map: off, the defaults.
+    EXPECT_FALSE(parse_setup(kCamera, "cam.yaml").camera_model->auto_exposure.enabled);
+}
+
+TEST(CameraConfig, AutoExposureBadValuesNameFileLineAndKey) {
+    struct Bad {
+        std::string from, to, expect;
+    };
+    const Bad cases[] = {
+        {"damping: 0.25", "damping: 0",
+         "cam.yaml:11: camera.auto_exposure.damping: must be in (0, 1], got 0"},
+        {"target: 0.4", "target: 1.2",
+         "cam.yaml:10: camera.auto_exposure.target: must be in (0, 1), got 1.2"},
+        {"{percentile: 98}", "{percentile: 0}",
+         "cam.yaml:9: camera.auto_exposure.metering.percentile: must be in (0, 100], got 0"},
+        {"{percentile: 98}", "median",
+         "cam.yaml:9: camera.auto_exposure.metering: expected mean or {percentile: p}, got "
+         "'median'"},
+        {"{percentile: 98}", "{median: 50}", "cam.yaml:9: camera.auto_exposure.metering.median:"},
+        {"max_exposure_time_ms: 33", "max_exposure_time_ms: 0.01",
+         "cam.yaml:13: camera.auto_exposure.max_exposure_time_ms: must be >= "
+         "min_exposure_time_ms = 0.05 ms, got 0.01"},
+        {"max_system_gain: 4", "max_system_gain: 0.1",
+         "cam.yaml:14: camera.auto_exposure.max_system_gain: must be >= min_system_gain"},
+        {"    damping: 0.25", "    dampng: 0.25", "cam.yaml:11: camera.auto_exposure.dampng:"},
+        {"target: 0.4", "target: \"0.4\"",
+         "cam.yaml:10: camera.auto_exposure.target: expected a number"},
+    };
+    for (const Bad& c : cases) {
+        const std::string e = error_of(replaced(kAutoExposure, c.from, c.to));
+        EXPECT_EQ(e.rfind(c.expect, 0), 0u) << "got: " << e << "\nexpected: " << c.expect;
+    }
+}
+
 TEST(CameraConfig, SetupToYamlRoundTrips) {
     const deepsea::Setup s = parse_setup(kCamera, "cam.yaml");
     const deepsea::Setup t = parse_setup(setup_to_yaml(s), "round.yaml");
@@ -160,6 +224,20 @@ TEST(CameraConfig, SetupToYamlRoundTrips) {
     EXPECT_EQ(a.processing.gains.r, b.processing.gains.r);
     EXPECT_EQ(*a.processing.matrix, *b.processing.matrix);
     EXPECT_EQ(a.processing.gamma, b.processing.gamma);
+    EXPECT_EQ(a.auto_exposure.enabled, b.auto_exposure.enabled);  // off, written as off
+    // The auto exposure's keys, on.
+    const deepsea::Setup u = parse_setup(kAutoExposure, "cam.yaml");
+    const AutoExposure& ua = u.camera_model->auto_exposure;
+    const deepsea::Setup v = parse_setup(setup_to_yaml(u), "round.yaml");
+    const AutoExposure& va = v.camera_model->auto_exposure;
+    EXPECT_TRUE(va.enabled);
+    EXPECT_EQ(ua.percentile, va.percentile);
+    EXPECT_EQ(ua.target, va.target);
+    EXPECT_EQ(ua.damping, va.damping);
+    EXPECT_EQ(ua.min_exposure_time_ms, va.min_exposure_time_ms);
+    EXPECT_EQ(ua.max_exposure_time_ms, va.max_exposure_time_ms);
+    EXPECT_EQ(ua.min_system_gain.has_value(), va.min_system_gain.has_value());
+    EXPECT_EQ(*ua.max_system_gain, *va.max_system_gain);
     // A camera section without the stage writes none.
     deepsea::Setup plain = s;
     plain.camera_model.reset();
