@@ -12,6 +12,7 @@
 #include <mutex>
 #include <new>
 
+#include "camera_frames.h"
 #include "deepsea/batch/frame_files.h"
 #include "deepsea/batch/sequence_manifest.h"
 #include "deepsea/core/error.h"
@@ -34,7 +35,8 @@ struct Slot {
     Layers layers;  ///< filled only for jobs that write layers
     FrameWriter writer;
     CameraOutput recorded;  ///< with a camera stage: the frame as recorded
-    ImageMetadata meta;     ///< with a camera stage: the run's metadata and this frame's
+    ExposureRecord line;    ///< with a camera stage: its settings (the controller's journal)
+    ImageMetadata meta;     ///< with a camera stage: this frame's metadata
 };
 
 std::string absolute(const std::string& pattern) {
@@ -160,7 +162,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     if (opt.camera_model && !opt.layer_output.camera)
         throw InputError("render_sequence: a camera stage needs layer_output.camera");
     Renderer renderer(asset, {opt.camera, opt.forward});
-    std::unique_ptr<CameraStage> stage;  // made for the first frame's camera, remade per size
+    std::optional<CameraFrames> camera;
+    if (opt.camera_model) camera.emplace(*opt.camera_model, opt.manifests, opt.resume);
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy
     double exposure = record.exposure;
     ImageMetadata meta;
@@ -203,7 +206,8 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 s->error.clear();
                 s->error_code = 0;
                 const FrameJob& job = jobs[next++];
-                s->skip = opt.resume && outputs_complete(job, opt.layer_output);
+                s->skip = opt.resume && outputs_complete(job, opt.layer_output) &&
+                          (!camera || camera->can_skip(job));
                 if (s->skip) return s;
                 try {
                     read_frame(job, opt.depth_read, s->frame);  // into the slot's buffers
@@ -215,6 +219,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
             tbb::make_filter<Slot*, Slot*>(
                 tbb::filter_mode::serial_in_order,
                 [&](Slot* s) -> Slot* {
+                    if (s->skip && camera) camera->skipped(jobs[s->index]);
                     if (s->skip || !s->error.empty()) return s;
                     try {
                         const FrameJob& job = jobs[s->index];
@@ -224,17 +229,14 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         // is encoded row by row as the compositor finishes it, and no
                         // float image is kept.
                         Layers& out = job.layers.empty() ? shared : s->layers;
-                        if (opt.camera_model) {
+                        if (camera) {
                             renderer.render(out, s->frame, s->writer.layer_set(job),
                                             opt.depth_kind);
-                            if (!stage || !(stage->camera() == renderer.camera()))
-                                stage = std::make_unique<CameraStage>(*opt.camera_model,
-                                                                      renderer.camera());
-                            const std::uint64_t key = frame_key(job);
-                            stage->apply(s->recorded, out.final, key,
-                                         job.layers.empty() ? CameraLayerSet{}
-                                                            : opt.layer_output.camera_set());
-                            s->meta = camera_metadata(s->recorded, key);
+                            camera->record(renderer.camera(), job, out.final,
+                                           job.layers.empty() ? CameraLayerSet{}
+                                                              : opt.layer_output.camera_set(),
+                                           s->recorded, s->line);
+                            s->meta = camera_metadata(s->recorded, frame_key(job));
                             result.camera_exposure = s->recorded.exposure;
                         } else if (s->writer.streams(job, exposure)) {
                             const Image& z = s->frame.depth;
@@ -304,6 +306,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     ++result.skipped;
                 } else if (s->error.empty()) {
                     ++result.written;
+                    if (camera && camera->controller()) camera->written(s->line);
                     write_manifests();
                 } else {
                     result.errors.push_back(s->error);

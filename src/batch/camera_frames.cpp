@@ -1,0 +1,52 @@
+#include "camera_frames.h"
+
+#include <filesystem>
+
+#include "deepsea/camera/auto_exposure.h"
+
+namespace deepsea {
+
+namespace fs = std::filesystem;
+
+CameraFrames::CameraFrames(const CameraModel& model, const std::vector<std::string>& manifests,
+                           bool resume)
+    : m_model(model), m_next(first_exposure(model)) {
+    if (!controller()) return;
+    for (const std::string& manifest : manifests) {
+        const std::string journal =
+            (fs::path(manifest).parent_path() / kExposureJournalName).string();
+        m_journals.push_back(journal);
+        if (resume && m_read.empty()) {
+            m_read = read_exposure_journal(journal);
+        } else if (!resume) {
+            std::error_code ec;
+            fs::remove(journal, ec);  // an earlier run's: its frames are made again
+        }
+    }
+}
+
+bool CameraFrames::can_skip(const FrameJob& job) const {
+    return !controller() || m_read.count(job.rgb) > 0;
+}
+
+void CameraFrames::skipped(const FrameJob& job) {
+    if (controller()) m_next = m_read.at(job.rgb).next;
+}
+
+void CameraFrames::record(const Camera& camera, const FrameJob& job, const Image& radiance,
+                          CameraLayerSet layers, CameraOutput& out, ExposureRecord& line) {
+    if (!m_stage || !(m_stage->camera() == camera))
+        m_stage = std::make_unique<CameraStage>(m_model, camera);
+    if (controller()) layers.raw = true;  // the meter reads the raw DN
+    m_stage->apply(out, radiance, frame_key(job), m_next, layers);
+    line.rgb = job.rgb;
+    line.used = out.exposure;
+    if (controller()) m_next = next_exposure(m_model, out);
+    line.next = m_next;
+}
+
+void CameraFrames::written(const ExposureRecord& line) const {
+    for (const std::string& journal : m_journals) append_exposure_journal(journal, line);
+}
+
+}  // namespace deepsea

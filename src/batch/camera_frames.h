@@ -1,0 +1,47 @@
+#pragma once
+// Internal to batch: a sequence's camera stage (docs/camera.md): the stage for the frames'
+// camera (remade when their size changes), the auto-exposure controller's state from frame to
+// frame, and its journals (exposure_journal.h) for --resume.
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "deepsea/batch/exposure_journal.h"
+#include "deepsea/batch/frame_jobs.h"
+#include "deepsea/camera/camera_stage.h"
+
+namespace deepsea {
+
+class CameraFrames {
+public:
+    /// `manifests`: the sequence's manifest paths (the journals lie beside them). A fresh run
+    /// (not `resume`) removes the journals of an earlier run there; a resumed one reads them.
+    CameraFrames(const CameraModel& model, const std::vector<std::string>& manifests, bool resume);
+
+    /// True when the auto-exposure controller is on.
+    bool controller() const { return m_model.auto_exposure.enabled; }
+    /// Resume: whether `job`, whose outputs are complete, may be skipped: always without the
+    /// controller, else when the journal holds its settings (others are rendered again, with
+    /// the same bits). Reads only what the constructor read (any thread).
+    bool can_skip(const FrameJob& job) const;
+    /// A skipped frame: the controller continues from its journal line. In frame order.
+    void skipped(const FrameJob& job);
+    /// Records `radiance` as `job`'s frame into `out` over `camera` (the stage is remade for a
+    /// camera of another size), with the controller's settings, and steps the controller. The
+    /// frame's journal line goes to `line`. In frame order.
+    void record(const Camera& camera, const FrameJob& job, const Image& radiance,
+                CameraLayerSet layers, CameraOutput& out, ExposureRecord& line);
+    /// After the frame's outputs are written: appends its line to the journals (controller on).
+    void written(const ExposureRecord& line) const;
+
+private:
+    CameraModel m_model;
+    std::vector<std::string> m_journals;
+    std::map<std::string, ExposureRecord> m_read;  ///< resume: the journal's lines
+    std::unique_ptr<CameraStage> m_stage;
+    FrameExposure m_next;  ///< the controller's settings for the next frame rendered
+};
+
+}  // namespace deepsea
