@@ -8,6 +8,16 @@ namespace deepsea {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// A journal line's frame: the colour file's absolute path (the manifest's inputs are absolute
+/// too), so that a resume from another working folder finds its lines.
+std::string journal_name(const FrameJob& job) {
+    return fs::absolute(job.rgb).lexically_normal().string();
+}
+
+}  // namespace
+
 CameraFrames::CameraFrames(const CameraModel& model, const std::vector<std::string>& manifests,
                            bool resume)
     : m_model(model), m_next(first_exposure(model)) {
@@ -26,11 +36,11 @@ CameraFrames::CameraFrames(const CameraModel& model, const std::vector<std::stri
 }
 
 bool CameraFrames::can_skip(const FrameJob& job) const {
-    return !controller() || m_read.count(job.rgb) > 0;
+    return !controller() || m_read.count(journal_name(job)) > 0;
 }
 
 void CameraFrames::skipped(const FrameJob& job) {
-    if (controller()) m_next = m_read.at(job.rgb).next;
+    if (controller()) m_next = m_read.at(journal_name(job)).next;
 }
 
 void CameraFrames::record(const Camera& camera, const FrameJob& job, const Image& radiance,
@@ -39,7 +49,7 @@ void CameraFrames::record(const Camera& camera, const FrameJob& job, const Image
         m_stage = std::make_unique<CameraStage>(m_model, camera);
     if (controller()) layers.raw = true;  // the meter reads the raw DN
     m_stage->apply(out, radiance, frame_key(job), m_next, layers);
-    line.rgb = job.rgb;
+    line.rgb = journal_name(job);
     line.used = out.exposure;
     if (controller()) m_next = next_exposure(m_model, out);
     line.next = m_next;

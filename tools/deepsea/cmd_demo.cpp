@@ -1,5 +1,6 @@
 // deepsea demo: the main job on the embedded default. A procedural seafloor flight, the
-// default asset (baked if missing or stale), the rendered sequence and a contact sheet.
+// default asset (baked if missing or stale), the rendered sequence (radiance with one exposure
+// factor), the same frames recorded by the setup's camera stage, and a contact sheet.
 
 #include <cstdio>
 #include <filesystem>
@@ -59,8 +60,8 @@ void run(const DemoArgs& a) {
     Setup setup = load_setup({a.config});
     require_complete(setup, a.config);
     const fs::path out(a.out), input = out / "input", frames = out / "frames",
-                               layers = out / "layers";
-    for (const fs::path& d : {input, frames, layers}) {
+                               layers = out / "layers", recorded = out / "camera";
+    for (const fs::path& d : {input, frames, layers, recorded}) {
         std::error_code ec;
         fs::create_directories(d, ec);
         if (ec) throw IoError("cannot create " + d.string() + ": " + ec.message());
@@ -105,21 +106,50 @@ void run(const DemoArgs& a) {
     for (const auto& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
     std::printf("render: %d frames in %.2f s -> %s\n", r.written, r.seconds, frames.c_str());
 
-    // 4. contact sheet: in-air | depth | direct | backscatter | final, up to 4 frames
+    // 4. the same frames recorded by the setup's camera (lens, sensor, processing, auto
+    // exposure: docs/camera.md)
+    std::vector<FrameJob> camera_jobs;
+    if (setup.camera_model) {
+        for (FrameJob j : jobs) {
+            j.output = (recorded / fs::path(j.output).filename()).string();
+            j.layers.clear();
+            camera_jobs.push_back(j);
+        }
+        SequenceOptions cam;
+        cam.camera_model = setup.camera_model;
+        cam.layer_output.camera = true;
+        Progress cam_bar("camera", a.frames);
+        cam.progress = [&](long done, long) {
+            cam_bar.update(done);
+            return true;
+        };
+        SequenceResult c;
+        in_arena(a.threads, [&] { c = render_sequence(asset, camera_jobs, cam); });
+        cam_bar.finish();
+        for (const auto& e : c.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
+        std::printf("camera: %d frames in %.2f s -> %s (last frame %.3g ms, %.3g DN/e-)\n",
+                    c.written, c.seconds, recorded.c_str(), c.camera_exposure.exposure_time_ms,
+                    c.camera_exposure.system_gain);
+        r.errors.insert(r.errors.end(), c.errors.begin(), c.errors.end());
+    }
+
+    // 5. contact sheet: in-air | depth | direct | backscatter | final | camera, up to 4 frames
     std::vector<std::vector<Image>> rows;
     const int shown = std::min(a.frames, 4);
     for (int s = 0; s < shown; ++s) {
-        const FrameJob& j = jobs[std::size_t(s) * (a.frames - 1) / std::max(shown - 1, 1)];
+        const std::size_t k = std::size_t(s) * (a.frames - 1) / std::max(shown - 1, 1);
+        const FrameJob& j = jobs[k];
         const std::vector<std::string> rgb{"R", "G", "B"};
         rows.push_back({read_color(j.rgb), depth_picture(read_depth(j.depth)),
                         apply_exposure(read_exr_layer(j.layers, "direct", rgb), r.exposure),
                         apply_exposure(read_exr_layer(j.layers, "backscatter", rgb), r.exposure),
                         read_color(j.output)});
+        if (!camera_jobs.empty()) rows.back().push_back(read_color(camera_jobs[k].output));
     }
     const std::string sheet = (out / "contact_sheet.png").string();
     write_color(sheet, contact_sheet(rows, 256));
-    std::printf("contact sheet (in-air | depth | direct | backscatter | final): %s\n",
-                sheet.c_str());
+    std::printf("contact sheet (in-air | depth | direct | backscatter | final%s): %s\n",
+                camera_jobs.empty() ? "" : " | camera", sheet.c_str());
     std::printf("demo output in %s\n", fs::absolute(out).c_str());
     if (!r.errors.empty()) throw FramesFailed("some frames failed (listed above)");
 }
