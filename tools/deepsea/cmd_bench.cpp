@@ -15,6 +15,7 @@
 #include <ctime>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <utility>
 
 #include "cli_util.h"
@@ -281,9 +282,11 @@ std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const Bench
 /// Whole sequences from files to files (PNG colour + EXR depth in, PNG or JPEG out), as
 /// `deepsea render` runs them: `frames` file pairs (copies of two generated frames, so that the
 /// bench does not spend minutes generating scenes), three runs, the median reported with the
-/// frame rate and the CPU time per frame (user + system, all threads).
+/// frame rate and the CPU time per frame (user + system, all threads). The "-camera" cases
+/// record the frames with the setup's camera stage (or the default camera model), as
+/// `render --camera` does.
 std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const BenchArgs& a,
-                                 int threads) {
+                                 int threads, const std::optional<CameraModel>& model) {
     if (!wanted(a.cases, "sequence-png") && !wanted(a.cases, "sequence-jpeg")) return {};
     const TempFolder tmp("sequence");
     fs::create_directories(tmp.dir / "out");
@@ -297,33 +300,42 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
     }
     std::vector<Case> cases;
     for (const char* ext : {".png", ".jpg"}) {
-        const std::string name = ext == std::string(".png") ? "sequence-png" : "sequence-jpeg";
-        if (!wanted(a.cases, name)) continue;
-        std::vector<FrameJob> jobs;
-        for (int i = 0; i < kFrames; ++i) {
-            const std::string g = std::to_string(i % kGenerated), k = std::to_string(i);
-            const fs::path rgb = tmp.dir / ("in" + k + ".png"),
-                           depth = tmp.dir / ("in" + k + ".exr");
-            if (!fs::exists(rgb)) fs::copy_file(tmp.dir / ("f" + g + ".png"), rgb);
-            if (!fs::exists(depth)) fs::copy_file(tmp.dir / ("f" + g + "_depth.exr"), depth);
-            jobs.push_back(
-                {rgb.string(), depth.string(), (tmp.dir / "out" / (k + ext)).string(), ""});
+        for (const bool camera : {false, true}) {
+            const std::string name =
+                std::string(ext == std::string(".png") ? "sequence-png" : "sequence-jpeg") +
+                (camera ? "-camera" : "");
+            if (!wanted(a.cases, name)) continue;
+            std::vector<FrameJob> jobs;
+            for (int i = 0; i < kFrames; ++i) {
+                const std::string g = std::to_string(i % kGenerated), k = std::to_string(i);
+                const fs::path rgb = tmp.dir / ("in" + k + ".png"),
+                               depth = tmp.dir / ("in" + k + ".exr");
+                if (!fs::exists(rgb)) fs::copy_file(tmp.dir / ("f" + g + ".png"), rgb);
+                if (!fs::exists(depth)) fs::copy_file(tmp.dir / ("f" + g + "_depth.exr"), depth);
+                jobs.push_back(
+                    {rgb.string(), depth.string(), (tmp.dir / "out" / (k + ext)).string(), ""});
+            }
+            SequenceOptions opt;
+            opt.forward = !a.no_forward;
+            if (camera) {
+                opt.camera_model = model ? *model : CameraModel{};
+                opt.layer_output.camera = true;
+            }
+            reset_peak_rss();
+            std::vector<double> wall, cpu;
+            for (int r = 0; r < 3; ++r) {
+                const double c0 = cpu_ms();
+                const SequenceResult res = render_sequence(asset, jobs, opt);
+                cpu.push_back((cpu_ms() - c0) / kFrames);
+                if (!res.errors.empty())
+                    throw IoError("bench sequence failed: " + res.errors.front());
+                wall.push_back(res.seconds * 1000.0 / kFrames);
+            }
+            Case c = summarize(name, cam.width, cam.height, threads, wall, cpu);
+            c.cpu_ms_per_frame = c.median_cpu_ms;
+            c.fps = 1000.0 / c.median_ms;
+            cases.push_back(c);
         }
-        SequenceOptions opt;
-        opt.forward = !a.no_forward;
-        reset_peak_rss();
-        std::vector<double> wall, cpu;
-        for (int r = 0; r < 3; ++r) {
-            const double c0 = cpu_ms();
-            const SequenceResult res = render_sequence(asset, jobs, opt);
-            cpu.push_back((cpu_ms() - c0) / kFrames);
-            if (!res.errors.empty()) throw IoError("bench sequence failed: " + res.errors.front());
-            wall.push_back(res.seconds * 1000.0 / kFrames);
-        }
-        Case c = summarize(name, cam.width, cam.height, threads, wall, cpu);
-        c.cpu_ms_per_frame = c.median_cpu_ms;
-        c.fps = 1000.0 / c.median_ms;
-        cases.push_back(c);
     }
     return cases;
 }
@@ -352,7 +364,8 @@ void run(const BenchArgs& a) {
             for (Case& c : time_stages(asset, cam, a, threads)) cases.push_back(c);
         }
         for (Case& c : time_camera(asset, cam, a, threads)) cases.push_back(c);
-        for (Case& c : time_sequences(asset, cam, a, threads)) cases.push_back(c);
+        for (Case& c : time_sequences(asset, cam, a, threads, setup.camera_model))
+            cases.push_back(c);
     }
     if (a.json) {
         std::printf("{\"baseline_rss_mb\": %.1f, \"scattering\": \"%s\", \"cases\": [", baseline_mb,
@@ -403,7 +416,8 @@ void setup_bench(CLI::App& sub) {
                    "scattered light per pixel)");
     sub.add_option("--cases", a->cases,
                    "comma-separated prefixes of the cases to run: composite, stage, camera "
-                   "(camera, camera-layers, camera-lens), sequence-png, sequence-jpeg");
+                   "(camera, camera-layers, camera-lens), sequence-png, sequence-jpeg (each also "
+                   "-camera: with the setup's camera stage)");
     sub.add_flag("--json", a->json, "print JSON for scripts");
     sub.callback([a] { run(*a); });
 }
