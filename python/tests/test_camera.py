@@ -108,7 +108,8 @@ def test_settings_read_back_to_the_same_camera(camera, camera_yaml, radiance):
     same = [deepsea.Camera({"camera": dict(CAMERA, **camera.settings)}),
             deepsea.Camera(dict(CAMERA, **STAGE)),          # the section's own dict
             deepsea.Camera(camera_yaml.read_text()),         # YAML text
-            deepsea.Camera(pathlib.Path(camera_yaml))]       # os.PathLike
+            deepsea.Camera(pathlib.Path(camera_yaml)),       # os.PathLike
+            deepsea.Camera([str(camera_yaml), {"water": {"preset": "jerlov:IB"}}])]  # a list
     for other in same:
         assert other.settings == camera.settings
         got = other.record(radiance, 3, layers=CAMERA_LAYERS)
