@@ -53,6 +53,7 @@ void merge(Setup& into, const Setup& more, const std::string& where) {
         dst = src;
     };
     take(into.camera, more.camera, "camera");
+    if (more.camera) into.camera_model = more.camera_model;  // the camera section's stage
     take(into.rig, more.rig, "rig");
     take(into.water, more.water, "water");
 }

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "arrays.h"
+#include "camera.h"
 #include "convert.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
@@ -275,6 +276,7 @@ PYBIND11_MODULE(deepsea, m) {
         "out are NumPy, images (H, W, C) with rows top to bottom, colour R, G, B.";
     m.attr("__version__") = DEEPSEA_VERSION;
     register_errors(m);
+    register_camera(m);
 
     py::class_<PyAsset>(m, "Asset", "A baked asset (camera x rig x water), loaded once.")
         .def_property_readonly(
