@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "../replaced.h"
 #include "deepsea/camera/presets.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
@@ -40,13 +41,7 @@ const std::string kCamera =
     "    matrix: [1.5, -0.3, -0.2, -0.2, 1.4, -0.2, -0.1, -0.4, 1.5]\n"      // 24
     "    curve: {gamma: 2.2}\n";                                             // 25
 
-std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
-    const auto p = text.find(from);
-    EXPECT_NE(p, std::string::npos) << from;
-    std::string out = text;
-    if (p != std::string::npos) out.replace(p, from.size(), to);
-    return out;
-}
+using test::replaced;
 
 TEST(CameraConfig, KeysParseIntoTheModel) {
     const deepsea::Setup s = parse_setup(kCamera, "cam.yaml");

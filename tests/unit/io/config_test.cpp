@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../replaced.h"
 #include "../temp_folder.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/deep_ocean.h"
@@ -49,13 +50,7 @@ const std::string kValid =
     "  phase: {henyey_greenstein: {g: 0.9}}\n"                            // 25
     "  forward_scatter: {G: [0.3, 0.1, 0.1], k: 0.05}\n";                 // 26
 
-std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
-    const auto p = text.find(from);
-    EXPECT_NE(p, std::string::npos) << from;
-    std::string out = text;
-    if (p != std::string::npos) out.replace(p, from.size(), to);
-    return out;
-}
+using test::replaced;
 
 TEST(Config, FullValidConfigParses) {
     const deepsea::Setup s = parse_setup(kValid, "cfg.yaml");

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "../message_of.h"
+#include "../replaced.h"
 #include "../temp_folder.h"
 #include "deepsea/camera/camera_stage.h"
 #include "deepsea/core/error.h"
@@ -19,6 +20,7 @@ namespace deepsea {
 namespace {
 
 namespace fs = std::filesystem;
+using test::replaced;
 
 // A DeepSeaRenderer config as their test set ships it (keys deepsea ignores included).
 const std::string kAuthors =
@@ -44,11 +46,6 @@ protected:
     /// The ConfigError message for text, or "" if it converts.
     std::string error(const std::string& text) {
         return test::message_of<ConfigError>([&] { import_config(file(text)); });
-    }
-    static std::string replaced(std::string text, const std::string& from, const std::string& to) {
-        const auto p = text.find(from);
-        EXPECT_NE(p, std::string::npos) << from;
-        return p == std::string::npos ? text : text.replace(p, from.size(), to);
     }
 };
 
