@@ -23,10 +23,26 @@ double exit_distance(const Vec3& p, const Vec3& d, const Vec3& c, double r) {
     return b <= 0.0 ? root - b : h / (root + b);
 }
 
-std::string deg(double cos_angle) {
+/// Four significant digits, for derived values in messages (89.99, not 89.9999641901378).
+std::string digits4(double x) {
     char s[32];
-    std::snprintf(s, sizeof s, "%.4g", std::acos(std::min(1.0, cos_angle)) * 180.0 / M_PI);
+    std::snprintf(s, sizeof s, "%.4g", x);
     return s;
+}
+
+std::string deg(double cos_angle) {
+    return digits4(std::acos(std::min(1.0, cos_angle)) * 180.0 / M_PI);
+}
+
+/// "total internal reflection at the <surface> for <ray>, 58.7 degrees from the surface's normal
+/// on the incident side: n1 sin = 1.14 > n2 = 1; part of the image sees no water".
+std::string total_reflection(const char* surface, const std::string& ray, double cos_incident,
+                             const char* n1, double n1_sin, const char* n2,
+                             const std::string& n2_value) {
+    return std::string("total internal reflection at the ") + surface + " for " + ray + ", " +
+           deg(cos_incident) + " degrees from the surface's normal on the incident side: " + n1 +
+           " sin = " + digits4(n1_sin) + " > " + n2 + " = " + n2_value +
+           "; part of the image sees no water";
 }
 
 std::string triple(const Vec3& v) {
@@ -182,30 +198,22 @@ void check_port_view(const Port& port, const Camera& camera) {
                                       ") only behind the camera centre or never; the normal "
                                       "points from the camera into the water");
             case PortRayStatus::InnerReflection: {
-                const double s = std::sqrt(std::max(0.0, 1.0 - r.cos_air * r.cos_air));
-                throw SchemaError(key + "n_glass",
-                                  "total internal reflection at the inner surface (air to glass) "
-                                  "for " +
-                                      ray + ", " + deg(r.cos_air) +
-                                      " degrees from the surface's normal: n_air sin = " +
-                                      short_number(port.n_air * s) +
-                                      " > n_glass = " + short_number(port.n_glass) +
-                                      "; part of the image sees no water");
+                const double sin = std::sqrt(std::max(0.0, 1.0 - r.cos_air * r.cos_air));
+                throw SchemaError(
+                    key + "n_glass",
+                    total_reflection("inner surface (air to glass)", ray, r.cos_air, "n_air",
+                                     port.n_air * sin, "n_glass", short_number(port.n_glass)));
             }
             case PortRayStatus::OuterReflection: {
-                const double s =
-                    std::sqrt(std::max(0.0, 1.0 - r.cos_glass_outer * r.cos_glass_outer));
-                int c = 0;
-                while (c < 2 && port.n_water[c] >= port.n_glass * s) ++c;
-                throw SchemaError(key + "n_water",
-                                  "total internal reflection at the outer surface (glass to water) "
-                                  "for " +
-                                      ray + ", " + deg(r.cos_glass_outer) +
-                                      " degrees from the surface's normal in the glass: n_glass "
-                                      "sin = " +
-                                      short_number(port.n_glass * s) +
-                                      " > n_water = " + short_number(port.n_water[c]) + " (" +
-                                      kChannel[c] + "); part of the image sees no water");
+                const double cos = r.cos_glass_outer;
+                const double sin = std::sqrt(std::max(0.0, 1.0 - cos * cos));
+                int c = 0;  // the first channel that reflects
+                while (c < 2 && port.n_water[c] >= port.n_glass * sin) ++c;
+                throw SchemaError(
+                    key + "n_water",
+                    total_reflection("outer surface (glass to water)", ray, cos, "n_glass",
+                                     port.n_glass * sin, "n_water",
+                                     short_number(port.n_water[c]) + " (" + kChannel[c] + ")"));
             }
         }
     };
