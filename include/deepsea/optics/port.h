@@ -153,11 +153,11 @@ Rgb port_radiance_factor(const Port& port, const PortRay& ray);
 /// and finite. Throws SchemaError naming the key (camera.port.flat.glass_thickness, ...).
 void validate(const Port& port);
 
-/// The port over a camera's image: every ray through the image's outer pixel edges (its four
-/// corners and every pixel edge along its four sides) and its centre must reach the water:
-/// SchemaError on the flat port's normal if the interface is behind the camera for one of them,
-/// on n_glass or n_water if one is totally reflected (at the inner or the outer surface). A flat
-/// port's worst ray is at a corner (its angle to the normal is largest at a vertex of the
+/// The port over a camera's image, after validate(port): every ray through the image's outer pixel
+/// edges (its four corners and every pixel edge along its four sides) and its centre must reach the
+/// water: SchemaError on the flat port's normal if the interface is behind the camera for one of
+/// them, on n_glass or n_water if one is totally reflected (at the inner or the outer surface). A
+/// flat port's worst ray is at a corner (its angle to the normal is largest at a vertex of the
 /// image rectangle); a dome's is checked along the edges.
 void check_port_view(const Port& port, const Camera& camera);
 
