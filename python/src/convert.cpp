@@ -53,7 +53,10 @@ void merge(Setup& into, const Setup& more, const std::string& where) {
         dst = src;
     };
     take(into.camera, more.camera, "camera");
-    if (more.camera) into.camera_model = more.camera_model;  // the camera section's stage
+    if (more.camera) {  // the camera section's stage and port
+        into.camera_model = more.camera_model;
+        into.port = more.port;
+    }
     take(into.rig, more.rig, "rig");
     take(into.water, more.water, "water");
 }

@@ -10,6 +10,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/optics/schema.h"
 #include "deepsea/optics/water_presets.h"
+#include "port_config.h"
 #include "yaml_reader.h"
 
 namespace deepsea {
@@ -42,19 +43,22 @@ constexpr double kDefaultAlbedo = 0.66;
 //   cx, cy  pixels  any       yes   (pixel centres at integer coordinates, docs/model.md)
 
 //   lens, sensor, processing: the camera stage (camera_config.cpp); optional
+//   port: the housing's flat or dome port (port_config.cpp); optional
 
-/// The keys of the YAML camera section: the pinhole's (schema::kCamera, also the asset's) and
-/// the camera stage's.
+/// The keys of the YAML camera section: the pinhole's (schema::kCamera, also the asset's), the
+/// camera stage's and the port.
 const std::vector<std::string>& camera_keys() {
     static const std::vector<std::string> keys = [] {
         std::vector<std::string> k = schema::kCamera;
         k.insert(k.end(), camera_schema::kCameraModel.begin(), camera_schema::kCameraModel.end());
+        k.push_back("port");
         return k;
     }();
     return keys;
 }
 
-Camera parse_camera(const Document& doc, const Field& f, std::optional<CameraModel>& model) {
+Camera parse_camera(const Document& doc, const Field& f, std::optional<CameraModel>& model,
+                    std::optional<Port>& port) {
     const MapView m(doc, f, camera_keys());
     Camera cam;
     cam.width = doc.integer(m.need("width"));
@@ -65,6 +69,7 @@ Camera parse_camera(const Document& doc, const Field& f, std::optional<CameraMod
     cam.cy = doc.number(m.need("cy"));
     validate(cam);
     model = parse_camera_model(doc, m, cam);
+    port = parse_port(doc, m, cam);
     return cam;
 }
 
@@ -256,7 +261,7 @@ Parsed parse_document(const Document& doc) {
         // whatever parses also prints as a configuration that parses (fuzz_config's property).
         if (!c && !r && !w) doc.fail(doc.root().mark, "", kEmpty);
         if (c) {
-            out.setup.camera = parse_camera(doc, *c, out.setup.camera_model);
+            out.setup.camera = parse_camera(doc, *c, out.setup.camera_model, out.setup.port);
             out.line["camera"] = yaml::line_of(c->key_mark);
         }
         if (r) {
@@ -313,7 +318,10 @@ Setup load_setup(const std::vector<std::string>& files) {
             dst = std::move(src);
             where[name] = here;
         };
-        if (p.setup.camera) all.camera_model = std::move(p.setup.camera_model);
+        if (p.setup.camera) {  // the camera section's stage and port come with it
+            all.camera_model = std::move(p.setup.camera_model);
+            all.port = std::move(p.setup.port);
+        }
         merge(all.camera, p.setup.camera, "camera");
         merge(all.rig, p.setup.rig, "rig");
         merge(all.water, p.setup.water, "water");
@@ -354,6 +362,7 @@ std::string setup_to_yaml(const Setup& s) {
           << "  cx: " << fmt(c.cx) << "\n"
           << "  cy: " << fmt(c.cy) << "\n";
         if (s.camera_model) write_camera_model(o, *s.camera_model);
+        if (s.port) write_port(o, *s.port);
     }
     if (s.rig) {
         o << "rig:\n";

@@ -11,6 +11,7 @@
 #include "deepsea/camera/model.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
+#include "deepsea/optics/port.h"
 #include "deepsea/optics/water.h"
 
 namespace deepsea {
@@ -21,6 +22,11 @@ struct Setup {
     /// The camera section's `lens`, `sensor` and `processing` (docs/camera.md): the camera
     /// stage. Unset when the section gives none of them (the ideal camera).
     std::optional<CameraModel> camera_model;
+    /// The camera section's `port` (docs/ports.md): the housing's flat or dome port. Unset: no
+    /// port (the pinhole looks into the water). Beside the camera, not in CameraModel: the port
+    /// changes each pixel's ray, i.e. the renderer's and the baker's geometry (an asset will
+    /// record it), while CameraModel is the camera stage applied to rendered radiance.
+    std::optional<Port> port;
     std::optional<Rig> rig;
     std::optional<Water> water;
 };
