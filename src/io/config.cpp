@@ -348,6 +348,15 @@ void require_complete(const Setup& setup, const std::string& where) {
     if (!missing.empty())
         throw ConfigError(where + ": missing section" + (missing.size() > 1 ? "s " : " ") +
                           join(missing) + " (give them in the config files)");
+    refuse_port(setup, where);
+}
+
+void refuse_port(const Setup& setup, const std::string& where) {
+    if (setup.port)
+        throw ConfigError(where +
+                          ": camera.port: rendering and baking through a port are not "
+                          "built yet (docs/ports.md); this command would ignore it: "
+                          "remove the port section");
 }
 
 std::string setup_to_yaml(const Setup& s) {

@@ -40,6 +40,7 @@ void run(const RenderArgs& a) {
     if (!a.camera.empty()) {
         Setup s = load_setup({a.camera});
         if (!s.camera) throw ConfigError(a.camera + ": no camera section");
+        refuse_port(s, a.camera);
         opt.camera = *s.camera;
         opt.camera_model = s.camera_model;
     }

@@ -190,5 +190,25 @@ TEST_F(PortFiles, ThePortComesWithTheCameraSection) {
     EXPECT_EQ(s.port->dome.radius, 0.05);
 }
 
+TEST(PortConfig, CommandsThatWouldIgnoreThePortRefuseIt) {
+    // Nothing renders or bakes through a port yet: a setup with one is refused where a setup
+    // is used whole (bake, reference, demo, bench), naming the key, never silently ignored.
+    deepsea::Setup s = parse_setup(kFlat, "cam.yaml");
+    s.rig = Rig{};
+    s.water = Water{};
+    try {
+        require_complete(s, "deepsea bake");
+        FAIL() << "a port was accepted";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("deepsea bake: camera.port: rendering and baking "
+                                              "through a port are not built yet",
+                                              0),
+                  0u)
+            << e.what();
+    }
+    s.port.reset();
+    EXPECT_NO_THROW(require_complete(s, "deepsea bake"));
+}
+
 }  // namespace
 }  // namespace deepsea
