@@ -69,6 +69,14 @@ install(FILES ${PROJECT_BINARY_DIR}/include/deepsea/version.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/deepsea)
 install(FILES ${PROJECT_SOURCE_DIR}/tools/blender/open_asset.py
   DESTINATION ${CMAKE_INSTALL_DATADIR}/deepsea/blender)
+# The example configs: the demo's setup (what `deepsea demo` and `deepsea bench` read by
+# default, found from bin/ as ../share/deepsea/demo.yaml), the library manifest and the
+# cameras, rigs and waters it names (paths relative to it, so the tree is copied as is).
+install(FILES ${PROJECT_SOURCE_DIR}/volumes/demo.yaml ${PROJECT_SOURCE_DIR}/volumes/library.yaml
+  DESTINATION ${CMAKE_INSTALL_DATADIR}/deepsea)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/volumes/cameras ${PROJECT_SOURCE_DIR}/volumes/rigs
+  ${PROJECT_SOURCE_DIR}/volumes/waters DESTINATION ${CMAKE_INSTALL_DATADIR}/deepsea
+  FILES_MATCHING PATTERN "*.yaml")
 
 install(EXPORT deepseaTargets NAMESPACE deepsea:: DESTINATION ${DEEPSEA_CMAKE_DIR})
 # A static library's private dependencies are its users' link dependencies: the config file
@@ -99,6 +107,9 @@ if(DEEPSEA_STATIC)
   # OpenVDB has no .pc file on Debian: named directly; its headers call Imath (half) inline.
   set(DEEPSEA_PC_REQUIRES "tbb OpenEXR yaml-cpp Imath libcrypto spng libdeflate libjpeg")
   string(APPEND DEEPSEA_PC_LIBS " -lopenvdb")
+  # The static io, inside the user's program, finds the OpenImageIO module through this run
+  # path (src/io/CMakeLists.txt does the same for the CMake package).
+  string(APPEND DEEPSEA_PC_LIBS " -Wl,-rpath,\${libdir}/deepsea")
 else()
   set(DEEPSEA_PC_REQUIRES "tbb")
 endif()

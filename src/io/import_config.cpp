@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "camera_config.h"
 #include "deepsea/camera/sensor.h"
@@ -83,6 +84,35 @@ const KdWater* jerlov_from_kd(const std::vector<double>& kd) {
         if (match) return &w;
     }
     return nullptr;
+}
+
+/// Their light_RID_type 1, "real measurement": the relative intensity of their LED measured in
+/// the lab, ten (angle from the lamp's axis in degrees, value) points, from `BXRA_table` in
+/// DeepSeaRenderer's src/rendering.cpp (github.com/omv-ysong/DeepSeaRenderer). Their
+/// `light_RID` interpolates it linearly and returns 0 beyond 90 degrees, as deepsea's table RID
+/// does (0 beyond the last angle, which is 90 with the value 0).
+constexpr double kTheirLedAngleDeg[] = {0, 10, 20, 30, 35, 40, 45, 50, 60, 90};
+constexpr double kTheirLedValue[] = {1.0, 0.96, 0.87, 0.75, 0.63, 0.5, 0.28, 0.2, 0.12, 0.0};
+
+/// The rig YAML of their light_RID_type: 0, their Gaussian (sigma 35 degrees, 0 beyond 90
+/// degrees in their `light_RID`); 1, their measured LED table.
+std::string their_rid(int type) {
+    std::ostringstream y;
+    if (type == 0) {
+        y << "      rid: {gaussian: {sigma_deg: 35}}  # light_RID_type 0: their Gaussian\n"
+             "      cutoff_deg: 90  # their Gaussian is 0 beyond 90 degrees\n";
+        return y.str();
+    }
+    y << "      # light_RID_type 1: their lab-measured LED (BXRA_table in DeepSeaRenderer's\n"
+         "      # src/rendering.cpp), linear between the points, 0 beyond 90 degrees as theirs\n"
+         "      rid: {table: {angle_deg: [";
+    const char* sep = "";
+    for (double a : kTheirLedAngleDeg) y << std::exchange(sep, ", ") << a;
+    y << "], value: [";
+    sep = "";
+    for (double v : kTheirLedValue) y << std::exchange(sep, ", ") << v;
+    y << "]}}\n";
+    return y.str();
 }
 
 /// `count` rows of n numbers each (one per lamp).
@@ -174,7 +204,10 @@ std::string convert(const Document& doc) {
     const auto rpy = rows(doc, m.need("light_orientations_RollPitchYaw"), n, 3);
     const auto spectrum = doc.numbers(m.need("light_spectrum_RGB"), 3, "r, g, b");
     const auto kd = doc.numbers(m.need("water_attenuation_RGB"), 3, "r, g, b");
-    const int rid_type = doc.integer(m.need("light_RID_type"));
+    const Field& rf = m.need("light_RID_type");
+    const int rid_type = doc.integer(rf);
+    if (rid_type != 0 && rid_type != 1)
+        doc.fail(rf, "expected 0 (their Gaussian) or 1 (their lab-measured LED)");
     const Field& vf = m.need("vsf_type");
     const int vsf = doc.integer(vf);
 
@@ -208,11 +241,7 @@ std::string convert(const Document& doc) {
         y << "      direction: [" << d.x << ", " << d.y << ", " << d.z << "]\n";
         y << "      intensity: [" << spectrum[0] << ", " << spectrum[1] << ", " << spectrum[2]
           << "]\n";
-        if (rid_type == 1) {
-            y << "      # light_RID_type 1 is their lab-measured RID table, which is not in the\n"
-                 "      # config file: the Gaussian of their type 0 (sigma 35 deg) stands in.\n";
-        }
-        y << "      rid: {gaussian: {sigma_deg: 35}}\n";
+        y << their_rid(rid_type);
     }
     y << "\n";
     y << "water:\n";

@@ -9,6 +9,8 @@ rm -rf "$work"; mkdir -p "$work"
 "$ds" import-config "$cfg" -o "$work/authors.yaml"
 grep -q "preset: jerlov:IB" "$work/authors.yaml"
 grep -q "phase: {petzold: clear}" "$work/authors.yaml"
+# light_RID_type 1: their lab-measured LED table (BXRA_table), one per lamp
+[[ $(grep -c "rid: {table: {angle_deg: \[0, 10, 20, 30, 35, 40, 45, 50, 60, 90\], value: \[1, 0.96, 0.87, 0.75, 0.63, 0.5, 0.28, 0.2, 0.12, 0\]}}" "$work/authors.yaml") -eq 2 ]]
 # their white_balance, scale_factor and auto_iso: the camera stage (docs/import-config.md)
 grep -q "white_balance: {gains: \[2.28613, 1, 1.361328\]}" "$work/authors.yaml"
 grep -q "curve: linear" "$work/authors.yaml"

@@ -19,6 +19,10 @@ for f in cmake/deepsea/deepseaConfig.cmake cmake/deepsea/deepseaConfigVersion.cm
   [[ -f $libdir/$f ]] || fail "no $f"
 done
 [[ -f $prefix/share/deepsea/blender/open_asset.py ]] || fail "no Blender script"
+for f in demo.yaml library.yaml cameras/authors-800.yaml rigs/authors-testset.yaml \
+         waters/deep-clear.yaml; do
+  [[ -f $prefix/share/deepsea/$f ]] || fail "no example config share/deepsea/$f"
+done
 # The public headers only: <deepsea/deepsea.h> and the headers it includes, followed through
 # the source tree (and deepsea/version.h, which CMake configures); none of the layers' own.
 closure() {
@@ -44,7 +48,7 @@ while read -r h; do
     -I"$prefix/include" -x c++ - || fail "$h does not compile alone with -Wall -Wextra -Werror"
 done <"$prefix/got.txt"
 layers=$(ls "$libdir"/libdeepsea_*.* | grep -v oiio | wc -l)
-echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers (each compiles alone), $layers libraries, CMake package, pkg-config, Blender script"
+echo "ok layout: binary, $(wc -l <"$prefix/got.txt") headers (each compiles alone), $layers libraries, CMake package, pkg-config, Blender script, example configs"
 
 # Nothing from the build tree: no run path into it, no library loaded from it.
 build_abs=$(cd "$build" && pwd -P)

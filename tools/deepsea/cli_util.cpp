@@ -5,12 +5,24 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 
 #include "deepsea/bake/lattice_rule.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 
 namespace deepsea::cli {
+
+std::string default_demo_config() {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    // The program where the build put it reads the source tree's config; any other copy (an
+    // installed one, a moved prefix) the one installed beside it.
+    if (ec || fs::equivalent(exe, DEEPSEA_BUILT_PROGRAM, ec))
+        return DEEPSEA_SOURCE_DIR "/volumes/demo.yaml";
+    return (exe.parent_path() / DEEPSEA_DEMO_CONFIG_FROM_BINDIR).lexically_normal().string();
+}
 
 namespace {
 /// Lock-free (parallel.h), so the handler may set it and long work polls it directly.

@@ -13,6 +13,12 @@
 
 namespace deepsea::cli {
 
+/// The demo's setup file, the default --config of `demo` and `bench`: beside the installed
+/// program, `<prefix>/share/deepsea/demo.yaml` (found from the program's folder, so a moved
+/// prefix finds its own); for the program where the build put it, the source tree's
+/// volumes/demo.yaml.
+std::string default_demo_config();
+
 /// --threads: worker threads, 0 (the default) for all cores; "must be an integer >= 0"
 /// otherwise. Every command that computes adds it through here.
 CLI::Option* add_threads(CLI::App& sub, int& threads);

@@ -43,7 +43,7 @@ struct BenchArgs {
     bool no_forward = false;
     std::string scattering = "single";
     std::string cases = "composite,stage,camera,sequence";
-    std::string config = std::string(DEEPSEA_SOURCE_DIR) + "/volumes/demo.yaml";
+    std::string config = default_demo_config();
 };
 
 struct Case {

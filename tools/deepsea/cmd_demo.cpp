@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 struct DemoArgs {
     std::string out = "out/demo";
-    std::string config = std::string(DEEPSEA_SOURCE_DIR) + "/volumes/demo.yaml";
+    std::string config = default_demo_config();
     int frames = 8;
     std::uint64_t seed = 1;
     std::string scattering = "multiple";

@@ -3,6 +3,8 @@
 // front door, with only <deepsea/deepsea.h> and the installed libraries. Writes the frame's inputs
 // (colour.exr, depth.exr) and its layers (layers.exr), which cmake_consumer_test.sh holds to
 // `deepsea render` of the same files. Usage: consumer WORK_DIR. Exits 1 if the frame is wrong.
+// `consumer WORK_DIR RGB DEPTH` then renders image files with that asset (relocated_test.sh:
+// a TIFF, which needs the installed OpenImageIO module) into WORK_DIR/files_layers.exr.
 
 #include <deepsea/deepsea.h>
 
@@ -112,15 +114,29 @@ int run(const std::string& dir) {
     return 0;
 }
 
+/// The asset of a first run, with colour and depth read from files as `deepsea render` reads
+/// them.
+int render_files(const std::string& dir, const std::string& rgb, const std::string& depth) {
+    using namespace deepsea;
+    const Asset asset = load_asset(dir + "/tiny.vdb");
+    Renderer renderer(asset);
+    Frame frame{read_color(rgb), read_depth(depth)};
+    Layers layers;
+    renderer.render(layers, frame);
+    write_layers(dir + "/files_layers.exr", layers);
+    std::printf("consumer: rendered %s and %s\n", rgb.c_str(), depth.c_str());
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 2) {
-        std::fprintf(stderr, "usage: consumer WORK_DIR\n");
+    if (argc != 2 && argc != 4) {
+        std::fprintf(stderr, "usage: consumer WORK_DIR [RGB DEPTH]\n");
         return 2;
     }
     try {
-        return run(argv[1]);
+        return argc == 4 ? render_files(argv[1], argv[2], argv[3]) : run(argv[1]);
     } catch (const deepsea::Error& e) {
         std::fprintf(stderr, "consumer: error: %s\n", e.what());
         return e.exit_code();

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "../message_of.h"
 #include "../replaced.h"
@@ -63,12 +64,42 @@ TEST_F(ImportConfig, AuthorsConfigBecomesTheirSetup) {
     EXPECT_NEAR(left.direction.z, std::cos(0.536), 1e-8);
     EXPECT_NEAR(s.rig->lights[1].direction.x, -std::sin(0.536), 1e-8);
     EXPECT_EQ(left.intensity.b, 0.4);
-    EXPECT_EQ(left.rid.kind, Rid::Kind::Gaussian);
-    EXPECT_EQ(left.rid.sigma_deg, 35.0);
+    EXPECT_EQ(left.rid.kind, Rid::Kind::Table);  // light_RID_type 1: TheirLampPatterns
     // Their Kd numbers for Jerlov IB become the measured IB preset, with forward scatter on.
     EXPECT_EQ(s.water->c.r, jerlov_water("IB").c.r);
     EXPECT_EQ(s.water->phase.kind, PhaseKind::PetzoldClear);
     EXPECT_TRUE(s.water->forward.enabled);
+}
+
+TEST_F(ImportConfig, TheirLampPatterns) {
+    // light_RID_type 1: their lab-measured LED, BXRA_table in DeepSeaRenderer's
+    // src/rendering.cpp, interpolated linearly and 0 beyond 90 degrees by their light_RID.
+    const std::vector<double> angle{0, 10, 20, 30, 35, 40, 45, 50, 60, 90};
+    const std::vector<double> value{1.0, 0.96, 0.87, 0.75, 0.63, 0.5, 0.28, 0.2, 0.12, 0.0};
+    const deepsea::Setup s = parse_setup(import_config(file(kAuthors)), "converted.yaml");
+    for (const Light& l : s.rig->lights) {
+        ASSERT_EQ(l.rid.kind, Rid::Kind::Table) << l.name;
+        EXPECT_EQ(l.rid.angle_deg, angle) << l.name;
+        EXPECT_EQ(l.rid.value, value) << l.name;
+    }
+    const Rid& led = s.rig->lights[0].rid;
+    const double deg = M_PI / 180.0;
+    EXPECT_NEAR(led(0.0), 1.0, 1e-12);
+    EXPECT_NEAR(led(42.5 * deg), 0.39, 1e-9);  // halfway between 0.5 and 0.28
+    EXPECT_NEAR(led(75.0 * deg), 0.06, 1e-9);
+    EXPECT_EQ(led(90.0 * deg), 0.0);
+    EXPECT_EQ(led(120.0 * deg), 0.0);
+
+    // light_RID_type 0: their Gaussian, sigma 35 degrees, 0 beyond 90 degrees.
+    const deepsea::Setup g = parse_setup(
+        import_config(file(replaced(kAuthors, "light_RID_type: 1", "light_RID_type: 0"))),
+        "converted.yaml");
+    const Rid& gauss = g.rig->lights[1].rid;
+    EXPECT_EQ(gauss.kind, Rid::Kind::Gaussian);
+    EXPECT_EQ(gauss.sigma_deg, 35.0);
+    EXPECT_EQ(gauss.cutoff_deg, 90.0);
+    EXPECT_NEAR(gauss(35.0 * deg), std::exp(-0.5), 1e-12);
+    EXPECT_EQ(gauss(91.0 * deg), 0.0);
 }
 
 TEST_F(ImportConfig, OtherWatersAndPhases) {
@@ -188,6 +219,8 @@ TEST_F(ImportConfig, BadInputNamesFileLineAndKey) {
     starts(replaced(kAuthors, "num_lights: 2", "num_lights: 0"), ":8: num_lights: must be >= 1");
     starts(replaced(kAuthors, "vsf_type: 1", "vsf_type: 7"), ":5: vsf_type: expected 1, 2, 3 or 4");
     starts(replaced(kAuthors, "vsf_type: 1\n", ""), ":1: vsf_type: missing required key");
+    starts(replaced(kAuthors, "light_RID_type: 1", "light_RID_type: 2"),
+           ":7: light_RID_type: expected 0 (their Gaussian) or 1 (their lab-measured LED)");
     starts(replaced(kAuthors, "[0.25, 0.35, 0.4]", "[0.25, x, 0.4]"),
            ":6: light_spectrum_RGB[1]: expected a number");
     starts(replaced(kAuthors, "scale_factor: 10.0", "scale_factor: 0"),
