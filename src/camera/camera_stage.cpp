@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/camera/bayer.h"
 #include "deepsea/camera/noise.h"
 #include "deepsea/camera/processing.h"
 #include "deepsea/camera/sensor.h"
@@ -33,17 +34,18 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
 }
 
 /// One task's chunk buffers (camera_rows::kChunk values each), carved from one aligned
-/// allocation, and with a lens map a whole row's resampled radiance.
+/// allocation.
 struct Scratch {
     AlignedBytes all;
     float *row, *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *exact_mean,
         *exact_uniform, *exact_electrons, *exact_offset;
     std::int32_t *index, *flag;
 
-    Scratch(int width, bool lens) {
+    /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
+    Scratch(int width, bool whole_row) {
         constexpr std::size_t n = camera_rows::kChunk;
         const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
-                          r = lens ? line_bytes<float>(3 * std::size_t(width)) : 0;
+                          r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
         all = AlignedBytes(r + 13 * f + 2 * i);
         std::size_t at = 0;
         const auto take = [&](std::size_t bytes) {
@@ -64,10 +66,10 @@ struct Scratch {
         for (int u = 0; u < camera_rows::kChunk / 3; ++u)
             for (int c = 0; c < 3; ++c) scale[3 * u + c] = s[c];
     }
-    camera_rows::RowBuffers rows(const float* rad, const float* response, const float* dsnu) const {
-        return {
-            rad,           response,        dsnu,        mean, flag, raw, linear, index, exact_mean,
-            exact_uniform, exact_electrons, exact_offset};
+    camera_rows::RowBuffers rows(const float* rad, const float* response, const float* dsnu,
+                                 const std::int32_t* record) const {
+        return {rad,   response,   dsnu,          record,          mean,        flag, raw, linear,
+                index, exact_mean, exact_uniform, exact_electrons, exact_offset};
     }
 };
 
@@ -115,6 +117,9 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
       m_camera(checked(model, intrinsics)),
       m_map(intrinsics, model.lens.distortion) {
     const int w = m_camera.width, h = m_camera.height;
+    if (model.sensor.bayer != BayerPattern::None && (w < 2 || h < 2))
+        throw SchemaError("camera.sensor.bayer", "needs an image of at least 2 x 2 pixels, got " +
+                                                     std::to_string(w) + " x " + std::to_string(h));
     const std::size_t n = 3 * std::size_t(w), stride = camera_rows::row_stride(w);
     const std::shared_ptr<float> x2 = aligned_floats(std::size_t(w));
     for (int u = 0; u < w; ++u) {
@@ -186,7 +191,11 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     const Sensor& s = m_model.sensor;
     const Processing& proc = m_model.processing;
     const bool grey = proc.white_balance == WhiteBalance::GreyWorld;
-    const bool keep_raw = layers.raw || grey;
+    const BayerPattern bayer = s.bayer;
+    const bool mosaic = bayer != BayerPattern::None;
+    // Grey world and the demosaic need the whole frame's raw DN: a second pass makes the image.
+    const bool two_pass = grey || mosaic;
+    const bool keep_raw = layers.raw || two_pass;
 
     camera_rows::SensorParams sp;
     sp.exposure_time_ms = float(exposure.exposure_time_ms);
@@ -218,8 +227,16 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     // Without a matrix a channel's display value is a function of its raw DN alone, and raw DN
     // are whole numbers: one table per frame replaces the curve's arithmetic per value (up to 12
     // bits: 48 KB, built from 4096 pixels' processing, a fraction of a frame's).
-    const bool table = !proc.matrix && s.bits <= 12;
+    const bool table = !proc.matrix && s.bits <= 12 && !mosaic;
     std::vector<float> lut;
+    // With a mosaic, which values each chunk's pixels record: 1 or 0 per value, for even and
+    // odd rows (chunks start at even pixels).
+    const std::size_t record_row = line_bytes<std::int32_t>(camera_rows::kChunk) / 4;
+    AlignedBytes record(mosaic ? 2 * 4 * record_row : 0);
+    for (int odd = 0; odd < 2 && mosaic; ++odd)
+        for (int i = 0; i < camera_rows::kChunk; ++i)
+            record.at<std::int32_t>(0)[odd * record_row + i] =
+                bayer_channel(bayer, i / 3, odd) == i % 3;
 
     ensure(out.image, w, h);
     keep_raw ? ensure(out.raw, w, h) : void(out.raw = Image());
@@ -228,7 +245,7 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     out.exposure = exposure;
     out.white_balance = wb;
     std::vector<double> row_sums(grey ? 3 * std::size_t(h) : 0);
-    if (table && !grey) lut = display_table(pp, scale, int(sp.max_dn) + 1);
+    if (table && !two_pass) lut = display_table(pp, scale, int(sp.max_dn) + 1);
 
     const int n = 3 * w;
     const std::size_t stride = camera_rows::row_stride(w);
@@ -251,16 +268,20 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
                     if (m_map.empty()) copy(radiance.row(v) + c0, t.radiance, len);
                     camera_rows::sensor_row(
                         sp, base + std::uint32_t(c0), len,
-                        t.rows(rad, m_response.get() + at, m_dsnu ? m_dsnu.get() + at : t.zeros));
+                        t.rows(
+                            rad, m_response.get() + at, m_dsnu ? m_dsnu.get() + at : t.zeros,
+                            mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr));
                     if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v) + c0, len);
                     if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
                     if (layers.noise_free) {  // its DN, in t.gain
                         camera_rows::gain_row(vig, m_x2.get() + c0 / 3, y2, resp, len / 3, t.gain);
                         camera_rows::noise_free_row(sp, len, rad, t.gain, t.gain);
                     }
-                    if (grey) {
-                        for (int i = 0; i < len; i += 3)
-                            for (int c = 0; c < 3; ++c) sum[c] += t.raw[i + c] - sp.black;
+                    if (two_pass) {
+                        for (int i = 0; i < len && grey; i += 3)  // recorded values only
+                            for (int c = 0; c < 3; ++c)
+                                if (!mosaic || bayer_channel(bayer, (c0 + i) / 3, v) == c)
+                                    sum[c] += t.raw[i + c] - sp.black;
                         if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
                         continue;
                     }
@@ -280,25 +301,33 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
             }
         },
         par.or_grain(16));
-    if (!grey) return;
+    if (!two_pass) return;
 
-    // Grey world: the frame's mean per channel (rows summed in order: the same at any thread
-    // count), then the processing pass over the kept DN.
-    Rgb means;
-    for (int v = 0; v < h; ++v)
-        for (int c = 0; c < 3; ++c) means[c] += row_sums[3 * std::size_t(v) + c];
-    out.white_balance = grey_world_gains(means / (double(w) * h));
-    for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
+    // Grey world: the frame's mean per channel over its recorded values (rows summed in order:
+    // the same at any thread count). Then the processing pass over the kept DN, demosaiced first.
+    if (grey) {
+        Rgb sums, counts, means;
+        for (int v = 0; v < h; ++v)
+            for (int c = 0; c < 3; ++c) sums[c] += row_sums[3 * std::size_t(v) + c];
+        for (int v = 0; v < h; ++v)
+            for (int u = 0; u < 2 && u < w; ++u)  // (w - u + 1) / 2 pixels of u's parity
+                for (int c = 0; c < 3; ++c)
+                    if (!mosaic || bayer_channel(bayer, u, v) == c) counts[c] += (w - u + 1) / 2;
+        for (int c = 0; c < 3; ++c) means[c] = sums[c] / counts[c];
+        out.white_balance = grey_world_gains(means);
+        for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
+    }
     if (table) lut = display_table(pp, scale, int(sp.max_dn) + 1);
     parallel_for(
         std::size_t(h),
         [&](std::size_t v0, std::size_t v1) {
-            Scratch t(w, false);
+            Scratch t(w, mosaic);
             t.scales(scale);
             for (int v = int(v0); v < int(v1); ++v) {
+                if (mosaic) demosaic_row(out.raw, bayer, v, t.row);
                 for (int c0 = 0; c0 < n; c0 += kChunk) {
                     const int len = std::min(kChunk, n - c0);
-                    copy(out.raw.row(v) + c0, t.raw, len);
+                    copy(mosaic ? t.row + c0 : out.raw.row(v) + c0, t.raw, len);
                     if (table) {
                         camera_rows::lookup_row(lut.data(), len, t.raw, out.image.row(v) + c0);
                     } else {

@@ -153,30 +153,8 @@ void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp
 namespace {
 
 /// The Gaussian (fast) path of sensor_row for every value; flags the ones for the exact path and
-/// returns their count. kLinear: store the linear DN too.
-/// The Gaussian (fast) path of sensor_row for every value; flags the ones for the exact path and
-/// returns their count. kLinear: store the linear DN too.
-/// The shot noise's normal deviates of n values (Giles' central branch for all; w, which flags
-/// the tails, beside). A loop of its own: hash, log and polynomial are one long chain of
-/// dependent instructions per value (about 100 cycles), and a loop holding only that chain lets
-/// the core overlap several values' chains; fused with the DN arithmetic below, a loop's body
-/// is too long for more than two or three to be in flight (measured: 1.6 times slower).
-[[gnu::always_inline]] inline void shot_deviates(NoiseKey key, std::uint32_t base, int n,
-                                                 float* z_out, float* w_out) {
-    float* __restrict zs = z_out;
-    float* __restrict ws = w_out;
-#pragma omp simd
-    for (int i = 0; i < n; ++i) {
-        const float x = erfinv_argument<float>(noise_bits(key, base + std::uint32_t(i)));
-        const float w = erfinv_w(x);
-        zs[i] = normal_central(x, w);
-        ws[i] = w;
-    }
-}
-
-/// The Gaussian (fast) path of sensor_row for every value; flags the ones for the exact path and
-/// returns their count. kLinear: store the linear DN too.
-template <bool kLinear>
+/// returns their count. kLinear: store the linear DN too; kMosaic: flag only recorded values.
+template <bool kLinear, bool kMosaic>
 [[gnu::always_inline]] inline int noisy_values(const SensorParams& p, std::uint32_t base, int n,
                                                const RowBuffers& b) {
     const float t = p.exposure_time_ms, dark = p.dark_electrons, fw = p.full_well, K = p.gain;
@@ -186,6 +164,7 @@ template <bool kLinear>
     const float* __restrict radiance = b.radiance;
     const float* __restrict response = b.response;
     const float* __restrict dsnu = b.dsnu;
+    const std::int32_t* __restrict record = b.record;
     float* __restrict mean_out = b.mean;
     std::int32_t* __restrict flag = b.flag;
     float* __restrict raw = b.raw;
@@ -208,12 +187,21 @@ template <bool kLinear>
         raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), max_dn);
         if constexpr (kLinear) linear[i] = dn;
         mean_out[i] = mean;
-        const bool slow =
+        std::int32_t slow =
             mean < float(kGaussianShotNoiseFrom) || mean + kClipReach * sigma >= fw || w >= 5.0f;
+        if constexpr (kMosaic) slow &= record[i];
         flag[i] = slow;
         exact += slow;
     }
     return exact;
+}
+
+/// With a mosaic, the values a pixel does not record read out 0.
+[[gnu::always_inline]] inline void mask(const std::int32_t* record, int n, float* values) {
+    const std::int32_t* __restrict r = record;
+    float* __restrict x = values;
+#pragma omp simd
+    for (int i = 0; i < n; ++i) x[i] = r[i] ? x[i] : 0.0f;
 }
 
 }  // namespace
@@ -235,11 +223,18 @@ void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
             raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), max_dn);
             if (keep_linear) linear[i] = K * mean + black;
         }
-        return;
+    } else {
+        // Four loops (linear kept or not, mosaic or not): the plain one carries no mask.
+        const bool lin = p.keep_linear, mos = b.record != nullptr;
+        const int exact = lin ? (mos ? noisy_values<true, true>(p, base, n, b)
+                                     : noisy_values<true, false>(p, base, n, b))
+                              : (mos ? noisy_values<false, true>(p, base, n, b)
+                                     : noisy_values<false, false>(p, base, n, b));
+        if (exact) exact_path(p, base, n, b);
     }
-    const int exact =
-        p.keep_linear ? noisy_values<true>(p, base, n, b) : noisy_values<false>(p, base, n, b);
-    if (exact) exact_path(p, base, n, b);
+    if (!b.record) return;
+    mask(b.record, n, b.raw);
+    if (p.keep_linear) mask(b.record, n, b.linear);
 }
 
 DEEPSEA_CAMERA_CLONES

@@ -64,10 +64,13 @@ struct RowBuffers {
     const float* radiance;  ///< the chunk's radiance
     const float* response;  ///< the camera's: mean electrons per unit radiance and millisecond
     const float* dsnu;      ///< the camera's: dark signal offset, electrons
-    float* mean;            ///< scratch: Poisson mean (photo + dark electrons)
-    std::int32_t* flag;     ///< scratch: 1 where the value takes the exact path
-    float* raw;             ///< out: DN as read out (clipped, quantised)
-    float* linear;          ///< out: DN before clipping and quantisation (if keep_linear)
+    /// With a Bayer mosaic, 1 where the value's channel is the one its pixel records (else
+    /// null): the others take no exact path and read out 0.
+    const std::int32_t* record;
+    float* mean;         ///< scratch: Poisson mean (photo + dark electrons)
+    std::int32_t* flag;  ///< scratch: 1 where the value takes the exact path
+    float* raw;          ///< out: DN as read out (clipped, quantised)
+    float* linear;       ///< out: DN before clipping and quantisation (if keep_linear)
     // The exact path's values, gathered: index, mean, uniform, electrons, DSNU + read noise.
     std::int32_t* index;
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
