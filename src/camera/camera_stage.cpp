@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/camera/bayer.h"
 #include "deepsea/camera/noise.h"
 #include "deepsea/camera/processing.h"
 #include "deepsea/camera/sensor.h"
@@ -32,23 +33,27 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
     return std::shared_ptr<float>(owner, reinterpret_cast<float*>(owner.get()));
 }
 
-/// One task's row buffers (3 x width values each), carved from one aligned allocation.
+/// One task's chunk buffers (camera_rows::kChunk values each), carved from one aligned
+/// allocation.
 struct Scratch {
     AlignedBytes all;
-    float *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *exact_mean,
+    float *row, *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *exact_mean,
         *exact_uniform, *exact_electrons, *exact_offset;
     std::int32_t *index, *flag;
 
-    explicit Scratch(int width) {
-        const std::size_t n = 3 * std::size_t(width), f = line_bytes<float>(n),
-                          i = line_bytes<std::int32_t>(n);
-        all = AlignedBytes(13 * f + 2 * i);
+    /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
+    Scratch(int width, bool whole_row) {
+        constexpr std::size_t n = camera_rows::kChunk;
+        const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
+                          r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
+        all = AlignedBytes(r + 13 * f + 2 * i);
         std::size_t at = 0;
         const auto take = [&](std::size_t bytes) {
             const std::size_t here = at;
             at += bytes;
             return here;
         };
+        row = all.at<float>(take(r));
         for (float** p : {&radiance, &zeros, &gain, &mean, &raw, &linear, &image, &tmp, &scale,
                           &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
             *p = all.at<float>(take(f));
@@ -56,15 +61,15 @@ struct Scratch {
         flag = all.at<std::int32_t>(take(i));
         std::memset(zeros, 0, f);
     }
-    /// The per-channel scales of a frame, as a row.
-    void scales(const float s[3], int width) {
-        for (int u = 0; u < width; ++u)
+    /// The per-channel scales of a frame, as a chunk.
+    void scales(const float s[3]) {
+        for (int u = 0; u < camera_rows::kChunk / 3; ++u)
             for (int c = 0; c < 3; ++c) scale[3 * u + c] = s[c];
     }
-    camera_rows::RowBuffers rows(const float* response, const float* dsnu) const {
-        return {
-            radiance,      response,        dsnu,        mean, flag, raw, linear, index, exact_mean,
-            exact_uniform, exact_electrons, exact_offset};
+    camera_rows::RowBuffers rows(const float* rad, const float* response, const float* dsnu,
+                                 const std::int32_t* record) const {
+        return {rad,   response,   dsnu,          record,          mean,        flag, raw, linear,
+                index, exact_mean, exact_uniform, exact_electrons, exact_offset};
     }
 };
 
@@ -88,6 +93,23 @@ void check_exposure(const FrameExposure& e) {
             "must be > 0 and at most 1e6 DN per electron, got " + std::to_string(e.system_gain));
 }
 
+/// The display value of every whole DN in [0, levels) per channel, interleaved (entry 3 dn + c),
+/// by the processing kernel itself (chunk by chunk, as a frame's rows).
+std::vector<float> display_table(const camera_rows::ProcessParams& pp, const float scale[3],
+                                 int levels) {
+    std::vector<float> lut(3 * std::size_t(levels));
+    Scratch t(0, false);
+    t.scales(scale);
+    const int n = 3 * levels;
+    for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
+        const int len = std::min(camera_rows::kChunk, n - c0);
+        for (int i = 0; i < len; ++i) t.raw[i] = float((c0 + i) / 3);
+        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
+        copy(t.image, lut.data() + c0, len);
+    }
+    return lut;
+}
+
 }  // namespace
 
 CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
@@ -95,7 +117,10 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
       m_camera(checked(model, intrinsics)),
       m_map(intrinsics, model.lens.distortion) {
     const int w = m_camera.width, h = m_camera.height;
-    const std::size_t n = 3 * std::size_t(w);
+    if (model.sensor.bayer != BayerPattern::None && (w < 2 || h < 2))
+        throw SchemaError("camera.sensor.bayer", "needs an image of at least 2 x 2 pixels, got " +
+                                                     std::to_string(w) + " x " + std::to_string(h));
+    const std::size_t n = 3 * std::size_t(w), stride = camera_rows::row_stride(w);
     const std::shared_ptr<float> x2 = aligned_floats(std::size_t(w));
     for (int u = 0; u < w; ++u) {
         const double x = m_camera.ray_x(u);
@@ -108,16 +133,16 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
     float resp[3];
     for (int c = 0; c < 3; ++c) resp[c] = float(electrons_per_radiance(c, 1.0));
     const double prnu = s.noise ? s.prnu_percent / 100.0 : 0.0;
-    const std::shared_ptr<float> response = aligned_floats(n * h);
+    const std::shared_ptr<float> response = aligned_floats(stride * h);
     const std::shared_ptr<float> dsnu =
-        s.noise && s.dsnu > 0.0 ? aligned_floats(n * h) : std::shared_ptr<float>();
+        s.noise && s.dsnu > 0.0 ? aligned_floats(stride * h) : std::shared_ptr<float>();
     const NoiseKey prnu_key = fixed_pattern_key(s.seed, NoiseStream::Prnu);
     const NoiseKey dsnu_key = fixed_pattern_key(s.seed, NoiseStream::Dsnu);
     parallel_for(
         std::size_t(h),
         [&](std::size_t v0, std::size_t v1) {
             for (int v = int(v0); v < int(v1); ++v) {
-                float* row = response.get() + n * v;
+                float* row = response.get() + stride * v;
                 const double y = m_camera.ray_y(v);
                 camera_rows::gain_row(m_model.lens.vignetting, x2.get(), float(y * y), resp, w,
                                       row);
@@ -128,7 +153,7 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
                     row[i] = float(std::max(0.0, row[i] * (1.0 + prnu * z)));
                 }
                 if (!dsnu) continue;
-                float* d = dsnu.get() + n * v;
+                float* d = dsnu.get() + stride * v;
                 for (std::size_t i = 0; i < n; ++i)
                     d[i] = float(s.dsnu * normal_from_bits<double>(
                                               noise_bits(dsnu_key, base + std::uint32_t(i))));
@@ -166,10 +191,13 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     const Sensor& s = m_model.sensor;
     const Processing& proc = m_model.processing;
     const bool grey = proc.white_balance == WhiteBalance::GreyWorld;
-    const bool keep_raw = layers.raw || grey;
+    const BayerPattern bayer = s.bayer;
+    const bool mosaic = bayer != BayerPattern::None;
+    // Grey world and the demosaic need the whole frame's raw DN: a second pass makes the image.
+    const bool two_pass = grey || mosaic;
+    const bool keep_raw = layers.raw || two_pass;
 
     camera_rows::SensorParams sp;
-    sp.width = w;
     sp.exposure_time_ms = float(exposure.exposure_time_ms);
     sp.dark_electrons = float(dark_electrons(s, exposure.exposure_time_ms));
     sp.full_well = float(s.full_well);
@@ -178,13 +206,13 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     sp.max_dn = float(max_dn(s));
     sp.read_noise = float(s.dark_noise);
     sp.noise = s.noise;
+    sp.keep_linear = layers.linear_dn;
     sp.shot_key = temporal_key(s.seed, frame_key, NoiseStream::Shot);
     sp.read_key = temporal_key(s.seed, frame_key, NoiseStream::Read);
     float resp[3];  // the noise-free image's response: no PRNU
     for (int c = 0; c < 3; ++c) resp[c] = float(electrons_per_radiance(c, 1.0));
 
     camera_rows::ProcessParams pp;
-    pp.width = w;
     pp.black = sp.black;
     const Rgb wb = proc.white_balance == WhiteBalance::Gains ? proc.gains : Rgb(1.0);
     const double range = max_dn(s) - black_level(s);
@@ -196,6 +224,19 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     }
     pp.curve = proc.curve;
     pp.inv_gamma = float(1.0 / proc.gamma);
+    // Without a matrix a channel's display value is a function of its raw DN alone, and raw DN
+    // are whole numbers: one table per frame replaces the curve's arithmetic per value (up to 12
+    // bits: 48 KB, built from 4096 pixels' processing, a fraction of a frame's).
+    const bool table = !proc.matrix && s.bits <= 12 && !mosaic;
+    std::vector<float> lut;
+    // With a mosaic, which values each chunk's pixels record: 1 or 0 per value, for even and
+    // odd rows (chunks start at even pixels).
+    const std::size_t record_row = line_bytes<std::int32_t>(camera_rows::kChunk) / 4;
+    AlignedBytes record(mosaic ? 2 * 4 * record_row : 0);
+    for (int odd = 0; odd < 2 && mosaic; ++odd)
+        for (int i = 0; i < camera_rows::kChunk; ++i)
+            record.at<std::int32_t>(0)[odd * record_row + i] =
+                bayer_channel(bayer, i / 3, odd) == i % 3;
 
     ensure(out.image, w, h);
     keep_raw ? ensure(out.raw, w, h) : void(out.raw = Image());
@@ -204,67 +245,100 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     out.exposure = exposure;
     out.white_balance = wb;
     std::vector<double> row_sums(grey ? 3 * std::size_t(h) : 0);
+    if (table && !two_pass) lut = display_table(pp, scale, int(sp.max_dn) + 1);
 
     const int n = 3 * w;
+    const std::size_t stride = camera_rows::row_stride(w);
     const Vignetting& vig = m_model.lens.vignetting;
+    constexpr int kChunk = camera_rows::kChunk;
     parallel_for(
         std::size_t(h),
         [&](std::size_t v0, std::size_t v1) {
-            Scratch t(w);
-            t.scales(scale, w);
+            Scratch t(w, !m_map.empty());
+            t.scales(scale);
             for (int v = int(v0); v < int(v1); ++v) {
-                if (m_map.empty())
-                    copy(radiance.row(v), t.radiance, n);
-                else
-                    m_map.resample_row(radiance, v, t.radiance);
-                const std::size_t at = std::size_t(n) * v;
-                camera_rows::sensor_row(
-                    sp, v, t.rows(m_response.get() + at, m_dsnu ? m_dsnu.get() + at : t.zeros));
-                if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v), n);
-                if (keep_raw) copy(t.raw, out.raw.row(v), n);
-                if (layers.noise_free) {  // its DN, in t.gain
-                    const double y = m_camera.ray_y(v);
-                    camera_rows::gain_row(vig, m_x2.get(), float(y * y), resp, w, t.gain);
-                    camera_rows::noise_free_row(sp, t.radiance, t.gain, t.gain);
+                if (!m_map.empty()) m_map.resample_row(radiance, v, t.row);
+                const std::uint32_t base = noise_counter(w, 0, v, 0);
+                const float y2 = float(m_camera.ray_y(v) * m_camera.ray_y(v));
+                double sum[3] = {0.0, 0.0, 0.0};
+                for (int c0 = 0; c0 < n; c0 += kChunk) {
+                    const int len = std::min(kChunk, n - c0);
+                    const std::size_t at = stride * v + c0;
+                    const float* rad = m_map.empty() ? t.radiance : t.row + c0;
+                    if (m_map.empty()) copy(radiance.row(v) + c0, t.radiance, len);
+                    camera_rows::sensor_row(
+                        sp, base + std::uint32_t(c0), len,
+                        t.rows(
+                            rad, m_response.get() + at, m_dsnu ? m_dsnu.get() + at : t.zeros,
+                            mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr));
+                    if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v) + c0, len);
+                    if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
+                    if (layers.noise_free) {  // its DN, in t.gain
+                        camera_rows::gain_row(vig, m_x2.get() + c0 / 3, y2, resp, len / 3, t.gain);
+                        camera_rows::noise_free_row(sp, len, rad, t.gain, t.gain);
+                    }
+                    if (two_pass) {
+                        for (int i = 0; i < len && grey; i += 3)  // recorded values only
+                            for (int c = 0; c < 3; ++c)
+                                if (!mosaic || bayer_channel(bayer, (c0 + i) / 3, v) == c)
+                                    sum[c] += t.raw[i + c] - sp.black;
+                        if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
+                        continue;
+                    }
+                    if (table) {
+                        camera_rows::lookup_row(lut.data(), len, t.raw, out.image.row(v) + c0);
+                    } else {
+                        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
+                        copy(t.image, out.image.row(v) + c0, len);
+                    }
+                    if (layers.noise_free) {
+                        camera_rows::process_row(pp, len, t.scale, t.gain, t.tmp, t.image);
+                        copy(t.image, out.noise_free.row(v) + c0, len);
+                    }
                 }
-                if (grey) {
-                    double sum[3] = {0.0, 0.0, 0.0};
-                    for (int i = 0; i < n; ++i) sum[i % 3] += t.raw[i] - sp.black;
+                if (grey)
                     for (int c = 0; c < 3; ++c) row_sums[3 * std::size_t(v) + c] = sum[c];
-                    if (layers.noise_free) copy(t.gain, out.noise_free.row(v), n);
-                    continue;
-                }
-                camera_rows::process_row(pp, t.scale, t.raw, t.tmp, t.image);
-                copy(t.image, out.image.row(v), n);
-                if (layers.noise_free) {
-                    camera_rows::process_row(pp, t.scale, t.gain, t.tmp, t.image);
-                    copy(t.image, out.noise_free.row(v), n);
-                }
             }
         },
         par.or_grain(16));
-    if (!grey) return;
+    if (!two_pass) return;
 
-    // Grey world: the frame's mean per channel (rows summed in order: the same at any thread
-    // count), then the processing pass over the kept DN.
-    Rgb means;
-    for (int v = 0; v < h; ++v)
-        for (int c = 0; c < 3; ++c) means[c] += row_sums[3 * std::size_t(v) + c];
-    out.white_balance = grey_world_gains(means / (double(w) * h));
-    for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
+    // Grey world: the frame's mean per channel over its recorded values (rows summed in order:
+    // the same at any thread count). Then the processing pass over the kept DN, demosaiced first.
+    if (grey) {
+        Rgb sums, counts, means;
+        for (int v = 0; v < h; ++v)
+            for (int c = 0; c < 3; ++c) sums[c] += row_sums[3 * std::size_t(v) + c];
+        for (int v = 0; v < h; ++v)
+            for (int u = 0; u < 2 && u < w; ++u)  // (w - u + 1) / 2 pixels of u's parity
+                for (int c = 0; c < 3; ++c)
+                    if (!mosaic || bayer_channel(bayer, u, v) == c) counts[c] += (w - u + 1) / 2;
+        for (int c = 0; c < 3; ++c) means[c] = sums[c] / counts[c];
+        out.white_balance = grey_world_gains(means);
+        for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
+    }
+    if (table) lut = display_table(pp, scale, int(sp.max_dn) + 1);
     parallel_for(
         std::size_t(h),
         [&](std::size_t v0, std::size_t v1) {
-            Scratch t(w);
-            t.scales(scale, w);
+            Scratch t(w, mosaic);
+            t.scales(scale);
             for (int v = int(v0); v < int(v1); ++v) {
-                copy(out.raw.row(v), t.raw, n);
-                camera_rows::process_row(pp, t.scale, t.raw, t.tmp, t.image);
-                copy(t.image, out.image.row(v), n);
-                if (layers.noise_free) {
-                    copy(out.noise_free.row(v), t.raw, n);
-                    camera_rows::process_row(pp, t.scale, t.raw, t.tmp, t.image);
-                    copy(t.image, out.noise_free.row(v), n);
+                if (mosaic) demosaic_row(out.raw, bayer, v, t.row);
+                for (int c0 = 0; c0 < n; c0 += kChunk) {
+                    const int len = std::min(kChunk, n - c0);
+                    copy(mosaic ? t.row + c0 : out.raw.row(v) + c0, t.raw, len);
+                    if (table) {
+                        camera_rows::lookup_row(lut.data(), len, t.raw, out.image.row(v) + c0);
+                    } else {
+                        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
+                        copy(t.image, out.image.row(v) + c0, len);
+                    }
+                    if (layers.noise_free) {
+                        copy(out.noise_free.row(v) + c0, t.raw, len);
+                        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
+                        copy(t.image, out.noise_free.row(v) + c0, len);
+                    }
                 }
             }
         },

@@ -38,45 +38,60 @@ std::size_t line_bytes(std::size_t n) {
     return (n * sizeof(T) + 63) / 64 * 64;
 }
 
+/// Values (3 per pixel) per chunk: a row is recorded in chunks of this many so that a chunk's
+/// scratch (a dozen arrays, 1.5 KB each) stays in L1 from the sensor to the image. A multiple of
+/// 3 (whole pixels) and of 16 (chunks start on cache lines, so every chunk of every row is
+/// split into vectors the same way, whatever thread runs it).
+inline constexpr int kChunk = 384;
+
+/// Floats per row of the stage's per-value arrays: 3 x width rounded up to a cache line, so that
+/// every row (and chunk) starts 64-byte aligned.
+inline std::size_t row_stride(int width) { return (3 * std::size_t(width) + 15) / 16 * 16; }
+
 /// What the sensor kernel needs for one frame.
 struct SensorParams {
-    int width = 0;
     float exposure_time_ms = 0;  ///< the response row is per millisecond
     float dark_electrons = 0;    ///< mean dark-current electrons
     float full_well = 0, gain = 0, black = 0, max_dn = 0;
     float read_noise = 0;  ///< electrons
     bool noise = true;
+    bool keep_linear = false;  ///< fill RowBuffers::linear (else it is not touched)
     NoiseKey shot_key, read_key;
 };
 
-/// One row's buffers, 3 x width interleaved values each (aligned).
+/// One chunk's buffers, n interleaved values each (aligned, n <= kChunk).
 struct RowBuffers {
-    const float* radiance;  ///< the row's radiance
+    const float* radiance;  ///< the chunk's radiance
     const float* response;  ///< the camera's: mean electrons per unit radiance and millisecond
     const float* dsnu;      ///< the camera's: dark signal offset, electrons
-    float* mean;            ///< scratch: Poisson mean (photo + dark electrons)
-    std::int32_t* flag;     ///< scratch: 1 where the value takes the exact path
-    float* raw;             ///< out: DN as read out (clipped, quantised)
-    float* linear;          ///< out: DN before clipping and quantisation
+    /// With a Bayer mosaic, 1 where the value's channel is the one its pixel records (else
+    /// null): the others take no exact path and read out 0.
+    const std::int32_t* record;
+    float* mean;         ///< scratch: Poisson mean (photo + dark electrons)
+    std::int32_t* flag;  ///< scratch: 1 where the value takes the exact path
+    float* raw;          ///< out: DN as read out (clipped, quantised)
+    float* linear;       ///< out: DN before clipping and quantisation (if keep_linear)
     // The exact path's values, gathered: index, mean, uniform, electrons, DSNU + read noise.
     std::int32_t* index;
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
 };
 
-/// Row v: radiance to DN (docs/camera.md, "Noise").
-void sensor_row(const SensorParams& p, int v, const RowBuffers& b);
+/// n values from noise counter `base` on (a chunk of a row): radiance to DN (docs/camera.md,
+/// "Noise").
+void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b);
 
-/// Row v without noise, for the noise-free image: K min(mean, full well) + black, clipped to
+/// n values without noise, for the noise-free image: K min(mean, full well) + black, clipped to
 /// the DN range, from the noise-free response (falloff x channel response, per millisecond).
-void noise_free_row(const SensorParams& p, const float* radiance, const float* response, float* dn);
+void noise_free_row(const SensorParams& p, int n, const float* radiance, const float* response,
+                    float* dn);
 
-/// Each value's mean electrons per unit radiance: the falloff at x2[u] + y2 times resp[c].
-void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp[3], int width,
+/// Each value's mean electrons per unit radiance for `pixels` pixels: the falloff at
+/// x2[u] + y2 times resp[c].
+void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp[3], int pixels,
               float* gain);
 
 /// What the processing kernel needs (per-channel scales come as a row, `scale`).
 struct ProcessParams {
-    int width = 0;
     float black = 0;
     bool matrix = false;
     float m[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -84,9 +99,13 @@ struct ProcessParams {
     float inv_gamma = 1;
 };
 
-/// DN (3 x width interleaved) to display values: (dn - black) scale, the matrix, clamp to
-/// [0, 1], the curve. `tmp` is scratch of the same size; out may be dn.
-void process_row(const ProcessParams& p, const float* scale, const float* dn, float* tmp,
+/// n DN values (whole pixels, interleaved) to display values: (dn - black) scale, the matrix,
+/// clamp to [0, 1], the curve. `tmp` is scratch of the same size; out may be dn.
+void process_row(const ProcessParams& p, int n, const float* scale, const float* dn, float* tmp,
                  float* out);
+
+/// n whole DN values in [0, levels) (interleaved R, G, B) to display values through a table
+/// `lut` of 3 x levels (entry 3 dn + c: channel c's display value of dn).
+void lookup_row(const float* lut, int n, const float* dn, float* out);
 
 }  // namespace deepsea::camera_rows

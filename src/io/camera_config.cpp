@@ -1,5 +1,6 @@
 #include "camera_config.h"
 
+#include "deepsea/camera/bayer.h"
 #include "deepsea/camera/distortion.h"
 #include "deepsea/camera/presets.h"
 #include "deepsea/optics/schema.h"
@@ -30,6 +31,7 @@ using yaml::MapView;
 //   sensor.system_gain | sensor.iso                    a number (not both)
 //   sensor.bits, sensor.seed                           integers (seed >= 0)
 //   sensor.noise                                       bool
+//   sensor.bayer                                       none | rggb | bggr | grbg | gbrg
 //   processing.white_balance                           none | grey_world | {gains: [r, g, b]}
 //   processing.matrix                                  9 numbers, row-major
 //   processing.curve                                   linear | srgb | {gamma: g}
@@ -89,6 +91,12 @@ void parse_sensor(const Document& doc, const Field& f, Sensor& s) {
         const int seed = doc.integer(*x);
         if (seed < 0) doc.fail(*x, "must be >= 0, got " + std::to_string(seed));
         s.seed = std::uint64_t(seed);
+    }
+    if (const Field* x = m.opt("bayer")) {
+        const std::string name = doc.string(*x);
+        const std::optional<BayerPattern> p = bayer_from_name(name);
+        if (!p) doc.fail(*x, "unknown Bayer pattern '" + name + "'; known: " + bayer_names());
+        s.bayer = *p;
     }
 }
 
@@ -206,7 +214,8 @@ void write_camera_model(std::ostream& o, const CameraModel& model) {
       << "    dsnu: " << fmt(s.dsnu) << "\n"
       << "    prnu_percent: " << fmt(s.prnu_percent) << "\n"
       << "    noise: " << (s.noise ? "true" : "false") << "\n"
-      << "    seed: " << s.seed << "\n";
+      << "    seed: " << s.seed << "\n"
+      << "    bayer: " << bayer_name(s.bayer) << "\n";
     const Processing& p = model.processing;
     o << "  processing:\n    white_balance: ";
     switch (p.white_balance) {

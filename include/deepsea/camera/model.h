@@ -54,6 +54,11 @@ struct Lens {
     Distortion distortion;
 };
 
+/// A colour filter array: which channel each photosite records, named by its 2 x 2 tile read
+/// left to right, top to bottom from pixel (0, 0) (docs/bayer.md). None: every
+/// pixel records R, G and B (three co-sited photosites).
+enum class BayerPattern { None, Rggb, Bggr, Grbg, Gbrg };
+
 /// The sensor as EMVA 1288 (release 4.0) describes it. The defaults are round values typical
 /// of a modern 12-bit colour CMOS machine-vision sensor with 3.45 um pixels (the class of Sony
 /// IMX264/IMX250), not a particular camera's datasheet.
@@ -83,6 +88,8 @@ struct Sensor {
     /// False: no noise at all (no shot, dark, DSNU or PRNU; quantisation stays in `raw`).
     bool noise = true;
     std::uint64_t seed = 0;  ///< one camera: its fixed patterns, and with the frame key, its noise
+    /// A colour filter array (each photosite records one channel; the image is demosaiced).
+    BayerPattern bayer = BayerPattern::None;
 };
 
 /// White balance: none, fixed per-channel gains, or grey world (gains that make the frame's
@@ -173,7 +180,8 @@ inline const std::vector<std::string> kSensor = {"preset",
                                                  "dsnu",
                                                  "prnu_percent",
                                                  "noise",
-                                                 "seed"};
+                                                 "seed",
+                                                 "bayer"};
 inline const std::vector<std::string> kProcessing = {"white_balance", "matrix", "curve"};
 inline const std::vector<std::string> kAutoExposure = {"enabled",
                                                        "metering",

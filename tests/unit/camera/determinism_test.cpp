@@ -42,7 +42,11 @@ TEST(CameraNoise, SameBitsInAnyOrderAndAtAnyThreadCount) {
     lens.lens.distortion = {-0.12, 0.03, 0.001, -0.002, 0.0};
     lens.processing.white_balance = WhiteBalance::GreyWorld;
     lens.processing.matrix = std::array<double, 9>{1.2, -0.1, -0.1, -0.1, 1.2, -0.1, 0, 0, 1};
-    for (const CameraModel& m : {plain, lens}) {
+    CameraModel mosaic = plain;  // a Bayer mosaic, and one with the lens and grey world
+    mosaic.sensor.bayer = BayerPattern::Gbrg;
+    CameraModel lens_mosaic = lens;
+    lens_mosaic.sensor.bayer = BayerPattern::Rggb;
+    for (const CameraModel& m : {plain, lens, mosaic, lens_mosaic}) {
         const Camera cam = pinhole(203, 61, 150.0);  // a width that leaves vector tails
         const CameraStage stage(m, cam);
         const double full = m.sensor.full_well / stage.electrons_per_radiance(1, 10.0);

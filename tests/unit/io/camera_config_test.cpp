@@ -59,6 +59,7 @@ TEST(CameraConfig, KeysParseIntoTheModel) {
     EXPECT_EQ(m.sensor.bits, 12);
     EXPECT_EQ(m.sensor.seed, 7u);
     EXPECT_EQ(m.sensor.dsnu, Sensor().dsnu);  // left out: the default
+    EXPECT_EQ(m.sensor.bayer, BayerPattern::None);
     EXPECT_EQ(m.processing.white_balance, WhiteBalance::Gains);
     EXPECT_EQ(m.processing.gains.b, 1.4);
     ASSERT_TRUE(m.processing.matrix);
@@ -76,6 +77,16 @@ TEST(CameraConfig, KeysParseIntoTheModel) {
                     "cam.yaml");
     EXPECT_EQ(words.camera_model->processing.white_balance, WhiteBalance::GreyWorld);
     EXPECT_EQ(words.camera_model->processing.curve, OutputCurve::Srgb);
+    // Each Bayer pattern by its name.
+    for (const auto& [name, p] :
+         {std::pair{"rggb", BayerPattern::Rggb}, std::pair{"bggr", BayerPattern::Bggr},
+          std::pair{"grbg", BayerPattern::Grbg}, std::pair{"gbrg", BayerPattern::Gbrg},
+          std::pair{"none", BayerPattern::None}})
+        EXPECT_EQ(parse_setup(replaced(kCamera, "    seed: 7", std::string("    bayer: ") + name),
+                              "cam.yaml")
+                      .camera_model->sensor.bayer,
+                  p)
+            << name;
 }
 
 std::string error_of(const std::string& text) {
@@ -111,6 +122,9 @@ TEST(CameraConfig, BadValuesNameFileLineAndKey) {
          "cam.yaml:23: camera.processing.white_balance.gains: must be in (0, 1000]"},
         {"-0.1, -0.4, 1.5]", "-0.1, -0.4]", "cam.yaml:24: camera.processing.matrix:"},
         {"  lens:", "  lenses:", "cam.yaml:8: camera.lenses:"},
+        {"    seed: 7", "    bayer: rgbg",
+         "cam.yaml:21: camera.sensor.bayer: unknown Bayer pattern 'rgbg'; known: none, rggb, "
+         "bggr, grbg, gbrg"},
     };
     for (const Bad& c : cases) {
         const std::string e = error_of(replaced(kCamera, c.from, c.to));
@@ -220,6 +234,11 @@ TEST(CameraConfig, SetupToYamlRoundTrips) {
     EXPECT_EQ(*a.processing.matrix, *b.processing.matrix);
     EXPECT_EQ(a.processing.gamma, b.processing.gamma);
     EXPECT_EQ(a.auto_exposure.enabled, b.auto_exposure.enabled);  // off, written as off
+    // A Bayer pattern, written back by its name.
+    deepsea::Setup m = s;
+    m.camera_model->sensor.bayer = BayerPattern::Grbg;
+    EXPECT_EQ(parse_setup(setup_to_yaml(m), "round.yaml").camera_model->sensor.bayer,
+              BayerPattern::Grbg);
     // The auto exposure's keys, on.
     const deepsea::Setup u = parse_setup(kAutoExposure, "cam.yaml");
     const AutoExposure& ua = u.camera_model->auto_exposure;
