@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 
@@ -169,6 +172,63 @@ std::string describe_check(const BakeInfo& info) {
         out += "; lattice refined " + std::to_string(c.refinements) + " time(s)";
     }
     return out;
+}
+
+std::optional<std::pair<int, int>> ShardFlags::resolve(bool environment_by_default) const {
+    const bool given = option && option->count() > 0;
+    const std::string& flag = text;
+    const int k8s_count = count;
+    auto parse_int = [](const char* s, const char* what) {
+        char* end = nullptr;
+        errno = 0;
+        const long v = std::strtol(s, &end, 10);
+        if (!*s || *end || std::isspace(static_cast<unsigned char>(*s)) || errno == ERANGE ||
+            v < INT_MIN || v > INT_MAX)
+            throw ConfigError(std::string(what) + ": not an integer: '" + s + "'");
+        return int(v);
+    };
+    int i = 0, n = 1;
+    if (given && flag.empty())
+        throw ConfigError("--shard: expected i/n (e.g. 0/4), got '' (an unset variable?)");
+    const bool array = given && flag == "array";
+    if (given && !array) {
+        const auto slash = flag.find('/');
+        if (slash == std::string::npos)
+            throw ConfigError("--shard: expected i/n, got '" + flag + "'");
+        i = parse_int(flag.substr(0, slash).c_str(), "--shard");
+        n = parse_int(flag.substr(slash + 1).c_str(), "--shard");
+    } else if (!array && !environment_by_default) {
+        return std::nullopt;
+    } else if (const char* id = std::getenv("SLURM_ARRAY_TASK_ID")) {
+        const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+        if (!count)
+            throw ConfigError("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not");
+        const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+        i = parse_int(id, "SLURM_ARRAY_TASK_ID") -
+            (min ? parse_int(min, "SLURM_ARRAY_TASK_MIN") : 0);
+        n = parse_int(count, "SLURM_ARRAY_TASK_COUNT");
+    } else if (const char* idx = std::getenv("JOB_COMPLETION_INDEX")) {
+        if (k8s_count < 1) throw ConfigError("JOB_COMPLETION_INDEX is set: give --shard-count N");
+        i = parse_int(idx, "JOB_COMPLETION_INDEX");
+        n = k8s_count;
+    } else if (array) {
+        throw ConfigError(
+            "--shard array: neither SLURM_ARRAY_TASK_ID nor JOB_COMPLETION_INDEX is set (not an "
+            "array job?); give --shard i/n");
+    }
+    if (n < 1 || i < 0 || i >= n) {
+        throw ConfigError("shard " + std::to_string(i) + "/" + std::to_string(n) +
+                          ": need 0 <= i < n");
+    }
+    return std::pair{i, n};
+}
+
+void ShardFlags::add_to(CLI::App& sub, const std::string& what) {
+    option = sub.add_option("--shard", text,
+                            "i/n: " + what +
+                                "; 'array': the array job's SLURM_ARRAY_TASK_ID or "
+                                "JOB_COMPLETION_INDEX; not empty");
+    sub.add_option("--shard-count", count, "shards when JOB_COMPLETION_INDEX is used");
 }
 
 static double now_s() {

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,23 @@ struct BakeFlags {
     /// --threads, with `progress` (may be empty), stopping when stop_flag() is set (a signal
     /// while StopOnSignals is in scope).
     Parallel parallel(deepsea::Progress progress = {}) const;
+};
+
+/// --shard i/n (or `array`) and --shard-count: which part of a list of work items (a library's
+/// assets, a sequence's frames) this process does, for a cluster's array jobs.
+struct ShardFlags {
+    std::string text;
+    int count = 0;  ///< --shard-count, for JOB_COMPLETION_INDEX
+    CLI::Option* option = nullptr;
+    /// `what`: what shard i of n does, for --help.
+    void add_to(CLI::App& sub, const std::string& what);
+    /// (index, count): --shard i/n; with --shard array, or without --shard when
+    /// `environment_by_default`, an array job's variables: SLURM_ARRAY_TASK_ID - _MIN of
+    /// SLURM_ARRAY_TASK_COUNT, else JOB_COMPLETION_INDEX of --shard-count. Unset when no shard
+    /// was asked for. ConfigError for '' (an unset shell variable: it used to bake the whole
+    /// library on every array task), text that is not i/n with 0 <= i < n, or `array` outside
+    /// an array job.
+    std::optional<std::pair<int, int>> resolve(bool environment_by_default) const;
 };
 
 /// One line on an asset's own accuracy check (BakeInfo::check) for bake and info: the
