@@ -176,7 +176,8 @@ void setup_render(CLI::App& sub) {
     sub.add_flag("--half", a->half, "write the --layers files in half floats (16 bits)");
     sub.add_option("--exposure", a->exposure,
                    "'auto' (the default: first frame's, then kept, in the sequence manifest) or "
-                   "a factor; not with a camera stage");
+                   "a factor; not with a camera stage")
+        ->default_str("auto");
     sub.add_option("--camera", a->camera,
                    "YAML with the frames' camera (default: the asset's); with lens, sensor or "
                    "processing keys, a camera stage records each frame (docs/camera.md)");
