@@ -325,6 +325,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     }
                 }
                 std::lock_guard<std::mutex> lock(mutex);
+                if (opt.on_frame && (s->skip || s->error.empty())) opt.on_frame(job, s->skip);
                 if (s->skip) {
                     ++result.skipped;
                 } else if (s->error.empty()) {

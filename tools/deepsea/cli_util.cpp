@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <chrono>
 #include <climits>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 
@@ -37,6 +38,72 @@ StopOnSignals::~StopOnSignals() {
 }
 
 int stop_signal() { return g_signal.load(); }
+
+extern "C" void deepsea_exit_on_signal(int sig) {
+    // Only async-signal-safe calls: write(2) and _exit(2).
+    const char* line = sig == SIGINT ? "deepsea: error: stopped by signal 2\n"
+                                     : "deepsea: error: stopped by signal 15\n";
+    std::size_t n = 0;
+    while (line[n]) ++n;
+    if (::write(STDERR_FILENO, line, n) < 0) {
+        // nothing more can be said
+    }
+    ::_exit(130);  // Cancelled's code; no allocation here
+}
+
+void exit_on_signals() {
+    struct sigaction sa {};
+    sa.sa_handler = deepsea_exit_on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+}
+
+namespace {
+bool g_quiet = false, g_verbose = false;
+}  // namespace
+
+Verbosity verbosity() {
+    return g_quiet ? Verbosity::Quiet : g_verbose ? Verbosity::Verbose : Verbosity::Normal;
+}
+
+void add_verbosity(CLI::App& sub) {
+    CLI::Option* q =
+        sub.add_flag("-q,--quiet", g_quiet, "no progress bar, no summary (errors still on stderr)");
+    sub.add_flag("-v,--verbose", g_verbose, "a line per frame or item besides the summary")
+        ->excludes(q);
+}
+
+void say(const char* format, ...) {
+    if (verbosity() == Verbosity::Quiet) return;
+    va_list args;
+    va_start(args, format);
+    std::vfprintf(stdout, format, args);
+    va_end(args);
+}
+
+std::function<void(const FrameJob&, bool)> frame_lines() {
+    if (verbosity() != Verbosity::Verbose) return {};
+    return [](const FrameJob& job, bool skipped) {
+        if (skipped) {
+            detail("skipped %s (its outputs are complete)\n", job.rgb.c_str());
+        } else {
+            const std::string& out = job.output.empty() ? job.layers : job.output;
+            detail("rendered %s -> %s%s%s\n", job.rgb.c_str(), out.c_str(),
+                   job.output.empty() || job.layers.empty() ? "" : ", ",
+                   job.output.empty() || job.layers.empty() ? "" : job.layers.c_str());
+        }
+    };
+}
+
+void detail(const char* format, ...) {
+    if (verbosity() != Verbosity::Verbose) return;
+    va_list args;
+    va_start(args, format);
+    std::vfprintf(stdout, format, args);
+    va_end(args);
+    std::fflush(stdout);
+}
 
 const StopFlag& stop_flag() { return g_signal; }
 
@@ -237,7 +304,10 @@ static double now_s() {
 }
 
 Progress::Progress(std::string label, long total)
-    : m_label(std::move(label)), m_total(total), m_tty(isatty(STDERR_FILENO)), m_start(now_s()) {}
+    : m_label(std::move(label)),
+      m_total(total),
+      m_tty(isatty(STDERR_FILENO) && verbosity() == Verbosity::Normal),
+      m_start(now_s()) {}
 
 void Progress::update(long done) {
     if (!m_tty || m_total <= 0) return;

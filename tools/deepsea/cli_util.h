@@ -3,11 +3,13 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "deepsea/bake/bake.h"
+#include "deepsea/batch/frame_jobs.h"
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
@@ -93,6 +95,27 @@ private:
     }, m_term{};
 };
 
+/// From main, for the whole run: SIGINT or SIGTERM outside a StopOnSignals (startup, short
+/// commands) ends the process at once with one line and exit code 130, as a stopped long
+/// command does, instead of the shell's 128 + signal (143 for SIGTERM). Outputs are written
+/// atomically, so nothing half-written is left.
+void exit_on_signals();
+
+/// How much a command says on stdout: -q (progress bars and summaries off; a command's own
+/// output, such as info's report or bench's table, and warnings and errors on stderr stay),
+/// -v (a line per frame or item besides; the progress bar gives way to them).
+enum class Verbosity { Quiet, Normal, Verbose };
+Verbosity verbosity();
+/// -q/--quiet and -v/--verbose on a subcommand (main adds them to every one).
+void add_verbosity(CLI::App& sub);
+/// printf to stdout unless -q: summaries, "wrote ...".
+void say(const char* format, ...) __attribute__((format(printf, 1, 2)));
+/// printf to stdout with -v only: one line per frame or item.
+void detail(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
+/// With -v: a line per frame of a sequence render (SequenceOptions::on_frame); else empty.
+std::function<void(const FrameJob&, bool)> frame_lines();
+
 /// The signal that asked to stop, 0 if none.
 int stop_signal();
 
@@ -101,7 +124,7 @@ int stop_signal();
 /// (a lattice column, a Monte Carlo column) instead of waiting for it to end.
 const StopFlag& stop_flag();
 
-/// A one-line progress bar on stderr when it is a terminal; silent otherwise.
+/// A one-line progress bar on stderr when it is a terminal; silent otherwise, with -q or -v.
 class Progress {
 public:
     Progress(std::string label, long total);

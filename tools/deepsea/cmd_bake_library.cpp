@@ -80,17 +80,17 @@ void run(const LibraryArgs& a) {
             const BakeInfo want = bake_request(*setup.camera, *setup.rig, *setup.water, settings);
             // An asset of an older format, or unreadable, is baked again.
             if (!a.force && asset_up_to_date(path, want.input_hash)) {
-                std::printf("up to date  %s\n", path.c_str());
+                say("up to date  %s\n", path.c_str());
                 ++skipped;
                 continue;
             }
             if (a.dry_run) {
-                std::printf("would bake  %s\n", path.c_str());
+                say("would bake  %s\n", path.c_str());
                 continue;
             }
             const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings, par);
             write_asset(path, asset);
-            std::printf("baked       %s\n", path.c_str());
+            say("baked       %s\n", path.c_str());
             std::fflush(stdout);
             ++baked;
         } catch (const Cancelled&) {
@@ -100,8 +100,8 @@ void run(const LibraryArgs& a) {
             ++failed;
         }
     }
-    std::printf("shard %d/%d: %d of %zu assets; baked %d, up to date %d, failed %d\n", index, count,
-                mine, entries.size(), baked, skipped, failed);
+    say("shard %d/%d: %d of %zu assets; baked %d, up to date %d, failed %d\n", index, count, mine,
+        entries.size(), baked, skipped, failed);
     if (failed) throw FramesFailed(std::to_string(failed) + " asset(s) failed (listed above)");
 }
 

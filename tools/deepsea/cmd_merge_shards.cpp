@@ -20,11 +20,11 @@ void run(const MergeArgs& a) {
     for (const std::string& folder : a.folders) {
         const ShardMerge m = merge_shards(folder, a.check);
         if (a.check) {
-            std::printf("%s: %d shard(s) agree, all %d frame(s) there; nothing written\n",
-                        folder.c_str(), m.shards, m.frames);
+            say("%s: %d shard(s) agree, all %d frame(s) there; nothing written\n", folder.c_str(),
+                m.shards, m.frames);
         } else {
-            std::printf("%s: %d shard(s), %d frame(s): wrote %s\n", folder.c_str(), m.shards,
-                        m.frames, m.manifest.c_str());
+            say("%s: %d shard(s), %d frame(s): wrote %s\n", folder.c_str(), m.shards, m.frames,
+                m.manifest.c_str());
         }
     }
 }

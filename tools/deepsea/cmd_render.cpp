@@ -96,6 +96,7 @@ void run(const RenderArgs& a) {
         opt.depth_pattern = a.depth_path;
     }
     Progress bar("render", long(jobs.size()));
+    opt.on_frame = frame_lines();
     opt.progress = [&](long done, long) {
         bar.update(done);
         return stop_signal() == 0;
@@ -111,19 +112,17 @@ void run(const RenderArgs& a) {
     if (jobs.size() == 1 && !r.errors.empty()) throw_error(r.error_codes.front(), r.errors.front());
     for (const std::string& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
     if (folders && folders->stale_removed() > 0) {
-        std::printf("removed %d stale temporary file(s) of an interrupted run\n",
-                    folders->stale_removed());
+        say("removed %d stale temporary file(s) of an interrupted run\n", folders->stale_removed());
     }
-    if (opt.shard) std::printf("shard %d/%d: ", opt.shard->index, opt.shard->count);
+    if (opt.shard) say("shard %d/%d: ", opt.shard->index, opt.shard->count);
     if (opt.camera_model) {
-        std::printf(
-            "rendered %d frame(s), skipped %d, failed %zu in %.2f s (camera: %.6g ms, "
+        say("rendered %d frame(s), skipped %d, failed %zu in %.2f s (camera: %.6g ms, "
             "%.6g DN/e-)\n",
             r.written, r.skipped, r.errors.size(), r.seconds, r.camera_exposure.exposure_time_ms,
             r.camera_exposure.system_gain);
     } else {
-        std::printf("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n",
-                    r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
+        say("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n", r.written,
+            r.skipped, r.errors.size(), r.seconds, r.exposure);
     }
     if (r.interrupted) {
         const int left = r.total - r.written - r.skipped - int(r.errors.size());
@@ -133,10 +132,10 @@ void run(const RenderArgs& a) {
                         "same command with --resume to finish");
     }
     if (jobs.size() == 1 && r.written == 1) {
-        if (!a.output.empty()) std::printf("wrote %s\n", a.output.c_str());
-        if (!a.layers.empty()) std::printf("wrote %s\n", a.layers.c_str());
+        if (!a.output.empty()) say("wrote %s\n", a.output.c_str());
+        if (!a.layers.empty()) say("wrote %s\n", a.layers.c_str());
     } else if (!a.output.empty() && r.written > 0) {
-        std::printf("wrote frames to %s\n", a.output.c_str());
+        say("wrote frames to %s\n", a.output.c_str());
     }
     if (!r.errors.empty()) throw FramesFailed("some frames failed (listed above)");
 }

@@ -43,6 +43,9 @@ struct SequenceOptions {
     /// false stops the sequence once the frames in flight are finished (SequenceResult::
     /// interrupted).
     Progress progress;
+    /// Called for each frame written (`skipped` false) or skipped by --resume (true), in the
+    /// order they finish, one at a time: for a line per frame. May be empty.
+    std::function<void(const FrameJob& job, bool skipped)> on_frame;
     /// deepsea's version: recorded in the manifest and in every output's metadata.
     std::string version;
     /// A sequence into folders: the manifest path in each output folder (OutputFolders::
