@@ -7,10 +7,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <regex>
 #include <set>
 
 #include "deepsea/core/atomic_file.h"
@@ -25,6 +27,76 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string stem(const std::string& path) { return fs::path(path).stem().string(); }
+
+/// A frame-number token at p[i]: `%d`, `%04d` (`%4d`) or a run of '#' (`####`): its length in
+/// `p` and the fewest digits it stands for (printf's width: more digits also match). Length 0:
+/// none.
+struct NumberToken {
+    std::size_t length = 0;
+    int digits = 0;
+};
+
+NumberToken number_token(const std::string& p, std::size_t i) {
+    if (p[i] == '#') {
+        const std::size_t end = std::min(p.find_first_not_of('#', i), p.size());
+        return {end - i, int(end - i)};
+    }
+    if (p[i] != '%') return {};
+    std::size_t j = i + 1;
+    while (j < p.size() && j - i <= 3 && std::isdigit(static_cast<unsigned char>(p[j]))) ++j;
+    if (j >= p.size() || p[j] != 'd') return {};
+    const int width = j > i + 1 ? std::atoi(p.substr(i + 1, j - i - 1).c_str()) : 1;
+    return {j + 1 - i, std::max(width, 1)};
+}
+
+bool has_number_token(const std::string& p) {
+    for (std::size_t i = 0; i < p.size(); ++i)
+        if (number_token(p, i).length > 0) return true;
+    return false;
+}
+
+/// The pattern with each number token as '*': what glob lists and what name keys read.
+std::string as_glob(const std::string& p) {
+    std::string out;
+    for (std::size_t i = 0; i < p.size();) {
+        const NumberToken t = number_token(p, i);
+        out += t.length ? std::string("*") : std::string(1, p[i]);
+        i += t.length ? t.length : 1;
+    }
+    return out;
+}
+
+/// The whole pattern as a regular expression: glob wildcards within one path component,
+/// number tokens as their digits.
+std::regex as_regex(const std::string& p) {
+    std::string re;
+    for (std::size_t i = 0; i < p.size();) {
+        const NumberToken t = number_token(p, i);
+        if (t.length) {
+            re += "[0-9]{" + std::to_string(t.digits) + ",}";
+            i += t.length;
+            continue;
+        }
+        const char c = p[i++];
+        if (c == '*') {
+            re += "[^/]*";
+        } else if (c == '?') {
+            re += "[^/]";
+        } else if (c == '[' && p.find(']', i + 1) != std::string::npos) {
+            const std::size_t close = p.find(']', i + 1);  // "[]a]" holds ']'
+            std::string set;
+            for (const char ch : p.substr(i, close - i))
+                set += ch == '\\' ? std::string("\\\\") : std::string(1, ch);
+            if (!set.empty() && set[0] == '!') set[0] = '^';
+            re += "[" + set + "]";
+            i = close + 1;
+        } else {
+            if (std::string(".^$|()+{}[]\\").find(c) != std::string::npos) re += '\\';
+            re += c;
+        }
+    }
+    return std::regex(re);
+}
 
 /// Key by name: the stem less the fixed text the pattern's file name puts before its first and
 /// after its last wildcard.
@@ -200,7 +272,11 @@ std::uint64_t frame_key(const FrameJob& job) { return fnv1a64(stem(job.rgb)); }
 
 bool FrameFiles::sequence() const { return is_pattern(rgb); }
 
-bool is_pattern(const std::string& path) { return path.find_first_of("*?[") != std::string::npos; }
+bool is_pattern(const std::string& path) {
+    if (path.find_first_of("*?[") != std::string::npos) return true;
+    std::error_code ec;
+    return has_number_token(path) && !fs::exists(path, ec);  // a file may hold '#' or '%'
+}
 
 std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
     if (f.output.empty() && f.layers.empty()) {
@@ -252,8 +328,12 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
 std::vector<std::string> glob_files(const std::string& pattern) {
     glob_t g{};
     std::vector<std::string> out;
-    if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
-        for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
+    const bool numbered = has_number_token(pattern);
+    const std::regex numbers = numbered ? as_regex(pattern) : std::regex();
+    if (::glob(as_glob(pattern).c_str(), 0, nullptr, &g) == 0) {
+        for (std::size_t i = 0; i < g.gl_pathc; ++i)
+            if (!numbered || std::regex_match(g.gl_pathv[i], numbers))
+                out.emplace_back(g.gl_pathv[i]);
     }
     globfree(&g);
     std::sort(out.begin(), out.end());
@@ -275,8 +355,9 @@ std::vector<FrameJob> pair_frames(std::vector<std::string> rgb, std::vector<std:
     }
     if (rgb_only.empty()) throw InputError("no colour files match '" + rgb_pattern + "'");
     // By name first; by number where the names differ (rgb_0001.png, depth_0001.exr).
-    const Pairing by_name = pair_by(rgb_only, depth, rgb_pattern, depth_pattern, name_key);
-    const Pairing by_number = pair_by(rgb_only, depth, rgb_pattern, depth_pattern, number_key);
+    const std::string rgb_glob = as_glob(rgb_pattern), depth_glob = as_glob(depth_pattern);
+    const Pairing by_name = pair_by(rgb_only, depth, rgb_glob, depth_glob, name_key);
+    const Pairing by_number = pair_by(rgb_only, depth, rgb_glob, depth_glob, number_key);
     for (const Pairing* p : {&by_name, &by_number}) {
         if (p->duplicate.empty() && p->lone_rgb.empty() && p->lone_depth.empty()) return p->jobs;
     }

@@ -20,7 +20,9 @@ bool process_alive(long pid) { return ::kill(pid_t(pid), 0) == 0 || errno == EPE
 
 }  // namespace
 
-OutputFolders::OutputFolders(const FrameFiles& files, const std::vector<FrameJob>& jobs) {
+OutputFolders::OutputFolders(const FrameFiles& files, const std::vector<FrameJob>& jobs,
+                             const std::optional<ShardRecord>& shard)
+    : m_manifest_name(shard ? shard_manifest_name(shard->index, shard->count) : kManifestName) {
     for (const std::string& dir : {files.output, files.layers}) {
         if (dir.empty()) continue;
         std::error_code ec;
@@ -33,11 +35,19 @@ OutputFolders::OutputFolders(const FrameFiles& files, const std::vector<FrameJob
         }
         if (!existed) m_created.push_back(dir);
         m_folders.push_back(dir);
-        m_locks.push_back(std::make_unique<FolderLock>(dir));
+        if (!shard) {
+            m_locks.push_back(std::make_unique<FolderLock>(dir));
+            continue;
+        }
+        m_locks.push_back(std::make_unique<FolderLock>(dir, FolderLock::Mode::Shared));
+        // ".deepsea-sequence.shard-0003-of-0004.lock"
+        const std::string name =
+            "." + m_manifest_name.substr(0, m_manifest_name.size() - 4) + "lock";
+        m_locks.push_back(std::make_unique<FolderLock>(dir, FolderLock::Mode::Exclusive, name));
     }
     // Only names this sequence writes, and only from writers that are gone: holding the lock,
     // no other render writes here; a live process's temporary is never touched.
-    std::set<std::string> ours{kManifestName};
+    std::set<std::string> ours{m_manifest_name};
     for (const FrameJob& j : jobs) {
         for (const std::string& out : {j.output, j.layers}) {
             if (!out.empty()) ours.insert(temporary_key(fs::path(out).filename().string()));
@@ -64,7 +74,7 @@ OutputFolders::~OutputFolders() {
 std::vector<std::string> OutputFolders::manifests() const {
     std::vector<std::string> out;
     for (const std::string& dir : m_folders)
-        out.push_back((fs::path(dir) / kManifestName).string());
+        out.push_back((fs::path(dir) / m_manifest_name).string());
     return out;
 }
 

@@ -76,6 +76,7 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.depth_channel = opt.depth_read.channel;
     m.depth_scale = opt.depth_read.scale;
     m.frames_total = int(jobs.size());
+    m.shard = opt.shard;
     return m;
 }
 
@@ -95,6 +96,24 @@ void record_failure(Slot& s, const std::string& name) {
         s.error = oom.what();
         s.error_code = oom.exit_code();
     }
+}
+
+/// The auto exposure chosen on `job`'s frame, composited as the pipeline composites it (the
+/// same layers, so the same bits of the final layer). Its failure stops the sequence.
+double exposure_on(Renderer& renderer, const FrameJob& job, const SequenceOptions& opt,
+                   Layers& layers) {
+    Frame frame;
+    Slot probe(opt.bits, opt.layer_output);
+    try {
+        read_frame(job, opt.depth_read, frame);
+        renderer.render(layers, frame, probe.writer.layer_set(job), opt.depth_kind);
+        return exposure_factor(opt.exposure, layers.final);
+    } catch (...) {
+        record_failure(probe, job.rgb);
+    }
+    throw_error(probe.error_code, probe.error +
+                                      " (the auto exposure is chosen on this frame; give "
+                                      "--exposure FACTOR to render without it)");
 }
 
 }  // namespace
@@ -167,6 +186,10 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy
     double exposure = record.exposure;
     ImageMetadata meta;
+    if (opt.exposure_frame && !opt.camera_model && exposure == 0.0) {
+        exposure = exposure_on(renderer, *opt.exposure_frame, opt, shared);
+        record.exposure_frame = opt.exposure_frame->rgb;
+    }
 
     // Two slots in flight: one frame composited while the next is read or the last written.
     // Each holds its frame's inputs and codes (a 1080p frame: 6 MB of 8-bit colour codes, 8 MB
@@ -302,6 +325,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                     }
                 }
                 std::lock_guard<std::mutex> lock(mutex);
+                if (opt.on_frame && (s->skip || s->error.empty())) opt.on_frame(job, s->skip);
                 if (s->skip) {
                     ++result.skipped;
                 } else if (s->error.empty()) {

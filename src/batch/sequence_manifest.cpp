@@ -1,7 +1,9 @@
 #include "deepsea/batch/sequence_manifest.h"
 
+#include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -39,7 +41,20 @@ std::string manifest_to_json(const SequenceManifest& m) {
                      {"depth_channel", m.depth_channel},
                      {"depth_scale", m.depth_scale}};
     j["frames"] = {{"total", m.frames_total}, {"done", m.frames_done}};
+    if (m.shard) {
+        const ShardRecord& s = *m.shard;
+        j["shard"] = {{"index", s.index},
+                      {"count", s.count},
+                      {"sequence_frames", s.sequence_frames},
+                      {"folders", {{"image", s.image_folder}, {"layers", s.layers_folder}}}};
+    }
     return j.dump(2) + "\n";
+}
+
+std::string shard_manifest_name(int index, int count) {
+    char name[96];
+    std::snprintf(name, sizeof name, "deepsea-sequence.shard-%04d-of-%04d.json", index, count);
+    return name;
 }
 
 namespace {
@@ -119,6 +134,19 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
     m.depth_scale = get<double>(j, path, "settings", "depth_scale");
     m.frames_total = get<int>(j, path, "frames", "total");
     m.frames_done = get<int>(j, path, "frames", "done");
+    if (j.contains("shard")) {
+        ShardRecord s;
+        s.index = get<int>(j, path, "shard", "index");
+        s.count = get<int>(j, path, "shard", "count");
+        s.sequence_frames = get<int>(j, path, "shard", "sequence_frames");
+        if (s.count < 1 || s.index < 0 || s.index >= s.count)
+            throw InputError(path + ": shard: index " + std::to_string(s.index) + " of " +
+                             std::to_string(s.count) + ": need 0 <= index < count");
+        const json& shard = j["shard"];
+        s.image_folder = get<std::string>(shard, path + ": shard", "folders", "image");
+        s.layers_folder = get<std::string>(shard, path + ": shard", "folders", "layers");
+        m.shard = s;
+    }
     return m;
 }
 
@@ -128,6 +156,39 @@ SequenceManifest read_manifest(const std::string& path) {
 
 void write_manifest(const std::string& path, const SequenceManifest& m) {
     write_text_atomically(path, manifest_to_json(m));
+}
+
+namespace {
+
+/// Every leaf of `j` as "a.b" -> its JSON text.
+void flatten(const json& j, const std::string& prefix, std::map<std::string, std::string>& out) {
+    if (!j.is_object()) {
+        out[prefix] = j.dump();
+        return;
+    }
+    for (const auto& [k, v] : j.items()) flatten(v, prefix.empty() ? k : prefix + "." + k, out);
+}
+
+}  // namespace
+
+std::string first_difference(const SequenceManifest& a, const SequenceManifest& b,
+                             const std::vector<std::string>& ignore) {
+    json ja = json::parse(manifest_to_json(a)), jb = json::parse(manifest_to_json(b));
+    for (const std::string& k : ignore) {
+        ja.erase(k);
+        jb.erase(k);
+    }
+    std::map<std::string, std::string> fa, fb;
+    flatten(ja, "", fa);
+    flatten(jb, "", fb);
+    for (const auto& [k, v] : fa) {
+        const auto it = fb.find(k);
+        const std::string other = it == fb.end() ? "(none)" : it->second;
+        if (other != v) return k + ": " + v + " vs " + other;
+    }
+    for (const auto& [k, v] : fb)
+        if (!fa.count(k)) return k + ": (none) vs " + v;
+    return "";
 }
 
 void check_same_inputs(const SequenceManifest& folder, const SequenceManifest& run,
@@ -195,6 +256,13 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
         differ("--depth-channel", "'" + folder.depth_channel + "'", "'" + run.depth_channel + "'");
     if (folder.depth_scale != run.depth_scale)
         differ("--depth-scale", num(folder.depth_scale), num(run.depth_scale));
+    const auto shard = [](const SequenceManifest& m) {
+        return m.shard ? "shard " + std::to_string(m.shard->index) + "/" +
+                             std::to_string(m.shard->count) + " of " +
+                             std::to_string(m.shard->sequence_frames) + " frames"
+                       : std::string("the whole sequence");
+    };
+    if (shard(folder) != shard(run)) differ("the part rendered", shard(folder), shard(run));
 }
 
 }  // namespace deepsea

@@ -26,17 +26,17 @@ std::string read_owner(int fd) {
 
 }  // namespace
 
-FolderLock::FolderLock(const std::string& folder)
-    : m_path((std::filesystem::path(folder) / file_name()).string()) {
+FolderLock::FolderLock(const std::string& folder, Mode mode, const std::string& name)
+    : m_path((std::filesystem::path(folder) / name).string()), m_mode(mode) {
     // The file may be unlinked by its previous owner between our open and our lock; then the
     // lock we got is on a name no one else will open: check the inode and try again.
     for (int attempt = 0; attempt < 8; ++attempt) {
         const int fd = ::open(m_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
         if (fd < 0) {
-            throw IoError(folder + ": cannot create the lock file " + file_name() + ": " +
+            throw IoError(folder + ": cannot create the lock file " + name + ": " +
                           std::strerror(errno));
         }
-        if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        if (::flock(fd, (mode == Mode::Shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
             const int err = errno;
             const std::string owner = read_owner(fd);
             ::close(fd);
@@ -45,14 +45,16 @@ FolderLock::FolderLock(const std::string& folder)
                               (owner.empty() ? std::string() : " (pid " + owner + ")") +
                               " is writing into this folder; wait for it or choose another");
             }
-            throw IoError(folder + ": cannot lock " + file_name() + ": " + std::strerror(err));
+            throw IoError(folder + ": cannot lock " + name + ": " + std::strerror(err));
         }
         struct stat held {
         }, named{};
         if (::fstat(fd, &held) == 0 && ::stat(m_path.c_str(), &named) == 0 &&
             held.st_ino == named.st_ino && held.st_dev == named.st_dev) {
+            // Shared holders would overwrite each other's ids: only an exclusive one writes.
             const std::string pid = std::to_string(::getpid()) + "\n";
-            if (::ftruncate(fd, 0) == 0 && ::pwrite(fd, pid.data(), pid.size(), 0) < 0) {
+            if (mode == Mode::Exclusive && ::ftruncate(fd, 0) == 0 &&
+                ::pwrite(fd, pid.data(), pid.size(), 0) < 0) {
                 // The pid is only for messages: a lock without it still excludes others.
             }
             m_fd = fd;
@@ -60,14 +62,17 @@ FolderLock::FolderLock(const std::string& folder)
         }
         ::close(fd);
     }
-    throw IoError(folder + ": cannot lock " + file_name() + ": it keeps being replaced");
+    throw IoError(folder + ": cannot lock " + name + ": it keeps being replaced");
 }
 
 FolderLock::~FolderLock() {
     if (m_fd < 0) return;
     // Unlink while still holding the lock: a process that opened the old file gets the lock
-    // only after this and then sees that the name no longer refers to it.
-    ::unlink(m_path.c_str());
+    // only after this and then sees that the name no longer refers to it. A shared holder
+    // unlinks only as the last one (an exclusive lock granted now), else the others' lock
+    // would be on a name a newcomer no longer finds.
+    if (m_mode == Mode::Exclusive || ::flock(m_fd, LOCK_EX | LOCK_NB) == 0)
+        ::unlink(m_path.c_str());
     ::close(m_fd);
 }
 

@@ -2,7 +2,11 @@
 
 #include <unistd.h>
 
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <climits>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -46,6 +50,72 @@ StopOnSignals::~StopOnSignals() {
 }
 
 int stop_signal() { return g_signal.load(); }
+
+extern "C" void deepsea_exit_on_signal(int sig) {
+    // Only async-signal-safe calls: write(2) and _exit(2).
+    const char* line = sig == SIGINT ? "deepsea: error: stopped by signal 2\n"
+                                     : "deepsea: error: stopped by signal 15\n";
+    std::size_t n = 0;
+    while (line[n]) ++n;
+    if (::write(STDERR_FILENO, line, n) < 0) {
+        // nothing more can be said
+    }
+    ::_exit(130);  // Cancelled's code; no allocation here
+}
+
+void exit_on_signals() {
+    struct sigaction sa {};
+    sa.sa_handler = deepsea_exit_on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+}
+
+namespace {
+bool g_quiet = false, g_verbose = false;
+}  // namespace
+
+Verbosity verbosity() {
+    return g_quiet ? Verbosity::Quiet : g_verbose ? Verbosity::Verbose : Verbosity::Normal;
+}
+
+void add_verbosity(CLI::App& sub) {
+    CLI::Option* q =
+        sub.add_flag("-q,--quiet", g_quiet, "no progress bar, no summary (errors still on stderr)");
+    sub.add_flag("-v,--verbose", g_verbose, "a line per frame or item besides the summary")
+        ->excludes(q);
+}
+
+void say(const char* format, ...) {
+    if (verbosity() == Verbosity::Quiet) return;
+    va_list args;
+    va_start(args, format);
+    std::vfprintf(stdout, format, args);
+    va_end(args);
+}
+
+std::function<void(const FrameJob&, bool)> frame_lines() {
+    if (verbosity() != Verbosity::Verbose) return {};
+    return [](const FrameJob& job, bool skipped) {
+        if (skipped) {
+            detail("skipped %s (its outputs are complete)\n", job.rgb.c_str());
+        } else {
+            const std::string& out = job.output.empty() ? job.layers : job.output;
+            detail("rendered %s -> %s%s%s\n", job.rgb.c_str(), out.c_str(),
+                   job.output.empty() || job.layers.empty() ? "" : ", ",
+                   job.output.empty() || job.layers.empty() ? "" : job.layers.c_str());
+        }
+    };
+}
+
+void detail(const char* format, ...) {
+    if (verbosity() != Verbosity::Verbose) return;
+    va_list args;
+    va_start(args, format);
+    std::vfprintf(stdout, format, args);
+    va_end(args);
+    std::fflush(stdout);
+}
 
 const StopFlag& stop_flag() { return g_signal; }
 
@@ -183,13 +253,73 @@ std::string describe_check(const BakeInfo& info) {
     return out;
 }
 
+std::optional<std::pair<int, int>> ShardFlags::resolve(bool environment_by_default) const {
+    const bool given = option && option->count() > 0;
+    const std::string& flag = text;
+    const int k8s_count = count;
+    auto parse_int = [](const char* s, const char* what) {
+        char* end = nullptr;
+        errno = 0;
+        const long v = std::strtol(s, &end, 10);
+        if (!*s || *end || std::isspace(static_cast<unsigned char>(*s)) || errno == ERANGE ||
+            v < INT_MIN || v > INT_MAX)
+            throw ConfigError(std::string(what) + ": not an integer: '" + s + "'");
+        return int(v);
+    };
+    int i = 0, n = 1;
+    if (given && flag.empty())
+        throw ConfigError("--shard: expected i/n (e.g. 0/4), got '' (an unset variable?)");
+    const bool array = given && flag == "array";
+    if (given && !array) {
+        const auto slash = flag.find('/');
+        if (slash == std::string::npos)
+            throw ConfigError("--shard: expected i/n, got '" + flag + "'");
+        i = parse_int(flag.substr(0, slash).c_str(), "--shard");
+        n = parse_int(flag.substr(slash + 1).c_str(), "--shard");
+    } else if (!array && !environment_by_default) {
+        return std::nullopt;
+    } else if (const char* id = std::getenv("SLURM_ARRAY_TASK_ID")) {
+        const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+        if (!count)
+            throw ConfigError("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not");
+        const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+        i = parse_int(id, "SLURM_ARRAY_TASK_ID") -
+            (min ? parse_int(min, "SLURM_ARRAY_TASK_MIN") : 0);
+        n = parse_int(count, "SLURM_ARRAY_TASK_COUNT");
+    } else if (const char* idx = std::getenv("JOB_COMPLETION_INDEX")) {
+        if (k8s_count < 1) throw ConfigError("JOB_COMPLETION_INDEX is set: give --shard-count N");
+        i = parse_int(idx, "JOB_COMPLETION_INDEX");
+        n = k8s_count;
+    } else if (array) {
+        throw ConfigError(
+            "--shard array: neither SLURM_ARRAY_TASK_ID nor JOB_COMPLETION_INDEX is set (not an "
+            "array job?); give --shard i/n");
+    }
+    if (n < 1 || i < 0 || i >= n) {
+        throw ConfigError("shard " + std::to_string(i) + "/" + std::to_string(n) +
+                          ": need 0 <= i < n");
+    }
+    return std::pair{i, n};
+}
+
+void ShardFlags::add_to(CLI::App& sub, const std::string& what) {
+    option = sub.add_option("--shard", text,
+                            "i/n: " + what +
+                                "; 'array': the array job's SLURM_ARRAY_TASK_ID or "
+                                "JOB_COMPLETION_INDEX; not empty");
+    sub.add_option("--shard-count", count, "shards when JOB_COMPLETION_INDEX is used");
+}
+
 static double now_s() {
     using namespace std::chrono;
     return duration<double>(steady_clock::now().time_since_epoch()).count();
 }
 
 Progress::Progress(std::string label, long total)
-    : m_label(std::move(label)), m_total(total), m_tty(isatty(STDERR_FILENO)), m_start(now_s()) {}
+    : m_label(std::move(label)),
+      m_total(total),
+      m_tty(isatty(STDERR_FILENO) && verbosity() == Verbosity::Normal),
+      m_start(now_s()) {}
 
 void Progress::update(long done) {
     if (!m_tty || m_total <= 0) return;

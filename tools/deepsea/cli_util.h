@@ -3,10 +3,13 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "deepsea/bake/bake.h"
+#include "deepsea/batch/frame_jobs.h"
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
@@ -62,6 +65,23 @@ struct BakeFlags {
     Parallel parallel(deepsea::Progress progress = {}) const;
 };
 
+/// --shard i/n (or `array`) and --shard-count: which part of a list of work items (a library's
+/// assets, a sequence's frames) this process does, for a cluster's array jobs.
+struct ShardFlags {
+    std::string text;
+    int count = 0;  ///< --shard-count, for JOB_COMPLETION_INDEX
+    CLI::Option* option = nullptr;
+    /// `what`: what shard i of n does, for --help.
+    void add_to(CLI::App& sub, const std::string& what);
+    /// (index, count): --shard i/n; with --shard array, or without --shard when
+    /// `environment_by_default`, an array job's variables: SLURM_ARRAY_TASK_ID - _MIN of
+    /// SLURM_ARRAY_TASK_COUNT, else JOB_COMPLETION_INDEX of --shard-count. Unset when no shard
+    /// was asked for. ConfigError for '' (an unset shell variable: it used to bake the whole
+    /// library on every array task), text that is not i/n with 0 <= i < n, or `array` outside
+    /// an array job.
+    std::optional<std::pair<int, int>> resolve(bool environment_by_default) const;
+};
+
 /// One line on an asset's own accuracy check (BakeInfo::check) for bake and info: the
 /// errors, where the worst pixel is, how many pixels, refinements, and whether it meets the bar.
 std::string describe_check(const BakeInfo& info);
@@ -81,6 +101,27 @@ private:
     }, m_term{};
 };
 
+/// From main, for the whole run: SIGINT or SIGTERM outside a StopOnSignals (startup, short
+/// commands) ends the process at once with one line and exit code 130, as a stopped long
+/// command does, instead of the shell's 128 + signal (143 for SIGTERM). Outputs are written
+/// atomically, so nothing half-written is left.
+void exit_on_signals();
+
+/// How much a command says on stdout: -q (progress bars and summaries off; a command's own
+/// output, such as info's report or bench's table, and warnings and errors on stderr stay),
+/// -v (a line per frame or item besides; the progress bar gives way to them).
+enum class Verbosity { Quiet, Normal, Verbose };
+Verbosity verbosity();
+/// -q/--quiet and -v/--verbose on a subcommand (main adds them to every one).
+void add_verbosity(CLI::App& sub);
+/// printf to stdout unless -q: summaries, "wrote ...".
+void say(const char* format, ...) __attribute__((format(printf, 1, 2)));
+/// printf to stdout with -v only: one line per frame or item.
+void detail(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
+/// With -v: a line per frame of a sequence render (SequenceOptions::on_frame); else empty.
+std::function<void(const FrameJob&, bool)> frame_lines();
+
 /// The signal that asked to stop, 0 if none.
 int stop_signal();
 
@@ -89,7 +130,7 @@ int stop_signal();
 /// (a lattice column, a Monte Carlo column) instead of waiting for it to end.
 const StopFlag& stop_flag();
 
-/// A one-line progress bar on stderr when it is a terminal; silent otherwise.
+/// A one-line progress bar on stderr when it is a terminal; silent otherwise, with -q or -v.
 class Progress {
 public:
     Progress(std::string label, long total);

@@ -64,13 +64,12 @@ void run(const BakeArgs& a) {
     const double total_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const Lattice& l = asset.lattice();
-    std::printf(
-        "wrote %s: %dx%d columns (step %d) x %d samples (%s, z_max %.3f m), %.2f MB; "
+    say("wrote %s: %dx%d columns (step %d) x %d samples (%s, z_max %.3f m), %.2f MB; "
         "bake %.2f s, with writing %.2f s\n",
         a.output.c_str(), l.ni, l.nj, l.step, l.nk(), to_string(l.scheme), l.z_max(),
         std::filesystem::file_size(a.output) / 1e6, bake_s, total_s);
     const std::string check = describe_check(asset.info);
-    std::printf("check: %s\n", check.c_str());
+    say("check: %s\n", check.c_str());
     if (asset.info.check.done && !meets_bar(asset.info.check)) {
         // Loud but not fatal: the asset is usable, the user decides (--strict-check to fail).
         std::fflush(stdout);
@@ -78,12 +77,11 @@ void run(const BakeArgs& a) {
     }
     if (asset.info.scattering == Scattering::Multiple) {
         const HigherOrderSettings& h = asset.info.higher_orders;
-        std::printf(
-            "multiple scattering: orders >= 2 are %.1f %% of the light at z_max, "
+        say("multiple scattering: orders >= 2 are %.1f %% of the light at z_max, "
             "Monte Carlo standard error %.2f %% of the total (%d paths per column)\n",
             100.0 * h.fraction, 100.0 * h.rel_std_error, h.paths);
     }
-    if (a.check) {
+    if (a.check) {  // asked for: printed with -q too
         // The file's values, as the runtime will see them (half storage included).
         const Asset loaded = load_asset(a.output);
         std::printf("%-22s %8s %12s %12s %8s\n", "scene", "z (m)", "mean rel", "max rel", "pixels");

@@ -2,11 +2,7 @@
 // inputs are unchanged; shardable so that array jobs split a large library without overlap.
 
 #include <algorithm>
-#include <cctype>
-#include <cerrno>
-#include <climits>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 
 #include "cli_util.h"
@@ -23,53 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// (index, count) of this shard: --shard i/n, else SLURM_ARRAY_TASK_ID/_COUNT (minus
-/// SLURM_ARRAY_TASK_MIN), else JOB_COMPLETION_INDEX with --shard-count, else (0, 1).
-/// `given`: --shard was on the command line, even as '' (an unset shell variable), which is a
-/// usage error, not "no shard": it used to bake the whole library on every array task.
-std::pair<int, int> shard_of(const std::string& flag, bool given, int k8s_count) {
-    auto parse_int = [](const char* s, const char* what) {
-        char* end = nullptr;
-        errno = 0;
-        const long v = std::strtol(s, &end, 10);
-        if (!*s || *end || std::isspace(static_cast<unsigned char>(*s)) || errno == ERANGE ||
-            v < INT_MIN || v > INT_MAX)
-            throw ConfigError(std::string(what) + ": not an integer: '" + s + "'");
-        return int(v);
-    };
-    int i = 0, n = 1;
-    if (given && flag.empty())
-        throw ConfigError("--shard: expected i/n (e.g. 0/4), got '' (an unset variable?)");
-    if (given) {
-        const auto slash = flag.find('/');
-        if (slash == std::string::npos)
-            throw ConfigError("--shard: expected i/n, got '" + flag + "'");
-        i = parse_int(flag.substr(0, slash).c_str(), "--shard");
-        n = parse_int(flag.substr(slash + 1).c_str(), "--shard");
-    } else if (const char* id = std::getenv("SLURM_ARRAY_TASK_ID")) {
-        const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
-        if (!count)
-            throw ConfigError("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not");
-        const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
-        i = parse_int(id, "SLURM_ARRAY_TASK_ID") -
-            (min ? parse_int(min, "SLURM_ARRAY_TASK_MIN") : 0);
-        n = parse_int(count, "SLURM_ARRAY_TASK_COUNT");
-    } else if (const char* idx = std::getenv("JOB_COMPLETION_INDEX")) {
-        if (k8s_count < 1) throw ConfigError("JOB_COMPLETION_INDEX is set: give --shard-count N");
-        i = parse_int(idx, "JOB_COMPLETION_INDEX");
-        n = k8s_count;
-    }
-    if (n < 1 || i < 0 || i >= n) {
-        throw ConfigError("shard " + std::to_string(i) + "/" + std::to_string(n) +
-                          ": need 0 <= i < n");
-    }
-    return {i, n};
-}
-
 struct LibraryArgs {
-    std::string manifest, out = "volumes/baked", shard;
-    bool shard_given = false;  ///< --shard on the command line, even empty
-    int shard_count = 0;
+    std::string manifest, out = "volumes/baked";
+    ShardFlags shard;
     bool force = false, dry_run = false;
     int threads = 0;
 };
@@ -99,7 +51,7 @@ void run(const LibraryArgs& a) {
     for (const std::string& f : manifest.cameras) load_setup({f});
     for (const std::string& f : manifest.rigs) load_setup({f});
     for (const std::string& w : manifest.waters) load_water(w);
-    const auto [index, count] = shard_of(a.shard, a.shard_given, a.shard_count);
+    const auto [index, count] = *a.shard.resolve(true);
     std::error_code ec;
     fs::create_directories(a.out, ec);
     if (ec) throw IoError("cannot create " + a.out + ": " + ec.message());
@@ -128,17 +80,17 @@ void run(const LibraryArgs& a) {
             const BakeInfo want = bake_request(*setup.camera, *setup.rig, *setup.water, settings);
             // An asset of an older format, or unreadable, is baked again.
             if (!a.force && asset_up_to_date(path, want.input_hash)) {
-                std::printf("up to date  %s\n", path.c_str());
+                say("up to date  %s\n", path.c_str());
                 ++skipped;
                 continue;
             }
             if (a.dry_run) {
-                std::printf("would bake  %s\n", path.c_str());
+                say("would bake  %s\n", path.c_str());
                 continue;
             }
             const Asset asset = bake(*setup.camera, *setup.rig, *setup.water, settings, par);
             write_asset(path, asset);
-            std::printf("baked       %s\n", path.c_str());
+            say("baked       %s\n", path.c_str());
             std::fflush(stdout);
             ++baked;
         } catch (const Cancelled&) {
@@ -148,8 +100,8 @@ void run(const LibraryArgs& a) {
             ++failed;
         }
     }
-    std::printf("shard %d/%d: %d of %zu assets; baked %d, up to date %d, failed %d\n", index, count,
-                mine, entries.size(), baked, skipped, failed);
+    say("shard %d/%d: %d of %zu assets; baked %d, up to date %d, failed %d\n", index, count, mine,
+        entries.size(), baked, skipped, failed);
     if (failed) throw FramesFailed(std::to_string(failed) + " asset(s) failed (listed above)");
 }
 
@@ -159,16 +111,11 @@ void setup_bake_library(CLI::App& sub) {
     auto a = std::make_shared<LibraryArgs>();
     sub.add_option("manifest", a->manifest, "library manifest (volumes/library.yaml)")->required();
     sub.add_option("--out", a->out, "folder for the assets");
-    CLI::Option* shard = sub.add_option(
-        "--shard", a->shard, "i/n: bake only assets with index % n == i (0-based); not empty");
-    sub.add_option("--shard-count", a->shard_count, "shards when JOB_COMPLETION_INDEX is used");
+    a->shard.add_to(sub, "bake only assets with index % n == i (0-based)");
     sub.add_flag("--force", a->force, "bake even if an asset is up to date");
     sub.add_flag("--dry-run", a->dry_run, "list what would be baked");
     add_threads(sub, a->threads);
-    sub.callback([a, shard] {
-        a->shard_given = shard->count() > 0;
-        run(*a);
-    });
+    sub.callback([a] { run(*a); });
 }
 
 }  // namespace deepsea::cli

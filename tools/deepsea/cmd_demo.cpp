@@ -39,7 +39,7 @@ Asset demo_asset(const Setup& setup, const std::string& path, Scattering scatter
     // Unreadable, stale or of an older format: bake a new one below.
     if (asset_up_to_date(
             path, bake_request(*setup.camera, *setup.rig, *setup.water, settings).input_hash)) {
-        std::printf("asset: %s (up to date)\n", path.c_str());
+        say("asset: %s (up to date)\n", path.c_str());
         return load_asset(path);
     }
     Progress bar("bake", 1);
@@ -51,7 +51,7 @@ Asset demo_asset(const Setup& setup, const std::string& path, Scattering scatter
                     }});
     bar.finish();
     write_asset(path, a);
-    std::printf("asset: baked %s\n", path.c_str());
+    say("asset: baked %s\n", path.c_str());
     return a;
 }
 
@@ -89,13 +89,14 @@ void run(const DemoArgs& a) {
         scene_bar.update(i + 1);
     }
     scene_bar.finish();
-    std::printf("scene: %d frames in %s\n", a.frames, input.c_str());
+    say("scene: %d frames in %s\n", a.frames, input.c_str());
 
     // 2. the asset, 3. the sequence
     const Asset asset =
         demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering), a.threads);
     SequenceOptions opt;
     Progress bar("render", a.frames);
+    opt.on_frame = frame_lines();
     opt.progress = [&](long done, long) {
         bar.update(done);
         return true;
@@ -104,7 +105,7 @@ void run(const DemoArgs& a) {
     in_arena(a.threads, [&] { r = render_sequence(asset, jobs, opt); });
     bar.finish();
     for (const auto& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
-    std::printf("render: %d frames in %.2f s -> %s\n", r.written, r.seconds, frames.c_str());
+    say("render: %d frames in %.2f s -> %s\n", r.written, r.seconds, frames.c_str());
 
     // 4. the same frames recorded by the setup's camera (lens, sensor, processing, auto
     // exposure: docs/camera.md)
@@ -127,9 +128,9 @@ void run(const DemoArgs& a) {
         in_arena(a.threads, [&] { c = render_sequence(asset, camera_jobs, cam); });
         cam_bar.finish();
         for (const auto& e : c.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
-        std::printf("camera: %d frames in %.2f s -> %s (last frame %.3g ms, %.3g DN/e-)\n",
-                    c.written, c.seconds, recorded.c_str(), c.camera_exposure.exposure_time_ms,
-                    c.camera_exposure.system_gain);
+        say("camera: %d frames in %.2f s -> %s (last frame %.3g ms, %.3g DN/e-)\n", c.written,
+            c.seconds, recorded.c_str(), c.camera_exposure.exposure_time_ms,
+            c.camera_exposure.system_gain);
         r.errors.insert(r.errors.end(), c.errors.begin(), c.errors.end());
     }
 
@@ -148,9 +149,9 @@ void run(const DemoArgs& a) {
     }
     const std::string sheet = (out / "contact_sheet.png").string();
     write_color(sheet, contact_sheet(rows, 256));
-    std::printf("contact sheet (in-air | depth | direct | backscatter | final%s): %s\n",
-                camera_jobs.empty() ? "" : " | camera", sheet.c_str());
-    std::printf("demo output in %s\n", fs::absolute(out).c_str());
+    say("contact sheet (in-air | depth | direct | backscatter | final%s): %s\n",
+        camera_jobs.empty() ? "" : " | camera", sheet.c_str());
+    say("demo output in %s\n", fs::absolute(out).c_str());
     if (!r.errors.empty()) throw FramesFailed("some frames failed (listed above)");
 }
 

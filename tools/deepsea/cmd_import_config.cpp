@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "deepsea/io/import_config.h"
 
@@ -20,7 +21,7 @@ void run(const ImportArgs& a) {
         return;
     }
     import_config(a.input, a.output);
-    std::printf("wrote %s\n", a.output.c_str());
+    say("wrote %s\n", a.output.c_str());
 }
 
 }  // namespace

@@ -55,12 +55,12 @@ void run(const ReferenceArgs& a) {
         render_reference(*setup.camera, *setup.rig, *setup.water, rgb, depth, opt, {a.threads});
     if (!a.layers.empty()) {
         write_layers(a.layers, layers);
-        std::printf("wrote %s\n", a.layers.c_str());
+        say("wrote %s\n", a.layers.c_str());
     }
     if (!a.output.empty()) {
         const double f = exposure_factor(exposure, layers.final);
         write_color(a.output, apply_exposure(layers.final, f));
-        std::printf("wrote %s (exposure %.6g)\n", a.output.c_str(), f);
+        say("wrote %s (exposure %.6g)\n", a.output.c_str(), f);
     }
 }
 

@@ -9,6 +9,7 @@
 #include "deepsea/batch/layer_files.h"
 #include "deepsea/batch/output_folders.h"
 #include "deepsea/batch/sequence.h"
+#include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
@@ -24,7 +25,36 @@ struct RenderArgs {
     bool resume = false, no_forward = false, half = false;
     int bits = 8;
     int threads = 0;
+    ShardFlags shard;
 };
+
+/// --shard: this shard's part of the sequence `jobs` (contiguous, in frame order, sizes
+/// differing by one at most), recorded in `opt`; a shard's auto exposure is chosen on the
+/// sequence's first frame, as an unsharded run's is.
+std::vector<FrameJob> shard_jobs(const std::vector<FrameJob>& jobs, const FrameFiles& files,
+                                 std::pair<int, int> shard, SequenceOptions& opt) {
+    const auto [i, n] = shard;
+    if (!files.sequence())
+        throw ConfigError("--shard splits a sequence, and --rgb is one file: give a pattern");
+    if (opt.camera_model && opt.camera_model->auto_exposure.enabled)
+        throw ConfigError(
+            "--shard: the camera's auto_exposure controller sets each frame's "
+            "exposure from the frames before it, so a shard cannot start "
+            "mid-sequence; render unsharded or turn the controller off");
+    const long total = long(jobs.size());
+    if (n > total)
+        throw ConfigError("--shard " + std::to_string(i) + "/" + std::to_string(n) +
+                          ": the "
+                          "sequence has " +
+                          std::to_string(total) + " frame(s); give at most " +
+                          std::to_string(total) + " shards");
+    const auto folder = [](const std::string& dir) {
+        return dir.empty() ? dir : resolved_path(dir).string();
+    };
+    opt.shard = ShardRecord{i, n, int(total), folder(files.output), folder(files.layers)};
+    if (!opt.camera_model && opt.exposure.automatic) opt.exposure_frame = jobs.front();
+    return {jobs.begin() + total * i / n, jobs.begin() + total * (i + 1) / n};
+}
 
 void run(const RenderArgs& a) {
     SequenceOptions opt;
@@ -54,18 +84,20 @@ void run(const RenderArgs& a) {
     // Everything that can be checked without rendering is checked before the asset is loaded
     // and before any folder is made.
     const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers, a.format};
-    const std::vector<FrameJob> jobs = frame_jobs(files);
+    std::vector<FrameJob> jobs = frame_jobs(files);
+    if (const auto shard = a.shard.resolve(false)) jobs = shard_jobs(jobs, files, *shard, opt);
     if (a.bits == 16 && !jobs.empty() && image_format(jobs.front().output) == "jpg")
         throw ConfigError("--bits 16: JPEG holds 8 bits per sample; write PNG or TIFF for 16");
     const Asset asset = load_asset(a.asset);
     std::optional<OutputFolders> folders;
     if (files.sequence()) {
-        folders.emplace(files, jobs);
+        folders.emplace(files, jobs, opt.shard);
         opt.manifests = folders->manifests();
         opt.rgb_pattern = a.rgb;
         opt.depth_pattern = a.depth_path;
     }
     Progress bar("render", long(jobs.size()));
+    opt.on_frame = frame_lines();
     opt.progress = [&](long done, long) {
         bar.update(done);
         return stop_signal() == 0;
@@ -81,18 +113,17 @@ void run(const RenderArgs& a) {
     if (jobs.size() == 1 && !r.errors.empty()) throw_error(r.error_codes.front(), r.errors.front());
     for (const std::string& e : r.errors) std::fprintf(stderr, "deepsea: error: %s\n", e.c_str());
     if (folders && folders->stale_removed() > 0) {
-        std::printf("removed %d stale temporary file(s) of an interrupted run\n",
-                    folders->stale_removed());
+        say("removed %d stale temporary file(s) of an interrupted run\n", folders->stale_removed());
     }
+    if (opt.shard) say("shard %d/%d: ", opt.shard->index, opt.shard->count);
     if (opt.camera_model) {
-        std::printf(
-            "rendered %d frame(s), skipped %d, failed %zu in %.2f s (camera: %.6g ms, "
+        say("rendered %d frame(s), skipped %d, failed %zu in %.2f s (camera: %.6g ms, "
             "%.6g DN/e-)\n",
             r.written, r.skipped, r.errors.size(), r.seconds, r.camera_exposure.exposure_time_ms,
             r.camera_exposure.system_gain);
     } else {
-        std::printf("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n",
-                    r.written, r.skipped, r.errors.size(), r.seconds, r.exposure);
+        say("rendered %d frame(s), skipped %d, failed %zu in %.2f s (exposure %.6g)\n", r.written,
+            r.skipped, r.errors.size(), r.seconds, r.exposure);
     }
     if (r.interrupted) {
         const int left = r.total - r.written - r.skipped - int(r.errors.size());
@@ -102,10 +133,10 @@ void run(const RenderArgs& a) {
                         "same command with --resume to finish");
     }
     if (jobs.size() == 1 && r.written == 1) {
-        if (!a.output.empty()) std::printf("wrote %s\n", a.output.c_str());
-        if (!a.layers.empty()) std::printf("wrote %s\n", a.layers.c_str());
+        if (!a.output.empty()) say("wrote %s\n", a.output.c_str());
+        if (!a.layers.empty()) say("wrote %s\n", a.layers.c_str());
     } else if (!a.output.empty() && r.written > 0) {
-        std::printf("wrote frames to %s\n", a.output.c_str());
+        say("wrote frames to %s\n", a.output.c_str());
     }
     if (!r.errors.empty()) throw FramesFailed("some frames failed (listed above)");
 }
@@ -145,7 +176,8 @@ void setup_render(CLI::App& sub) {
     sub.add_flag("--half", a->half, "write the --layers files in half floats (16 bits)");
     sub.add_option("--exposure", a->exposure,
                    "'auto' (the default: first frame's, then kept, in the sequence manifest) or "
-                   "a factor; not with a camera stage");
+                   "a factor; not with a camera stage")
+        ->default_str("auto");
     sub.add_option("--camera", a->camera,
                    "YAML with the frames' camera (default: the asset's); with lens, sensor or "
                    "processing keys, a camera stage records each frame (docs/camera.md)");
@@ -157,6 +189,9 @@ void setup_render(CLI::App& sub) {
                  "continue a sequence: skip frames whose outputs are complete, keep the "
                  "exposure of deepsea-sequence.json, refuse other settings");
     sub.add_flag("--no-forward", a->no_forward, "leave forward scatter out");
+    a->shard.add_to(sub,
+                    "render only part i of n of a sequence (0-based; contiguous frames), with "
+                    "its own manifest; `deepsea merge-shards` checks and joins the parts");
     add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }

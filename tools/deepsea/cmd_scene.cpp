@@ -147,12 +147,12 @@ void run(SceneArgs a) {
         write_color((dir / (std::string(name) + ".png")).string(), frame.rgb);
         write_depth_exr((dir / (std::string(name) + "_depth.exr")).string(), frame.depth);
         write_s += since(t1);
+        detail("wrote %s.png, %s_depth.exr\n", (dir / name).c_str(), name);
         bar.update(i + 1);
     }
     bar.finish();
     const Camera& cam = a.flight.camera;
-    std::printf(
-        "wrote %d frame%s (%dx%d, altitude %g m, pitch %g deg, seed %llu) to %s: "
+    say("wrote %d frame%s (%dx%d, altitude %g m, pitch %g deg, seed %llu) to %s: "
         "frame_0001.png + frame_0001_depth.exr ... frame_%04d, camera.yaml\n"
         "per frame: render %.3f s, write %.3f s\n",
         a.frames, a.frames == 1 ? "" : "s", cam.width, cam.height, a.flight.altitude,

@@ -16,6 +16,7 @@ struct Command {
 void setup_scene(CLI::App& sub);
 void setup_reference(CLI::App& sub);
 void setup_render(CLI::App& sub);
+void setup_merge_shards(CLI::App& sub);
 void setup_bake(CLI::App& sub);
 void setup_info(CLI::App& sub);
 void setup_bake_library(CLI::App& sub);
@@ -31,6 +32,8 @@ inline const Command kCommands[] = {
     {"info", "show an asset's camera, rig, water, lattice and values", setup_info},
     {"import-config", "convert a DeepSeaRenderer config into deepsea YAML", setup_import_config},
     {"render", "composite frames or sequences with a baked asset", setup_render},
+    {"merge-shards", "check a sharded render's parts and write its one manifest",
+     setup_merge_shards},
     {"bench", "time the compositor and a sequence render", setup_bench},
     {"demo", "the embedded default: scene, asset, rendered flight, contact sheet", setup_demo},
 };

@@ -9,11 +9,17 @@
 #include <new>
 #include <string>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "deepsea/core/error.h"
 
 int main(int argc, char** argv) {
-    CLI::App app{"deepsea: deep-sea camera simulator (RGB-D in, deep-sea frames out)"};
+    deepsea::cli::exit_on_signals();  // 130 on SIGINT/SIGTERM in every command
+    CLI::App app{
+        "deepsea: deep-sea camera simulator (RGB-D in, deep-sea frames out); `deepsea help "
+        "COMMAND` or `deepsea COMMAND --help` lists a command's options"};
+    app.name("deepsea");               // "Usage: deepsea render", also for `deepsea help render`
+    deepsea::cli::add_verbosity(app);  // `deepsea -q render ...` as `deepsea render -q ...`
     app.set_version_flag("--version", std::string("deepsea ") + DEEPSEA_VERSION);
     app.require_subcommand(1);
     // A repeated option takes its last value, as in most Unix tools (scripts append overrides).
@@ -23,6 +29,25 @@ int main(int argc, char** argv) {
     for (const auto& cmd : deepsea::cli::kCommands) {
         CLI::App* sub = app.add_subcommand(cmd.name, cmd.help);
         cmd.setup(*sub);
+        deepsea::cli::add_verbosity(*sub);
+    }
+    // `deepsea help [COMMAND]`: the same text as --help (not a subcommand: it computes nothing).
+    if (argc >= 2 && std::string(argv[1]) == "help") {
+        if (argc == 2) {
+            std::fputs(app.help().c_str(), stdout);
+            return 0;
+        }
+        const std::string name = argv[2];
+        for (CLI::App* sub : app.get_subcommands({})) {
+            if (sub->get_name() == name && argc == 3) {
+                std::fputs(sub->help("deepsea").c_str(), stdout);
+                return 0;
+            }
+        }
+        std::fprintf(stderr, "deepsea: error: help: %s (see deepsea --help)\n",
+                     argc == 3 ? ("unknown command '" + deepsea::one_line(name, 200) + "'").c_str()
+                               : "expected one command name");
+        return 2;
     }
     // An empty argument is an unset shell variable far more often than a wish (`--shard ''`
     // would bake the whole library, `--rgb ''` name no file): a usage error naming the option.

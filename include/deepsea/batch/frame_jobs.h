@@ -34,7 +34,9 @@ struct FrameFiles {
     bool sequence() const;
 };
 
-/// True if `path` holds a glob character (*, ? or [).
+/// True if `path` holds a glob character (*, ? or [) or, unless it names an existing file, a
+/// frame-number token: `%04d`, `%d` or a run of '#' (`####`), digits as printf writes them
+/// (at least that many: `%04d` and `####` match 0007 and 12345).
 bool is_pattern(const std::string& path);
 
 /// The jobs of a render, checked before anything is read, composited or created:
@@ -58,7 +60,8 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& files);
 std::vector<FrameJob> pair_frames(std::vector<std::string> rgb, std::vector<std::string> depth,
                                   const std::string& rgb_pattern, const std::string& depth_pattern);
 
-/// Files matching a shell glob pattern, sorted (empty if none).
+/// Files matching a shell glob pattern, frame-number tokens included (is_pattern), sorted
+/// (empty if none).
 std::vector<std::string> glob_files(const std::string& pattern);
 
 }  // namespace deepsea

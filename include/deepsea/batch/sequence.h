@@ -11,6 +11,7 @@
 #include "deepsea/asset/asset.h"
 #include "deepsea/batch/frame_jobs.h"
 #include "deepsea/batch/layer_files.h"
+#include "deepsea/batch/sequence_manifest.h"
 #include "deepsea/camera/camera_stage.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
@@ -42,12 +43,21 @@ struct SequenceOptions {
     /// false stops the sequence once the frames in flight are finished (SequenceResult::
     /// interrupted).
     Progress progress;
+    /// Called for each frame written (`skipped` false) or skipped by --resume (true), in the
+    /// order they finish, one at a time: for a line per frame. May be empty.
+    std::function<void(const FrameJob& job, bool skipped)> on_frame;
     /// deepsea's version: recorded in the manifest and in every output's metadata.
     std::string version;
     /// A sequence into folders: the manifest path in each output folder (OutputFolders::
     /// manifests) and the input patterns it records. Empty: no manifest (one frame, tools).
     std::vector<std::string> manifests;
     std::string rgb_pattern, depth_pattern;
+    /// A shard of a sequence (`jobs` are its frames): recorded in its manifests.
+    std::optional<ShardRecord> shard;
+    /// Auto exposure: the frame to choose it on, composited first, before any job (a shard's:
+    /// the sequence's first frame, so that every shard chooses the same factor). Unset: the
+    /// first job composited. Not used when a manifest being resumed holds the exposure.
+    std::optional<FrameJob> exposure_frame;
 };
 
 struct SequenceResult {
@@ -77,7 +87,8 @@ ImageMetadata camera_metadata(const CameraOutput& recorded, std::uint64_t frame_
 /// known, before the first output, and after every frame. Throws only for problems that stop
 /// every frame: the asset does not fit the first frame's camera (AssetError naming the frame; a
 /// later frame that does not fit fails alone), a manifest refuses the run, or
-/// --resume finds frames but no manifest to take their exposure from.
+/// --resume finds frames but no manifest to take their exposure from, or the exposure_frame
+/// fails (its error, naming it).
 SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
                                const SequenceOptions& opt);
 

@@ -3,7 +3,9 @@
 /// made them (asset, camera, settings, deepsea version), the exposure they share and how many
 /// are done, so that `--resume` continues the same sequence or refuses.
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "deepsea/optics/camera.h"
 
@@ -11,6 +13,18 @@ namespace deepsea {
 
 /// The manifest's file name in each output folder.
 inline constexpr const char* kManifestName = "deepsea-sequence.json";
+
+/// A shard's manifest's name: `deepsea-sequence.shard-0003-of-0004.json` for shard 3 of 4.
+std::string shard_manifest_name(int index, int count);
+
+/// What a shard's manifest adds (docs/sequences.md, "Shards"): which shard, of how many frames
+/// in all, and the sequence's output folders (absolute), so that merge_shards knows which
+/// outputs a folder holds.
+struct ShardRecord {
+    int index = 0, count = 1;
+    int sequence_frames = 0;  ///< frames of the whole sequence (the shard's: frames_total)
+    std::string image_folder, layers_folder;  ///< -o and --layers, absolute; empty: none
+};
 
 /// One sequence's record. JSON keys in docs/sequences.md.
 struct SequenceManifest {
@@ -36,7 +50,8 @@ struct SequenceManifest {
     std::string depth_kind = "z", depth_channel;
     double depth_scale = 0.001;
     int frames_total = 0;
-    int frames_done = 0;  ///< frames whose outputs were complete at the last update
+    int frames_done = 0;               ///< frames whose outputs were complete at the last update
+    std::optional<ShardRecord> shard;  ///< a shard's manifest; none: the whole sequence's
 };
 
 /// The manifest as pretty-printed JSON (doubles round-trip exactly).
@@ -56,6 +71,12 @@ void write_manifest(const std::string& path, const SequenceManifest& m);
 /// frames of another sequence are never overwritten.
 void check_same_inputs(const SequenceManifest& folder, const SequenceManifest& run,
                        const std::string& path);
+
+/// The first key (dotted, "exposure.factor") whose value differs between the two manifests'
+/// JSON, with both values ("exposure.factor: 160.1 vs 160.2"); empty if they are the same.
+/// Keys in `ignore` (top level: "shard", "frames") are not compared.
+std::string first_difference(const SequenceManifest& a, const SequenceManifest& b,
+                             const std::vector<std::string>& ignore);
 
 /// ConfigError naming `path` and the first difference unless `run` would render frames
 /// identical to the folder's: same deepsea version, asset, camera, exposure rule, outputs and

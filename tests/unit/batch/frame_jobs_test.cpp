@@ -53,6 +53,32 @@ TEST(PairFrames, ByNameLessThePatternsFixedText) {
     EXPECT_EQ(both[0].rgb, "x.png");
 }
 
+TEST_F(FrameJobsTest, FrameNumberPatternsMeanTheNumberedFilesThatExist) {
+    for (const char* f : {"in/frame_0001.png", "in/frame_0002.png", "in/frame_12345.png",
+                          "in/frame_01.png", "in/frame_x001.png", "in/frame_0001_depth.exr",
+                          "in/frame_0002_depth.exr", "in/frame_12345_depth.exr"})
+        touch(f);
+    const std::vector<std::string> four = {path("in/frame_0001.png"), path("in/frame_0002.png"),
+                                           path("in/frame_12345.png")};
+    EXPECT_EQ(glob_files(path("in/frame_%04d.png")), four);  // at least 4 digits, as printf
+    EXPECT_EQ(glob_files(path("in/frame_####.png")), four);
+    EXPECT_EQ(glob_files(path("in/frame_%d.png")).size(), 4u);  // 01 too, not x001
+    EXPECT_TRUE(is_pattern("in/frame_%04d.png") && is_pattern("in/frame_####.png"));
+    EXPECT_FALSE(is_pattern("in/frame_%04x.png"));
+    touch("in/a#1.png");  // an existing file is a file, whatever its name holds
+    EXPECT_FALSE(is_pattern(path("in/a#1.png")));
+    // They pair by name as '*' does: frame_%04d with frame_%04d_depth.
+    const auto jobs = pair_frames(glob_files(path("in/frame_####.png")),
+                                  glob_files(path("in/frame_%04d_depth.exr")),
+                                  path("in/frame_####.png"), path("in/frame_%04d_depth.exr"));
+    ASSERT_EQ(jobs.size(), 3u);
+    EXPECT_EQ(jobs[2].depth, path("in/frame_12345_depth.exr"));
+    // Glob characters keep their meaning beside them; regex characters are plain text.
+    touch("in/b+(1)[x].png");
+    EXPECT_EQ(glob_files(path("in/b+(%d)[[]x].png")).size(), 1u);
+    EXPECT_EQ(glob_files(path("in/?rame_%04d.png")), four);
+}
+
 TEST(PairFrames, ByNumberWhereTheNamesDiffer) {
     const auto jobs = pair_frames({"c/0001.png", "c/0002.png", "c/0010.png"},
                                   {"z/d_10.exr", "z/d_2.exr", "z/d_1.exr"}, "c/*.png", "z/*.exr");

@@ -139,4 +139,38 @@ TEST(Manifest, ResumeRefusesEverySettingThatChangesTheFrames) {
     EXPECT_EQ(refusal(folder, run), "");
 }
 
+TEST(Manifest, AShardRecordRoundTripsAndIsPartOfWhatResumeKeeps) {
+    SequenceManifest m = example();
+    EXPECT_EQ(manifest_to_json(m).find("shard"), std::string::npos);  // unsharded: as before
+    m.shard = ShardRecord{3, 4, 10, "/data/out", ""};
+    const SequenceManifest r = manifest_from_json(manifest_to_json(m), "s.json");
+    ASSERT_TRUE(r.shard);
+    EXPECT_EQ(r.shard->index, 3);
+    EXPECT_EQ(r.shard->count, 4);
+    EXPECT_EQ(r.shard->sequence_frames, 10);
+    EXPECT_EQ(r.shard->image_folder, "/data/out");
+    EXPECT_EQ(manifest_to_json(r), manifest_to_json(m));
+    EXPECT_EQ(shard_manifest_name(3, 4), "deepsea-sequence.shard-0003-of-0004.json");
+    EXPECT_EQ(shard_manifest_name(3, 12000), "deepsea-sequence.shard-0003-of-12000.json");
+    SequenceManifest other = m;
+    other.shard->sequence_frames = 11;  // the inputs changed: the shard's frames moved
+    EXPECT_NE(refusal(m, other).find("the part rendered was shard 3/4 of 10 frames"),
+              std::string::npos);
+    std::string text = manifest_to_json(m);
+    text.replace(text.find("\"index\": 3"), 10, "\"index\": 4");
+    EXPECT_THROW(manifest_from_json(text, "s.json"), InputError);
+}
+
+TEST(Manifest, FirstDifferenceNamesTheKeyAndBothValues) {
+    SequenceManifest a = example(), b = example();
+    EXPECT_EQ(first_difference(a, b, {}), "");
+    b.exposure = 2.0;
+    EXPECT_EQ(first_difference(a, b, {}).rfind("exposure.factor: 160.08", 0), 0u);
+    b = a;
+    b.frames_done = 9;
+    b.shard = ShardRecord{1, 2, 20, "/o", ""};
+    EXPECT_NE(first_difference(a, b, {}), "");
+    EXPECT_EQ(first_difference(a, b, {"frames", "shard"}), "");
+}
+
 }  // namespace deepsea

@@ -36,6 +36,28 @@ TEST_F(FolderLockTest, SecondWriterIsRefusedUntilTheFirstIsDone) {
     const FolderLock again(dir_.string());
 }
 
+TEST_F(FolderLockTest, SharedHoldersCoexistAndExcludeAnExclusiveOne) {
+    using Mode = FolderLock::Mode;
+    {
+        auto a = std::make_unique<FolderLock>(dir_.string(), Mode::Shared);
+        const FolderLock b(dir_.string(), Mode::Shared);  // the shards of one render
+        EXPECT_THROW(FolderLock(dir_.string()), IoError);
+        a.reset();  // not the last holder: the file stays, and still excludes
+        EXPECT_TRUE(fs::exists(dir_ / FolderLock::file_name()));
+        EXPECT_THROW(FolderLock(dir_.string()), IoError);
+    }
+    EXPECT_FALSE(fs::exists(dir_ / FolderLock::file_name()));  // the last one removed it
+    {
+        const FolderLock only(dir_.string());
+        EXPECT_THROW(FolderLock(dir_.string(), Mode::Shared), IoError);
+    }
+    // Another name is another lock.
+    const FolderLock main(dir_.string(), Mode::Shared);
+    const FolderLock shard(dir_.string(), Mode::Exclusive, ".deepsea.shard-0000-of-0002.lock");
+    EXPECT_THROW(FolderLock(dir_.string(), Mode::Exclusive, ".deepsea.shard-0000-of-0002.lock"),
+                 IoError);
+}
+
 TEST_F(FolderLockTest, AMissingFolderIsAnIoError) {
     EXPECT_THROW(FolderLock((dir_ / "missing").string()), IoError);
 }
