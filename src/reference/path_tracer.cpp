@@ -19,23 +19,26 @@
 
 // The estimator (docs/reference.md). A path starts at the camera and is extended one
 // interaction at a time; every segment it follows, from a vertex to where the ray next meets
-// the surface (or forever), gathers two next events:
-// - the light of each lamp scattered once on the segment, by one equiangular sample of the
-//   distance along it (Kulla & Fajardo 2012, "Importance sampling techniques for path tracing
-//   in participating media"): pdf(r) ~ 1/d1(r)^2 cancels the lamp's inverse square, so
-//   the estimate stays finite however close the segment passes a point lamp;
+// the surface (or forever), gathers next events:
+// - the light of each lamp scattered once on the segment: one sample of the distance along
+//   it, equiangular about the lamp (Kulla & Fajardo 2012, "Importance sampling techniques for
+//   path tracing in participating media") or in proportion to the phase function of the angle
+//   it turns there (Equiangular below), so the lamp's inverse square cancels;
+// - from every vertex after the camera, the same light sampled from the lamp's side: a ray
+//   from the lamp, then a point on it equiangular about the vertex (lamp_side_light), which
+//   keeps the estimate finite where a vertex sees a lamp's glow; both by the balance heuristic;
 // - where the segment ends on the surface, the surface's own lamp light (direct.h's
 //   surface_radiance, the renderers' equation) seen through exp(-c t).
-// So a path of k interactions ending at a lamp is counted once, by the next event of its last
-// interaction; the prefix is drawn independently of it. The path goes on by a free flight whose
-// density is the channels' mean, (1/3) sum_k c_k exp(-c_k r) (one-sample MIS over the
+// So a path of k interactions ending at a lamp is counted by the next events of its last
+// interaction; the prefix is drawn independently of them. The path goes on by a free flight
+// whose density is the channels' mean, (1/3) sum_k c_k exp(-c_k r) (one-sample MIS over the
 // channels: every channel's weight stays below 3 b / c), to a scattering in the water (a new
 // direction from the phase function) or to the surface (a cosine-weighted direction, weight J).
 // Russian roulette on the largest channel's weight ends paths without bias.
 //
 // The baker (optics/multiple_scattering.h) samples otherwise: free flights with the smallest
-// channel's attenuation, no surface, next events MIS'd between equiangular and phase-angle
-// sampling, directions from a mixture aimed at the lamps.
+// channel's attenuation, no surface, directions from a mixture aimed at the lamps from the
+// vertex, no lamp-side technique. Both draw the angle on a segment from PhaseSampler's table.
 
 namespace deepsea {
 
@@ -51,7 +54,7 @@ void validate(const PathTracerOptions& opt, long pixels) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
                       "paths: %ld paths x %ld pixels = %.3g paths, more than the limit of %.3g "
-                      "(about a day on two cores): trace fewer paths or a smaller image",
+                      "(about a week on two cores): trace fewer paths or a smaller image",
                       opt.paths, pixels, work, kMaxPathWork);
         throw ConfigError(buf);
     }

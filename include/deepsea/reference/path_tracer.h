@@ -17,8 +17,9 @@
 
 namespace deepsea {
 
-/// Most paths x pixels one call may trace (ConfigError beyond): about a day on two cores.
-inline constexpr double kMaxPathWork = 1e11;
+/// Most paths x pixels one call may trace (ConfigError beyond): about a week on two cores
+/// (10^4 to 10^5 paths per second per core, turbid to clear water).
+inline constexpr double kMaxPathWork = 1e10;
 /// Default highest order: in water with b <= 0.98 c the orders beyond hold less than 1e-8 of
 /// the light; only a conservative water (c = b) ever reaches it.
 inline constexpr int kDefaultMaxOrder = 1000;
