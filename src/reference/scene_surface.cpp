@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "deepsea/core/error.h"
 #include "deepsea/optics/normals.h"
@@ -16,6 +17,12 @@ namespace {
 /// hold 6e-8, and the averaged normal's error times the image's lateral extent stays well below.
 constexpr double kPlaneTolerance = 1e-4;
 
+double median(std::vector<double>& x) {
+    const auto mid = x.begin() + std::ptrdiff_t(x.size() / 2);
+    std::nth_element(x.begin(), mid, x.end());
+    return *mid;
+}
+
 std::string pixel(int u, int v) {
     return "pixel (" + std::to_string(u) + ", " + std::to_string(v) + ")";
 }
@@ -24,27 +31,30 @@ std::string pixel(int u, int v) {
 
 SceneSurface::SceneSurface(const Camera& cam, const Image& rgb, const Image& zdepth)
     : m_cam(cam), m_rgb(rgb) {
-    // The plane: the mean of the pixels' own normals, through the mean of their points.
-    Vec3 n;
-    long count = 0;
+    // The plane: the median of the pixels' own normals (component-wise), through the median of
+    // their offsets, so that a pixel off the plane is named, not the plane tilted towards it.
+    std::vector<double> nx, ny, nz;
     for (int v = 0; v < cam.height; ++v) {
         for (int u = 0; u < cam.width; ++u) {
             if (!has_surface(double(zdepth.at(u, v)))) continue;
-            n += surface_normal(cam, zdepth, u, v);
-            ++count;
+            const Vec3 n = surface_normal(cam, zdepth, u, v);
+            nx.push_back(n.x);
+            ny.push_back(n.y);
+            nz.push_back(n.z);
         }
     }
-    if (count == 0) return;
+    if (nx.empty()) return;
+    const Vec3 n(median(nx), median(ny), median(nz));
     if (!(length(n) > 0.0)) throw InputError("the depth map's surface normals cancel out");
     m_n = normalize(n);
-    double offset = 0.0;
+    std::vector<double> offsets;
     for (int v = 0; v < cam.height; ++v) {
         for (int u = 0; u < cam.width; ++u) {
             const double z = zdepth.at(u, v);
-            if (has_surface(z)) offset += dot(m_n, cam.ray(u, v) * z);
+            if (has_surface(z)) offsets.push_back(dot(m_n, cam.ray(u, v) * z));
         }
     }
-    m_offset = offset / double(count);
+    m_offset = median(offsets);
     m_plane = true;
     for (int v = 0; v < cam.height; ++v) {
         for (int u = 0; u < cam.width; ++u) {
