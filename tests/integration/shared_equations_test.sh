@@ -13,11 +13,14 @@ calls() {  # calls FUNCTION FILE...: each file calls FUNCTION(
     grep -Eq "\\b$fn(<[a-z]+>)?\\(" "$f" || { echo "FAIL: $f does not call $fn (optics' equation)"; fail=1; }
   done
 }
-calls direct_signal src/runtime/kernels.cpp src/reference/reference.cpp src/optics/direct.cpp
+calls direct_signal src/runtime/kernels.cpp src/reference/reference.cpp src/optics/direct.cpp \
+  src/reference/path_tracer.cpp
 calls gaussian_lamp_term src/runtime/lamps.cpp src/optics/direct.cpp
 calls lamp_term src/runtime/lamps.cpp src/optics/direct.cpp
 calls lambertian_radiance src/runtime/kernels.cpp src/optics/direct.cpp
-calls transmission src/runtime/kernels.cpp src/reference/reference.cpp
+calls transmission src/runtime/kernels.cpp src/reference/reference.cpp src/reference/path_tracer.cpp
+calls lamp_in_scatter src/reference/path_tracer.cpp
+calls surface_radiance src/reference/path_tracer.cpp
 calls ray_x src/runtime/compositor.cpp src/runtime/lamps.cpp src/asset/asset.cpp
 calls ray_y src/runtime/compositor.cpp src/runtime/lamps.cpp src/asset/asset.cpp
 # Code lines (comments and string literals left out) of FILES... that match the Perl regex $1.
