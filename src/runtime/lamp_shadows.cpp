@@ -146,50 +146,130 @@ LampShadows::Lines make_lines(const Camera& cam, const Vec3& L) {
 /// (u - ex, v - ey) times `outward` (radial lines) or (ex, ey) (parallel lines), scaled so
 /// that its larger component is 1/2: where a pixel's surface ends is unknown, and between two
 /// pixels is the least biased guess (without it every shadow edge lay half a pixel short).
+/// What shadow_row needs of the lamp and the sweep (see there).
+struct RowParams {
+    float fx, fy, ex, ey, outward, ax, ay, az, dl, lx, ly, lz, t;
+    bool radial;
+};
+
 DEEPSEA_CLONES
-void shadow_row(int n, const float* __restrict z, const float* __restrict rx, float ry, float fx,
-                float fy, int v, bool radial, float ex, float ey, float outward, float ax, float ay,
-                float az, float dl, float lx, float ly, float lz, float t, float* __restrict gf,
-                float* __restrict gh, float* __restrict gb, float* __restrict k,
-                float* __restrict d1) {
+void shadow_row(int n, int v, const float* __restrict z, const float* __restrict rx, float ry,
+                const RowParams& prm, float* __restrict gf, float* __restrict gh,
+                float* __restrict gb, float* __restrict k, float* __restrict d1) {
+    // (copies: loop invariants the vectoriser can see as such)
+    const float fx = prm.fx, fy = prm.fy, ex = prm.ex, ey = prm.ey;
+    const float ax = prm.ax, ay = prm.ay, az = prm.az, dl = prm.dl, lx = prm.lx, ly = prm.ly,
+                lz = prm.lz, t = prm.t;
+    // the sweep's direction at (u, v): (au u + bu, sv) (a select on `radial` in the loop kept
+    // GCC from vectorising it)
+    const float au = prm.radial ? prm.outward : 0.0f;
+    const float bu = prm.radial ? -prm.outward * ex : ex;
+    const float sv = prm.radial ? prm.outward * (float(v) - ey) : ey;
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
-        const bool surf = z[u] > 0.0f;
-        const float zs = surf ? z[u] : 1.0f;
-        const float px = rx[u] * zs, py = ry * zs;
+        // (masks as floats, as kernels.cpp's)
+        const float zr = z[u], rxu = rx[u];
+        const float surf = zr > 0.0f ? 1.0f : 0.0f, none = (surf - 1.0f) * FLT_MAX;
+        const float zs = zr > 0.0f ? zr : 1.0f;
+        const float px = rxu * zs, py = ry * zs;
         const float cx = py * az - zs * ay, cy = zs * ax - px * az, cz = px * ay - py * ax;
-        const float c2 = std::max(cx * cx + cy * cy + cz * cz, 1e-30f);
+        const float c2r = cx * cx + cy * cy + cz * cz;
+        const float c2 = c2r > 1e-30f ? c2r : 1e-30f;  // (no std::max: its reference stays scalar)
         const float pa = px * ax + py * ay + zs * az;
         const float dx = lx - px, dy = ly - py, dz = lz - zs;
         const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
-        gf[u] = surf ? (dl - pa) / std::sqrt(c2) : -FLT_MAX;
+        gf[u] = surf * ((dl - pa) / std::sqrt(c2)) + none;
         k[u] = c2 / d;
         d1[u] = d;
         // the pixel's far edge
-        const float su = radial ? outward * (float(u) - ex) : ex;
-        const float sv = radial ? outward * (float(v) - ey) : ey;
-        const float m = std::max(std::max(std::fabs(su), std::fabs(sv)), 1e-20f);
-        const float qx = (rx[u] + 0.5f * su / (m * fx)) * zs, qy = (ry + 0.5f * sv / (m * fy)) * zs;
+        const float su = au * float(u) + bu;
+        const float mu = std::fabs(su) > std::fabs(sv) ? std::fabs(su) : std::fabs(sv);
+        const float m = mu > 1e-20f ? mu : 1e-20f;
+        const float qx = (rxu + 0.5f * su / (m * fx)) * zs, qy = (ry + 0.5f * sv / (m * fy)) * zs;
         const float ex2 = qy * az - zs * ay, ey2 = zs * ax - qx * az, ez2 = qx * ay - qy * ax;
-        const float e2 = std::max(ex2 * ex2 + ey2 * ey2 + ez2 * ez2, 1e-30f);
+        const float e2r = ex2 * ex2 + ey2 * ey2 + ez2 * ez2;
+        const float e2 = e2r > 1e-30f ? e2r : 1e-30f;
         const float qa = qx * ax + qy * ay + zs * az;
         const float inv = 1.0f / std::sqrt(e2);
         // deeper by t along the viewing ray: Q (z + t) / z, so Q x a and Q . a scale alike
         const float s = (zs + t) / zs;
-        gh[u] = surf ? (dl - qa) * inv : -FLT_MAX;
-        gb[u] = surf ? (dl - s * qa) * inv / s : -FLT_MAX;
+        gh[u] = surf * ((dl - qa) * inv) + none;
+        gb[u] = surf * ((dl - s * qa) * inv / s) + none;
     }
 }
 
-/// A line's running horizon: the interval [lo, g] of shadow coordinates that the seen surfaces
-/// swept so far block, the pixel q whose surface is its upper edge (-1: none yet), that edge's
-/// coordinate g and the step kq where it was swept. q2 (coordinate g2) is the edge before it,
-/// where q continues a lit surface from it (the lit side of a penumbra, where the lit surface
-/// itself is already the highest).
+/// An occluder's edge: its shadow coordinate g, position and distance to the lamp s_l.
+struct Edge {
+    float g = -FLT_MAX, x = 0, y = 0, z = 0, s_l = 0;
+};
+
+/// A line's running horizon: the interval [lo, e.g] of shadow coordinates that the seen
+/// surfaces swept so far block, with e its upper edge (q its pixel, -1: none yet; kq the step
+/// where it was swept). e2 (valid where q2 >= 0) is the edge before it, where e continues a lit
+/// surface from it (the lit side of a penumbra, where the lit surface is already the highest).
 struct Horizon {
-    float g = -FLT_MAX, lo = FLT_MAX, g2 = -FLT_MAX;
+    Edge e, e2;
+    float lo = FLT_MAX;
     long q = -1, q2 = -1;
     int kq = 0;
+};
+
+/// The penumbra's argument at P (position p, shadow coordinate gp, scale k) of the edge e, or
+/// 1 where it is at least 1 (the whole disc is seen past that edge: no square root).
+inline float penumbra_at(float gp, float k, float px, float py, float pz, const Edge& e, float R) {
+    const float delta = gp - e.g;
+    const float dx = px - e.x, dy = py - e.y, dz = pz - e.z;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    const float num = delta * k * e.s_l;  // h = num / (R d_o)
+    if (num > 0.0f && num * num >= R * R * d2) return 1.0f;
+    if (!(d2 > 0.0f)) return delta > 0.0f ? 1.0f : -1.0f;
+    return num / (R * std::sqrt(d2));
+}
+
+/// One lamp's per-pixel inputs and output, as raw pointers (what the line loops read).
+struct Sweep {
+    const float *gf, *gh, *gb, *k, *d1, *z, *rx, *ry;
+    float* out;
+    int W;
+    float R;
+
+    /// P's visibility under the horizon h (pixel p at (u, v)).
+    float visible(long p, int u, int v, const Horizon& h) const {
+        const float gp = gf[p];
+        if (gp == -FLT_MAX || h.q < 0 || gp < h.lo) return 1.0f;
+        if (!(R > 0.0f)) return gp > h.e.g ? 1.0f : 0.0f;
+        const float zp = z[p], px = rx[u] * zp, py = ry[v] * zp;
+        float arg = penumbra_at(gp, k[p], px, py, zp, h.e, R);
+        if (h.q2 >= 0 && arg > -1.0f)
+            arg = std::min(arg, penumbra_at(gp, k[p], px, py, zp, h.e2, R));
+        return arg >= 1.0f ? 1.0f : disc_visible_fraction(arg);
+    }
+
+    /// Adds the sample `prev` (pixel (u, v), swept at step kp; -1: none) to the horizon, its
+    /// edge toward the next sample q (-1: none or open water). A sample's edge is their chord's
+    /// midpoint on one surface (mean shadow coordinate: chords of a convex surface lie inside
+    /// it, so a lit surface never shades itself), else its pixel's far edge at its own depth.
+    void take(Horizon& h, long prev, int u, int v, int kp, long q) const {
+        if (prev < 0) return;
+        const float zq = z[prev];
+        const bool chord = q >= 0 && same_surface(z[q], zq);
+        const float ge = chord ? 0.5f * (gf[prev] + gf[q]) : gh[prev];
+        const float b = gb[prev];
+        if (ge > h.e.g) {
+            h.lo = b <= h.e.g ? std::min(h.lo, b) : b;
+            // a lit surface going on from the edge keeps the edge as e2
+            const bool goes_on = h.q >= 0 && kp - h.kq <= 2 && same_surface(zq, z[h.q]);
+            if (!goes_on) {
+                h.e2 = h.e;
+                h.q2 = h.q;
+            }
+            h.e = Edge{ge, rx[u] * zq, ry[v] * zq, zq, d1[prev]};
+            h.q = prev;
+            h.kq = kp;
+        } else if (ge >= h.lo) {
+            h.lo = std::min(h.lo, b);
+        }
+    }
 };
 
 }  // namespace
@@ -238,40 +318,42 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
         const float outward = float(f0.dir * f0.sigma);  // radial: 1 away from the epipole
         const float px = float(f0.swap ? f0.slope * f0.dir : f0.dir);
         const float py = float(f0.swap ? f0.dir : f0.slope * f0.dir);
+        const RowParams prm{float(cam.fx),
+                            float(cam.fy),
+                            f0.radial ? ex : px,
+                            f0.radial ? ey : py,
+                            outward,
+                            float(a.x),
+                            float(a.y),
+                            float(a.z),
+                            float(dl),
+                            float(L.x),
+                            float(L.y),
+                            float(L.z),
+                            t,
+                            f0.radial};
         tbb::parallel_for(0, H, [&](int v) {
             zrow.resize(W);
             const float* raw = zdepth.row(v);
             for (int u = 0; u < W; ++u) zrow[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
             const std::size_t o = std::size_t(v) * W;
-            shadow_row(W, zrow.data(), m_rx.data(), m_ry[v], float(cam.fx), float(cam.fy), v,
-                       f0.radial, f0.radial ? ex : px, f0.radial ? ey : py, outward, float(a.x),
-                       float(a.y), float(a.z), float(dl), float(L.x), float(L.y), float(L.z), t,
-                       m_gf.data() + o, m_gh.data() + o, m_gb.data() + o, m_k.data() + o,
-                       m_d1.data() + o);
+            shadow_row(W, v, zrow.data(), m_rx.data(), m_ry[v], prm, m_gf.data() + o,
+                       m_gh.data() + o, m_gb.data() + o, m_k.data() + o, m_d1.data() + o);
             std::fill_n(vis.row(v), W, 1.0f);
         });
 
-        // P's visibility under the horizon h (pixel p at (u, v)).
-        // The penumbra's argument at P (pixel p at (u, v), shadow coordinate gp) of the edge q.
-        auto argument = [&](long p, int u, int v, float gp, long q, float gq) -> float {
-            const float delta = gp - gq;
-            const int uq = int(q % W), vq = int(q / W);
-            const float zp = zdepth.at(u, v), zq = zdepth.at(uq, vq);
-            const float dx = m_rx[u] * zp - m_rx[uq] * zq, dy = m_ry[v] * zp - m_ry[vq] * zq,
-                        dz = zp - zq;
-            const float d_o = std::sqrt(dx * dx + dy * dy + dz * dz);
-            if (!(d_o > 0.0f)) return delta > 0.0f ? 1.0f : -1.0f;
-            return penumbra_argument(delta, m_k[p], d_o, m_d1[q], R);
-        };
-        // P's visibility under the horizon h.
-        auto visible = [&](long p, int u, int v, const Horizon& h) -> float {
-            const float gp = m_gf[p];
-            if (gp == -FLT_MAX || h.q < 0 || gp < h.lo) return 1.0f;
-            if (!(R > 0.0f)) return gp > h.g ? 1.0f : 0.0f;
-            float arg = argument(p, u, v, gp, h.q, h.g);
-            if (h.q2 >= 0) arg = std::min(arg, argument(p, u, v, gp, h.q2, h.g2));
-            return disc_visible_fraction(arg);
-        };
+        // open water keeps the fill's 1 (the sweep writes surfaces only)
+        const Sweep sw{m_gf.data(),
+                       m_gh.data(),
+                       m_gb.data(),
+                       m_k.data(),
+                       m_d1.data(),
+                       zdepth.data.data(),
+                       m_rx.data(),
+                       m_ry.data(),
+                       vis.data.data(),
+                       W,
+                       R};
         for (std::size_t fi = 0; fi < lines.families.size(); ++fi) {
             const Family& f = lines.families[fi];
             if (f.i_max < f.i_min) continue;
@@ -285,60 +367,49 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
                 }
                 if (a0 > a1) return;
                 const int step = f.dir, first = step > 0 ? a0 : a1, count = a1 - a0 + 1;
-                // the state two columns back: a pixel is never its own or its neighbour's
-                // horizon (the sample nearest the line may lie half a pixel beside it)
-                // The horizon holds the samples up to two columns back (past, when column k
-                // is evaluated): a pixel is never its own or its neighbour's horizon (the
-                // sample nearest the line may lie half a pixel beside it). A sample's edge
-                // toward the next one along the line is their chord's midpoint on one surface
-                // (mean shadow coordinate: chords of a convex surface lie inside it, so a lit
-                // surface never shades itself), else its pixel's far edge at its own depth.
+                // Column k is evaluated before the sample of column k - 1 joins the horizon:
+                // a pixel is never its own or its neighbour's horizon (the sample nearest the
+                // line may lie half a pixel beside it).
                 Horizon h;
                 long prev = -1;  // the last column's sample (-1: none or open water)
+                int prev_u = 0, prev_v = 0;
                 for (int k = 0; k < count; ++k) {
                     const int a = first + k * step;
                     const double b = lines.line_b(f, i, a);
                     const bool inside = b >= -1.0 && b <= double(B);
                     const int r0 = int(std::floor(b + 0.5));
                     long q = -1;
+                    const int qu = f.swap ? r0 : a, qv = f.swap ? a : r0;
                     if (inside && r0 >= 0 && r0 < B) {
-                        q = f.swap ? long(a) * W + r0 : long(r0) * W + a;
-                        if (m_gf[q] == -FLT_MAX) q = -1;
+                        q = long(qv) * W + qu;
+                        if (sw.gf[q] == -FLT_MAX) q = -1;
                     }
-                    const Horizon past = h;
-                    if (prev >= 0) {
-                        const bool chord =
-                            q >= 0 && same_surface(zdepth.data[q], zdepth.data[prev]);
-                        const float ge = chord ? 0.5f * (m_gf[prev] + m_gf[q]) : m_gh[prev];
-                        const float gb = m_gb[prev];
-                        if (ge > h.g) {
-                            h.lo = gb <= h.g ? std::min(h.lo, gb) : gb;
-                            // a lit surface going on from the edge keeps the edge as q2
-                            const bool goes_on = h.q >= 0 && k - 1 - h.kq <= 2 &&
-                                                 same_surface(zdepth.data[prev], zdepth.data[h.q]);
-                            if (!goes_on) {
-                                h.q2 = h.q;
-                                h.g2 = h.g;
-                            }
-                            h.g = ge;
-                            h.q = prev;
-                            h.kq = k - 1;
-                        } else if (ge >= h.lo) {
-                            h.lo = std::min(h.lo, gb);
+                    if (inside && !f.radial) {
+                        // parallel lines: the sample is the line's own pixel, but where the
+                        // line runs exactly between two rows (the row below is then its own)
+                        const int r = double(r0) - b == 0.5 ? r0 - 1 : r0;
+                        if (r >= 0 && r < B) {
+                            const int u = f.swap ? r : a, v = f.swap ? a : r;
+                            const long p = long(v) * W + u;
+                            if (sw.gf[p] != -FLT_MAX) sw.out[p] = sw.visible(p, u, v, h);
+                        }
+                    } else if (inside) {
+                        const int bf = int(std::floor(b));
+                        for (int r = bf; r <= bf + 1; ++r) {
+                            if (r < 0 || r >= B) continue;
+                            const int u = f.swap ? r : a, v = f.swap ? a : r;
+                            int fam;
+                            long li;
+                            lines.locate(u, v, fam, li);
+                            if (fam != int(fi) || li != i) continue;
+                            const long p = long(v) * W + u;
+                            if (sw.gf[p] != -FLT_MAX) sw.out[p] = sw.visible(p, u, v, h);
                         }
                     }
+                    sw.take(h, prev, prev_u, prev_v, k - 1, q);
                     prev = q;
-                    if (!inside) continue;
-                    const int bf = int(std::floor(b));
-                    for (int r = bf; r <= bf + 1; ++r) {
-                        if (r < 0 || r >= B) continue;
-                        const int u = f.swap ? r : a, v = f.swap ? a : r;
-                        int fam;
-                        long li;
-                        lines.locate(u, v, fam, li);
-                        if (fam != int(fi) || li != i) continue;
-                        vis.row(v)[u] = visible(long(v) * W + u, u, v, past);
-                    }
+                    prev_u = qu;
+                    prev_v = qv;
                 }
             });
         }
