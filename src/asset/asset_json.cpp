@@ -31,12 +31,16 @@ json rid_json(const Rid& r) {
 json rig_json(const Rig& rig) {
     json lights = json::array();
     for (const Light& l : rig.lights) {
-        lights.push_back({{"name", l.name},
-                          {"position", vec_json(l.position)},
-                          {"direction", vec_json(l.direction)},
-                          {"intensity", rgb_json(l.intensity)},
-                          {"rid", rid_json(l.rid)},
-                          {"cutoff_deg", l.rid.cutoff_deg}});
+        json lj = {{"name", l.name},
+                   {"position", vec_json(l.position)},
+                   {"direction", vec_json(l.direction)},
+                   {"intensity", rgb_json(l.intensity)},
+                   {"rid", rid_json(l.rid)},
+                   {"cutoff_deg", l.rid.cutoff_deg}};
+        // Only where it is not the default: assets (and their input hashes) of lamps with the
+        // default radius stay as they were before lamps had one.
+        if (l.radius != kDefaultLampRadius) lj["radius"] = l.radius;
+        lights.push_back(std::move(lj));
     }
     return {{"name", rig.name}, {"lights", lights}};
 }
@@ -185,6 +189,8 @@ Rig parse_rig(const json& j) {
         l.intensity = rgb(lj, "intensity", where);
         l.rid = parse_rid(get(lj, "rid", where), where + ".rid");
         l.rid.cutoff_deg = num(lj, "cutoff_deg", where);
+        // Assets from before lamps had a radius, and lamps of the default one, have none.
+        if (lj.contains("radius")) l.radius = num(lj, "radius", where);
         rig.lights.push_back(std::move(l));
     }
     return rig;

@@ -72,6 +72,7 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.layer_set = opt.layer_output.describe();
     m.half = m.layers && opt.layer_output.half;
     m.forward = opt.forward;
+    m.shadows = opt.shadows;
     m.depth_kind = opt.depth_kind == DepthKind::Range ? "range" : "z";
     m.depth_channel = opt.depth_read.channel;
     m.depth_scale = opt.depth_read.scale;
@@ -180,7 +181,9 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
 
     if (opt.camera_model && !opt.layer_output.camera)
         throw InputError("render_sequence: a camera stage needs layer_output.camera");
-    Renderer renderer(asset, {opt.camera, opt.forward});
+    RenderSettings settings{opt.camera, opt.forward};
+    settings.shadows = opt.shadows;
+    Renderer renderer(asset, settings);
     std::optional<CameraFrames> camera;
     if (opt.camera_model) camera.emplace(*opt.camera_model, opt.manifests, opt.resume);
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy

@@ -40,6 +40,8 @@ std::string manifest_to_json(const SequenceManifest& m) {
                      {"depth_kind", m.depth_kind},
                      {"depth_channel", m.depth_channel},
                      {"depth_scale", m.depth_scale}};
+    // Written only when on: a sequence without shadows has the manifest it had before them.
+    if (m.shadows) j["settings"]["shadows"] = true;
     j["frames"] = {{"total", m.frames_total}, {"done", m.frames_done}};
     if (m.shard) {
         const ShardRecord& s = *m.shard;
@@ -129,6 +131,9 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
                  ? get<bool>(j, path, "outputs", "half")
                  : false;
     m.forward = get<bool>(j, path, "settings", "forward");
+    // "shadows" came with lamp shadows; absent: off.
+    m.shadows =
+        j["settings"].contains("shadows") ? get<bool>(j, path, "settings", "shadows") : false;
     m.depth_kind = get<std::string>(j, path, "settings", "depth_kind");
     m.depth_channel = get<std::string>(j, path, "settings", "depth_channel");
     m.depth_scale = get<double>(j, path, "settings", "depth_scale");
@@ -250,6 +255,8 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
         differ("--half", folder.half ? "given" : "not given", run.half ? "given" : "not given");
     if (folder.forward != run.forward)
         differ("forward scatter", folder.forward ? "on" : "off", run.forward ? "on" : "off");
+    if (folder.shadows != run.shadows)
+        differ("--shadows", folder.shadows ? "on" : "off", run.shadows ? "on" : "off");
     if (folder.depth_kind != run.depth_kind)
         differ("--depth-kind", folder.depth_kind, run.depth_kind);
     if (folder.depth_channel != run.depth_channel)

@@ -89,6 +89,7 @@ Camera parse_camera(const Document& doc, const Field& f, std::optional<CameraMod
 //     table.angle_deg       degrees  >= 2 entries, strictly ascending, in [0, 180]
 //     table.value           -        same length as angle_deg, each >= 0
 //   lights[i].cutoff_deg    degrees  (0, 180]                         180 (no cutoff)
+//   lights[i].radius        m        [0, 0.5], the emitting face      0.04 (kDefaultLampRadius)
 
 Rid parse_rid(const Document& doc, const Field& f) {
     const MapView m(doc, f, schema::kRid);
@@ -118,6 +119,7 @@ Light parse_light(const Document& doc, const Field& f, std::size_t index) {
     l.intensity = doc.rgb(m.need("intensity"));
     if (const Field* r = m.opt("rid")) l.rid = parse_rid(doc, *r);
     if (const Field* c = m.opt("cutoff_deg")) l.rid.cutoff_deg = doc.number(*c);
+    if (const Field* r = m.opt("radius")) l.radius = doc.number(*r);
     return l;
 }
 
@@ -393,6 +395,7 @@ std::string setup_to_yaml(const Setup& s) {
             }
             if (l.rid.cutoff_deg < 180.0)
                 o << "      cutoff_deg: " << fmt(l.rid.cutoff_deg) << "\n";
+            if (l.radius != kDefaultLampRadius) o << "      radius: " << fmt(l.radius) << "\n";
         }
     }
     if (s.water) {

@@ -125,6 +125,9 @@ void validate(const Rig& rig) {
                                       short_number(kMaxLampIntensity) + " W/sr per channel (" +
                                       kChannel[c] + " is " + short_number(l.intensity[c]) + ")");
         validate_rid(l.rid, key);
+        if (!(l.radius >= 0.0 && l.radius <= kMaxLampRadius))
+            throw SchemaError(key + ".radius", "must be in [0, " + short_number(kMaxLampRadius) +
+                                                   "] m (the lamp's emitting face)");
         const auto [it, fresh] = seen.emplace(l.name, i);
         if (!fresh)
             throw SchemaError(key, "light name '" + l.name + "' already used by lights[" +

@@ -16,8 +16,12 @@
 
 namespace deepsea {
 
-AnalyticLamps::AnalyticLamps(const Rig& rig, const Water& water, std::vector<LampField> scattered)
-    : m_rig(rig), m_water(water), m_scattered(std::move(scattered)) {
+AnalyticLamps::AnalyticLamps(const Rig& rig, const Water& water, std::vector<LampField> scattered,
+                             ShadowSettings shadows)
+    : m_rig(rig), m_water(water), m_scattered(std::move(scattered)), m_shadow_settings(shadows) {
+    if (shadows.enabled && !(shadows.thickness > 0.0 && std::isfinite(shadows.thickness))) {
+        throw ConfigError("shadows: thickness must be > 0 m and finite");
+    }
     if (!m_scattered.empty() && m_scattered.size() != m_rig.lights.size()) {
         throw AssetError("multiple scattering: " + std::to_string(m_scattered.size()) +
                          " lamp fields for " + std::to_string(m_rig.lights.size()) + " lamps");
@@ -30,10 +34,12 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 /// Adds one lamp's irradiance to the planar RGB row: with its Gaussian RID (one exponential a
 /// channel, lamp.h's gaussian_lamp_term), or with RID 1 (tabulated RIDs: the caller scales by
-/// the RID at scratch_theta). Inlined into each clone below.
-template <bool Gaussian>
+/// the RID at scratch_theta). Shadowed: times the lamp's visibility per pixel (vis). Inlined
+/// into each clone below.
+template <bool Gaussian, bool Shadowed>
 [[gnu::always_inline]] inline void lamp_rows(const Light& L, const Rgb& c, const RowGeometry& g,
-                                             float* __restrict e, float* __restrict scratch_theta) {
+                                             const float* __restrict vis, float* __restrict e,
+                                             float* __restrict scratch_theta) {
     const int n = g.n;
     const float lx = float(L.position.x), ly = float(L.position.y), lz = float(L.position.z);
     const Vec3T<float> axis{float(L.direction.x), float(L.direction.y), float(L.direction.z)};
@@ -58,6 +64,7 @@ template <bool Gaussian>
         const float theta = lamp_angle(lg.cos_theta);
         float spread = pz[u] > 0.0f ? lamp_spread(lg.d1, lg.cos_n) : 0.0f;
         spread = theta > cutoff ? 0.0f : spread;
+        if constexpr (Shadowed) spread *= vis[u];
         if constexpr (Gaussian) {
             er[u] += gaussian_lamp_term(ir, theta, sig, spread, cr, lg.d1);
             eg[u] += gaussian_lamp_term(ig, theta, sig, spread, cg, lg.d1);
@@ -73,13 +80,25 @@ template <bool Gaussian>
 
 DEEPSEA_CLONES
 void add_gaussian_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* e) {
-    lamp_rows<true>(L, c, g, e, nullptr);
+    lamp_rows<true, false>(L, c, g, nullptr, e, nullptr);
 }
 
 DEEPSEA_CLONES
 void add_unit_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* e,
                    float* scratch_theta) {
-    lamp_rows<false>(L, c, g, e, scratch_theta);
+    lamp_rows<false, false>(L, c, g, nullptr, e, scratch_theta);
+}
+
+DEEPSEA_CLONES
+void add_shadowed_gaussian_lamp(const Light& L, const Rgb& c, const RowGeometry& g,
+                                const float* vis, float* e) {
+    lamp_rows<true, true>(L, c, g, vis, e, nullptr);
+}
+
+DEEPSEA_CLONES
+void add_shadowed_unit_lamp(const Light& L, const Rgb& c, const RowGeometry& g, const float* vis,
+                            float* e, float* scratch_theta) {
+    lamp_rows<false, true>(L, c, g, vis, e, scratch_theta);
 }
 
 /// Spacing of the points where the scattered light's coefficients are computed, as an angle
@@ -185,6 +204,7 @@ int scatter_points(int n, int step) { return (n - 1 + step - 1) / step + 1; }
 }  // namespace
 
 void AnalyticLamps::begin_frame(const Camera& cam, const Image& zdepth) const {
+    if (m_shadow_settings.enabled) m_shadows.compute(cam, zdepth, m_rig, m_shadow_settings);
     if (m_scattered.empty()) return;
     const int W = zdepth.width, H = zdepth.height;
     m_width = W;
@@ -283,12 +303,24 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
     for (int i = 0; i < 3 * n; ++i) out[i] = 0.0f;
     thread_local std::vector<float> theta, part;
     theta.resize(n);
-    for (const Light& L : m_rig.lights) {
+    const bool shadowed = m_shadow_settings.enabled && m_shadows.width() == n && g.v >= 0 &&
+                          g.v < m_shadows.height() && m_shadows.lamps() == m_rig.lights.size();
+    for (std::size_t l = 0; l < m_rig.lights.size(); ++l) {
+        const Light& L = m_rig.lights[l];
+        const float* vis = shadowed ? m_shadows.row(l, g.v) : nullptr;
         if (L.rid.kind == Rid::Kind::Gaussian) {
-            add_gaussian_lamp(L, m_water.c, g, out);
+            if (vis) {
+                add_shadowed_gaussian_lamp(L, m_water.c, g, vis, out);
+            } else {
+                add_gaussian_lamp(L, m_water.c, g, out);
+            }
         } else {
             part.assign(3 * std::size_t(n), 0.0f);
-            add_unit_lamp(L, m_water.c, g, part.data(), theta.data());
+            if (vis) {
+                add_shadowed_unit_lamp(L, m_water.c, g, vis, part.data(), theta.data());
+            } else {
+                add_unit_lamp(L, m_water.c, g, part.data(), theta.data());
+            }
             for (int u = 0; u < n; ++u) {
                 const float s = float(L.rid(theta[u]));
                 out[u] += s * part[u];

@@ -26,7 +26,8 @@ struct Renderer::State {
         : asset(a),
           settings(std::move(s)),
           water(rendered_water(a, settings)),
-          lamps(a.info.rig, water, a.lamp_fields) {}
+          lamps(a.info.rig, water, a.lamp_fields,
+                ShadowSettings{settings.shadows, settings.shadow_thickness}) {}
 
     /// The compositor for frames of width x height.
     Compositor& compositor(int width, int height) {

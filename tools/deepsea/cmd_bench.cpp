@@ -148,16 +148,27 @@ Camera scaled(const Camera& base, int w, int h) {
     return c;
 }
 
+/// The compositor's cases: each layer set (all layers, then only the image), without and with
+/// lamp shadows.
+const char* const kCompositeCases[] = {"composite", "composite_final_only", "composite-shadows",
+                                       "composite_final_only-shadows"};
+
 /// Composites one generated frame repeatedly, for each layer set (all layers, then only the
-/// image): one bake and one frame per camera, a fresh compositor and peak window per case.
+/// image), without and with lamp shadows: one bake and one frame per camera, a fresh
+/// compositor and peak window per case.
 std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const BenchArgs& a,
                                   int threads) {
     FlightParams flight;
     flight.camera = cam;
     Frame frame = render_flight_frame(flight, 0);
     std::vector<Case> cases;
-    for (LayerSet set : {LayerSet::All, LayerSet::Final}) {
-        Renderer renderer(asset, {cam});
+    for (int k = 0; k < 4; ++k) {
+        const std::string name = kCompositeCases[k];
+        if (!wanted(a.cases, name)) continue;
+        const LayerSet set = k % 2 == 0 ? LayerSet::All : LayerSet::Final;
+        RenderSettings settings{cam};
+        settings.shadows = k >= 2;
+        Renderer renderer(asset, settings);
         // From here on only what the runtime holds: the asset, one frame, the compositor (made
         // by the first frame, which also allocates).
         reset_peak_rss();
@@ -170,8 +181,7 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
             t.push_back(now_ms() - t0);
             cpu.push_back(cpu_ms() - c0);
         }
-        cases.push_back(summarize(set == LayerSet::All ? "composite" : "composite_final_only",
-                                  cam.width, cam.height, threads, t, cpu));
+        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
     }
     return cases;
 }
@@ -357,7 +367,8 @@ void run(const BenchArgs& a) {
         Water water = *setup.water;
         if (a.no_forward) water.forward.enabled = false;
         const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
-        if (wanted(a.cases, "composite")) {
+        if (std::any_of(std::begin(kCompositeCases), std::end(kCompositeCases),
+                        [&](const char* n) { return wanted(a.cases, n); })) {
             for (Case& c : time_compositor(asset, cam, a, threads)) cases.push_back(c);
         }
         if (wanted(a.cases, "stage")) {
@@ -415,7 +426,8 @@ void setup_bench(CLI::App& sub) {
                    "single | multiple: the asset's scattering (multiple adds the lamps' "
                    "scattered light per pixel)");
     sub.add_option("--cases", a->cases,
-                   "comma-separated prefixes of the cases to run: composite, stage, camera "
+                   "comma-separated prefixes of the cases to run: composite (composite, "
+                   "composite_final_only, each also -shadows: with lamp shadows), stage, camera "
                    "(camera, camera-layers, camera-lens), sequence-png, sequence-jpeg (each also "
                    "-camera: with the setup's camera stage)");
     sub.add_flag("--json", a->json, "print JSON for scripts");

@@ -95,6 +95,7 @@ void run(const DemoArgs& a) {
     const Asset asset =
         demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering), a.threads);
     SequenceOptions opt;
+    opt.shadows = true;  // the lamps' shadows: what marks a deep-sea photograph
     Progress bar("render", a.frames);
     opt.on_frame = frame_lines();
     opt.progress = [&](long done, long) {
@@ -117,6 +118,7 @@ void run(const DemoArgs& a) {
             camera_jobs.push_back(j);
         }
         SequenceOptions cam;
+        cam.shadows = true;
         cam.camera_model = setup.camera_model;
         cam.layer_output.camera = true;
         Progress cam_bar("camera", a.frames);

@@ -42,9 +42,11 @@ void run(const InfoArgs& a) {
         if (L.rid.kind == Rid::Kind::Gaussian) {
             std::snprintf(rid, sizeof rid, "gaussian sigma %g deg", L.rid.sigma_deg);
         }
-        std::printf("  %-8s at (%g, %g, %g) m, axis (%.4f, %.4f, %.4f), I (%g, %g, %g) W/sr, %s\n",
-                    L.name.c_str(), L.position.x, L.position.y, L.position.z, L.direction.x,
-                    L.direction.y, L.direction.z, L.intensity.r, L.intensity.g, L.intensity.b, rid);
+        std::printf(
+            "  %-8s at (%g, %g, %g) m, axis (%.4f, %.4f, %.4f), I (%g, %g, %g) W/sr, %s, radius "
+            "%g m\n",
+            L.name.c_str(), L.position.x, L.position.y, L.position.z, L.direction.x, L.direction.y,
+            L.direction.z, L.intensity.r, L.intensity.g, L.intensity.b, rid, L.radius);
     }
     const Water& w = b.water;
     std::printf("water      %s: c (%g, %g, %g) 1/m, b (%g, %g, %g) 1/m, phase %s", w.name.c_str(),

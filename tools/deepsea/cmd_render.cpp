@@ -22,7 +22,7 @@ struct RenderArgs {
     DepthFlags depth;
     std::string asset, rgb, depth_path, output, layers, exposure, camera;
     std::string layer_set = "all", format;
-    bool resume = false, no_forward = false, half = false;
+    bool resume = false, no_forward = false, half = false, shadows = false;
     int bits = 8;
     int threads = 0;
     ShardFlags shard;
@@ -63,6 +63,7 @@ void run(const RenderArgs& a) {
     opt.depth_kind = a.depth.depth_kind();
     opt.resume = a.resume;
     opt.forward = !a.no_forward;
+    opt.shadows = a.shadows;
     opt.bits = a.bits;
     if ((a.half || a.layer_set != "all") && a.layers.empty())
         throw ConfigError("--layer-set and --half choose what --layers writes: give --layers");
@@ -192,6 +193,9 @@ void setup_render(CLI::App& sub) {
     a->shard.add_to(sub,
                     "render only part i of n of a sequence (0-based; contiguous frames), with "
                     "its own manifest; `deepsea merge-shards` checks and joins the parts");
+    sub.add_flag("--shadows", a->shadows,
+                 "lamp shadows from the depth map, penumbrae from each lamp's radius "
+                 "(docs/model.md, \"Lamp shadows\"); off by default, as in the paper's model");
     add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }

@@ -23,8 +23,9 @@ namespace deepsea {
 struct SequenceOptions {
     DepthReadOptions depth_read;
     DepthKind depth_kind = DepthKind::Z;
-    Exposure exposure;    ///< auto: chosen on the first frame composited, then kept (no flicker)
-    bool forward = true;  ///< forward scatter, if the asset's water defines it
+    Exposure exposure;     ///< auto: chosen on the first frame composited, then kept (no flicker)
+    bool forward = true;   ///< forward scatter, if the asset's water defines it
+    bool shadows = false;  ///< lamp shadows from the depth map (docs/model.md)
     /// Skip frames whose outputs are complete (non-empty and decoding fully); with manifests,
     /// continue the sequence they record (its exposure) or refuse (check_resumable).
     bool resume = false;

@@ -47,6 +47,7 @@ struct SequenceManifest {
     std::string layer_set = "all";     ///< with layers: "all" or the names joined by commas
     bool half = false;                 ///< half-float layers (--half)
     bool forward = true;               ///< forward scatter on
+    bool shadows = false;              ///< lamp shadows on (absent from older manifests: off)
     std::string depth_kind = "z", depth_channel;
     double depth_scale = 0.001;
     int frames_total = 0;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "deepsea/core/vec.h"
+#include "deepsea/optics/shadow.h"
 
 namespace deepsea {
 
@@ -31,6 +32,9 @@ struct Light {
     Vec3 direction{0, 0, 1};       ///< unit vector of the lamp's central axis
     Rgb intensity{1.0, 1.0, 1.0};  ///< radiant intensity on the axis, W/sr, linear R, G, B
     Rid rid;
+    /// Radius of the emitting face, metres: the width of the penumbra of its shadows
+    /// (optics/shadow.h). Nothing else sees it: the lamp's light is a point's.
+    double radius = kDefaultLampRadius;
 
     /// Radiant intensity I0 * RID(theta) emitted along the unit vector w (W/sr per channel).
     Rgb intensity_toward(const Vec3& w) const;

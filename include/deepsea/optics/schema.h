@@ -34,8 +34,8 @@ namespace schema {
 inline const std::vector<std::string> kSections = {"camera", "rig", "water"};
 inline const std::vector<std::string> kCamera = {"width", "height", "fx", "fy", "cx", "cy"};
 inline const std::vector<std::string> kRig = {"name", "lights"};
-inline const std::vector<std::string> kLight = {"name",      "position", "direction",
-                                                "intensity", "rid",      "cutoff_deg"};
+inline const std::vector<std::string> kLight = {"name", "position",   "direction", "intensity",
+                                                "rid",  "cutoff_deg", "radius"};
 inline const std::vector<std::string> kRid = {"gaussian", "table"};
 inline const std::vector<std::string> kRidGaussian = {"sigma_deg"};
 inline const std::vector<std::string> kRidTable = {"angle_deg", "value"};
@@ -88,7 +88,8 @@ void validate(const Camera& camera);
 /// and at most kMaxLampDistance from the camera centre, a finite non-zero direction (it need not
 /// be unit: the YAML reader normalises after this check), intensity in [0, kMaxLampIntensity]
 /// per channel, a Gaussian sigma > 0 or a table of
-/// >= 2 strictly ascending angles in [0, 180] with as many values >= 0, cutoff in (0, 180].
+/// >= 2 strictly ascending angles in [0, 180] with as many values >= 0, cutoff in (0, 180],
+/// radius in [0, kMaxLampRadius] metres.
 void validate(const Rig& rig);
 
 /// c >= 0, 0 <= b <= c per channel; Henyey-Greenstein g in (-1, 1); enabled forward scatter

@@ -10,6 +10,7 @@
 #include "deepsea/asset/asset.h"
 #include "deepsea/core/frame.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/shadow.h"
 #include "deepsea/optics/water.h"
 #include "deepsea/runtime/frame_view.h"
 #include "deepsea/runtime/layers.h"
@@ -23,6 +24,10 @@ struct RenderSettings {
     Camera camera;
     /// Forward scatter, where the asset's water has it.
     bool forward = true;
+    /// Lamp shadows from the depth map (docs/model.md, "Lamp shadows"): off by default, as in
+    /// the paper's model; thickness in metres of planar depth.
+    bool shadows = false;
+    double shadow_thickness = kDefaultShadowThickness;
 };
 
 /// Renders frames with one asset. Keeps the compositor and its buffers between frames of one

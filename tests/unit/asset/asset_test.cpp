@@ -211,4 +211,21 @@ TEST(InputHash, ChangesWithInputsNotWithResults) {
 }
 
 }  // namespace
+TEST(BakeInfoJson, LampRadiusIsWrittenOnlyWhereNotTheDefault) {
+    Asset a = test::function_asset(kCam, 8, DepthScheme::Uniform, 4, 5.0, bilinear_field);
+    const std::string plain = bake_info_to_json(a.info);
+    // the default radius is not written: such assets (and their input hashes) stay as before
+    EXPECT_EQ(plain.find("radius"), std::string::npos);
+    EXPECT_EQ(bake_info_from_json(plain).rig.lights[0].radius, kDefaultLampRadius);
+    const std::string hash = input_hash(a.info);
+    a.info.rig.lights[0].radius = 0.08;
+    EXPECT_NE(input_hash(a.info), hash);
+    const BakeInfo back = bake_info_from_json(bake_info_to_json(a.info));
+    EXPECT_EQ(back.rig.lights[0].radius, 0.08);
+    EXPECT_EQ(back.rig.lights[1].radius, kDefaultLampRadius);
+    nlohmann::json j = nlohmann::json::parse(bake_info_to_json(a.info));
+    j["rig"]["lights"][0]["radius"] = 2.0;
+    EXPECT_THROW(bake_info_from_json(j.dump()), AssetError);
+}
+
 }  // namespace deepsea

@@ -66,6 +66,12 @@ TEST_F(ManifestTest, RoundTripsExactlyThroughTheFile) {
     EXPECT_TRUE(r2.half);
     some.image_format = "jpg";
     EXPECT_EQ(manifest_from_json(manifest_to_json(some), "m3.json").image_format, "jpg");
+    // shadows: written only when on; a manifest without the key (older ones) reads as off
+    EXPECT_EQ(manifest_to_json(m).find("shadows"), std::string::npos);
+    EXPECT_FALSE(r.shadows);
+    some.shadows = true;
+    EXPECT_TRUE(manifest_from_json(manifest_to_json(some), "m5.json").shadows);
+    some.shadows = false;
     some.image = false;  // no -o: "none", and the format stays png
     EXPECT_EQ(manifest_from_json(manifest_to_json(some), "m4.json").image_format, "png");
     EXPECT_EQ(listing().size(), 1u);  // no temporary left beside it
@@ -125,6 +131,8 @@ TEST(Manifest, ResumeRefusesEverySettingThatChangesTheFrames) {
               std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.half = true; }).find("--half"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.forward = false; }).find("forward"), std::string::npos);
+    EXPECT_NE(changed([](auto& r) { r.shadows = true; }).find("--shadows was off, now on"),
+              std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.depth_scale = 0.0001; }).find("--depth-scale"),
               std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.rgb = "/other/*.png"; }).find("holds the frames of"),

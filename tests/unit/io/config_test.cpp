@@ -375,4 +375,24 @@ TEST(Config, SetupToYamlRoundTrips) {
 }
 
 }  // namespace
+TEST(Config, LampRadiusIsOptionalRangedAndWrittenBack) {
+    const std::string with =
+        replaced(kValid, "      cutoff_deg: 90\n", "      cutoff_deg: 90\n      radius: 0.1\n");
+    const deepsea::Setup s = parse_setup(with, "r.yaml");
+    EXPECT_EQ(s.rig->lights[0].radius, 0.1);
+    EXPECT_EQ(s.rig->lights[1].radius, kDefaultLampRadius);  // none given
+    const deepsea::Setup back = parse_setup(setup_to_yaml(s), "round.yaml");
+    EXPECT_EQ(back.rig->lights[0].radius, 0.1);
+    EXPECT_EQ(back.rig->lights[1].radius, kDefaultLampRadius);
+    for (const char* bad : {"-0.01", "0.6"}) {
+        try {
+            parse_setup(replaced(with, "radius: 0.1", std::string("radius: ") + bad), "r.yaml");
+            ADD_FAILURE() << bad;
+        } catch (const ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find("rig.lights[0].radius"), std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 }  // namespace deepsea

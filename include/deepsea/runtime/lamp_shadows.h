@@ -1,0 +1,59 @@
+#pragma once
+/// \file Lamp shadows from the depth map (docs/model.md, "Lamp shadows"): per lamp and pixel,
+/// the fraction of the lamp's face that the depth map's surfaces leave visible.
+
+#include <cstddef>
+#include <vector>
+
+#include "deepsea/core/image.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/shadow.h"
+
+namespace deepsea {
+
+/// Whether and how the lamps' shadows are rendered.
+struct ShadowSettings {
+    bool enabled = false;
+    /// How far behind a seen surface the solid extends, planar depth, metres (> 0).
+    double thickness = kDefaultShadowThickness;
+};
+
+/// Visibility of each lamp of a rig from every pixel of a frame, in [0, 1], from its planar
+/// depth alone. Each lamp's epipolar lines are swept from the lamp's side of the image (the
+/// epipole, or the image border toward the lamp) outward, one running horizon per line
+/// (optics/shadow.h's shadow coordinate, with the thickness), so a frame costs a few passes
+/// over its pixels per lamp, whatever the shadows' length. The lines depend on the camera and
+/// the rig only and are kept between frames. The result is the same at any thread count.
+class LampShadows {
+public:
+    LampShadows();
+    ~LampShadows();
+    LampShadows(LampShadows&&) noexcept;
+    LampShadows& operator=(LampShadows&&) noexcept;
+
+    /// Computes every lamp's visibility for the frame of planar depth `zdepth` (the camera's
+    /// size; open water where has_surface says so: visibility 1 there).
+    void compute(const Camera& camera, const Image& zdepth, const Rig& rig,
+                 const ShadowSettings& settings);
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    std::size_t lamps() const { return m_visibility.size(); }
+    /// Lamp `lamp`'s visibility along image row v (width() values).
+    const float* row(std::size_t lamp, int v) const { return m_visibility[lamp].row(v); }
+    /// Lamp `lamp`'s visibility image (1 channel).
+    const Image& visibility(std::size_t lamp) const { return m_visibility[lamp]; }
+
+    struct Lines;  ///< one lamp's epipolar lines for one camera (lamp_shadows.cpp)
+
+private:
+    int m_width = 0, m_height = 0;
+    std::vector<Image> m_visibility;
+    std::vector<Lines> m_lines;     ///< per lamp, for m_camera and m_positions
+    Camera m_camera;                ///< the lines' camera
+    std::vector<Vec3> m_positions;  ///< the lines' lamp positions
+    std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
+};
+
+}  // namespace deepsea

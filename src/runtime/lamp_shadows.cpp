@@ -1,0 +1,419 @@
+// Lamp shadows by sweeping each lamp's epipolar lines (docs/model.md, "Lamp shadows").
+// Compiled with -ffast-math -fopenmp-simd (the per-pixel pass is vectorised): open water is
+// marked with -FLT_MAX, never NaN or inf.
+//
+// A point P's segment to the lamp projects onto the image line from P's pixel toward the lamp's
+// image (the epipole; for a lamp in the camera's plane z = 0, toward the lamp's side), and every
+// camera ray that line crosses lies in P's epipolar plane. So the pixels between P and the
+// epipole hold every seen surface that can shade P, and they come before P when a line is swept
+// from the epipole outward. Lines: through a finite epipole, four fans (|slope| <= 1 about the
+// image's x and y axes, 1 px apart where they leave the image); at infinity, parallel lines 1 px
+// apart along the image's major axis. Each pixel belongs to the one line that locate() names and
+// is written by that line only, so lines run in parallel and any thread count gives the same
+// bits.
+
+#include "deepsea/runtime/lamp_shadows.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "clones.h"
+#include "deepsea/optics/normals.h"
+
+namespace deepsea {
+
+namespace {
+
+/// One family of lines in image coordinates (a, b): (u, v), or (v, u) where `swap`.
+struct Family {
+    bool swap = false;
+    bool radial = false;
+    int sigma = 1;          ///< radial: the half (a - ea has this sign) the fan covers
+    int dir = 1;            ///< the sweep's step along a
+    double ea = 0, eb = 0;  ///< radial: the epipole
+    double m = 1;           ///< radial: slope of line i is i / m
+    double slope = 0;       ///< parallel: b = i + slope * a
+    long i_min = 0, i_max = -1;
+};
+
+constexpr double kFarEpipole = 1e6;  // px from the image: lines taken as parallel beyond
+
+long round_index(double x) { return long(std::floor(x + 0.5)); }
+
+}  // namespace
+
+struct LampShadows::Lines {
+    std::vector<Family> families;
+    int width = 0, height = 0;
+
+    /// The family and line that pixel (u, v) belongs to.
+    void locate(int u, int v, int& family, long& line) const {
+        const Family& f0 = families[0];
+        if (!f0.radial) {
+            const double a = f0.swap ? v : u, b = f0.swap ? u : v;
+            family = 0;
+            line = round_index(b - f0.slope * a);
+            return;
+        }
+        const double dx = u - (f0.swap ? f0.eb : f0.ea), dy = v - (f0.swap ? f0.ea : f0.eb);
+        double qa, qb;
+        if (dx >= std::fabs(dy)) {
+            family = 0, qa = dx, qb = dy;
+        } else if (-dx >= std::fabs(dy)) {
+            family = 1, qa = dx, qb = dy;
+        } else if (dy > 0) {
+            family = 2, qa = dy, qb = dx;
+        } else {
+            family = 3, qa = dy, qb = dx;
+        }
+        line = qa == 0.0 ? 0 : round_index(families[family].m * qb / qa);
+    }
+    double line_b(const Family& f, long i, double a) const {
+        return f.radial ? f.eb + (double(i) / f.m) * (a - f.ea) : double(i) + f.slope * a;
+    }
+};
+
+namespace {
+
+/// The lines of a lamp at L for the camera.
+LampShadows::Lines make_lines(const Camera& cam, const Vec3& L) {
+    LampShadows::Lines lines;
+    lines.width = cam.width;
+    lines.height = cam.height;
+    const double W = cam.width, H = cam.height;
+    // The lamp's image in homogeneous pixels; the sweep runs along p * Lz - eh (from the
+    // lamp's side toward P).
+    const double ehx = cam.fx * L.x + cam.cx * L.z, ehy = cam.fy * L.y + cam.cy * L.z;
+    const double cu = 0.5 * (W - 1), cv = 0.5 * (H - 1);
+    const bool finite = std::fabs(L.z) > 1e-12 * length(L) &&
+                        std::hypot(ehx / L.z - cu, ehy / L.z - cv) < kFarEpipole;
+    if (!finite) {
+        const double dx = cu * L.z - ehx, dy = cv * L.z - ehy;
+        Family f;
+        f.swap = std::fabs(dy) > std::fabs(dx);
+        const double da = f.swap ? dy : dx, db = f.swap ? dx : dy;
+        f.dir = da > 0 ? 1 : -1;
+        f.slope = db / da;
+        const double A = f.swap ? H : W, B = f.swap ? W : H;
+        const double c[4] = {0.0, -f.slope * (A - 1), B - 1, B - 1 - f.slope * (A - 1)};
+        f.i_min = round_index(*std::min_element(c, c + 4)) - 1;
+        f.i_max = round_index(*std::max_element(c, c + 4)) + 1;
+        lines.families.push_back(f);
+        return lines;
+    }
+    const double ex = ehx / L.z, ey = ehy / L.z;
+    const int outward = L.z > 0 ? 1 : -1;
+    for (int k = 0; k < 4; ++k) {
+        Family f;
+        f.radial = true;
+        f.swap = k >= 2;
+        f.sigma = (k % 2 == 0) ? 1 : -1;
+        f.dir = f.sigma * outward;
+        f.ea = f.swap ? ey : ex;
+        f.eb = f.swap ? ex : ey;
+        // 1 px apart (less than) where the fan leaves the image: m > the farthest |a - ea|
+        const double A = f.swap ? H : W;
+        f.m = std::floor(std::max(std::fabs(f.ea), std::fabs(A - 1 - f.ea))) + 2.0;
+        f.i_max = -1;
+        f.i_min = 0;
+        lines.families.push_back(f);
+    }
+    // Which lines hold pixels: once per camera and lamp, so simply every pixel.
+    std::vector<long> lo(4, 1L << 40), hi(4, -(1L << 40));
+    for (int v = 0; v < cam.height; ++v) {
+        for (int u = 0; u < cam.width; ++u) {
+            int fam;
+            long i;
+            lines.locate(u, v, fam, i);
+            lo[fam] = std::min(lo[fam], i);
+            hi[fam] = std::max(hi[fam], i);
+        }
+    }
+    for (int k = 0; k < 4; ++k) {
+        lines.families[k].i_min = lo[k];
+        lines.families[k].i_max = hi[k];
+    }
+    return lines;
+}
+
+/// Per pixel of row v for the lamp at L (unit a, distance dl): the shadow coordinate of the
+/// surface (gf), and, as an occluder, of its pixel's far edge along the sweep (gh) and of that
+/// edge `thickness` deeper (gb), -FLT_MAX for open water; the penumbra's scale k and the lamp
+/// distance d1. The edge is half a pixel further along the sweep, whose direction at (u, v) is
+/// (u - ex, v - ey) times `outward` (radial lines) or (ex, ey) (parallel lines), scaled so
+/// that its larger component is 1/2: where a pixel's surface ends is unknown, and between two
+/// pixels is the least biased guess (without it every shadow edge lay half a pixel short).
+/// What shadow_row needs of the lamp and the sweep (see there).
+struct RowParams {
+    float fx, fy, ex, ey, outward, ax, ay, az, dl, lx, ly, lz, t;
+    bool radial;
+};
+
+DEEPSEA_CLONES
+void shadow_row(int n, int v, const float* __restrict z, const float* __restrict rx, float ry,
+                const RowParams& prm, float* __restrict gf, float* __restrict gh,
+                float* __restrict gb, float* __restrict k, float* __restrict d1) {
+    // (copies: loop invariants the vectoriser can see as such)
+    const float fx = prm.fx, fy = prm.fy, ex = prm.ex, ey = prm.ey;
+    const float ax = prm.ax, ay = prm.ay, az = prm.az, dl = prm.dl, lx = prm.lx, ly = prm.ly,
+                lz = prm.lz, t = prm.t;
+    // the sweep's direction at (u, v): (au u + bu, sv) (a select on `radial` in the loop kept
+    // GCC from vectorising it)
+    const float au = prm.radial ? prm.outward : 0.0f;
+    const float bu = prm.radial ? -prm.outward * ex : ex;
+    const float sv = prm.radial ? prm.outward * (float(v) - ey) : ey;
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        // (masks as floats, as kernels.cpp's)
+        const float zr = z[u], rxu = rx[u];
+        const float surf = zr > 0.0f ? 1.0f : 0.0f, none = (surf - 1.0f) * FLT_MAX;
+        const float zs = zr > 0.0f ? zr : 1.0f;
+        const float px = rxu * zs, py = ry * zs;
+        const float cx = py * az - zs * ay, cy = zs * ax - px * az, cz = px * ay - py * ax;
+        const float c2r = cx * cx + cy * cy + cz * cz;
+        const float c2 = c2r > 1e-30f ? c2r : 1e-30f;  // (no std::max: its reference stays scalar)
+        const float pa = px * ax + py * ay + zs * az;
+        const float dx = lx - px, dy = ly - py, dz = lz - zs;
+        const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+        gf[u] = surf * ((dl - pa) / std::sqrt(c2)) + none;
+        k[u] = c2 / d;
+        d1[u] = d;
+        // the pixel's far edge
+        const float su = au * float(u) + bu;
+        const float mu = std::fabs(su) > std::fabs(sv) ? std::fabs(su) : std::fabs(sv);
+        const float m = mu > 1e-20f ? mu : 1e-20f;
+        const float qx = (rxu + 0.5f * su / (m * fx)) * zs, qy = (ry + 0.5f * sv / (m * fy)) * zs;
+        const float ex2 = qy * az - zs * ay, ey2 = zs * ax - qx * az, ez2 = qx * ay - qy * ax;
+        const float e2r = ex2 * ex2 + ey2 * ey2 + ez2 * ez2;
+        const float e2 = e2r > 1e-30f ? e2r : 1e-30f;
+        const float qa = qx * ax + qy * ay + zs * az;
+        const float inv = 1.0f / std::sqrt(e2);
+        // deeper by t along the viewing ray: Q (z + t) / z, so Q x a and Q . a scale alike
+        const float s = (zs + t) / zs;
+        gh[u] = surf * ((dl - qa) * inv) + none;
+        gb[u] = surf * ((dl - s * qa) * inv / s) + none;
+    }
+}
+
+/// An occluder's edge: its shadow coordinate g, position and distance to the lamp s_l.
+struct Edge {
+    float g = -FLT_MAX, x = 0, y = 0, z = 0, s_l = 0;
+};
+
+/// A line's running horizon: the interval [lo, e.g] of shadow coordinates that the seen
+/// surfaces swept so far block, with e its upper edge (q its pixel, -1: none yet; kq the step
+/// where it was swept). e2 (valid where q2 >= 0) is the edge before it, where e continues a lit
+/// surface from it (the lit side of a penumbra, where the lit surface is already the highest).
+struct Horizon {
+    Edge e, e2;
+    float lo = FLT_MAX;
+    long q = -1, q2 = -1;
+    int kq = 0;
+};
+
+/// The penumbra's argument at P (position p, shadow coordinate gp, scale k) of the edge e, or
+/// 1 where it is at least 1 (the whole disc is seen past that edge: no square root).
+inline float penumbra_at(float gp, float k, float px, float py, float pz, const Edge& e, float R) {
+    const float delta = gp - e.g;
+    const float dx = px - e.x, dy = py - e.y, dz = pz - e.z;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    const float num = delta * k * e.s_l;  // h = num / (R d_o)
+    if (num > 0.0f && num * num >= R * R * d2) return 1.0f;
+    if (!(d2 > 0.0f)) return delta > 0.0f ? 1.0f : -1.0f;
+    return num / (R * std::sqrt(d2));
+}
+
+/// One lamp's per-pixel inputs and output, as raw pointers (what the line loops read).
+struct Sweep {
+    const float *gf, *gh, *gb, *k, *d1, *z, *rx, *ry;
+    float* out;
+    int W;
+    float R;
+
+    /// P's visibility under the horizon h (pixel p at (u, v)).
+    float visible(long p, int u, int v, const Horizon& h) const {
+        const float gp = gf[p];
+        if (gp == -FLT_MAX || h.q < 0 || gp < h.lo) return 1.0f;
+        if (!(R > 0.0f)) return gp > h.e.g ? 1.0f : 0.0f;
+        const float zp = z[p], px = rx[u] * zp, py = ry[v] * zp;
+        float arg = penumbra_at(gp, k[p], px, py, zp, h.e, R);
+        if (h.q2 >= 0 && arg > -1.0f)
+            arg = std::min(arg, penumbra_at(gp, k[p], px, py, zp, h.e2, R));
+        return arg >= 1.0f ? 1.0f : disc_visible_fraction(arg);
+    }
+
+    /// Adds the sample `prev` (pixel (u, v), swept at step kp; -1: none) to the horizon, its
+    /// edge toward the next sample q (-1: none or open water). A sample's edge is their chord's
+    /// midpoint on one surface (mean shadow coordinate: chords of a convex surface lie inside
+    /// it, so a lit surface never shades itself), else its pixel's far edge at its own depth.
+    void take(Horizon& h, long prev, int u, int v, int kp, long q) const {
+        if (prev < 0) return;
+        const float zq = z[prev];
+        const bool chord = q >= 0 && same_surface(z[q], zq);
+        const float ge = chord ? 0.5f * (gf[prev] + gf[q]) : gh[prev];
+        const float b = gb[prev];
+        if (ge > h.e.g) {
+            h.lo = b <= h.e.g ? std::min(h.lo, b) : b;
+            // a lit surface going on from the edge keeps the edge as e2
+            const bool goes_on = h.q >= 0 && kp - h.kq <= 2 && same_surface(zq, z[h.q]);
+            if (!goes_on) {
+                h.e2 = h.e;
+                h.q2 = h.q;
+            }
+            h.e = Edge{ge, rx[u] * zq, ry[v] * zq, zq, d1[prev]};
+            h.q = prev;
+            h.kq = kp;
+        } else if (ge >= h.lo) {
+            h.lo = std::min(h.lo, b);
+        }
+    }
+};
+
+}  // namespace
+
+LampShadows::LampShadows() = default;
+LampShadows::~LampShadows() = default;
+LampShadows::LampShadows(LampShadows&&) noexcept = default;
+LampShadows& LampShadows::operator=(LampShadows&&) noexcept = default;
+
+void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig,
+                          const ShadowSettings& settings) {
+    const int W = cam.width, H = cam.height;
+    const std::size_t N = std::size_t(W) * H;
+    m_width = W;
+    m_height = H;
+    std::vector<Vec3> positions;
+    for (const Light& l : rig.lights) positions.push_back(l.position);
+    if (!(m_camera == cam) || positions.size() != m_positions.size() ||
+        !std::equal(
+            positions.begin(), positions.end(), m_positions.begin(),
+            [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; })) {
+        m_lines.clear();
+        for (const Vec3& p : positions) m_lines.push_back(make_lines(cam, p));
+        m_camera = cam;
+        m_positions = positions;
+        m_rx.resize(W);
+        m_ry.resize(H);
+        for (int u = 0; u < W; ++u) m_rx[u] = float(cam.ray_x(u));
+        for (int v = 0; v < H; ++v) m_ry[v] = float(cam.ray_y(v));
+    }
+    m_visibility.resize(rig.lights.size());
+    for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
+    const float t = float(settings.thickness);
+    thread_local std::vector<float> zrow;
+
+    for (std::size_t l = 0; l < rig.lights.size(); ++l) {
+        const Vec3& L = rig.lights[l].position;
+        const double dl = length(L);
+        const Vec3 a = L * (1.0 / dl);
+        const float R = float(rig.lights[l].radius);
+        Image& vis = m_visibility[l];
+        if (vis.width != W || vis.height != H || vis.channels != 1) vis = Image(W, H, 1);
+        const Lines& lines = m_lines[l];
+        const Family& f0 = lines.families[0];
+        const float ex = float(f0.swap ? f0.eb : f0.ea), ey = float(f0.swap ? f0.ea : f0.eb);
+        const float outward = float(f0.dir * f0.sigma);  // radial: 1 away from the epipole
+        const float px = float(f0.swap ? f0.slope * f0.dir : f0.dir);
+        const float py = float(f0.swap ? f0.dir : f0.slope * f0.dir);
+        const RowParams prm{float(cam.fx),
+                            float(cam.fy),
+                            f0.radial ? ex : px,
+                            f0.radial ? ey : py,
+                            outward,
+                            float(a.x),
+                            float(a.y),
+                            float(a.z),
+                            float(dl),
+                            float(L.x),
+                            float(L.y),
+                            float(L.z),
+                            t,
+                            f0.radial};
+        tbb::parallel_for(0, H, [&](int v) {
+            zrow.resize(W);
+            const float* raw = zdepth.row(v);
+            for (int u = 0; u < W; ++u) zrow[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
+            const std::size_t o = std::size_t(v) * W;
+            shadow_row(W, v, zrow.data(), m_rx.data(), m_ry[v], prm, m_gf.data() + o,
+                       m_gh.data() + o, m_gb.data() + o, m_k.data() + o, m_d1.data() + o);
+            std::fill_n(vis.row(v), W, 1.0f);
+        });
+
+        // open water keeps the fill's 1 (the sweep writes surfaces only)
+        const Sweep sw{m_gf.data(),
+                       m_gh.data(),
+                       m_gb.data(),
+                       m_k.data(),
+                       m_d1.data(),
+                       zdepth.data.data(),
+                       m_rx.data(),
+                       m_ry.data(),
+                       vis.data.data(),
+                       W,
+                       R};
+        for (std::size_t fi = 0; fi < lines.families.size(); ++fi) {
+            const Family& f = lines.families[fi];
+            if (f.i_max < f.i_min) continue;
+            const int A = f.swap ? H : W, B = f.swap ? W : H;
+            tbb::parallel_for(f.i_min, f.i_max + 1, [&](long i) {
+                // the columns a where the line is inside the image, in sweep order
+                int a0 = 0, a1 = A - 1;
+                if (f.radial) {
+                    if (f.sigma > 0) a0 = std::max(a0, int(std::ceil(f.ea)));
+                    if (f.sigma < 0) a1 = std::min(a1, int(std::floor(f.ea)));
+                }
+                if (a0 > a1) return;
+                const int step = f.dir, first = step > 0 ? a0 : a1, count = a1 - a0 + 1;
+                // Column k is evaluated before the sample of column k - 1 joins the horizon:
+                // a pixel is never its own or its neighbour's horizon (the sample nearest the
+                // line may lie half a pixel beside it).
+                Horizon h;
+                long prev = -1;  // the last column's sample (-1: none or open water)
+                int prev_u = 0, prev_v = 0;
+                for (int k = 0; k < count; ++k) {
+                    const int a = first + k * step;
+                    const double b = lines.line_b(f, i, a);
+                    const bool inside = b >= -1.0 && b <= double(B);
+                    const int r0 = int(std::floor(b + 0.5));
+                    long q = -1;
+                    const int qu = f.swap ? r0 : a, qv = f.swap ? a : r0;
+                    if (inside && r0 >= 0 && r0 < B) {
+                        q = long(qv) * W + qu;
+                        if (sw.gf[q] == -FLT_MAX) q = -1;
+                    }
+                    if (inside && !f.radial) {
+                        // parallel lines: the sample is the line's own pixel, but where the
+                        // line runs exactly between two rows (the row below is then its own)
+                        const int r = double(r0) - b == 0.5 ? r0 - 1 : r0;
+                        if (r >= 0 && r < B) {
+                            const int u = f.swap ? r : a, v = f.swap ? a : r;
+                            const long p = long(v) * W + u;
+                            if (sw.gf[p] != -FLT_MAX) sw.out[p] = sw.visible(p, u, v, h);
+                        }
+                    } else if (inside) {
+                        const int bf = int(std::floor(b));
+                        for (int r = bf; r <= bf + 1; ++r) {
+                            if (r < 0 || r >= B) continue;
+                            const int u = f.swap ? r : a, v = f.swap ? a : r;
+                            int fam;
+                            long li;
+                            lines.locate(u, v, fam, li);
+                            if (fam != int(fi) || li != i) continue;
+                            const long p = long(v) * W + u;
+                            if (sw.gf[p] != -FLT_MAX) sw.out[p] = sw.visible(p, u, v, h);
+                        }
+                    }
+                    sw.take(h, prev, prev_u, prev_v, k - 1, q);
+                    prev = q;
+                    prev_u = qu;
+                    prev_v = qv;
+                }
+            });
+        }
+    }
+}
+
+}  // namespace deepsea
