@@ -24,42 +24,49 @@ RayProjection project_ray(const Camera& cam, const Vec3& o, const Vec3& d) {
     return p;
 }
 
-SurfaceTaps surface_taps(const Image& depth, double u, double v) {
+Image inverse_depth(const Image& depth) {
+    Image inv(depth.width, depth.height, 1);
+    for (std::size_t i = 0; i < depth.data.size(); ++i) {
+        const float z = depth.data[i];
+        inv.data[i] = has_surface(z) ? 1.0f / z : 0.0f;
+    }
+    return inv;
+}
+
+SurfaceTaps surface_taps(const Image& inv, double u, double v) {
     SurfaceTaps t;
-    const int W = depth.width, H = depth.height;
+    const int W = inv.width, H = inv.height;
     u = std::clamp(u, 0.0, double(W - 1));
     v = std::clamp(v, 0.0, double(H - 1));
     const int x0 = std::min(int(u), std::max(W - 2, 0)), y0 = std::min(int(v), std::max(H - 2, 0));
-    const int x1 = std::min(x0 + 1, W - 1), y1 = std::min(y0 + 1, H - 1);
+    const int dx = x0 + 1 < W ? 1 : 0;
     const double fu = u - x0, fv = v - y0;
-    const int xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
-    double z[4], lo = HUGE_VAL, hi = 0.0;
-    bool all = true;
-    for (int i = 0; i < 4; ++i) {
-        z[i] = depth.at(xs[i], ys[i]);
-        all = all && has_surface(z[i]);
-        lo = std::min(lo, z[i]);
-        hi = std::max(hi, z[i]);
-    }
-    if (all && same_surface(lo, hi)) {
+    const float* r0 = inv.row(y0) + x0;
+    const float* r1 = inv.row(std::min(y0 + 1, H - 1)) + x0;
+    const float s[4] = {r0[0], r0[dx], r1[0], r1[dx]};
+    const float lo = std::min(std::min(s[0], s[1]), std::min(s[2], s[3]));
+    const float hi = std::max(std::max(s[0], s[1]), std::max(s[2], s[3]));
+    if (lo > 0.0f && hi - lo <= float(kDepthDiscontinuity) * lo) {
         const double w[4] = {(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv};
         t.count = 4;
+        const int y1 = std::min(y0 + 1, H - 1);
+        const int xs[4] = {x0, x0 + dx, x0, x0 + dx}, ys[4] = {y0, y0, y1, y1};
         for (int i = 0; i < 4; ++i) {
             t.x[i] = xs[i];
             t.y[i] = ys[i];
             t.w[i] = w[i];
-            t.inv_z += w[i] / z[i];
+            t.inv_z += w[i] * s[i];
         }
         return t;
     }
     const int xn = std::min(int(u + 0.5), W - 1), yn = std::min(int(v + 0.5), H - 1);
-    const double zn = depth.at(xn, yn);
-    if (!has_surface(zn)) return t;
+    const float sn = inv.at(xn, yn);
+    if (!(sn > 0.0f)) return t;
     t.count = 1;
     t.x[0] = xn;
     t.y[0] = yn;
     t.w[0] = 1.0;
-    t.inv_z = 1.0 / zn;
+    t.inv_z = sn;
     return t;
 }
 
@@ -70,17 +77,17 @@ namespace {
 struct Probe {
     double s = 0.0, h = 0.0;
     bool open = false;
-    double inv_z = 0.0;
+    SurfaceTaps taps;
     bool front() const { return open || h > 0.0; }
 };
 
 struct Marcher {
-    const Image& depth;
+    const Image& inv;
     const RayProjection& ray;
 
     Probe at(double s) const {
-        const SurfaceTaps t = surface_taps(depth, ray.u_inf + ray.du * s, ray.v_inf + ray.dv * s);
-        return {s, s - t.inv_z, t.count == 0, t.inv_z};
+        const SurfaceTaps t = surface_taps(inv, ray.u_inf + ray.du * s, ray.v_inf + ray.dv * s);
+        return {s, s - t.inv_z, t.count == 0, t};
     }
 
     /// The crossing between a (in front) and b (behind, b.s < a.s): Illinois steps (bisection
@@ -90,6 +97,7 @@ struct Marcher {
         const double rate = ray.rate();
         Probe best = b;
         int side = 0;
+        continuous = false;
         for (int it = 0; it < 200 && b.h != 0.0; ++it) {
             double s = a.open ? 0.5 * (a.s + b.s) : (a.s * b.h - b.s * a.h) / (b.h - a.h);
             if (!(s < a.s && s > b.s)) s = 0.5 * (a.s + b.s);
@@ -104,7 +112,14 @@ struct Marcher {
                 side = -1;
             }
             best = c;
-            if (!c.open && std::fabs(c.h) <= kPortHitTolerance * (c.s + c.inv_z)) break;
+            if (!c.open && std::fabs(c.h) <= kPortHitTolerance * (c.s + c.taps.inv_z)) {
+                // on the surface, between four pixels of one surface: no edge here
+                if (c.taps.count == 4) {
+                    continuous = true;
+                    return c;
+                }
+                break;
+            }
             if ((a.s - b.s) * rate <= kPortHitTolerance || a.s - b.s <= 1e-15 * a.s) {
                 best = b;
                 break;
@@ -114,7 +129,9 @@ struct Marcher {
         // Across the crossing, a thousandth of a pixel either way: one surface, or an edge.
         const double ds = std::min(1e-3 / rate, 1e-3 * best.s);
         const Probe n = at(best.s + ds), f = at(std::max(best.s - ds, 0.0));
-        continuous = !n.open && !f.open && same_surface(1.0 / n.inv_z, 1.0 / f.inv_z);
+        const double lo = std::min(n.taps.inv_z, f.taps.inv_z);
+        const double hi = std::max(n.taps.inv_z, f.taps.inv_z);
+        continuous = !n.open && !f.open && hi - lo <= kDepthDiscontinuity * lo;
         return best;
     }
 };
@@ -142,7 +159,7 @@ bool sees_input(const Camera& input, const RayProjection& ray) {
     return lo <= hi;
 }
 
-PortHit find_port_hit(const Camera& input, const Image& depth, const RayProjection& ray,
+PortHit find_port_hit(const Camera& input, const Image& inv, const RayProjection& ray,
                       const Vec3& origin, const Vec3& direction, double z_near) {
     PortHit hit;
     if (!ray.forward) return hit;
@@ -153,13 +170,14 @@ PortHit find_port_hit(const Camera& input, const Image& depth, const RayProjecti
     view_interval(ray.u_inf, ray.du, input.width, lo, hi);
     view_interval(ray.v_inf, ray.dv, input.height, lo, hi);
     if (!(lo <= hi)) return hit;  // never inside the input's view
-    const Marcher m{depth, ray};
+    const Marcher m{inv, ray};
     const auto surface = [&](const Probe& p) {
         hit.kind = PortHitKind::Surface;
         hit.z = 1.0 / p.s;
         hit.t = (hit.z - origin.z) / direction.z;
         hit.u = ray.u_inf + ray.du * p.s;
         hit.v = ray.v_inf + ray.dv * p.s;
+        hit.taps = p.taps;
         return hit;
     };
     Probe prev = m.at(hi);

@@ -186,6 +186,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         if (m_in_normal.width != W || m_in_normal.height != H) {
             m_in_normal = Image(W, H, 3);
             m_in_color = Image(W, H, 3);
+            m_inv_depth = Image(W, H, 1);
         }
         tbb::parallel_for(0, H, [&](int v) {
             RowScratch& s = scratch.local();
@@ -201,6 +202,8 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             }
             const float* J = color_row(color, v, s.color);
             std::copy(J, J + 3 * std::size_t(W), m_in_color.row(v));
+            float* inv = m_inv_depth.row(v);
+            for (int u = 0; u < W; ++u) inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
         });
         if (forward && (m_hit_z.width != W || m_hit_z.height != H)) m_hit_z = Image(W, H, 1);
         if (all && (dst.mask.width != W || dst.mask.height != H)) dst.mask = Image(W, H, 1);
@@ -215,7 +218,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         s.fit(W);
         const float* J;
         if (port) {
-            port_row(*m_port, v, depth, m_in_normal, m_in_color, z_near,
+            port_row(*m_port, v, m_inv_depth, m_in_normal, m_in_color, z_near,
                      {s.x.data(), s.y.data(), s.z.data(), s.t.data(), s.nx.data(), s.ny.data(),
                       s.nz.data(), s.j.data(), s.mask.data()});
             J = s.j.data();

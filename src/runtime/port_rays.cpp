@@ -71,9 +71,9 @@ RayProjection PortRays::projection(int u, int v) const {
     return p;
 }
 
-PortHit PortRays::hit(int u, int v, const Image& depth, double z_near) const {
+PortHit PortRays::hit(int u, int v, const Image& inv_depth, double z_near) const {
     const Ray& r = ray(u, v);
-    return find_port_hit(m_camera, depth, projection(u, v), Vec3(r.ox, r.oy, r.oz),
+    return find_port_hit(m_camera, inv_depth, projection(u, v), Vec3(r.ox, r.oy, r.oz),
                          Vec3(r.dx, r.dy, r.dz), z_near);
 }
 

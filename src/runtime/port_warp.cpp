@@ -4,11 +4,11 @@
 
 namespace deepsea {
 
-void port_row(const PortRays& rays, int v, const Image& depth, const Image& normals,
+void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& normals,
               const Image& color, double z_near, const PortRow& o) {
     const int W = rays.camera().width;
     for (int u = 0; u < W; ++u) {
-        const PortHit h = rays.hit(u, v, depth, z_near);
+        const PortHit h = rays.hit(u, v, inv_depth, z_near);
         o.mask[u] = h.seen() ? 1.0f : 0.0f;
         if (h.kind != PortHitKind::Surface) {
             o.x[u] = o.y[u] = o.z[u] = o.t[u] = 0.0f;
@@ -22,7 +22,7 @@ void port_row(const PortRays& rays, int v, const Image& depth, const Image& norm
         o.y[u] = float(double(r.oy) + h.t * double(r.dy));
         o.z[u] = float(h.z);
         o.t[u] = float(h.t);
-        const SurfaceTaps taps = surface_taps(depth, h.u, h.v);
+        const SurfaceTaps& taps = h.taps;
         double n[3] = {0, 0, 0}, j[3] = {0, 0, 0};
         for (int i = 0; i < taps.count; ++i) {
             for (int c = 0; c < 3; ++c) {

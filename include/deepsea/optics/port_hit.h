@@ -51,10 +51,15 @@ struct SurfaceTaps {
     double inv_z = 0.0;  ///< the interpolated inverse planar depth 1 / z (0: open water)
 };
 
-/// The taps at (u, v) of a one-channel planar depth image (open water as has_surface says).
-/// Inverse depth is interpolated, not depth: 1 / z is affine in (u, v) on any plane, so a plane
-/// is reproduced exactly between its pixels.
-SurfaceTaps surface_taps(const Image& depth, double u, double v);
+/// A planar depth image's inverse, 1 / z, with 0 for open water (has_surface): what the march
+/// reads. Inverse depth is interpolated, not depth: 1 / z is affine in (u, v) on any plane, so a
+/// plane is reproduced exactly between its pixels.
+Image inverse_depth(const Image& depth);
+
+/// The taps at (u, v) of an inverse depth image (inverse_depth). Four pixels are one surface
+/// where their depths lie within kDepthDiscontinuity of each other:
+/// (max - min) <= kDepthDiscontinuity min, in depth or, equivalently, in inverse depth.
+SurfaceTaps surface_taps(const Image& inv_depth, double u, double v);
 
 /// What a ray sees of the input.
 enum class PortHitKind {
@@ -70,6 +75,7 @@ struct PortHit {
     double u = 0.0, v = 0.0;  ///< input image position of the hit (Surface)
     double z = 0.0;           ///< planar depth of the hit point, metres (Surface)
     double t = 0.0;           ///< path from the ray's origin to the hit, metres (Surface)
+    SurfaceTaps taps;         ///< the input pixels at (u, v) (Surface)
     bool seen() const { return kind != PortHitKind::Unseen; }
 };
 
@@ -77,7 +83,8 @@ struct PortHit {
 /// (so its depth to about 1e-9 relative), or, at a depth edge, to this many pixels.
 inline constexpr double kPortHitTolerance = 1e-9;
 
-/// The first crossing of the ray with the surface of `depth` (the input's planar depth, camera
+/// The first crossing of the ray with the surface of `inv_depth` (the input's inverse planar
+/// depth, inverse_depth; camera
 /// `input`), searched at depths >= z_near (the frame's nearest surface: nothing is hit before
 /// it; +inf or 0 when the frame has no surface). Marches the projection from the ray's start
 /// (or z_near, whichever is deeper) toward the vanishing point in steps of at most one pixel,
@@ -86,7 +93,7 @@ inline constexpr double kPortHitTolerance = 1e-9;
 /// where both sides are affine in s). A sign change across a depth edge (the ray passes behind a
 /// foreground surface the pinhole does not see past) is skipped: the hit is on a surface found
 /// beyond it, or the ray is Unseen. `origin` and `direction` as given to project_ray.
-PortHit find_port_hit(const Camera& input, const Image& depth, const RayProjection& ray,
+PortHit find_port_hit(const Camera& input, const Image& inv_depth, const RayProjection& ray,
                       const Vec3& origin, const Vec3& direction, double z_near);
 
 }  // namespace deepsea

@@ -37,9 +37,10 @@ public:
     const Ray& ray(int u, int v) const { return m_rays[std::size_t(v) * m_camera.width + u]; }
     /// The ray's projection in double, as find_port_hit takes it.
     RayProjection projection(int u, int v) const;
-    /// Where pixel (u, v)'s ray meets the frame's planar depth (see find_port_hit), with the
-    /// frame's nearest surface depth z_near (+inf: no surface).
-    PortHit hit(int u, int v, const Image& depth, double z_near) const;
+    /// Where pixel (u, v)'s ray meets the frame's surface (see find_port_hit), given its
+    /// inverse planar depth (optics' inverse_depth) and nearest surface depth z_near (+inf: no
+    /// surface).
+    PortHit hit(int u, int v, const Image& inv_depth, double z_near) const;
     /// Pixels per radian of the water-side rays at the image centre, along x: fx without a port,
     /// about n_water / n_air times fx behind a flat one. The forward blur's angular scale.
     double water_fx() const { return m_water_fx; }

@@ -90,8 +90,8 @@ struct HitErrors {
 /// are left out.
 HitErrors compare_hits(const Camera& cam, const Port& port, const Scene& scene, double margin) {
     const PortRays rays(port, cam);
-    const Image depth = depth_of(cam, scene);
-    const double z_near = nearest_surface(depth);
+    const Image depth = inverse_depth(depth_of(cam, scene));
+    const double z_near = nearest_surface(depth_of(cam, scene));
     HitErrors e;
     for (int v = 0; v < cam.height; ++v) {
         for (int u = 0; u < cam.width; ++u) {
@@ -169,7 +169,7 @@ TEST(PortRender, FlatPortShrinksThePlanesFootprintByThePredictedFactor) {
     const Port port = flat_port({0, 0, 1}, 0.0, 1e-6);
     const double n = port.n_water.g / port.n_air;
     const PortRays rays(port, cam);
-    Image depth(cam.width, cam.height, 1, 500.0f);
+    const Image depth = inverse_depth(Image(cam.width, cam.height, 1, 500.0f));
     double worst = 0;
     for (int v = 0; v < cam.height; v += 7) {
         for (int u = 0; u < cam.width; u += 3) {
