@@ -51,6 +51,12 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.rgb = absolute(opt.rgb_pattern);
     m.depth = absolute(opt.depth_pattern);
     m.camera = opt.camera.width > 0 ? opt.camera : asset.info.camera;
+    if (opt.port) {
+        Setup setup;
+        setup.camera = m.camera;
+        setup.port = opt.port;
+        m.port = setup_to_yaml(setup);
+    }
     if (opt.camera_model) {
         Setup setup;
         setup.camera = m.camera;
@@ -161,7 +167,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
 
     if (opt.camera_model && !opt.layer_output.camera)
         throw InputError("render_sequence: a camera stage needs layer_output.camera");
-    Renderer renderer(asset, {opt.camera, opt.forward});
+    Renderer renderer(asset, {opt.camera, opt.forward, opt.port});
     std::optional<CameraFrames> camera;
     if (opt.camera_model) camera.emplace(*opt.camera_model, opt.manifests, opt.resume);
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy

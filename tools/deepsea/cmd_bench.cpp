@@ -149,7 +149,8 @@ Camera scaled(const Camera& base, int w, int h) {
 }
 
 /// Composites one generated frame repeatedly, for each layer set (all layers, then only the
-/// image): one bake and one frame per camera, a fresh compositor and peak window per case.
+/// image; then all layers through a flat port): one bake and one frame per camera, a fresh
+/// compositor and peak window per case.
 std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const BenchArgs& a,
                                   int threads) {
     FlightParams flight;
@@ -173,6 +174,25 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
         cases.push_back(summarize(set == LayerSet::All ? "composite" : "composite_final_only",
                                   cam.width, cam.height, threads, t, cpu));
     }
+    // Through a flat port (3 cm from the camera centre, 1.2 cm of acrylic, seawater): every
+    // pixel's water-side ray marched through the frame's depth (docs/ports.md).
+    Port port;
+    port.flat.distance = 0.03;
+    port.flat.glass_thickness = 0.012;
+    RenderSettings settings{cam};
+    settings.port = port;
+    Renderer renderer(asset, settings);
+    reset_peak_rss();
+    Layers layers;
+    renderer.render(layers, frame, LayerSet::All);
+    std::vector<double> t, cpu;
+    for (int r = 0; r < a.repeats; ++r) {
+        const double t0 = now_ms(), c0 = cpu_ms();
+        renderer.render(layers, frame, LayerSet::All);
+        t.push_back(now_ms() - t0);
+        cpu.push_back(cpu_ms() - c0);
+    }
+    cases.push_back(summarize("composite_flat_port", cam.width, cam.height, threads, t, cpu));
     return cases;
 }
 
