@@ -155,6 +155,7 @@ py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool) {
     put("transmission", l.transmission);
     put("depth", l.depth);
     put("normal", l.normal);
+    put("mask", l.mask);  // through a port only
     return d;
 }
 

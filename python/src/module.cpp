@@ -69,7 +69,11 @@ public:
         : m_asset(std::move(asset)), m_threads(threads) {
         check_threads(threads);
         RenderSettings settings;
-        if (!camera.is_none()) settings.camera = *section_from(camera, "camera").camera;
+        if (!camera.is_none()) {
+            const Setup section = section_from(camera, "camera");
+            settings.camera = *section.camera;
+            settings.port = section.port;  // rendered through (docs/ports.md)
+        }
         settings.forward = forward;
         m_renderer = std::make_unique<deepsea::Renderer>(*m_asset.asset, settings);
     }

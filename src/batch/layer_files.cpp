@@ -96,6 +96,9 @@ void write_layers(const std::string& path, const Layers& l, const ImageMetadata&
     std::vector<ExrLayer> chosen;
     for (const ExrLayer& layer : all)
         if (named(out.names, layer.name)) chosen.push_back(layer);
+    // Through a port, with every layer: which pixels see the input (docs/ports.md).
+    if (!l.mask.empty() && out.compositor_set() == LayerSet::All && out.all())
+        chosen.push_back({"mask", &l.mask, {"Y"}});
     if (camera) {
         for (const ExrLayer& layer :
              {ExrLayer{"raw", &camera->raw, rgb}, ExrLayer{"linear_dn", &camera->linear_dn, rgb},

@@ -51,6 +51,12 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.rgb = absolute(opt.rgb_pattern);
     m.depth = absolute(opt.depth_pattern);
     m.camera = opt.camera.width > 0 ? opt.camera : asset.info.camera;
+    if (opt.port) {
+        Setup setup;
+        setup.camera = m.camera;
+        setup.port = opt.port;
+        m.port = setup_to_yaml(setup);
+    }
     if (opt.camera_model) {
         Setup setup;
         setup.camera = m.camera;
@@ -183,6 +189,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
         throw InputError("render_sequence: a camera stage needs layer_output.camera");
     RenderSettings settings{opt.camera, opt.forward};
     settings.shadows = opt.shadows;
+    settings.port = opt.port;
     Renderer renderer(asset, settings);
     std::optional<CameraFrames> camera;
     if (opt.camera_model) camera.emplace(*opt.camera_model, opt.manifests, opt.resume);

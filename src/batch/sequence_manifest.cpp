@@ -24,6 +24,7 @@ std::string manifest_to_json(const SequenceManifest& m) {
     j["camera"] = {{"width", m.camera.width}, {"height", m.camera.height}, {"fx", m.camera.fx},
                    {"fy", m.camera.fy},       {"cx", m.camera.cx},         {"cy", m.camera.cy}};
     j["camera_stage"] = m.camera_stage.empty() ? "none" : m.camera_stage;
+    j["port"] = m.port.empty() ? "none" : m.port;
     j["exposure"] = {{"mode", !m.camera_stage.empty() ? "camera"
                               : m.auto_exposure       ? "auto"
                                                       : "fixed"},
@@ -111,6 +112,9 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
     // "camera_stage" came with the camera stage; a manifest from before it had none.
     m.camera_stage = j.contains("camera_stage") ? get<std::string>(j, path, "camera_stage") : "";
     if (m.camera_stage == "none") m.camera_stage.clear();
+    // "port" came with rendering through a port; a manifest from before it had none.
+    m.port = j.contains("port") ? get<std::string>(j, path, "port") : "";
+    if (m.port == "none") m.port.clear();
     if ((mode == "camera") != !m.camera_stage.empty())
         throw InputError(path + ": exposure.mode: '" + mode + "' does not match camera_stage");
     m.exposure = get<double>(j, path, "exposure", "factor");
@@ -230,6 +234,11 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
                : folder.camera_stage.empty() ? "a camera (--camera's lens, sensor or processing)"
                                              : "another camera (--camera's lens, sensor or "
                                                "processing differ)");
+    if (folder.port != run.port)
+        differ("the port", folder.port.empty() ? "none" : "one port",
+               run.port.empty()      ? "none"
+               : folder.port.empty() ? "a port (--camera's camera.port)"
+                                     : "another port (--camera's camera.port differs)");
     if (folder.auto_exposure != run.auto_exposure)
         differ("the exposure", folder.auto_exposure ? "auto" : "fixed",
                run.auto_exposure ? "auto" : "fixed");

@@ -59,9 +59,16 @@ struct Adaptive {
     const Vec3& dir;
     const StopFlag* stop;
     long panels_left = kMaxQuadraturePanels;
-    bool exhausted = false;  ///< a panel short of its tolerance was left unsplit
+    bool exhausted = false;        ///< a panel short of its tolerance was left unsplit
+    const Vec3* origin = nullptr;  ///< the ray's start (a port's outer surface); null: the camera
 
-    Rgb f(double t) const { return in_scatter(rig, water, dir, t); }
+    Rgb f(double t) const {
+        if (!origin) return in_scatter(rig, water, dir, t);
+        Rgb sum;
+        const Vec3 X = *origin + dir * t;
+        for (const Light& L : rig.lights) sum += lamp_in_scatter(L, water, X, -dir);
+        return sum * exp(water.c * -t);
+    }
 
     /// One GK15 panel on [a, b]: its value and error estimate, counted and polled.
     void panel(double a, double b, Rgb& k, Rgb& e) {
@@ -175,9 +182,16 @@ Rgb tolerance_for(Adaptive& ray, double t0, double t1, const Quadrature& q) {
 
 Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& dir, double t0,
                               double t1, const Quadrature& q, const StopFlag* stop) {
+    return backscatter_integral(rig, water, Vec3(0.0, 0.0, 0.0), dir, t0, t1, q, stop);
+}
+
+Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& origin,
+                              const Vec3& dir, double t0, double t1, const Quadrature& q,
+                              const StopFlag* stop) {
     Integral out;
     if (!(t1 > t0)) return out;
     Adaptive ray{rig, water, dir, stop};
+    if (origin.x != 0.0 || origin.y != 0.0 || origin.z != 0.0) ray.origin = &origin;
     const Rgb tol = tolerance_for(ray, t0, t1, q);
     ray.adapt(t0, t1, tol, q.max_depth, out);
     if (ray.exhausted) {

@@ -13,6 +13,7 @@
 #include "deepsea/optics/normals.h"
 #include "frame_input.h"
 #include "kernels.h"
+#include "port_warp.h"
 
 namespace deepsea {
 
@@ -20,12 +21,12 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d2, l, d, f, out, dx;
+    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d2, l, d, f, out, dx, t, mask, j;
     ColorRowBuffer color;  ///< the row's colour, where it is not already linear floats
     std::vector<unsigned char> irregular;
     void fit(int n) {
-        for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2}) v->resize(n);
-        for (auto* v : {&e, &l, &d, &f, &out, &dx}) v->resize(3 * std::size_t(n));
+        for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2, &t, &mask}) v->resize(n);
+        for (auto* v : {&e, &l, &d, &f, &out, &dx, &j}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
     }
 };
@@ -49,15 +50,49 @@ void back_project_row(int n, const float* __restrict raw, const float* __restric
     }
 }
 
+/// Row v's normals from planar depth, into s.nx, s.ny, s.nz (s.z holds the row's sanitised
+/// depth): central differences where all four neighbours are the same surface (the common
+/// case, vectorised in float); elsewhere the optics rule, one-sided; 0 for open water.
+void row_normals(const Camera& cam, const Image& depth, int v, const float* rx, RowScratch& s) {
+    const int W = cam.width, H = cam.height;
+    const float* zr = depth.row(v);
+    if (v > 0 && v + 1 < H) {
+        s.zu.resize(W);
+        s.zd.resize(W);
+        sanitise_row(W, depth.row(v - 1), s.zu.data());
+        sanitise_row(W, depth.row(v + 1), s.zd.data());
+        kernels::normals_row(W, rx, float(cam.ray_y(v - 1)), float(cam.ray_y(v)),
+                             float(cam.ray_y(v + 1)), s.zu.data(), s.z.data(), s.zd.data(),
+                             s.nx.data(), s.ny.data(), s.nz.data(), s.irregular.data());
+    } else {
+        std::fill(s.irregular.begin(), s.irregular.end(), 1);
+    }
+    for (int u = 0; u < W; ++u) {
+        if (!s.irregular[u]) continue;
+        if (!has_surface(zr[u])) {
+            s.nx[u] = s.ny[u] = s.nz[u] = 0.0f;
+            continue;
+        }
+        const Vec3 n = surface_normal(cam, depth, u, v);
+        s.nx[u] = float(n.x);
+        s.ny[u] = float(n.y);
+        s.nz[u] = float(n.z);
+    }
+}
+
 }  // namespace
 
 Compositor::Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
-                       const BackscatterSource& backscatter)
-    : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter) {
+                       const BackscatterSource& backscatter, const PortRays* port)
+    : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter), m_port(port) {
+    if (port && !(port->camera() == camera))
+        throw InputError("compositor: the port's rays belong to another camera");
     if (water.forward.enabled && water.forward.model == ForwardModel::PhaseFunction) {
-        m_psf_blur.emplace(ForwardPsf(water, camera.fx, camera.width, camera.height));
+        m_psf_blur.emplace(ForwardPsf(water, forward_fx(), camera.width, camera.height));
     }
 }
+
+double Compositor::forward_fx() const { return m_port ? m_port->water_fx() : m_camera.fx; }
 
 void Compositor::composite(Layers& dst, const ColorView& color, const Image& depth, LayerSet set) {
     run(dst, color, depth, set, nullptr);
@@ -143,46 +178,70 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         if (rows) (*rows)(v, out);
     };
 
-    m_lamps.begin_frame(cam, depth);
+    const bool port = m_port != nullptr;
+    double z_near = 0.0;
+    if (port) {
+        // The frame in input pixels: its normals and linear colour, which the rays' hits take.
+        z_near = nearest_surface(depth);
+        if (m_in_normal.width != W || m_in_normal.height != H) {
+            m_in_normal = Image(W, H, 3);
+            m_in_color = Image(W, H, 3);
+            m_inv_depth = Image(W, H, 1);
+        }
+        tbb::parallel_for(0, H, [&](int v) {
+            RowScratch& s = scratch.local();
+            s.fit(W);
+            back_project_row(W, depth.row(v), m_rx.data(), float(cam.ray_y(v)), s.x.data(),
+                             s.y.data(), s.z.data());
+            row_normals(cam, depth, v, m_rx.data(), s);
+            float* N = m_in_normal.row(v);
+            for (int u = 0; u < W; ++u) {
+                N[3 * u] = s.nx[u];
+                N[3 * u + 1] = s.ny[u];
+                N[3 * u + 2] = s.nz[u];
+            }
+            const float* J = color_row(color, v, s.color);
+            std::copy(J, J + 3 * std::size_t(W), m_in_color.row(v));
+            float* inv = m_inv_depth.row(v);
+            for (int u = 0; u < W; ++u) inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
+        });
+        if (forward && (m_hit_z.width != W || m_hit_z.height != H)) m_hit_z = Image(W, H, 1);
+        if (all && (dst.mask.width != W || dst.mask.height != H)) dst.mask = Image(W, H, 1);
+    } else {
+        dst.mask = Image();
+        // (the lamps' grid of scattered light is made of pinhole points: through a port each
+        // row computes its own, from the hit points)
+        m_lamps.begin_frame(cam, depth);
+    }
     tbb::parallel_for(0, H, [&](int v) {
         RowScratch& s = scratch.local();
         s.fit(W);
-        const float ry = float(cam.ray_y(v));
-        const float* zr = depth.row(v);
-        // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
-        back_project_row(W, zr, m_rx.data(), ry, s.x.data(), s.y.data(), s.z.data());
-        // Normals: central differences where all four neighbours are the same surface (the
-        // common case, vectorised in float); elsewhere the optics rule, one-sided.
-        if (v > 0 && v + 1 < H) {
-            s.zu.resize(W);
-            s.zd.resize(W);
-            sanitise_row(W, depth.row(v - 1), s.zu.data());
-            sanitise_row(W, depth.row(v + 1), s.zd.data());
-            kernels::normals_row(W, m_rx.data(), float(cam.ray_y(v - 1)), ry,
-                                 float(cam.ray_y(v + 1)), s.zu.data(), s.z.data(), s.zd.data(),
-                                 s.nx.data(), s.ny.data(), s.nz.data(), s.irregular.data());
+        const float* J;
+        if (port) {
+            port_row(*m_port, v, m_inv_depth, m_in_normal, m_in_color, z_near,
+                     {s.x.data(), s.y.data(), s.z.data(), s.t.data(), s.nx.data(), s.ny.data(),
+                      s.nz.data(), s.j.data(), s.mask.data()});
+            J = s.j.data();
         } else {
-            std::fill(s.irregular.begin(), s.irregular.end(), 1);
-        }
-        for (int u = 0; u < W; ++u) {
-            if (!s.irregular[u]) continue;
-            if (!has_surface(zr[u])) {
-                s.nx[u] = s.ny[u] = s.nz[u] = 0.0f;
-                continue;
-            }
-            const Vec3 n = surface_normal(cam, depth, u, v);
-            s.nx[u] = float(n.x);
-            s.ny[u] = float(n.y);
-            s.nz[u] = float(n.z);
+            // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
+            back_project_row(W, depth.row(v), m_rx.data(), float(cam.ray_y(v)), s.x.data(),
+                             s.y.data(), s.z.data());
+            row_normals(cam, depth, v, m_rx.data(), s);
+            J = color_row(color, v, s.color);
         }
         const RowGeometry g{v,          W,           s.x.data(),  s.y.data(),
                             s.z.data(), s.nx.data(), s.ny.data(), s.nz.data()};
         m_lamps.irradiance_row(g, s.e.data());
 
-        const float* J = color_row(color, v, s.color);
         float* d2 = forward ? m_d2.row(v) : s.d2.data();
         float* L = forward ? m_surface.row(v) : s.l.data();
         kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, d2, L);
+        if (port) {
+            // the light's path in water runs from the port's outer surface, not the camera
+            for (int u = 0; u < W; ++u) d2[u] = s.z[u] > 0.0f ? s.t[u] : 0.0f;
+            if (all) std::copy(s.mask.begin(), s.mask.begin() + W, dst.mask.row(v));
+            if (forward) std::copy(s.z.begin(), s.z.begin() + W, m_hit_z.row(v));
+        }
         if (all) {
             float* N = dst.normal.row(v);
             for (int u = 0; u < W; ++u) {
@@ -202,12 +261,17 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     if (psf) {
         m_psf_blur->prepare(m_surface, m_d2);
     } else {
-        m_blur.prepare(m_surface, m_d2, float(forward_sigma_px(m_water.forward, cam.fx, 1.0)));
+        m_blur.prepare(m_surface, m_d2,
+                       float(forward_sigma_px(m_water.forward, forward_fx(), 1.0)));
     }
     tbb::parallel_for(0, H, [&](int v) {
         RowScratch& s = scratch.local();
         s.fit(W);
-        sanitise_row(W, depth.row(v), s.z.data());
+        if (port) {
+            std::copy(m_hit_z.row(v), m_hit_z.row(v) + W, s.z.data());
+        } else {
+            sanitise_row(W, depth.row(v), s.z.data());
+        }
         finish(s, v, s.z.data(), m_d2.row(v), m_surface.row(v));
     });
 }

@@ -10,7 +10,8 @@ void Layers::resize(int width, int height, LayerSet set) {
     };
     if (set == LayerSet::Final) {
         fit(final, 3);
-        for (Image* img : {&direct, &forward, &backscatter, &transmission, &depth, &normal}) {
+        for (Image* img :
+             {&direct, &forward, &backscatter, &transmission, &depth, &normal, &mask}) {
             *img = Image();
         }
         return;

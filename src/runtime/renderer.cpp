@@ -7,6 +7,7 @@
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/lamps.h"
+#include "deepsea/runtime/port_backscatter.h"
 #include "frame_input.h"
 
 namespace deepsea {
@@ -27,7 +28,20 @@ struct Renderer::State {
           settings(std::move(s)),
           water(rendered_water(a, settings)),
           lamps(a.info.rig, water, a.lamp_fields,
-                ShadowSettings{settings.shadows, settings.shadow_thickness}) {}
+                ShadowSettings{settings.shadows, settings.shadow_thickness}) {
+        if (settings.port && settings.shadows)
+            throw ConfigError(
+                "--shadows: lamp shadows through a port are not built yet (the "
+                "shadow sweep works in the input's pinhole pixels; docs/ports.md)");
+        if (settings.port) {
+            // Checked and traced now: a port that shows nothing of the frames is refused
+            // before any frame is read.
+            const Camera& c = settings.camera.width > 0 ? settings.camera : asset.info.camera;
+            validate(*settings.port);
+            check_port_view(*settings.port, c);
+            rays = std::make_unique<PortRays>(*settings.port, c);
+        }
+    }
 
     /// The compositor for frames of width x height.
     Compositor& compositor(int width, int height) {
@@ -36,8 +50,17 @@ struct Renderer::State {
             backscatter.reset();
             camera = Camera{};
             const Camera c = frame_camera(asset.info.camera, settings.camera, width, height);
-            backscatter = std::make_unique<AssetBackscatter>(asset, c);
-            compositor_ = std::make_unique<Compositor>(c, water, lamps, *backscatter);
+            if (settings.port) {
+                if (!(rays->camera() == c)) {
+                    check_port_view(*settings.port, c);
+                    rays.reset();
+                    rays = std::make_unique<PortRays>(*settings.port, c);
+                }
+                backscatter = std::make_unique<PortBackscatter>(asset, *rays);
+            } else {
+                backscatter = std::make_unique<AssetBackscatter>(asset, c);
+            }
+            compositor_ = std::make_unique<Compositor>(c, water, lamps, *backscatter, rays.get());
             camera = c;
         }
         return *compositor_;
@@ -66,8 +89,9 @@ struct Renderer::State {
     RenderSettings settings;
     Water water;
     AnalyticLamps lamps;
-    Camera camera;  ///< the compositor's (width 0 before the first frame)
-    std::unique_ptr<AssetBackscatter> backscatter;
+    Camera camera;                   ///< the compositor's (width 0 before the first frame)
+    std::unique_ptr<PortRays> rays;  ///< with a port: its rays for the compositor's camera
+    std::unique_ptr<BackscatterSource> backscatter;
     std::unique_ptr<Compositor> compositor_;
     Image depth;  ///< a depth view's pixels, planar
 };

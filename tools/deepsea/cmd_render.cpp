@@ -71,9 +71,9 @@ void run(const RenderArgs& a) {
     if (!a.camera.empty()) {
         Setup s = load_setup({a.camera});
         if (!s.camera) throw ConfigError(a.camera + ": no camera section");
-        refuse_port(s, a.camera);
         opt.camera = *s.camera;
         opt.camera_model = s.camera_model;
+        opt.port = s.port;  // rendered through (docs/ports.md)
     }
     if (opt.camera_model && !a.exposure.empty())
         throw ConfigError("--exposure: " + a.camera +

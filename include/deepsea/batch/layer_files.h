@@ -41,7 +41,8 @@ struct LayerOutput {
 std::vector<std::string> parse_layer_set(const std::string& list, bool camera = false);
 
 /// Writes the layers `out` names to one multi-layer EXR (channels final.R, ..., depth.Z,
-/// normal.X, then the camera's raw.R, ...: from `camera`, which must hold them), float or half,
+/// normal.X, with every layer and a port's mask mask.Y, then the camera's raw.R, ...: from
+/// `camera`, which must hold them), float or half,
 /// PIZ-compressed, with `meta` in its header. Atomic. Throws IoError.
 void write_layers(const std::string& path, const Layers& layers, const ImageMetadata& meta = {},
                   const LayerOutput& out = {}, const CameraOutput* camera = nullptr);

@@ -16,6 +16,7 @@
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/port.h"
 #include "deepsea/runtime/exposure.h"
 
 namespace deepsea {
@@ -40,6 +41,9 @@ struct SequenceOptions {
     /// (raw, linear_dn, noise_free) may be named in layer_output (whose `camera` must then be
     /// true). Unset: the image is the radiance times the exposure factor.
     std::optional<CameraModel> camera_model;
+    /// The housing's port (docs/ports.md): every pixel sees along its water-side ray; the
+    /// layer files gain `mask`; the manifest records it (a resume with another port is refused).
+    std::optional<Port> port;
     /// Called with (0, total) first and after each frame, in order, with (frames done, total);
     /// false stops the sequence once the frames in flight are finished (SequenceResult::
     /// interrupted).

@@ -36,6 +36,9 @@ struct SequenceManifest {
     /// The camera stage that records the frames, as the setup YAML's camera section
     /// (setup_to_yaml); empty: none, the exposure factor makes the image.
     std::string camera_stage;
+    /// The housing's port, as the setup YAML's camera section with its port (setup_to_yaml);
+    /// empty: none (the key "port" holds "none").
+    std::string port;
     bool auto_exposure = true;  ///< without a camera stage: auto or a fixed factor
     double percentile = 0, target = 0, max_clipped = 0;  ///< auto exposure's settings
     double exposure = 0;               ///< the factor every frame uses; 0 until chosen

@@ -66,6 +66,13 @@ struct Integral {
 Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& dir, double t0,
                               double t1, const Quadrature& q = {}, const StopFlag* stop = nullptr);
 
+/// The same along the ray X(t) = origin + t dir (the water-side ray of a port, which starts on
+/// its outer surface): in-scatter at X toward -dir, attenuated by exp(-c t) back to the origin.
+/// origin = 0 is the overload above.
+Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& origin,
+                              const Vec3& dir, double t0, double t1, const Quadrature& q = {},
+                              const StopFlag* stop = nullptr);
+
 /// Cumulative backscatter B(t_k) = integral from 0 to t_k for ascending t_k >= 0 (t_0 may be 0),
 /// in at most 2 kMaxQuadraturePanels panels for the whole ray; `stop` as backscatter_integral.
 std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, const Vec3& dir,

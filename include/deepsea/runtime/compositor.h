@@ -14,6 +14,7 @@
 #include "deepsea/runtime/forward_psf_blur.h"
 #include "deepsea/runtime/frame_view.h"
 #include "deepsea/runtime/layers.h"
+#include "deepsea/runtime/port_rays.h"
 #include "deepsea/runtime/sources.h"
 
 namespace deepsea {
@@ -22,9 +23,13 @@ namespace deepsea {
 /// size nothing is allocated. Output is identical at any thread count (rows are independent).
 class Compositor {
 public:
-    /// The sources must outlive the compositor.
+    /// The sources must outlive the compositor. With `port` (which must outlive it too, and
+    /// whose camera must be `camera`), each pixel sees along its water-side ray through the
+    /// housing's port (docs/ports.md): the frame is where those rays meet, the backscatter
+    /// source takes each pixel's hit as the planar depth of the hit point (PortBackscatter),
+    /// and the layers gain `mask`.
     Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
-               const BackscatterSource& backscatter);
+               const BackscatterSource& backscatter, const PortRays* port = nullptr);
 
     /// Fills the layers of dst that `set` names from a checked colour view (frame_view.h) and
     /// planar depth in metres. Throws InputError when the frame does not match the camera.
@@ -44,6 +49,9 @@ public:
 private:
     void run(Layers& dst, const ColorView& color, const Image& depth, LayerSet set,
              const FinalRows* rows);
+    /// Pixels per radian of the rays in the water (the forward blur's scale): fx, or the
+    /// port's water_fx.
+    double forward_fx() const;
 
     Camera m_camera;
     Water m_water;
@@ -56,6 +64,12 @@ private:
     // With forward scatter on (without, rows keep their own):
     Image m_d2;       ///< camera-to-surface distance per pixel, metres (0 for open water)
     Image m_surface;  ///< surface radiance J/pi E: what the blur spreads
+    // Through a port:
+    const PortRays* m_port = nullptr;
+    Image m_in_normal;  ///< the frame's normals per input pixel
+    Image m_in_color;   ///< the frame's linear colour per input pixel
+    Image m_inv_depth;  ///< the frame's inverse depth (optics' inverse_depth)
+    Image m_hit_z;      ///< planar depth of each output pixel's hit (forward scatter's pass)
 };
 
 }  // namespace deepsea

@@ -23,6 +23,11 @@ struct Layers {
     Image transmission;  ///< RGB, exp(-c d2) from the surface to the camera (0 for open water)
     Image depth;         ///< 1 channel, planar z in metres (0 for open water)
     Image normal;        ///< 3 channels, camera-frame unit normal (0 for open water)
+    /// Through a port only (else empty), 1 channel: 1 where the input shows what the pixel's
+    /// water-side ray meets (a surface, or open water along its whole path), 0 where it does not
+    /// (the ray leaves the input's view, or passes behind a foreground edge and finds nothing):
+    /// those pixels are rendered as open water. docs/ports.md.
+    Image mask;
 
     /// Allocates the layers of `set` at width x height (no-op for those already that size)
     /// and frees the others.
@@ -35,7 +40,7 @@ struct Layers {
 using FinalRows = std::function<void(int v, const float* rgb)>;
 
 /// Every layer's name, in the order they are written: final, direct, forward, backscatter,
-/// transmission, depth, normal.
+/// transmission, depth, normal (and, through a port, mask after them: not in this list).
 const std::vector<std::string>& layer_names();
 
 }  // namespace deepsea

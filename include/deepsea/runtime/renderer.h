@@ -6,10 +6,12 @@
 /// the Python module and bench all render through it.
 
 #include <memory>
+#include <optional>
 
 #include "deepsea/asset/asset.h"
 #include "deepsea/core/frame.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/port.h"
 #include "deepsea/optics/shadow.h"
 #include "deepsea/optics/water.h"
 #include "deepsea/runtime/frame_view.h"
@@ -28,6 +30,9 @@ struct RenderSettings {
     /// the paper's model; thickness in metres of planar depth.
     bool shadows = false;
     double shadow_thickness = kDefaultShadowThickness;
+    /// The housing's port (docs/ports.md): each pixel sees along its water-side ray, and the
+    /// layers gain `mask`. Unset: the pinhole looks into the water.
+    std::optional<Port> port;
 };
 
 /// Renders frames with one asset. Keeps the compositor and its buffers between frames of one
@@ -36,6 +41,9 @@ struct RenderSettings {
 class Renderer {
 public:
     /// The asset must outlive the renderer (a temporary asset is refused at compile time).
+    /// With a port, its rays are traced here for the settings' camera (or the asset's):
+    /// SchemaError for a port that camera cannot look through (validate, check_port_view),
+    /// ConfigError for one through which no pixel sees the frame (PortRays), before any frame.
     explicit Renderer(const Asset& asset, RenderSettings settings = {});
     Renderer(Asset&&, RenderSettings = {}) = delete;
     ~Renderer();

@@ -1,0 +1,62 @@
+#pragma once
+/// \file Rendering through the housing's port (docs/ports.md, "Rendering through a port"): each
+/// output pixel's water-side ray, traced once per camera (like the camera stage's lens map), and
+/// where it meets the surface of a frame's depth map.
+
+#include <vector>
+
+#include "deepsea/core/image.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/port.h"
+#include "deepsea/optics/port_hit.h"
+
+namespace deepsea {
+
+/// The water-side rays of every pixel of one camera through one port. The camera is both the
+/// output's (the pixel whose ray is traced through the port) and the input's (the RGB-D frame
+/// is a pinhole view from the camera centre with the same intrinsics).
+class PortRays {
+public:
+    /// Traces every pixel (trace_port). ConfigError naming camera.port where no pixel's ray
+    /// sees the input (sees_input): nothing of the frame would be rendered. The port must have
+    /// passed validate and check_port_view for this camera (every ray reaches the water).
+    PortRays(const Port& port, const Camera& camera);
+
+    /// One pixel's ray in float (the green channel's direction: the geometry of the hit; the
+    /// other channels' differ by the water's dispersion, left out of where the ray lands).
+    struct Ray {
+        float ox, oy, oz;  ///< origin on the outer surface, metres
+        float dx, dy, dz;  ///< unit direction in the water
+        /// Its projection (optics' RayProjection), the vanishing point as an offset from (u, v)
+        /// (float keeps it to 1e-5 px)
+        float u_inf, v_inf, du, dv, s_origin;
+    };
+
+    const Port& port() const { return m_port; }
+    const Camera& camera() const { return m_camera; }
+    const Ray& ray(int u, int v) const { return m_rays[std::size_t(v) * m_camera.width + u]; }
+    /// The ray's projection in double, as find_port_hit takes it.
+    RayProjection projection(int u, int v) const;
+    /// Where pixel (u, v)'s ray meets the frame's surface (see find_port_hit), given its
+    /// inverse planar depth (optics' inverse_depth) and nearest surface depth z_near (+inf: no
+    /// surface).
+    PortHit hit(int u, int v, const Image& inv_depth, double z_near) const;
+    /// Pixels per radian of the water-side rays at the image centre, along x: fx without a port,
+    /// about n_water / n_air times fx behind a flat one. The forward blur's angular scale.
+    double water_fx() const { return m_water_fx; }
+    /// Per pixel, port_radiance_factor: water-side radiance to the radiance reaching the camera
+    /// (the n^2 law, with Fresnel on request), RGB.
+    const Image& radiance_factor() const { return m_factor; }
+
+private:
+    Port m_port;
+    Camera m_camera;
+    std::vector<Ray> m_rays;
+    double m_water_fx = 0.0;
+    Image m_factor;
+};
+
+/// The nearest surface depth of a planar depth image (+inf where it has none).
+double nearest_surface(const Image& depth);
+
+}  // namespace deepsea

@@ -1,0 +1,94 @@
+#include "deepsea/runtime/port_rays.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include "deepsea/core/error.h"
+#include "deepsea/optics/normals.h"
+
+namespace deepsea {
+
+PortRays::PortRays(const Port& port, const Camera& camera)
+    : m_port(port),
+      m_camera(camera),
+      m_rays(std::size_t(camera.width) * camera.height),
+      m_factor(camera.width, camera.height, 3) {
+    std::atomic<long> seeing{0};
+    tbb::parallel_for(0, camera.height, [&](int v) {
+        long row_seeing = 0;
+        for (int u = 0; u < camera.width; ++u) {
+            const PortRay r = trace_port(port, camera, u, v);
+            Ray& f = m_rays[std::size_t(v) * camera.width + u];
+            const Vec3& d = r.direction[1];
+            const RayProjection p = r.valid() ? project_ray(camera, r.origin, d) : RayProjection{};
+            f = {float(r.origin.x),
+                 float(r.origin.y),
+                 float(r.origin.z),
+                 float(d.x),
+                 float(d.y),
+                 float(d.z),
+                 float(p.u_inf - u),
+                 float(p.v_inf - v),
+                 float(p.du),
+                 float(p.dv),
+                 p.forward ? float(std::min(p.s_origin, 1e30)) : 0.0f};
+            if (r.valid() && sees_input(camera, p)) ++row_seeing;
+            const Rgb k = port_radiance_factor(port, r);
+            for (int c = 0; c < 3; ++c) m_factor.at(u, v, c) = float(k[c]);
+        }
+        seeing += row_seeing;
+    });
+    if (seeing.load() == 0) {
+        throw ConfigError(
+            "camera.port: no pixel's water-side ray sees the input's view (the RGB-D frame, a "
+            "pinhole view from the camera centre with the same intrinsics): the image would hold "
+            "nothing of the frame; check the port's normal, centre and indices");
+    }
+    // fx times the ratio of the in-air to the water-side angle between two rays a pixel apart
+    // at the image centre (1 for a centred dome, to rounding).
+    const PortRay a = trace_port(port, camera, camera.cx - 0.5, camera.cy);
+    const PortRay b = trace_port(port, camera, camera.cx + 0.5, camera.cy);
+    const auto angle = [](const Vec3& x, const Vec3& y) { return length(cross(x, y)); };
+    const double water = a.valid() && b.valid() ? angle(a.direction[1], b.direction[1]) : 0.0;
+    m_water_fx = water > 0.0 ? camera.fx * angle(a.air, b.air) / water : camera.fx;
+}
+
+RayProjection PortRays::projection(int u, int v) const {
+    const Ray& r = ray(u, v);
+    RayProjection p;
+    p.forward = r.s_origin > 0.0f;
+    p.u_inf = u + double(r.u_inf);
+    p.v_inf = v + double(r.v_inf);
+    p.du = r.du;
+    p.dv = r.dv;
+    p.s_origin = r.s_origin;
+    return p;
+}
+
+PortHit PortRays::hit(int u, int v, const Image& inv_depth, double z_near) const {
+    const Ray& r = ray(u, v);
+    return find_port_hit(m_camera, inv_depth, projection(u, v), Vec3(r.ox, r.oy, r.oz),
+                         Vec3(r.dx, r.dy, r.dz), z_near);
+}
+
+double nearest_surface(const Image& depth) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, depth.height), std::numeric_limits<double>::infinity(),
+        [&](const tbb::blocked_range<int>& rows, double z) {
+            for (int v = rows.begin(); v < rows.end(); ++v) {
+                const float* row = depth.row(v);
+                for (int u = 0; u < depth.width; ++u)
+                    if (has_surface(row[u])) z = std::min(z, double(row[u]));
+            }
+            return z;
+        },
+        [](double a, double b) { return std::min(a, b); });
+}
+
+}  // namespace deepsea

@@ -1,0 +1,202 @@
+// Rendering through a port (docs/ports.md, "Rendering through a port"): the hits of the water-side
+// rays against an independent trace onto analytic scenes, a centred dome against no port, the
+// flat port's field of view, the mask, refused ports.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <limits>
+
+#include "deepsea/bake/bake.h"
+#include "deepsea/core/error.h"
+#include "deepsea/runtime/port_rays.h"
+#include "deepsea/runtime/renderer.h"
+#include "runtime_fixtures.h"
+
+namespace deepsea {
+
+namespace {
+
+Camera test_camera() { return Camera{240, 180, 180.0, 180.0, 119.5, 89.5}; }
+
+Port flat_port(Vec3 normal, double distance, double glass) {
+    Port p;
+    p.kind = PortKind::Flat;
+    p.flat.normal = normal;
+    p.flat.distance = distance;
+    p.flat.glass_thickness = glass;
+    return p;
+}
+
+Port dome_port(Vec3 centre, double radius, double glass) {
+    Port p;
+    p.kind = PortKind::Dome;
+    p.dome.centre = centre;
+    p.dome.radius = radius;
+    p.dome.glass_thickness = glass;
+    return p;
+}
+
+/// An analytic scene: the first hit of a ray (origin, unit direction) at path length t > 0
+/// (inf: none).
+using Scene = std::function<double(const Vec3&, const Vec3&)>;
+
+Scene plane(Vec3 n, double d) {  // n . x = d
+    return [n = normalize(n), d](const Vec3& o, const Vec3& w) {
+        const double t = (d - dot(n, o)) / dot(n, w);
+        return t > 0 ? t : std::numeric_limits<double>::infinity();
+    };
+}
+
+Scene sphere(Vec3 c, double r) {
+    return [c, r](const Vec3& o, const Vec3& w) {
+        const Vec3 q = o - c;
+        const double b = dot(q, w), h = b * b - (dot(q, q) - r * r);
+        if (h < 0) return std::numeric_limits<double>::infinity();
+        const double t = -b - std::sqrt(h);
+        return t > 0 ? t : std::numeric_limits<double>::infinity();
+    };
+}
+
+/// The scene's planar depth as the pinhole camera sees it (open water 0).
+Image depth_of(const Camera& cam, const Scene& scene) {
+    Image z(cam.width, cam.height, 1);
+    for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) {
+            const Vec3 r = cam.ray(u, v);
+            const double t = scene(Vec3(0, 0, 0), normalize(r));
+            z.at(u, v) = std::isfinite(t) ? float(t * normalize(r).z) : 0.0f;
+        }
+    return z;
+}
+
+/// Views more grazing than this (the cosine between the surface's normal and the pinhole ray;
+/// 45 degrees) are left out: there the depth map's own sampling (a chord's depth error h^2 z'' / 8
+/// between pixels h apart) exceeds the bar, 4e-4 relative near the sphere's rim, whatever the
+/// march.
+constexpr double kMinFacing = 0.7;
+
+struct HitErrors {
+    double px = 0, rel_z = 0;
+    long checked = 0, surface = 0;
+};
+
+/// Every pixel's hit against the independent trace: trace_port (double), the ray's analytic
+/// intersection, its pinhole projection. Pixels whose true hit lies within `margin` px of the
+/// scene's silhouette (the depth map's samples span the rim there) or of the image's border
+/// are left out.
+HitErrors compare_hits(const Camera& cam, const Port& port, const Scene& scene, double margin) {
+    const PortRays rays(port, cam);
+    const Image depth = inverse_depth(depth_of(cam, scene));
+    const double z_near = nearest_surface(depth_of(cam, scene));
+    HitErrors e;
+    for (int v = 0; v < cam.height; ++v) {
+        for (int u = 0; u < cam.width; ++u) {
+            const PortRay r = trace_port(port, cam, u, v);
+            const Vec3& w = r.direction[1];
+            const double t = scene(r.origin, w);
+            if (!std::isfinite(t)) continue;
+            const Vec3 X = r.origin + w * t;
+            const double us = cam.cx + cam.fx * X.x / X.z, vs = cam.cy + cam.fy * X.y / X.z;
+            if (us < margin || vs < margin || us > cam.width - 1 - margin ||
+                vs > cam.height - 1 - margin)
+                continue;
+            // the surface's slope as the pinhole sees it: grazing views are left out (the
+            // depth map's samples cannot describe a surface seen edge-on)
+            const double eps = 1e-6;
+            const Vec3 rx = normalize(cam.ray(us + eps * cam.fx, vs)),
+                       ry = normalize(cam.ray(us, vs + eps * cam.fy));
+            const Vec3 A = rx * scene(Vec3(0, 0, 0), rx), B = ry * scene(Vec3(0, 0, 0), ry);
+            const Vec3 nrm = normalize(cross(A - X, B - X));
+            if (std::fabs(dot(nrm, normalize(X))) < kMinFacing) continue;
+            bool rim = false;  // a pixel near the hit sees another surface (or none)
+            for (int dv = -3; dv <= 3 && !rim; ++dv)
+                for (int du = -3; du <= 3 && !rim; ++du) {
+                    const double pu = us + du * margin / 3, pv = vs + dv * margin / 3;
+                    const Vec3 ray = normalize(cam.ray(pu, pv));
+                    const double tt = scene(Vec3(0, 0, 0), ray);
+                    rim = !std::isfinite(tt) || std::fabs(tt * ray.z - X.z) > 0.05 * X.z;
+                }
+            if (rim) continue;
+            ++e.checked;
+            const PortHit h = rays.hit(u, v, depth, z_near);
+            if (h.kind != PortHitKind::Surface) {
+                ADD_FAILURE() << "pixel " << u << ", " << v << " missed the surface";
+                continue;
+            }
+            ++e.surface;
+            e.px = std::max(e.px, std::hypot(h.u - us, h.v - vs));
+            const double rz = std::fabs(h.z - X.z) / X.z;
+            if (rz > e.rel_z && std::getenv("PORT_DEBUG"))
+                std::printf("  worst so far: output %d %d input %.2f %.2f z %.4f true %.4f\n", u, v,
+                            us, vs, h.z, X.z);
+            e.rel_z = std::max(e.rel_z, rz);
+        }
+    }
+    return e;
+}
+
+}  // namespace
+
+TEST(PortRender, HitsMatchAnIndependentTraceOntoAnalyticScenes) {
+    const Camera cam = test_camera();
+    const Port ports[] = {flat_port({0, 0, 1}, 0.03, 0.012),
+                          flat_port({0.06, -0.04, 1}, 0.05, 0.02),
+                          dome_port({0.004, -0.003, 0.002}, 0.05, 0.008)};
+    const Scene scenes[] = {plane({0, 0, 1}, 2.0), plane({0.4, -0.2, 1}, 2.5),
+                            sphere({0.1, -0.05, 1.6}, 0.45)};
+    const char* names[] = {"facing plane", "tilted plane", "sphere"};
+    for (const Port& port : ports) {
+        for (int i = 0; i < 3; ++i) {
+            const HitErrors e = compare_hits(cam, port, scenes[i], 2.0);
+            std::printf("%s port, %s: %ld pixels, position %.2e px, depth %.2e relative\n",
+                        port.name(), names[i], e.checked, e.px, e.rel_z);
+            EXPECT_GT(e.checked, 1000) << names[i];
+            EXPECT_EQ(e.surface, e.checked) << names[i];
+            EXPECT_LT(e.px, 0.05) << names[i];
+            EXPECT_LT(e.rel_z, 1e-4) << names[i];
+        }
+    }
+}
+
+TEST(PortRender, FlatPortShrinksThePlanesFootprintByThePredictedFactor) {
+    // A thin flat port on the axis and a far plane facing the camera: each output pixel at
+    // tan(a) = t sees the input at fx tan(w), tan(w) = t / sqrt(n^2 + (n^2 - 1) t^2).
+    const Camera cam = test_camera();
+    const Port port = flat_port({0, 0, 1}, 0.0, 1e-6);
+    const double n = port.n_water.g / port.n_air;
+    const PortRays rays(port, cam);
+    const Image depth = inverse_depth(Image(cam.width, cam.height, 1, 500.0f));
+    double worst = 0;
+    for (int v = 0; v < cam.height; v += 7) {
+        for (int u = 0; u < cam.width; u += 3) {
+            const PortHit h = rays.hit(u, v, depth, 500.0);
+            ASSERT_EQ(h.kind, PortHitKind::Surface);
+            const double tx = (u - cam.cx) / cam.fx, ty = (v - cam.cy) / cam.fy;
+            const double t = std::hypot(tx, ty);
+            const double k = 1.0 / std::sqrt(n * n + (n * n - 1) * t * t);  // tan(w) / t
+            worst = std::max(worst, std::hypot(h.u - (cam.cx + cam.fx * tx * k),
+                                               h.v - (cam.cy + cam.fy * ty * k)));
+        }
+    }
+    EXPECT_LT(worst, 0.01);
+    // Rendered: a bright square of half-width 40 px in the input shows 40 / (fx k) wider...
+    // in the output its edge lies where fx tan(w) = 40: t = n tan(w) / sqrt(1 - (n^2 - 1)
+    // tan^2(w)).
+    const double tw = 40.0 / cam.fx, t_edge = n * tw / std::sqrt(1 - (n * n - 1) * tw * tw);
+    int inside = 0;
+    for (int u = 0; u < cam.width; ++u) {
+        const PortHit h = rays.hit(u, int(cam.cy), depth, 500.0);
+        if (std::fabs(h.u - cam.cx) <= 40.0) ++inside;
+    }
+    EXPECT_NEAR(inside, 2 * cam.fx * t_edge, 1.0);
+    std::printf(
+        "a 80 px wide patch of the input: %d px in the output (predicted %.2f; 1 / n: "
+        "%.2f)\n",
+        inside, 2 * cam.fx * t_edge, 80.0 * n);
+}
+
+}  // namespace deepsea
