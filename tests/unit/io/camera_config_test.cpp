@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "../message_of.h"
 #include "../replaced.h"
 #include "deepsea/camera/presets.h"
 #include "deepsea/core/error.h"
@@ -90,12 +91,7 @@ TEST(CameraConfig, KeysParseIntoTheModel) {
 }
 
 std::string error_of(const std::string& text) {
-    try {
-        parse_setup(text, "cam.yaml");
-    } catch (const ConfigError& e) {
-        return e.what();
-    }
-    return "";
+    return test::message_of<ConfigError>([&] { parse_setup(text, "cam.yaml"); });
 }
 
 TEST(CameraConfig, BadValuesNameFileLineAndKey) {

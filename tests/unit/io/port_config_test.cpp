@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include "../message_of.h"
+#include "../replaced.h"
 #include "../temp_folder.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
@@ -46,21 +48,10 @@ const std::string kDome =
     "      glass_thickness: 0.007\n"          // 12
     "      n_water: 1.343\n";                 // 13
 
-std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
-    const auto p = text.find(from);
-    EXPECT_NE(p, std::string::npos) << from;
-    std::string out = text;
-    if (p != std::string::npos) out.replace(p, from.size(), to);
-    return out;
-}
+using test::replaced;
 
 std::string error_of(const std::string& text) {
-    try {
-        parse_setup(text, "cam.yaml");
-    } catch (const ConfigError& e) {
-        return e.what();
-    }
-    return "";
+    return test::message_of<ConfigError>([&] { parse_setup(text, "cam.yaml"); });
 }
 
 TEST(PortConfig, KeysParseIntoThePort) {

@@ -13,6 +13,7 @@
 #include "deepsea/optics/backscatter.h"
 #include "deepsea/runtime/port_rays.h"
 #include "deepsea/runtime/renderer.h"
+#include "port_fixtures.h"
 #include "runtime_fixtures.h"
 
 namespace deepsea {
@@ -46,22 +47,12 @@ const PortSetup& setup() {
     return s;
 }
 
+/// A dome of `radius` and `glass` thickness, centred on the camera unless `centre` says.
 Port dome(double radius, double glass, Vec3 centre = {0, 0, 0}) {
-    Port p;
-    p.kind = PortKind::Dome;
-    p.dome.centre = centre;
-    p.dome.radius = radius;
-    p.dome.glass_thickness = glass;
-    return p;
+    return test::dome_port(centre, radius, glass);
 }
 
-Port flat(Vec3 normal, double distance, double glass) {
-    Port p;
-    p.flat.normal = normal;
-    p.flat.distance = distance;
-    p.flat.glass_thickness = glass;
-    return p;
-}
+using test::flat_port;
 
 /// Largest |a - b| over a layer relative to the layer's largest |b|.
 double worst(const Image& a, const Image& b) {
@@ -115,7 +106,7 @@ TEST(PortLayers, MaskIsZeroWhereTheRayLeavesTheInputsView) {
     // degrees): the water-side rays crowd around its normal, and those of the right edge look
     // past the input's right edge (up to 37 degrees off the axis) at the plane 3 m away.
     const PortSetup& s = setup();
-    const Port port = flat({1, 0, 1}, 0.02, 0.01);
+    const Port port = flat_port({1, 0, 1}, 0.02, 0.01);
     RenderSettings rs;
     rs.port = port;
     Renderer r(s.asset, rs);
@@ -159,7 +150,7 @@ TEST(PortLayers, PortThatSeesNothingOfTheInputIsRefusedBeforeWork) {
     const PortSetup& s = setup();
     RenderSettings rs;
     rs.camera = Camera{120, 90, 1200.0, 1200.0, 59.5, 44.5};
-    rs.port = flat({std::sin(0.7), 0, std::cos(0.7)}, 0.02, 0.01);
+    rs.port = flat_port({std::sin(0.7), 0, std::cos(0.7)}, 0.02, 0.01);
     try {
         Renderer r(s.asset, rs);
         FAIL() << "accepted";
@@ -177,9 +168,9 @@ TEST(PortLayers, BackscatterAlongRefractedRaysAgainstExactIntegration) {
     const PortSetup& s = setup();
     Image depth(s.cam.width, s.cam.height, 1, 2.5f);
     Frame f{s.scene.rgb, depth};
-    const std::optional<Port> ports[] = {std::nullopt, dome(0.05, 0.01),
-                                         flat({0, 0, 1}, 0.03, 0.012), flat({0, 0, 1}, 0.1, 0.02),
-                                         dome(0.05, 0.01, {0.01, -0.008, 0.005})};
+    const std::optional<Port> ports[] = {
+        std::nullopt, dome(0.05, 0.01), flat_port({0, 0, 1}, 0.03, 0.012),
+        flat_port({0, 0, 1}, 0.1, 0.02), dome(0.05, 0.01, {0.01, -0.008, 0.005})};
     const char* names[] = {"no port (the lattice's own error)", "centred dome 5 cm", "flat 3 cm",
                            "flat 10 cm", "dome decentred 1.4 cm"};
     // max relative error (G channel), measured: 0.022 %, 0.036 %, 0.59 %, 1.95 %, 0.74 %

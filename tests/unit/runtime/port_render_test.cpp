@@ -14,6 +14,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/runtime/port_rays.h"
 #include "deepsea/runtime/renderer.h"
+#include "port_fixtures.h"
 #include "runtime_fixtures.h"
 
 namespace deepsea {
@@ -22,23 +23,8 @@ namespace {
 
 Camera test_camera() { return Camera{240, 180, 180.0, 180.0, 119.5, 89.5}; }
 
-Port flat_port(Vec3 normal, double distance, double glass) {
-    Port p;
-    p.kind = PortKind::Flat;
-    p.flat.normal = normal;
-    p.flat.distance = distance;
-    p.flat.glass_thickness = glass;
-    return p;
-}
-
-Port dome_port(Vec3 centre, double radius, double glass) {
-    Port p;
-    p.kind = PortKind::Dome;
-    p.dome.centre = centre;
-    p.dome.radius = radius;
-    p.dome.glass_thickness = glass;
-    return p;
-}
+using test::dome_port;
+using test::flat_port;
 
 /// An analytic scene: the first hit of a ray (origin, unit direction) at path length t > 0
 /// (inf: none).
