@@ -356,9 +356,9 @@ void require_complete(const Setup& setup, const std::string& where) {
 void refuse_port(const Setup& setup, const std::string& where) {
     if (setup.port)
         throw ConfigError(where +
-                          ": camera.port: rendering and baking through a port are not "
-                          "built yet (docs/ports.md); this command would ignore it: "
-                          "remove the port section");
+                          ": camera.port: baking through a port is not built yet, and this "
+                          "command would ignore it (render --camera renders through one; "
+                          "docs/ports.md): remove the port section");
 }
 
 std::string setup_to_yaml(const Setup& s) {
