@@ -249,6 +249,16 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
 
     const int n = 3 * w;
     const std::size_t stride = camera_rows::row_stride(w);
+    // Display values of `len` DN into dst, both passes: whole DN (`whole`) through this frame's
+    // table where there is one, else (and always for the noise-free DN) the processing kernel.
+    const auto display = [&](Scratch& t, int len, const float* dn, float* dst, bool whole) {
+        if (whole && table) {
+            camera_rows::lookup_row(lut.data(), len, dn, dst);
+            return;
+        }
+        camera_rows::process_row(pp, len, t.scale, dn, t.tmp, t.image);
+        copy(t.image, dst, len);
+    };
     const Vignetting& vig = m_model.lens.vignetting;
     constexpr int kChunk = camera_rows::kChunk;
     parallel_for(
@@ -285,16 +295,9 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
                         if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
                         continue;
                     }
-                    if (table) {
-                        camera_rows::lookup_row(lut.data(), len, t.raw, out.image.row(v) + c0);
-                    } else {
-                        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
-                        copy(t.image, out.image.row(v) + c0, len);
-                    }
-                    if (layers.noise_free) {
-                        camera_rows::process_row(pp, len, t.scale, t.gain, t.tmp, t.image);
-                        copy(t.image, out.noise_free.row(v) + c0, len);
-                    }
+                    display(t, len, t.raw, out.image.row(v) + c0, true);
+                    if (layers.noise_free)
+                        display(t, len, t.gain, out.noise_free.row(v) + c0, false);
                 }
                 if (grey)
                     for (int c = 0; c < 3; ++c) row_sums[3 * std::size_t(v) + c] = sum[c];
@@ -328,16 +331,10 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
                 for (int c0 = 0; c0 < n; c0 += kChunk) {
                     const int len = std::min(kChunk, n - c0);
                     copy(mosaic ? t.row + c0 : out.raw.row(v) + c0, t.raw, len);
-                    if (table) {
-                        camera_rows::lookup_row(lut.data(), len, t.raw, out.image.row(v) + c0);
-                    } else {
-                        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
-                        copy(t.image, out.image.row(v) + c0, len);
-                    }
+                    display(t, len, t.raw, out.image.row(v) + c0, true);
                     if (layers.noise_free) {
                         copy(out.noise_free.row(v) + c0, t.raw, len);
-                        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
-                        copy(t.image, out.noise_free.row(v) + c0, len);
+                        display(t, len, t.raw, out.noise_free.row(v) + c0, false);
                     }
                 }
             }
