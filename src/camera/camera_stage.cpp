@@ -205,6 +205,7 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     sp.black = float(black_level(s));
     sp.max_dn = float(max_dn(s));
     sp.read_noise = float(s.dark_noise);
+    sp.poisson_below = float(poisson_below(s.dark_noise));
     sp.noise = s.noise;
     sp.keep_linear = layers.linear_dn;
     sp.shot_key = temporal_key(s.seed, frame_key, NoiseStream::Shot);

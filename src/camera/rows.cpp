@@ -53,7 +53,7 @@ void gather_exact(const SensorParams& p, std::uint32_t base, int m, const RowBuf
     float* __restrict ce = b.exact_electrons;
     float* __restrict co = b.exact_offset;
     const NoiseKey shot_key = p.shot_key, read_key = p.read_key;
-    const float read_noise = p.read_noise, poisson_below = float(kGaussianShotNoiseFrom);
+    const float read_noise = p.read_noise, poisson_below = p.poisson_below;
 #pragma omp simd
     for (int j = 0; j < m; ++j) {
         const std::int32_t i = index[j];
@@ -160,6 +160,7 @@ template <bool kLinear, bool kMosaic>
     const float t = p.exposure_time_ms, dark = p.dark_electrons, fw = p.full_well, K = p.gain;
     const float black = p.black, max_dn = p.max_dn, read_var = p.read_noise * p.read_noise;
     const NoiseKey shot_key = p.shot_key;
+    const float poisson_below = p.poisson_below;
     // Locals, so that the loop does not reload them after every store.
     const float* __restrict radiance = b.radiance;
     const float* __restrict response = b.response;
@@ -188,7 +189,7 @@ template <bool kLinear, bool kMosaic>
         if constexpr (kLinear) linear[i] = dn;
         mean_out[i] = mean;
         std::int32_t slow =
-            mean < float(kGaussianShotNoiseFrom) || mean + kClipReach * sigma >= fw || w >= 5.0f;
+            mean < poisson_below || mean + kClipReach * sigma >= fw || w >= 5.0f;
         if constexpr (kMosaic) slow &= record[i];
         flag[i] = slow;
         exact += slow;

@@ -54,6 +54,8 @@ struct SensorParams {
     float dark_electrons = 0;    ///< mean dark-current electrons
     float full_well = 0, gain = 0, black = 0, max_dn = 0;
     float read_noise = 0;  ///< electrons
+    /// Means below it take the Poisson path (poisson_below(read_noise), noise.h).
+    float poisson_below = float(kGaussianShotNoiseFrom);
     bool noise = true;
     bool keep_linear = false;  ///< fill RowBuffers::linear (else it is not touched)
     NoiseKey shot_key, read_key;
@@ -76,8 +78,7 @@ struct RowBuffers {
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
 };
 
-/// n values from noise counter `base` on (a chunk of a row): radiance to DN (docs/camera.md,
-/// "Noise").
+/// n values from noise counter `base` on (a chunk of a row): radiance to DN (docs/noise.md).
 void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b);
 
 /// n values without noise, for the noise-free image: K min(mean, full well) + black, clipped to

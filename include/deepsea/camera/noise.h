@@ -1,5 +1,5 @@
 #pragma once
-/// \file The sensor's random numbers (docs/camera.md, "Noise"): counter-based, so that a pixel's
+/// \file The sensor's random numbers (docs/noise.md): counter-based, so that a pixel's
 /// noise depends only on (seed, frame key, pixel, channel), never on the order of frames, the
 /// thread count or which rows a thread ran. Fixed patterns (DSNU, PRNU) are keyed by the seed
 /// and the pixel only: the same in every frame of one camera. Each stream's key comes from
@@ -20,6 +20,21 @@ namespace deepsea {
 /// exceeds the Poisson's by 2 b^2 <= 1/18 electron^2 (0.35 % at 16 electrons), its skewness is
 /// the Poisson's 1 / sqrt(mean), and it is not rounded to whole electrons.
 inline constexpr double kGaussianShotNoiseFrom = 16.0;
+
+/// ... or at any mean where the read noise is at least this many electrons rms: the sum of a
+/// Poisson count and such a read noise is so smooth that the Cornish-Fisher deviate of the two
+/// (mean mu, variance mu + sigma_d^2, the Poisson's skewness term) has a distribution within
+/// kGaussianSumKs of the exact sum's (Kolmogorov distance, the largest difference of the two
+/// CDFs, at every mean; tests/unit/camera/emva_test.cpp computes it by convolution). Every
+/// preset's read noise is above it; a camera with less read noise keeps the Poisson path
+/// below kGaussianShotNoiseFrom.
+inline constexpr double kGaussianReadNoiseFrom = 2.0;
+inline constexpr double kGaussianSumKs = 1e-3;
+
+/// The mean below which shot noise takes the Poisson path, for a read noise (electrons rms).
+inline double poisson_below(double read_noise) {
+    return read_noise >= kGaussianReadNoiseFrom ? 0.0 : kGaussianShotNoiseFrom;
+}
 
 /// Cornish-Fisher's skewness term's factor b for a Poisson mean within a total variance.
 template <class F>
