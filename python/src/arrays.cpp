@@ -123,8 +123,8 @@ void reshape(Image& img, int width, int height, int channels) {
 
 ArrayIn inspect_color(const py::handle& obj, const std::string& what) {
     ArrayIn in = inspect(obj, what, true);
-    in.encoding = in.elem == Elem::U8 || in.elem == Elem::U16 ? ColorEncoding::Srgb
-                                                              : ColorEncoding::Linear;
+    in.encoding =
+        in.elem == Elem::U8 || in.elem == Elem::U16 ? ColorEncoding::Srgb : ColorEncoding::Linear;
     return in;
 }
 

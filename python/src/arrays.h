@@ -58,9 +58,10 @@ bool color_view_of(const ArrayIn& in, ColorView& out);
 bool depth_view_of(const ArrayIn& in, double scale, DepthView& out);
 
 /// Fills `out` with linear RGB (3 channels) in the array's encoding, decoded as the compositor
-/// decodes a colour view of the same samples (sRGB codes: as read_color decodes files). Reuses out's memory. Parallel over rows on `threads` workers (0: all cores). No Python
-/// calls: may run without the GIL. As albedo (a frame's colour), float values must be finite:
-/// InputError "rgb: pixel (u, v) ..." otherwise (require_finite_color).
+/// decodes a colour view of the same samples (sRGB codes: as read_color decodes files). Reuses
+/// out's memory. Parallel over rows on `threads` workers (0: all cores). No Python calls: may run
+/// without the GIL. As albedo (a frame's colour), float values must be finite: InputError "rgb:
+/// pixel (u, v) ..." otherwise (require_finite_color).
 void fill_color(const ArrayIn& in, Image& out, int threads = 0, bool albedo = true);
 
 /// Fills `out` with one-channel depth in metres: floats as they are, uint16 times `scale` (as

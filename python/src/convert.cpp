@@ -154,8 +154,10 @@ LayerOutput parse_layers(const py::handle& layers) {
             list += (list.empty() ? "" : ",") + name.cast<std::string>();
         }
     } else {
-        throw ConfigError("layers: expected 'all', names such as 'final,depth', or a list of "
-                          "names, got " + py::repr(layers).cast<std::string>());
+        throw ConfigError(
+            "layers: expected 'all', names such as 'final,depth', or a list of "
+            "names, got " +
+            py::repr(layers).cast<std::string>());
     }
     LayerOutput out;
     try {
@@ -172,9 +174,9 @@ py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool,
     py::dict d;
     const auto put = [&](const char* name, Image& img) {
         if (img.empty()) return;
-        const bool named = !wanted || wanted->all() ||
-                           std::find(wanted->names.begin(), wanted->names.end(), name) !=
-                               wanted->names.end();
+        const bool named =
+            !wanted || wanted->all() ||
+            std::find(wanted->names.begin(), wanted->names.end(), name) != wanted->names.end();
         if (named) {
             d[name] = to_array(std::move(img), pool);
         } else if (pool) {

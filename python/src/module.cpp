@@ -141,9 +141,7 @@ public:
     }
     const PyAsset& asset() const { return m_asset; }
     /// What re-creates it (pickle): the asset and the constructor's arguments.
-    py::tuple state() const {
-        return py::make_tuple(m_asset, m_camera_arg, m_forward, m_threads);
-    }
+    py::tuple state() const { return py::make_tuple(m_asset, m_camera_arg, m_forward, m_threads); }
 
 private:
     PyAsset m_asset;
@@ -224,8 +222,8 @@ PyAsset bake_asset(const py::object& setup, const py::object& camera, const py::
 
 py::dict reference(const py::object& setup, const py::object& rgb, const py::object& depth,
                    const py::object& encoding, const py::object& camera, const py::object& rig,
-                   const py::object& water, const std::string& depth_kind, double depth_scale, double z_max, double rel_tol,
-                   int threads) {
+                   const py::object& water, const std::string& depth_kind, double depth_scale,
+                   double z_max, double rel_tol, int threads) {
     check_threads(threads);
     check_depth_scale(depth_scale);
     const DepthKind kind = parse_depth_kind(depth_kind);
@@ -405,8 +403,8 @@ PYBIND11_MODULE(_deepsea, m) {
           "it there (.vdb). Returns the Asset.");
 
     m.def("reference", &reference, py::arg("setup"), py::arg("rgb"), py::arg("depth"),
-          py::kw_only(), py::arg("encoding") = py::none(), py::arg("camera") = py::none(), py::arg("rig") = py::none(),
-          py::arg("water") = py::none(), py::arg("depth_kind") = "z",
+          py::kw_only(), py::arg("encoding") = py::none(), py::arg("camera") = py::none(),
+          py::arg("rig") = py::none(), py::arg("water") = py::none(), py::arg("depth_kind") = "z",
           py::arg("depth_scale") = 0.001, py::arg("z_max") = 0.0, py::arg("rel_tol") = 1e-7,
           py::arg("threads") = 0,
           "Exact per-pixel rendering without an asset (`deepsea reference`): the same layers "
