@@ -7,9 +7,9 @@ pkgs=(build-essential cmake pkg-config ccache
       libspng-dev libdeflate-dev libjpeg62-turbo-dev
       libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libssl-dev
       libgtest-dev libbenchmark-dev
-      python3-dev pybind11-dev python3-numpy)
+      python3-dev pybind11-dev python3-numpy python3-venv)
 if [[ "${1:-}" == "--tests" ]]; then
-  pkgs+=(blender python3-pytest python3-openimageio python3-openvdb clang-format
+  pkgs+=(blender python3-pytest python3-openimageio python3-openvdb mypy clang-format
         clang-14 libclang-rt-14-dev)  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
 fi
 missing=()

@@ -80,7 +80,7 @@ def main():
     print(f"{'case':34s} {'wall ms':>8s} {'compositor ms':>14s} {'(min)':>7s} "
           f"{'overhead ms':>12s} {'in module':>10s} {'overhead':>9s}")
     cases = [("uint8 sRGB + float32 z, all layers", rgb, depth, {}),
-             ("float32 linear + float32 z, all", rgb.astype(np.float32) / 255, depth, {}),
+             ("float32 linear + float32 z, all", rgb.astype(np.float32) / 255, depth, {"encoding": "linear"}),
              ("uint8 sRGB + float32 z, final only", rgb, depth, {"layers": "final"})]
     worst = 0.0
     for name, c, d, kw in cases:

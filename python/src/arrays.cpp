@@ -74,15 +74,29 @@ ArrayIn inspect(const py::handle& obj, const std::string& what, bool color) {
     return in;
 }
 
-/// Converts n elements to float: sRGB codes decoded, floats as they are.
+/// Converts n elements to linear floats in the array's encoding, as the compositor's
+/// color_row decodes a view (runtime/frame_view.cpp).
 void to_linear(const ArrayIn& in, std::size_t offset, std::size_t n, float* out) {
+    const bool srgb = in.encoding == ColorEncoding::Srgb;
     switch (in.elem) {
-        case Elem::U8:
-            srgb_decode(static_cast<const std::uint8_t*>(in.data()) + offset, n, out);
-            break;
-        case Elem::U16:
-            srgb_decode(static_cast<const std::uint16_t*>(in.data()) + offset, n, out);
-            break;
+        case Elem::U8: {
+            const std::uint8_t* src = static_cast<const std::uint8_t*>(in.data()) + offset;
+            if (srgb) {
+                srgb_decode(src, n, out);
+            } else {
+                for (std::size_t i = 0; i < n; ++i) out[i] = float(src[i]) / 255.0f;
+            }
+            return;
+        }
+        case Elem::U16: {
+            const std::uint16_t* src = static_cast<const std::uint16_t*>(in.data()) + offset;
+            if (srgb) {
+                srgb_decode(src, n, out);
+            } else {
+                for (std::size_t i = 0; i < n; ++i) out[i] = float(src[i]) / 65535.0f;
+            }
+            return;
+        }
         case Elem::F32:
             std::memcpy(out, static_cast<const float*>(in.data()) + offset, n * sizeof(float));
             break;
@@ -91,6 +105,9 @@ void to_linear(const ArrayIn& in, std::size_t offset, std::size_t n, float* out)
             for (std::size_t i = 0; i < n; ++i) out[i] = float(src[i]);
             break;
         }
+    }
+    if (srgb) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = srgb_to_linear(out[i]);
     }
 }
 
@@ -105,7 +122,30 @@ void reshape(Image& img, int width, int height, int channels) {
 }  // namespace
 
 ArrayIn inspect_color(const py::handle& obj, const std::string& what) {
-    return inspect(obj, what, true);
+    ArrayIn in = inspect(obj, what, true);
+    in.encoding =
+        in.elem == Elem::U8 || in.elem == Elem::U16 ? ColorEncoding::Srgb : ColorEncoding::Linear;
+    return in;
+}
+
+void set_color_encoding(ArrayIn& in, const py::handle& encoding, const std::string& what) {
+    const bool floats = in.elem == Elem::F32 || in.elem == Elem::F64;
+    if (encoding.is_none()) {
+        if (floats) {
+            throw InputError(what + ": " + dtype_name(in.array) +
+                             " colour needs its encoding stated: encoding='srgb' (sRGB values "
+                             "in [0, 1], as a PNG read as float) or encoding='linear' (linear "
+                             "albedo, as EXR files)");
+        }
+        in.encoding = ColorEncoding::Srgb;  // 8- and 16-bit codes, as the CLI reads PNG
+        return;
+    }
+    const std::string e = py::str(encoding).cast<std::string>();
+    if (!py::isinstance<py::str>(encoding) || (e != "srgb" && e != "linear")) {
+        throw ConfigError("encoding: expected 'srgb' or 'linear', got " +
+                          py::repr(encoding).cast<std::string>());
+    }
+    in.encoding = e == "srgb" ? ColorEncoding::Srgb : ColorEncoding::Linear;
 }
 
 ArrayIn inspect_depth(const py::handle& obj, const std::string& what) {
@@ -121,7 +161,7 @@ bool color_view_of(const ArrayIn& in, ColorView& out) {
     out.type = in.elem == Elem::U8    ? SampleType::U8
                : in.elem == Elem::U16 ? SampleType::U16
                                       : SampleType::F32;
-    out.encoding = in.elem == Elem::F32 ? ColorEncoding::Linear : ColorEncoding::Srgb;
+    out.encoding = in.encoding;
     out.pixel_stride = std::ptrdiff_t(in.channels * sample_bytes(out.type));  // C-contiguous
     return true;
 }
@@ -160,7 +200,7 @@ void fill_color(const ArrayIn& in, Image& out, int threads, bool albedo) {
                      }
                  },
                  {threads, kRowGrain});
-    // Float colour is linear albedo: one NaN would darken the whole frame (core/image.h).
+    // Float albedo: one NaN would darken the whole frame (core/image.h).
     if (albedo && (in.elem == Elem::F32 || in.elem == Elem::F64)) require_finite_color(out, "rgb");
 }
 

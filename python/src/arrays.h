@@ -28,6 +28,9 @@ enum class Elem { U8, U16, F32, F64 };
 struct ArrayIn {
     py::array array;  ///< C-contiguous (numpy's copy if the caller's was not)
     Elem elem = Elem::F32;
+    /// What colour samples mean: inspect_color sets sRGB for integers and linear for floats
+    /// (radiance); a frame's colour takes the caller's word (set_color_encoding).
+    ColorEncoding encoding = ColorEncoding::Linear;
     int height = 0, width = 0, channels = 0;
     const void* data() const { return array.data(); }
 };
@@ -37,21 +40,28 @@ struct ArrayIn {
 /// / float64 (linear). InputError naming `what` otherwise. Needs the GIL.
 ArrayIn inspect_color(const py::handle& obj, const std::string& what);
 
+/// Sets the encoding of a frame's colour from `encoding` (None, "srgb" or "linear"). Integer
+/// samples are sRGB codes unless told "linear" (as the CLI reads 8- and 16-bit files); float
+/// samples have no default: sRGB values in [0, 1] (a PNG read as float by another library)
+/// taken as linear albedo would be silently wrong, so None is an InputError naming `what`.
+void set_color_encoding(ArrayIn& in, const py::handle& encoding, const std::string& what);
+
 /// Checks a depth array: (H, W) or (H, W, 1); float32 / float64 (metres) or uint16 (units of
 /// the depth scale). InputError naming `what` otherwise. Needs the GIL.
 ArrayIn inspect_depth(const py::handle& obj, const std::string& what);
 
 /// A view of the array's own memory as the renderer reads it (runtime/frame_view.h), where it
-/// can: colour as uint8 / uint16 sRGB codes or float32 linear albedo, RGB or RGBA (alpha
+/// can: colour as uint8 / uint16 / float32 samples in the array's encoding, RGB or RGBA (alpha
 /// skipped); depth as float32 metres or uint16 units of `scale` metres. False for the others
 /// (grey, float64), which fill_color / fill_depth convert. The view is valid while `in` lives.
 bool color_view_of(const ArrayIn& in, ColorView& out);
 bool depth_view_of(const ArrayIn& in, double scale, DepthView& out);
 
-/// Fills `out` with linear RGB (3 channels) as read_color would decode the same pixels from a
-/// file. Reuses out's memory. Parallel over rows on `threads` workers (0: all cores). No Python
-/// calls: may run without the GIL. As albedo (a frame's colour), float values must be finite:
-/// InputError "rgb: pixel (u, v) ..." otherwise (require_finite_color).
+/// Fills `out` with linear RGB (3 channels) in the array's encoding, decoded as the compositor
+/// decodes a colour view of the same samples (sRGB codes: as read_color decodes files). Reuses
+/// out's memory. Parallel over rows on `threads` workers (0: all cores). No Python calls: may run
+/// without the GIL. As albedo (a frame's colour), float values must be finite: InputError "rgb:
+/// pixel (u, v) ..." otherwise (require_finite_color).
 void fill_color(const ArrayIn& in, Image& out, int threads = 0, bool albedo = true);
 
 /// Fills `out` with one-channel depth in metres: floats as they are, uint16 times `scale` (as

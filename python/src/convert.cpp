@@ -1,5 +1,6 @@
 #include "convert.h"
 
+#include <algorithm>
 #include <string>
 
 #include "deepsea/core/error.h"
@@ -141,12 +142,46 @@ void check_depth_scale(double scale) {
     }
 }
 
-/// Layers as a dict of arrays (moved out: no copy; their buffers return to `pool`, if given,
-/// when the arrays are freed); empty layers are left out.
-py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool) {
+LayerOutput parse_layers(const py::handle& layers) {
+    std::string list;
+    if (py::isinstance<py::str>(layers)) {
+        list = layers.cast<std::string>();
+    } else if (py::isinstance<py::list>(layers) || py::isinstance<py::tuple>(layers)) {
+        for (const py::handle& name : layers) {
+            if (!py::isinstance<py::str>(name))
+                throw ConfigError("layers: expected layer names, got " +
+                                  py::repr(name).cast<std::string>());
+            list += (list.empty() ? "" : ",") + name.cast<std::string>();
+        }
+    } else {
+        throw ConfigError(
+            "layers: expected 'all', names such as 'final,depth', or a list of "
+            "names, got " +
+            py::repr(layers).cast<std::string>());
+    }
+    LayerOutput out;
+    try {
+        out.names = parse_layer_set(list);
+    } catch (const ConfigError& e) {
+        const std::string m = e.what(), cli = "--layer-set: ";  // the CLI's option; here layers=
+        throw ConfigError("layers: " + (m.rfind(cli, 0) == 0 ? m.substr(cli.size()) : m));
+    }
+    return out;
+}
+
+py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool,
+                     const LayerOutput* wanted) {
     py::dict d;
     const auto put = [&](const char* name, Image& img) {
-        if (!img.empty()) d[name] = to_array(std::move(img), pool);
+        if (img.empty()) return;
+        const bool named =
+            !wanted || wanted->all() ||
+            std::find(wanted->names.begin(), wanted->names.end(), name) != wanted->names.end();
+        if (named) {
+            d[name] = to_array(std::move(img), pool);
+        } else if (pool) {
+            pool->give(std::move(img.data));  // computed, not wanted: kept for the next frame
+        }
     };
     put("final", l.final);
     put("direct", l.direct);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "arrays.h"
+#include "deepsea/batch/layer_files.h"
 #include "deepsea/io/config.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/runtime/layers.h"
@@ -46,8 +47,15 @@ DepthKind parse_depth_kind(const std::string& kind);
 /// ConfigError unless scale > 0 (metres per unit of integer depth).
 void check_depth_scale(double scale);
 
+/// `layers=`: "all", or layer names as `deepsea render --layer-set` takes them (parse_layer_set:
+/// comma-separated, or a list or tuple of names). ConfigError naming the unknown or repeated
+/// name.
+LayerOutput parse_layers(const py::handle& layers);
+
 /// Layers as a dict of arrays (moved out: no copy; their buffers return to `pool`, if given,
-/// when the arrays are freed); empty layers are left out.
-py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool = {});
+/// when the arrays are freed); empty layers are left out, and with `wanted` those it does not
+/// name (a port's mask comes with every layer, as in a `--layers` file).
+py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool = {},
+                     const LayerOutput* wanted = nullptr);
 
 }  // namespace deepsea::python

@@ -29,6 +29,7 @@
 #include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/renderer.h"
 #include "errors.h"
+#include "files.h"
 
 namespace deepsea::python {
 
@@ -65,8 +66,8 @@ PyAsset load(const py::object& file, int threads) {
 /// render in parallel.
 class PyRenderer {
 public:
-    PyRenderer(PyAsset asset, const py::handle& camera, bool forward, int threads)
-        : m_asset(std::move(asset)), m_threads(threads) {
+    PyRenderer(PyAsset asset, const py::object& camera, bool forward, int threads)
+        : m_asset(std::move(asset)), m_camera_arg(camera), m_forward(forward), m_threads(threads) {
         check_threads(threads);
         RenderSettings settings;
         if (!camera.is_none()) {
@@ -78,18 +79,15 @@ public:
         m_renderer = std::make_unique<deepsea::Renderer>(*m_asset.asset, settings);
     }
 
-    py::dict render(const py::object& rgb, const py::object& depth, const std::string& depth_kind,
-                    double depth_scale, const std::string& layers) {
+    py::dict render(const py::object& rgb, const py::object& depth, const py::object& encoding,
+                    const std::string& depth_kind, double depth_scale, const py::object& layers) {
         const auto t0 = Clock::now();
         const DepthKind kind = parse_depth_kind(depth_kind);
         check_depth_scale(depth_scale);
-        LayerSet set = LayerSet::All;
-        if (layers == "final") {
-            set = LayerSet::Final;
-        } else if (layers != "all") {
-            throw ConfigError("layers: expected 'all' or 'final', got '" + layers + "'");
-        }
-        const ArrayIn c = inspect_color(rgb, "rgb");
+        const LayerOutput wanted = parse_layers(layers);
+        const LayerSet set = wanted.compositor_set();
+        ArrayIn c = inspect_color(rgb, "rgb");
+        set_color_encoding(c, encoding, "rgb");
         const ArrayIn d = inspect_depth(depth, "depth");
         // The arrays' memory as it lies where the renderer reads it so (the common dtypes);
         // grey and float64 are converted into the renderer's own buffers first.
@@ -129,7 +127,7 @@ public:
                 m_composite_s = seconds_since(tc);
             });
         }
-        py::dict result = layers_dict(out, m_pool);
+        py::dict result = layers_dict(out, m_pool, &wanted);
         m_total_s = seconds_since(t0);
         return result;
     }
@@ -142,9 +140,13 @@ public:
         return d;
     }
     const PyAsset& asset() const { return m_asset; }
+    /// What re-creates it (pickle): the asset and the constructor's arguments.
+    py::tuple state() const { return py::make_tuple(m_asset, m_camera_arg, m_forward, m_threads); }
 
 private:
     PyAsset m_asset;
+    py::object m_camera_arg;  ///< as given (None, a dict, YAML text or a path): for pickle
+    bool m_forward = true;
     int m_threads = 0;
     std::unique_ptr<deepsea::Renderer> m_renderer;  ///< on m_asset's asset, which it keeps alive
     Image m_rgb, m_depth;  ///< arrays converted (grey, float64), reused between frames
@@ -219,9 +221,9 @@ PyAsset bake_asset(const py::object& setup, const py::object& camera, const py::
 }
 
 py::dict reference(const py::object& setup, const py::object& rgb, const py::object& depth,
-                   const py::object& camera, const py::object& rig, const py::object& water,
-                   const std::string& depth_kind, double depth_scale, double z_max, double rel_tol,
-                   int threads) {
+                   const py::object& encoding, const py::object& camera, const py::object& rig,
+                   const py::object& water, const std::string& depth_kind, double depth_scale,
+                   double z_max, double rel_tol, int threads) {
     check_threads(threads);
     check_depth_scale(depth_scale);
     const DepthKind kind = parse_depth_kind(depth_kind);
@@ -233,7 +235,8 @@ py::dict reference(const py::object& setup, const py::object& rgb, const py::obj
     validate(opt.quadrature);
     Setup full = full_setup(setup, camera, rig, water);
     require_complete(full, "deepsea.reference");
-    const ArrayIn c = inspect_color(rgb, "rgb");
+    ArrayIn c = inspect_color(rgb, "rgb");
+    set_color_encoding(c, encoding, "rgb");
     const ArrayIn d = inspect_depth(depth, "depth");
     Layers out;
     {
@@ -274,13 +277,14 @@ double exposure_of(const py::object& radiance, const py::object& exposure) {
 using namespace deepsea;
 using namespace deepsea::python;
 
-PYBIND11_MODULE(deepsea, m) {
+PYBIND11_MODULE(_deepsea, m) {
     m.doc() =
         "deepsea: a physically based deep-sea camera simulator (docs/python.md). Arrays in and "
         "out are NumPy, images (H, W, C) with rows top to bottom, colour R, G, B.";
     m.attr("__version__") = DEEPSEA_VERSION;
     register_errors(m);
     register_camera(m);
+    register_files(m);
 
     py::class_<PyAsset>(m, "Asset", "A baked asset (camera x rig x water), loaded once.")
         .def_property_readonly(
@@ -309,6 +313,16 @@ PYBIND11_MODULE(deepsea, m) {
             },
             py::arg("path"), py::kw_only(), py::arg("half") = true, py::arg("preview") = true,
             "writes the asset to a .vdb file (atomically)")
+        .def(py::pickle(
+            [](const PyAsset& a) {
+                if (a.path.empty()) {
+                    throw InputError(
+                        "Asset: baked in memory, it pickles as its file: save(path) first, or "
+                        "bake(..., output=path)");
+                }
+                return py::make_tuple(a.path);
+            },
+            [](const py::tuple& t) { return load(t[0], 0); }))
         .def("__repr__", [](const PyAsset& a) {
             const Lattice& l = a.asset->lattice();
             return "<deepsea.Asset " + describe(a.asset->info.camera) + ", " +
@@ -323,7 +337,8 @@ PYBIND11_MODULE(deepsea, m) {
 
     py::class_<PyRenderer>(m, "Renderer",
                            "Composites RGB-D frames with one asset; keeps its buffers between "
-                           "frames of one size. One frame at a time per renderer.")
+                           "frames of one size. One frame at a time per renderer. Pickles as its "
+                           "asset's file and its arguments (the asset is loaded again).")
         .def(
             py::init([](const PyAsset& asset, const py::object& camera, bool forward, int threads) {
                 return std::make_unique<PyRenderer>(asset, camera, forward, threads);
@@ -334,31 +349,38 @@ PYBIND11_MODULE(deepsea, m) {
             "resampled to the frame size); forward=False leaves forward scatter out; "
             "threads: worker threads (0: all cores)")
         .def("render", &PyRenderer::render, py::arg("rgb"), py::arg("depth"), py::kw_only(),
-             py::arg("depth_kind") = "z", py::arg("depth_scale") = 0.001, py::arg("layers") = "all",
-             "Renders one frame. rgb: (H, W, 3) uint8/uint16 sRGB or float linear albedo "
-             "((H, W, 4): alpha dropped; (H, W): grey). depth: (H, W) float metres, planar "
-             "('z') or along the ray ('range'), or uint16 times depth_scale; not finite or <= 0 "
-             "is open water. Returns a dict of float32 arrays: final, direct, forward, "
-             "backscatter, transmission (H, W, 3), depth (H, W, planar z), normal (H, W, 3); "
-             "layers='final' computes only final.")
+             py::arg("encoding") = py::none(), py::arg("depth_kind") = "z",
+             py::arg("depth_scale") = 0.001, py::arg("layers") = "all",
+             "Renders one frame. rgb: (H, W, 3) colour ((H, W, 4): alpha dropped; (H, W): "
+             "grey); uint8/uint16 are sRGB codes unless encoding='linear'; float32/float64 need "
+             "encoding='srgb' or 'linear'. depth: (H, W) float metres, planar ('z') or along the "
+             "ray ('range'), or uint16 times depth_scale; not finite or <= 0 is open water. "
+             "layers: 'all', or names as `render --layer-set` takes them ('final,depth', or a "
+             "list). Returns a dict of float32 arrays, those layers only.")
         .def_property_readonly("camera", &PyRenderer::camera,
                                "the frames' camera (after the first frame: the one in use)")
         .def_property_readonly("asset", [](const PyRenderer& r) { return r.asset(); })
         .def_property_readonly("timing", &PyRenderer::timing,
                                "the last render: composite_s (the compositor alone) and call_s "
-                               "(the whole call inside the module)");
+                               "(the whole call inside the module)")
+        .def(py::pickle([](const PyRenderer& r) { return r.state(); },
+                        [](const py::tuple& t) {
+                            return std::make_unique<PyRenderer>(
+                                t[0].cast<PyAsset>(), t[1], t[2].cast<bool>(), t[3].cast<int>());
+                        }));
 
     m.def(
         "render",
         [](const PyAsset& asset, const py::object& rgb, const py::object& depth,
-           const py::object& camera, const std::string& depth_kind, double depth_scale,
-           bool forward, const std::string& layers, int threads) {
+           const py::object& encoding, const py::object& camera, const std::string& depth_kind,
+           double depth_scale, bool forward, const py::object& layers, int threads) {
             PyRenderer r(asset, camera, forward, threads);
-            return r.render(rgb, depth, depth_kind, depth_scale, layers);
+            return r.render(rgb, depth, encoding, depth_kind, depth_scale, layers);
         },
         py::arg("asset"), py::arg("rgb"), py::arg("depth"), py::kw_only(),
-        py::arg("camera") = py::none(), py::arg("depth_kind") = "z", py::arg("depth_scale") = 0.001,
-        py::arg("forward") = true, py::arg("layers") = "all", py::arg("threads") = 0,
+        py::arg("encoding") = py::none(), py::arg("camera") = py::none(),
+        py::arg("depth_kind") = "z", py::arg("depth_scale") = 0.001, py::arg("forward") = true,
+        py::arg("layers") = "all", py::arg("threads") = 0,
         "One frame: Renderer(asset, ...).render(rgb, depth, ...). For many frames keep a "
         "Renderer.");
 
@@ -381,8 +403,8 @@ PYBIND11_MODULE(deepsea, m) {
           "it there (.vdb). Returns the Asset.");
 
     m.def("reference", &reference, py::arg("setup"), py::arg("rgb"), py::arg("depth"),
-          py::kw_only(), py::arg("camera") = py::none(), py::arg("rig") = py::none(),
-          py::arg("water") = py::none(), py::arg("depth_kind") = "z",
+          py::kw_only(), py::arg("encoding") = py::none(), py::arg("camera") = py::none(),
+          py::arg("rig") = py::none(), py::arg("water") = py::none(), py::arg("depth_kind") = "z",
           py::arg("depth_scale") = 0.001, py::arg("z_max") = 0.0, py::arg("rel_tol") = 1e-7,
           py::arg("threads") = 0,
           "Exact per-pixel rendering without an asset (`deepsea reference`): the same layers "

@@ -134,7 +134,7 @@ def test_same_codes_as_the_cli(asset_path, camera, camera_yaml, work):
     codes = inp.read_image("uint8")
     spec = inp.spec()
     inp.close()
-    final = deepsea.Renderer(deepsea.load_asset(asset_path)).render(lin, depth)["final"]
+    final = deepsea.Renderer(deepsea.load_asset(asset_path)).render(lin, depth, encoding="linear")["final"]
     out = camera.record(final, "cam_frame")
     mine = np.floor(out["image"] * np.float32(255) + np.float32(0.5)).astype(np.uint8)
     assert codes.std() > 5

@@ -52,8 +52,11 @@ def test_bad_depth(asset, frame, depth, message):
 def test_bad_options(asset, frame):
     with pytest.raises(deepsea.ConfigError, match="depth_kind"):
         deepsea.render(asset, *frame, depth_kind="planar")
-    with pytest.raises(deepsea.ConfigError, match="layers"):
+    with pytest.raises(deepsea.ConfigError) as e:
         deepsea.render(asset, *frame, layers="some")
+    assert str(e.value).startswith("layers: unknown layer 'some' (layers: final, direct"), e.value
+    with pytest.raises(deepsea.ConfigError, match="layers: layer 'depth' named twice"):
+        deepsea.render(asset, *frame, layers=["depth", "final", "depth"])
     with pytest.raises(deepsea.ConfigError, match="depth_scale"):
         deepsea.render(asset, *frame, depth_scale=0.0)
     with pytest.raises(deepsea.ConfigError, match="threads"):
@@ -135,12 +138,32 @@ def test_non_finite_colour_names_the_pixel(asset, frame):
     rgb = np.full(frame[0].shape, 0.3, np.float32)
     rgb[5, 7, 1] = np.nan
     with pytest.raises(deepsea.InputError) as e:
-        deepsea.Renderer(asset).render(rgb, frame[1])
+        deepsea.Renderer(asset).render(rgb, frame[1], encoding="linear")
     assert str(e.value).startswith("rgb: pixel (7, 5) G is NaN"), str(e.value)
     rgb[5, 7, 1] = 0.3
     rgb[40, 2, 2] = np.inf
     with pytest.raises(deepsea.InputError, match=r"pixel \(2, 40\) B is \+inf"):
-        deepsea.render(asset, rgb.astype(np.float64), frame[1])
+        deepsea.render(asset, rgb.astype(np.float64), frame[1], encoding="srgb")
+
+
+def test_float_colour_needs_its_encoding(asset, frame):
+    """sRGB values taken as linear albedo would be silently wrong: float colour must say."""
+    rgb = frame[0].astype(np.float32) / 255
+    for call in (lambda: deepsea.render(asset, rgb, frame[1]),
+                 lambda: deepsea.Renderer(asset).render(rgb.astype(np.float64), frame[1]),
+                 lambda: deepsea.reference({"camera": asset.camera}, rgb, frame[1], rig=RIG,
+                                           water="jerlov:IB")):
+        with pytest.raises(deepsea.InputError) as e:
+            call()
+        message = str(e.value)
+        assert message.startswith("rgb: float") and "encoding='srgb'" in message, message
+        assert "\n" not in message
+    with pytest.raises(deepsea.ConfigError, match="encoding: expected 'srgb' or 'linear'"):
+        deepsea.render(asset, rgb, frame[1], encoding="sRGB")
+    # the two encodings give two frames (the rule is not a formality)
+    a = deepsea.render(asset, rgb, frame[1], encoding="srgb", layers="final")["final"]
+    b = deepsea.render(asset, rgb, frame[1], encoding="linear", layers="final")["final"]
+    assert (b > a).mean() > 0.9
 
 
 def test_paths_with_nul_and_thread_counts_beyond_the_limit(asset, work):

@@ -71,8 +71,19 @@ def test_dtypes_agree(asset, frame):
     r = deepsea.Renderer(asset)
     ref = r.render(rgb, depth)["final"]
     lin = srgb_to_linear(rgb, 255)
-    for colour in (lin, lin.astype(np.float64), (rgb.astype(np.uint16) * 257)):
-        np.testing.assert_allclose(r.render(colour, depth)["final"], ref, rtol=2e-5)
+    for colour in (lin, lin.astype(np.float64)):
+        np.testing.assert_allclose(r.render(colour, depth, encoding="linear")["final"], ref,
+                                   rtol=2e-5)
+    np.testing.assert_allclose(r.render(rgb.astype(np.uint16) * 257, depth)["final"], ref,
+                               rtol=2e-5)
+    # sRGB values as floats (a PNG read as float by another reader): the same curve
+    for colour in (rgb.astype(np.float32) / 255, rgb / 255.0):
+        np.testing.assert_allclose(r.render(colour, depth, encoding="srgb")["final"], ref,
+                                   rtol=2e-5)
+    # integer codes taken as linear (encoding="linear"): code / top, as a float array of those
+    np.testing.assert_allclose(r.render(rgb, depth, encoding="linear")["final"],
+                               r.render(rgb / 255.0, depth, encoding="linear")["final"],
+                               rtol=2e-5)
     np.testing.assert_allclose(r.render(rgb, depth.astype(np.float64))["final"], ref, rtol=1e-6)
     mm = np.round(depth * 1000).astype(np.uint16)
     np.testing.assert_allclose(r.render(rgb, mm)["final"],

@@ -8,7 +8,7 @@ python=$1 build=$2 prefix=$3 pydir=$4
 fail() { echo "FAIL: $*"; exit 1; }
 "$python" -c "import numpy" 2>/dev/null || { echo "SKIP: $python has no numpy"; exit 77; }
 site=$prefix/$pydir
-mod=$(find "$site" -maxdepth 1 -name 'deepsea*.so' | head -1)
+mod=$(find "$site/deepsea" -maxdepth 1 -name '_deepsea*.so' | head -1)
 [[ -n $mod ]] || fail "no deepsea module in $site"
 build_abs=$(cd "$build" && pwd -P)
 if ldd "$mod" | grep -q -e "not found" -e "$build_abs"; then
