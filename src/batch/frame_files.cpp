@@ -94,7 +94,20 @@ void FrameWriter::write(const FrameJob& job, const Layers& layers, const ImageMe
 void FrameWriter::write(const FrameJob& job, const Layers& layers, const CameraOutput& recorded,
                         const ImageMetadata& meta) const {
     if (!job.layers.empty()) write_layers(job.layers, layers, meta, m_layers, &recorded);
-    if (!job.output.empty()) write_display(job.output, recorded.image, m_bits, meta);
+    if (job.output.empty()) return;
+    if (recorded.codes8.empty()) return write_display(job.output, recorded.image, m_bits, meta);
+    thread_local EncodedImage codes;  // its storage kept from frame to frame
+    prepare_encoded(recorded.width, recorded.height, 3, 8, job.output, codes);
+    codes.codes8 = recorded.codes8;
+    write_encoded(job.output, codes, meta);
+}
+
+CameraLayerSet FrameWriter::camera_set(const FrameJob& job) const {
+    CameraLayerSet set = job.layers.empty() ? CameraLayerSet{} : m_layers.camera_set();
+    // prepare_encoded's rule: a PNG has the writer's bits, a JPEG 8.
+    set.codes8 = !job.output.empty() && writes_encoded(job.output) &&
+                 (m_bits == 8 || image_format(job.output) == "jpg");
+    return set;
 }
 
 }  // namespace deepsea

@@ -266,9 +266,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                             renderer.render(out, s->frame, s->writer.layer_set(job),
                                             opt.depth_kind);
                             camera->record(renderer.camera(), job, out.final,
-                                           job.layers.empty() ? CameraLayerSet{}
-                                                              : opt.layer_output.camera_set(),
-                                           s->recorded, s->line);
+                                           s->writer.camera_set(job), s->recorded, s->line);
                             s->meta = camera_metadata(s->recorded, frame_key(job));
                             result.camera_exposure = s->recorded.exposure;
                         } else if (s->writer.streams(job, exposure)) {

@@ -55,9 +55,12 @@ ExposureReading meter_exposure(const AutoExposure& ae, const Sensor& sensor, con
         // Raw DN are whole numbers in [0, 2^bits - 1]: a histogram gives the exact rank.
         const int bins = int(top) + 1;
         std::vector<std::uint32_t> hist(std::size_t(bins), 0);
+        // Whole numbers convert exactly (no lround, a library call per pixel); out-of-range and
+        // NaN values (not from the stage) land in the end bins.
+        const float last = float(bins - 1);
         for (std::size_t i = 0; i < pixels; ++i) {
-            const long b = std::lround(brightest(i));
-            ++hist[std::size_t(std::clamp(b, 0L, long(bins - 1)))];
+            const float b = brightest(i);
+            ++hist[std::size_t(b > 0.0f ? (b < last ? b + 0.5f : last) : 0.0f)];
         }
         const double want = std::ceil(ae.percentile / 100.0 * double(pixels));
         const std::uint64_t rank = std::uint64_t(std::clamp(want, 1.0, double(pixels)));

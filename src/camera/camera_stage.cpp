@@ -10,6 +10,7 @@
 #include "deepsea/camera/noise.h"
 #include "deepsea/camera/processing.h"
 #include "deepsea/camera/sensor.h"
+#include "deepsea/core/codes.h"
 #include "deepsea/optics/schema.h"
 #include "rows.h"
 
@@ -37,8 +38,8 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
 /// allocation.
 struct Scratch {
     AlignedBytes all;
-    float *row, *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *exact_mean,
-        *exact_uniform, *exact_electrons, *exact_offset;
+    float *row, *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *shown,
+        *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
     std::int32_t *index, *flag;
 
     /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
@@ -46,7 +47,7 @@ struct Scratch {
         constexpr std::size_t n = camera_rows::kChunk;
         const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
                           r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
-        all = AlignedBytes(r + 13 * f + 2 * i);
+        all = AlignedBytes(r + 14 * f + 2 * i);
         std::size_t at = 0;
         const auto take = [&](std::size_t bytes) {
             const std::size_t here = at;
@@ -55,7 +56,7 @@ struct Scratch {
         };
         row = all.at<float>(take(r));
         for (float** p : {&radiance, &zeros, &gain, &mean, &raw, &linear, &image, &tmp, &scale,
-                          &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
+                          &shown, &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
             *p = all.at<float>(take(f));
         index = all.at<std::int32_t>(take(i));
         flag = all.at<std::int32_t>(take(i));
@@ -239,7 +240,15 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
             record.at<std::int32_t>(0)[odd * record_row + i] =
                 bayer_channel(bayer, i / 3, odd) == i % 3;
 
-    ensure(out.image, w, h);
+    out.width = w;
+    out.height = h;
+    if (layers.codes8) {
+        out.image = Image();
+        out.codes8.resize(3 * std::size_t(w) * std::size_t(h));
+    } else {
+        ensure(out.image, w, h);
+        out.codes8.clear();
+    }
     keep_raw ? ensure(out.raw, w, h) : void(out.raw = Image());
     layers.linear_dn ? ensure(out.linear_dn, w, h) : void(out.linear_dn = Image());
     layers.noise_free ? ensure(out.noise_free, w, h) : void(out.noise_free = Image());
@@ -259,6 +268,12 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
         }
         camera_rows::process_row(pp, len, t.scale, dn, t.tmp, t.image);
         copy(t.image, dst, len);
+    };
+    // The recorded image of row v's values c0 .. c0 + len: display values, or their codes.
+    const auto show = [&](Scratch& t, int v, int c0, int len, const float* dn) {
+        if (!layers.codes8) return display(t, len, dn, out.image.row(v) + c0, true);
+        display(t, len, dn, t.shown, true);
+        quantise8(t.shown, len, out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0);
     };
     const Vignetting& vig = m_model.lens.vignetting;
     constexpr int kChunk = camera_rows::kChunk;
@@ -296,7 +311,7 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
                         if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
                         continue;
                     }
-                    display(t, len, t.raw, out.image.row(v) + c0, true);
+                    show(t, v, c0, len, t.raw);
                     if (layers.noise_free)
                         display(t, len, t.gain, out.noise_free.row(v) + c0, false);
                 }
@@ -332,7 +347,7 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
                 for (int c0 = 0; c0 < n; c0 += kChunk) {
                     const int len = std::min(kChunk, n - c0);
                     copy(mosaic ? t.row + c0 : out.raw.row(v) + c0, t.raw, len);
-                    display(t, len, t.raw, out.image.row(v) + c0, true);
+                    show(t, v, c0, len, t.raw);
                     if (layers.noise_free) {
                         copy(out.noise_free.row(v) + c0, t.raw, len);
                         display(t, len, t.raw, out.noise_free.row(v) + c0, false);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "deepsea/colour/srgb.h"
+#include "deepsea/core/codes.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
 #include "fast_codecs.h"
@@ -124,12 +125,11 @@ void write_float_samples(const std::string& path, const Image& img, int bits,
     io_detail::write_oiio(path, spec, data);
 }
 
-/// round(v (2^bits - 1)) of v clamped to [0, 1]; NaN as 0.
-template <class Code>
-void quantise(const float* v, std::size_t n, float max_code, Code* codes) {
+/// 16-bit codes: round(v 65535) of v clamped to [0, 1]; NaN as 0 (8-bit: core's quantise8).
+void quantise16(const float* v, std::size_t n, std::uint16_t* codes) {
     for (std::size_t i = 0; i < n; ++i) {
         const float x = v[i] > 0.0f ? (v[i] < 1.0f ? v[i] : 1.0f) : 0.0f;
-        codes[i] = Code(x * max_code + 0.5f);
+        codes[i] = std::uint16_t(x * 65535.0f + 0.5f);
     }
 }
 
@@ -171,14 +171,13 @@ void write_color(const std::string& path, const Image& linear_rgb, int bits,
 void encode_display(const Image& display, int bits, const std::string& path, EncodedImage& out) {
     prepare_encoded(display.width, display.height, display.channels, bits, path, out);
     const float* in = display.data.data();
-    const float max_code = out.bits == 8 ? 255.0f : 65535.0f;
     tbb::this_task_arena::isolate([&] {
         tbb::parallel_for(
             tbb::blocked_range<std::size_t>(0, display.data.size(), 1 << 16), [&](const auto& r) {
                 if (out.bits == 8)
-                    quantise(in + r.begin(), r.size(), max_code, out.codes8.data() + r.begin());
+                    quantise8(in + r.begin(), r.size(), out.codes8.data() + r.begin());
                 else
-                    quantise(in + r.begin(), r.size(), max_code, out.codes16.data() + r.begin());
+                    quantise16(in + r.begin(), r.size(), out.codes16.data() + r.begin());
             });
     });
 }

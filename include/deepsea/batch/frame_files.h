@@ -50,8 +50,12 @@ public:
     /// atomically. IoError naming the file.
     void write(const FrameJob& job, const Layers& layers, const ImageMetadata& meta,
                double exposure) const;
+    /// With a camera stage: the camera layers `job` needs (its layer file's), and the image as
+    /// 8-bit codes where its file stores them (an 8-bit PNG, a JPEG).
+    CameraLayerSet camera_set(const FrameJob& job) const;
     /// With a camera stage: the layer file from `layers` and `recorded`'s layers, the image
-    /// from `recorded.image` (display values, write_display), with `meta`, atomically.
+    /// from `recorded.codes8` or `recorded.image` (display values, write_display), with
+    /// `meta`, atomically.
     void write(const FrameJob& job, const Layers& layers, const CameraOutput& recorded,
                const ImageMetadata& meta) const;
 

@@ -10,6 +10,7 @@
 /// any order, at any thread count, with the same bits.
 
 #include <cstdint>
+#include <vector>
 #include <memory>
 
 #include "deepsea/camera/distortion.h"
@@ -31,6 +32,10 @@ struct CameraLayerSet {
     bool raw = false;         ///< CameraOutput::raw
     bool linear_dn = false;   ///< CameraOutput::linear_dn
     bool noise_free = false;  ///< CameraOutput::noise_free
+    /// The image as 8-bit codes in CameraOutput::codes8 instead of display values in
+    /// CameraOutput::image (left empty): what a PNG or JPEG writer stores, made in the stage
+    /// while each row is in cache (no float image written and read again).
+    bool codes8 = false;
 
     static CameraLayerSet all() { return {true, true, true}; }
 };
@@ -40,6 +45,11 @@ struct CameraOutput {
     /// Display values in [0, 1] after white balance, matrix and the output curve: what an 8- or
     /// 16-bit writer quantises (round(value * (2^bits - 1))) without another curve.
     Image image;
+    /// With CameraLayerSet::codes8, the image instead: 3 x width x height codes, interleaved,
+    /// rows top to bottom, each trunc(min(max(value, 0), 1) x 255 + 0.5): the codes the
+    /// 8-bit writers make of `image` (io's encode_display), bit for bit.
+    std::vector<std::uint8_t> codes8;
+    int width = 0, height = 0;  ///< the frame's size (the camera's), set by apply
     /// DN as the sensor reads them out: with noise, clipped at the full well and to
     /// [0, 2^bits - 1], quantised (whole numbers held in floats).
     Image raw;

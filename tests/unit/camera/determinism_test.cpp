@@ -3,6 +3,7 @@
 // camera's fixed patterns.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -13,7 +14,8 @@ namespace {
 
 using namespace camera_test;
 
-/// Radiance with a dark half (the Poisson path), a bright half and a gradient.
+/// Radiance with a dark half (the Poisson path where the read noise is below
+/// kGaussianReadNoiseFrom), a bright half and a gradient.
 Image scene(int w, int h, double scale) {
     Image img(w, h, 3);
     for (int v = 0; v < h; ++v)
@@ -42,8 +44,10 @@ TEST(CameraNoise, SameBitsInAnyOrderAndAtAnyThreadCount) {
     lens.lens.distortion = {-0.12, 0.03, 0.001, -0.002, 0.0};
     lens.processing.white_balance = WhiteBalance::GreyWorld;
     lens.processing.matrix = std::array<double, 9>{1.2, -0.1, -0.1, -0.1, 1.2, -0.1, 0, 0, 1};
+    lens.sensor.dark_noise = 1.5;  // the low counts' Poisson path, here and in `mosaic`
     CameraModel mosaic = plain;  // a Bayer mosaic, and one with the lens and grey world
     mosaic.sensor.bayer = BayerPattern::Gbrg;
+    mosaic.sensor.dark_noise = 1.5;
     CameraModel lens_mosaic = lens;
     lens_mosaic.sensor.bayer = BayerPattern::Rggb;
     for (const CameraModel& m : {plain, lens, mosaic, lens_mosaic}) {
@@ -65,6 +69,22 @@ TEST(CameraNoise, SameBitsInAnyOrderAndAtAnyThreadCount) {
         CameraOutput other;
         again.apply(other, radiance, 101, CameraLayerSet::all(), Parallel(2, 3));
         expect_same(forward[1], other, "another stage");
+        // The image as 8-bit codes: the display values quantised as the 8-bit writers do.
+        CameraLayerSet codes = CameraLayerSet::all();
+        codes.codes8 = true;
+        CameraOutput coded;
+        stage.apply(coded, radiance, 101, codes, Parallel(2, 3));
+        EXPECT_TRUE(coded.image.empty());
+        ASSERT_EQ(coded.codes8.size(), forward[1].image.data.size());
+        std::size_t wrong = 0;
+        for (std::size_t i = 0; i < coded.codes8.size(); ++i) {
+            const float x = std::min(std::max(forward[1].image.data[i], 0.0f), 1.0f);
+            wrong += coded.codes8[i] != std::uint8_t(x * 255.0f + 0.5f);
+        }
+        EXPECT_EQ(wrong, 0u);
+        EXPECT_TRUE(same_bits(coded.raw, forward[1].raw));
+        EXPECT_EQ(coded.width, cam.width);
+        EXPECT_EQ(coded.height, cam.height);
     }
 }
 
