@@ -257,11 +257,12 @@ std::vector<Case> time_stages(const Asset& asset, const Camera& cam, const Bench
 /// The camera stage (docs/camera.md) on one rendered frame's radiance, one thread pool as in a
 /// render: the default camera model with its exposure time set so that the radiance the
 /// automatic exposure maps to white fills the full well in G; the image alone ("camera"),
-/// every layer ("camera-layers"), and with a lens's barrel distortion ("camera-lens").
+/// every layer ("camera-layers"), the image as the 8-bit codes a PNG or JPEG render asks for
+/// ("camera-codes"), and with a lens's barrel distortion ("camera-lens").
 std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const BenchArgs& a,
                               int threads) {
     if (!wanted(a.cases, "camera") && !wanted(a.cases, "camera-layers") &&
-        !wanted(a.cases, "camera-lens"))
+        !wanted(a.cases, "camera-codes") && !wanted(a.cases, "camera-lens"))
         return {};
     FlightParams flight;
     flight.camera = cam;
@@ -291,6 +292,11 @@ std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const Bench
     if (wanted(a.cases, "camera")) time("camera", CameraModel{}, {});
     if (wanted(a.cases, "camera-layers"))
         time("camera-layers", CameraModel{}, CameraLayerSet::all());
+    if (wanted(a.cases, "camera-codes")) {
+        CameraLayerSet codes;
+        codes.codes8 = true;
+        time("camera-codes", CameraModel{}, codes);
+    }
     if (wanted(a.cases, "camera-lens")) {
         CameraModel lens;
         lens.lens.distortion = {-0.12, 0.02, 0.0, 0.0, 0.0};
@@ -438,7 +444,8 @@ void setup_bench(CLI::App& sub) {
     sub.add_option("--cases", a->cases,
                    "comma-separated prefixes of the cases to run: composite (composite, "
                    "composite_final_only, each also -shadows: with lamp shadows), stage, camera "
-                   "(camera, camera-layers, camera-lens), sequence-png, sequence-jpeg (each also "
+                   "(camera, camera-layers, camera-codes, camera-lens), sequence-png, "
+                   "sequence-jpeg (each also "
                    "-camera: with the setup's camera stage)");
     sub.add_flag("--json", a->json, "print JSON for scripts");
     sub.callback([a] { run(*a); });

@@ -45,7 +45,7 @@ TEST(CameraNoise, SameBitsInAnyOrderAndAtAnyThreadCount) {
     lens.processing.white_balance = WhiteBalance::GreyWorld;
     lens.processing.matrix = std::array<double, 9>{1.2, -0.1, -0.1, -0.1, 1.2, -0.1, 0, 0, 1};
     lens.sensor.dark_noise = 1.5;  // the low counts' Poisson path, here and in `mosaic`
-    CameraModel mosaic = plain;  // a Bayer mosaic, and one with the lens and grey world
+    CameraModel mosaic = plain;    // a Bayer mosaic, and one with the lens and grey world
     mosaic.sensor.bayer = BayerPattern::Gbrg;
     mosaic.sensor.dark_noise = 1.5;
     CameraModel lens_mosaic = lens;

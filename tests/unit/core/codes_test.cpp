@@ -1,6 +1,8 @@
 // core's quantise8 (the 8-bit writers' and the camera stage's codes): its vector steps give the
 // scalar formula's bits for every kind of value, including the halfway points, NaN and values
 // out of [0, 1].
+#include "deepsea/core/codes.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <limits>
 #include <vector>
 
-#include "deepsea/core/codes.h"
 #include "deepsea/core/random.h"
 
 namespace deepsea {
