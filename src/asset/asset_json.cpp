@@ -400,9 +400,9 @@ BakeInfo bake_info_from_json(const std::string& text) {
 
 std::string input_hash(const BakeInfo& info) {
     json j = {{"camera", camera_json(info.camera)},
-                    {"rig", rig_json(info.rig)},
-                    {"water", water_json(info.water)},
-                    {"settings", settings_json(info)}};
+              {"rig", rig_json(info.rig)},
+              {"water", water_json(info.water)},
+              {"settings", settings_json(info)}};
     // Only with a port: assets without one hash as before ports existed.
     if (info.port) j["port"] = port_json(*info.port);
     // nlohmann's objects keep keys sorted, so dump() is canonical for equal inputs.

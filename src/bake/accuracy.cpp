@@ -90,8 +90,8 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
                               [&](std::size_t a, std::size_t b) { return path(a) < path(b); });
                     t.assign(1, 0.0);
                     for (std::size_t r : order) t.push_back(path(r));
-                    const auto C = backscatter_cumulative(info.rig, info.water, ray.origin,
-                                                          ray.dir, t, opt.quadrature, par.stop);
+                    const auto C = backscatter_cumulative(info.rig, info.water, ray.origin, ray.dir,
+                                                          t, opt.quadrature, par.stop);
                     for (std::size_t n = 0; n < R; ++n) {
                         const std::size_t r = order[n];
                         const Rgb lookup = asset.sample(u, v, rows[r].z);

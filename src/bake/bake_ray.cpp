@@ -22,8 +22,9 @@ BakeRay bake_ray(const Camera& camera, const std::optional<Port>& port, double u
     r.origin = p.origin;
     r.dir = p.direction[1];
     if (!(r.dir.z > 0.0))
-        throw ConfigError(where + " leaves the port sideways or backwards (its water-side "
-                                  "direction's z is " +
+        throw ConfigError(where +
+                          " leaves the port sideways or backwards (its water-side "
+                          "direction's z is " +
                           short_number(r.dir.z) + "): a lattice in planar depth cannot hold it");
     return r;
 }

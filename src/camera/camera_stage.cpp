@@ -159,7 +159,8 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics,
                 if (port_factor) {
                     float* f = port_factor.get() + stride * v;
                     for (int u = 0; u < w; ++u) {
-                        const Rgb k = port_radiance_factor(*port, trace_port(*port, m_camera, u, v));
+                        const Rgb k =
+                            port_radiance_factor(*port, trace_port(*port, m_camera, u, v));
                         for (int c = 0; c < 3; ++c) {
                             f[3 * u + c] = float(k[c]);
                             row[3 * u + c] *= f[3 * u + c];

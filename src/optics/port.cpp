@@ -251,8 +251,7 @@ std::string describe(const Port& p) {
     else
         s += "centre " + triple(p.dome.centre) + " m, radius " + short_number(p.dome.radius) +
              " m, glass " + short_number(p.dome.glass_thickness) + " m";
-    s += ", n_air " + short_number(p.n_air) + ", n_glass " + short_number(p.n_glass) +
-         ", n_water ";
+    s += ", n_air " + short_number(p.n_air) + ", n_glass " + short_number(p.n_glass) + ", n_water ";
     s += p.dispersive() ? "[" + short_number(p.n_water.r) + ", " + short_number(p.n_water.g) +
                               ", " + short_number(p.n_water.b) + "]"
                         : short_number(p.n_water.g);

@@ -15,9 +15,9 @@
 namespace deepsea {
 
 struct BakeRay {
-    Vec3 origin;          ///< m, camera frame: 0, or the point on the port's outer surface
-    Vec3 dir;             ///< unit direction
-    double stretch = 1.0; ///< pinhole: |Camera::ray| = 1 / dir.z, t = z stretch
+    Vec3 origin;           ///< m, camera frame: 0, or the point on the port's outer surface
+    Vec3 dir;              ///< unit direction
+    double stretch = 1.0;  ///< pinhole: |Camera::ray| = 1 / dir.z, t = z stretch
     bool port = false;
 
     /// Path length from the origin to planar depth z; 0 for a depth before the origin (inside

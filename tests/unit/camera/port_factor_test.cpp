@@ -103,8 +103,8 @@ TEST(PortFactor, FresnelOnOverOffIsTheTransmittanceOfBothSurfaces) {
             const auto t1 =
                 fresnel_transmittance(on.n_air, on.n_glass, r.cos_air, r.cos_glass_inner);
             for (int c = 0; c < 3; ++c) {
-                const auto t2 = fresnel_transmittance(on.n_glass, on.n_water[c],
-                                                      r.cos_glass_outer, r.cos_water[c]);
+                const auto t2 = fresnel_transmittance(on.n_glass, on.n_water[c], r.cos_glass_outer,
+                                                      r.cos_water[c]);
                 const double T = 0.5 * (t1.s * t2.s + t1.p * t2.p);
                 EXPECT_LT(T, 1.0);
                 worst = std::max(worst, std::fabs(b.at(u, v, c) / (T * a.at(u, v, c)) - 1.0));
@@ -118,8 +118,7 @@ TEST(PortFactor, FresnelOnOverOffIsTheTransmittanceOfBothSurfaces) {
     const CameraStage with(quiet_model(), kCam, axial);
     const int uc = kCam.width / 2, vc = kCam.height / 2;
     const double r1 = (1.0 - 1.49) / (1.0 + 1.49), r2 = (1.49 - 1.342) / (1.49 + 1.342);
-    EXPECT_NEAR(with.port_factor(uc, vc, 1),
-                (1 - r1 * r1) * (1 - r2 * r2) / (1.342 * 1.342), 1e-7);
+    EXPECT_NEAR(with.port_factor(uc, vc, 1), (1 - r1 * r1) * (1 - r2 * r2) / (1.342 * 1.342), 1e-7);
 }
 
 }  // namespace deepsea

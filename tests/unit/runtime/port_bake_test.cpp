@@ -46,13 +46,14 @@ TEST(PortBake, RenderedBackscatterAgainstExactIntegrationAlongTheRefractedRays) 
     // Each asset baked through its port and rendered through it (the pinhole lookup on the
     // water-side columns), against the exact integral from the port's outer surface along each
     // pixel's own refracted ray (traced here) to a plane at planar depth 2.5 m: the bake's bar.
-    const std::optional<Port> ports[] = {
-        std::nullopt, test::dome_port({0, 0, 0}, 0.05, 0.01),
-        test::flat_port({0, 0, 1}, 0.03, 0.012), test::flat_port({0, 0, 1}, 0.1, 0.02),
-        test::dome_port({0.01, -0.008, 0.005}, 0.05, 0.01),
-        test::flat_port({0.1, 0.05, 1}, 0.05, 0.015)};
-    const char* names[] = {"no port",          "centred dome 5 cm",     "flat 3 cm",
-                           "flat 10 cm",       "dome decentred 1.4 cm", "flat tilted 6 deg, 5 cm"};
+    const std::optional<Port> ports[] = {std::nullopt,
+                                         test::dome_port({0, 0, 0}, 0.05, 0.01),
+                                         test::flat_port({0, 0, 1}, 0.03, 0.012),
+                                         test::flat_port({0, 0, 1}, 0.1, 0.02),
+                                         test::dome_port({0.01, -0.008, 0.005}, 0.05, 0.01),
+                                         test::flat_port({0.1, 0.05, 1}, 0.05, 0.015)};
+    const char* names[] = {"no port",    "centred dome 5 cm",     "flat 3 cm",
+                           "flat 10 cm", "dome decentred 1.4 cm", "flat tilted 6 deg, 5 cm"};
     const Image depth(kCam.width, kCam.height, 1, 2.5f);
     Quadrature q;
     q.rel_tol = 1e-8;
@@ -72,8 +73,8 @@ TEST(PortBake, RenderedBackscatterAgainstExactIntegrationAlongTheRefractedRays) 
                     w = ray.direction[1];
                 }
                 const double t = (2.5 - o.z) / w.z;
-                const Rgb exact = backscatter_integral(asset.info.rig, asset.info.water, o, w, 0, t,
-                                                       q).value;
+                const Rgb exact =
+                    backscatter_integral(asset.info.rig, asset.info.water, o, w, 0, t, q).value;
                 double e = 0;
                 for (int c = 0; c < 3; ++c)
                     e = std::max(e, std::fabs(out.backscatter.at(u, v, c) - exact[c]) / exact[c]);
@@ -111,10 +112,10 @@ TEST(PortBake, DispersionsErrorAgainstEachChannelsOwnRay) {
             const PortRay ray = trace_port(port, kCam, u, v);
             for (int c = 0; c < 3; ++c) {
                 const Vec3& w = ray.direction[c];
-                const double exact = backscatter_integral(asset.info.rig, asset.info.water,
-                                                          ray.origin, w, 0,
-                                                          (2.5 - ray.origin.z) / w.z, {1e-8})
-                                         .value[c];
+                const double exact =
+                    backscatter_integral(asset.info.rig, asset.info.water, ray.origin, w, 0,
+                                         (2.5 - ray.origin.z) / w.z, {1e-8})
+                        .value[c];
                 const double e = std::fabs(out.backscatter.at(u, v, c) - exact) / exact;
                 sum[c] += e;
                 max[c] = std::max(max[c], e);
@@ -122,10 +123,11 @@ TEST(PortBake, DispersionsErrorAgainstEachChannelsOwnRay) {
             ++n;
         }
     }
-    std::printf("dispersive flat port, each channel against its own ray: mean R %.3f %%, G %.3f "
-                "%%, B %.3f %%; max R %.3f %%, G %.3f %%, B %.3f %%\n",
-                100 * sum[0] / n, 100 * sum[1] / n, 100 * sum[2] / n, 100 * max[0],
-                100 * max[1], 100 * max[2]);
+    std::printf(
+        "dispersive flat port, each channel against its own ray: mean R %.3f %%, G %.3f "
+        "%%, B %.3f %%; max R %.3f %%, G %.3f %%, B %.3f %%\n",
+        100 * sum[0] / n, 100 * sum[1] / n, 100 * sum[2] / n, 100 * max[0], 100 * max[1],
+        100 * max[2]);
     for (int c = 0; c < 3; ++c) {
         EXPECT_LT(sum[c] / n, 0.0025) << c;
         EXPECT_LT(max[c], 0.01) << c;
@@ -151,16 +153,17 @@ TEST(PortBake, CentredDomeBakesTheLatticeWithoutAPortLessTheDisplacedWater) {
             for (int k = 0; k < l.nk(); ++k) {
                 const bool inside = l.z[k] * length(kCam.ray(l.u(i), l.v(j))) <= s0;
                 for (int c = 0; c < 3; ++c) {
-                    const double want =
-                        inside ? 0.0
-                               : std::exp(pin.info.water.c[c] * s0) * (pin.at(i, j, k)[c] - head[c]);
+                    const double want = inside ? 0.0
+                                               : std::exp(pin.info.water.c[c] * s0) *
+                                                     (pin.at(i, j, k)[c] - head[c]);
                     worst = std::max(worst, std::fabs(port.at(i, j, k)[c] - want) / total[c]);
                 }
             }
         }
     }
-    std::printf("centred dome vs no port less the displaced water: worst %.2e of a column's total\n",
-                worst);
+    std::printf(
+        "centred dome vs no port less the displaced water: worst %.2e of a column's total\n",
+        worst);
     EXPECT_LT(worst, 2e-5);
 }
 
@@ -183,8 +186,9 @@ TEST(PortBake, PortThatDiffersFromTheAssetsIsRefusedInOneLine) {
         }
     };
     refused(std::nullopt, "the frames' camera has no port");
-    refused(test::flat_port({0, 0, 1}, 0.04, 0.012), "looks through a flat port (normal [0, 0, 1], "
-                                                     "distance 0.04 m");
+    refused(test::flat_port({0, 0, 1}, 0.04, 0.012),
+            "looks through a flat port (normal [0, 0, 1], "
+            "distance 0.04 m");
     refused(test::dome_port({0, 0, 0}, 0.05, 0.01), "looks through a dome port");
     // The same port is accepted; Fresnel changes only the camera stage, not a ray.
     Port fresnel = flat;
