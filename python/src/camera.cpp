@@ -293,8 +293,10 @@ public:
         check_threads(threads);
         const Setup s = camera_setup(config);
         py::gil_scoped_release nogil;
-        in_arena(threads,
-                 [&] { m_stage = std::make_unique<CameraStage>(*s.camera_model, *s.camera); });
+        // the port's radiance factor (docs/ports.md) where the section has one
+        in_arena(threads, [&] {
+            m_stage = std::make_unique<CameraStage>(*s.camera_model, *s.camera, s.port);
+        });
     }
 
     const CameraStage& stage() const { return *m_stage; }

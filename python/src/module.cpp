@@ -203,6 +203,7 @@ PyAsset bake_asset(const py::object& setup, const py::object& camera, const py::
     validate(s);
     Setup full = full_setup(setup, camera, rig, water);
     require_complete(full, "deepsea.bake");
+    s.port = full.port;  // the columns follow its water-side rays (docs/ports.md)
     std::optional<std::string> output;
     if (!output_path.is_none()) output = path_text(output_path);
     if (output) require_writable(*output);  // before a long bake, not after
@@ -235,6 +236,9 @@ py::dict reference(const py::object& setup, const py::object& rgb, const py::obj
     validate(opt.quadrature);
     Setup full = full_setup(setup, camera, rig, water);
     require_complete(full, "deepsea.reference");
+    refuse_port(full, "deepsea.reference",
+                "the exact reference through a port is not built (its surfaces need the port's "
+                "hits; the bake's check integrates the refracted rays exactly)");
     ArrayIn c = inspect_color(rgb, "rgb");
     set_color_encoding(c, encoding, "rgb");
     const ArrayIn d = inspect_depth(depth, "depth");

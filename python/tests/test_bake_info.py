@@ -85,3 +85,23 @@ def test_bake_releases_the_gil():
     if elapsed < 0.05:
         pytest.skip(f"the bake took {elapsed:.3f} s: too quick to tell")
     assert ticks > 10, (ticks, elapsed)
+
+
+def test_bake_through_a_port_records_it_and_renders_only_through_it():
+    # docs/ports.md, "Baking through a port": the columns follow the water-side rays, the asset
+    # records the port, and a renderer without it (or with another) is refused in one line.
+    port = {"flat": {"normal": [0, 0, 1], "distance": 0.03, "glass_thickness": 0.012}}
+    camera = dict(CAMERA, port=port)
+    asset = deepsea.bake(camera=camera, rig=RIG, water="jerlov:IB", xy_step=8, depth_samples=16)
+    info = asset.bake_info
+    assert info["port"]["flat"]["distance"] == 0.03
+    assert info["port"]["flat"]["n_water"] == [1.34, 1.34, 1.34]
+    rgb, depth = tilted_plane()
+    out = deepsea.Renderer(asset, camera=camera).render(rgb, depth)
+    assert out["backscatter"].min() > 0 and "mask" in out
+    with pytest.raises(deepsea.AssetError, match="baked through a flat port .* has no port"):
+        deepsea.Renderer(asset)
+    other = dict(CAMERA, port={"dome": {"centre": [0, 0, 0], "radius": 0.05,
+                                        "glass_thickness": 0.01}})
+    with pytest.raises(deepsea.AssetError, match="looks through a dome port"):
+        deepsea.Renderer(asset, camera=other)

@@ -275,3 +275,20 @@ def test_bad_configs(work, camera_yaml):
         deepsea.Camera(str(camera_yaml), threads=-1)
     with pytest.raises(deepsea.ConfigError, match="recorded: expected the dict"):
         deepsea.Camera(str(camera_yaml)).next_exposure(None)
+
+
+def test_a_port_scales_the_signal_by_its_radiance_factor(radiance):
+    # docs/ports.md, "Radiance across the interfaces": behind a flat port on the axis the lens
+    # receives (n_air / n_water)^2 of the water-side radiance (the n^2 law), noise off.
+    quiet = dict(CAMERA, lens={"f_number": 4.0}, sensor={"noise": False})
+    port = {"flat": {"normal": [0, 0, 1], "distance": 0.03, "glass_thickness": 0.012,
+                     "n_water": 1.34}}
+    plain = deepsea.Camera({"camera": quiet}).record(radiance, 1, layers="linear_dn")
+    through = deepsea.Camera({"camera": dict(quiet, port=port)}).record(radiance, 1,
+                                                                         layers="linear_dn")
+    dark = deepsea.Camera({"camera": quiet}).record(np.zeros_like(radiance), 1,
+                                                     layers="linear_dn")["linear_dn"]
+    h, w = CAMERA["height"] // 2, CAMERA["width"] // 2
+    a = plain["linear_dn"][h - 1:h + 1, w - 1:w + 1] - dark[h - 1:h + 1, w - 1:w + 1]
+    b = through["linear_dn"][h - 1:h + 1, w - 1:w + 1] - dark[h - 1:h + 1, w - 1:w + 1]
+    np.testing.assert_allclose(b / a, 1 / 1.34**2, rtol=1e-4)

@@ -1,8 +1,10 @@
 #include "deepsea/asset/asset.h"
 
 #include <algorithm>
+#include <string>
 
 #include "deepsea/asset/asset_file.h"
+#include "deepsea/core/error.h"
 
 namespace deepsea {
 
@@ -48,6 +50,20 @@ WorldBox frustum_extent(const Camera& cam, double z_max) {
     box.min = {std::min(0.0, x0) * z_max, -std::max(0.0, y1) * z_max, -z_max};
     box.max = {std::max(0.0, x1) * z_max, -std::min(0.0, y0) * z_max, 0.0};
     return box;
+}
+
+void check_port(const Asset& asset, const std::optional<Port>& port, bool pinhole_with_port) {
+    const std::optional<Port>& baked = asset.info.port;
+    if (!baked && (!port || pinhole_with_port)) return;
+    if (baked && port && same_rays(*baked, *port)) return;
+    const std::string asset_side = baked ? "the asset was baked through a " + describe(*baked)
+                                         : std::string("the asset was baked without a port");
+    const std::string frame_side = port ? "the frames' camera looks through a " + describe(*port)
+                                        : std::string("the frames' camera has no port");
+    throw AssetError(asset_side + ", " + frame_side +
+                     (baked ? ": render with the asset's camera.port (render --camera), or bake "
+                              "the asset with the frames' port"
+                            : ": bake the asset with the frames' camera.port"));
 }
 
 void check_camera(const Asset& asset, const Camera& camera) {

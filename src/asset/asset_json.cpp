@@ -8,6 +8,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/core/hash.h"
 #include "deepsea/optics/schema.h"
+#include "port_json.h"
 
 namespace deepsea {
 
@@ -265,6 +266,7 @@ std::string bake_info_to_json(const BakeInfo& info, int indent) {
               {"lattice", lattice},
               {"quadrature", quadrature_json(info.quadrature)},
               {"scattering", to_string(info.scattering)}};
+    if (info.port) j["port"] = port_json(*info.port);  // none: pinhole columns
     if (info.scattering == Scattering::Multiple) {
         const HigherOrderSettings& h = info.higher_orders;
         j["multiple_scattering"] = {{"method", "monte carlo, orders >= 2"},
@@ -313,6 +315,9 @@ BakeInfo bake_info_from_json(const std::string& text) {
     } catch (const SchemaError& e) {
         fail(e.key(), e.problem());
     }
+
+    // Assets from before ports have none: pinhole columns.
+    if (j.contains("port")) info.port = parse_port(j["port"]);
 
     const json& lj = get(j, "lattice", "(top)");
     info.z_max_auto = get(lj, "z_max_auto", "lattice").is_boolean() && lj["z_max_auto"].get<bool>();
@@ -394,10 +399,12 @@ BakeInfo bake_info_from_json(const std::string& text) {
 }
 
 std::string input_hash(const BakeInfo& info) {
-    const json j = {{"camera", camera_json(info.camera)},
-                    {"rig", rig_json(info.rig)},
-                    {"water", water_json(info.water)},
-                    {"settings", settings_json(info)}};
+    json j = {{"camera", camera_json(info.camera)},
+              {"rig", rig_json(info.rig)},
+              {"water", water_json(info.water)},
+              {"settings", settings_json(info)}};
+    // Only with a port: assets without one hash as before ports existed.
+    if (info.port) j["port"] = port_json(*info.port);
     // nlohmann's objects keep keys sorted, so dump() is canonical for equal inputs.
     const std::string text = j.dump();
     return "fnv1a64:" + hex64(fnv1a64(text));

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "deepsea/bake/bake.h"
+#include "deepsea/bake/bake_ray.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 
@@ -77,20 +78,20 @@ std::vector<AccuracyRow> evaluate_asset_accuracy(const Asset& asset, const Accur
             for (std::size_t jv = jv0; jv != jv1; ++jv) {
                 for (std::size_t iu = 0; iu < us.size(); ++iu) {
                     const double u = us[iu], v = vs[jv];
-                    const Vec3 ray = cam.ray(u, v);
-                    const double stretch = length(ray);
+                    // The pixel's own ray: pinhole, or its water-side ray through the port.
+                    const BakeRay ray = bake_ray(cam, info.port, u, v);
                     // One cumulative integral per pixel serves every scene: sort the path lengths.
                     for (std::size_t r = 0; r < R; ++r) order[r] = r;
                     const auto path = [&](std::size_t r) {
-                        return exact_z[r] < 0.0 ? std::max(t_far, z_max * stretch)
-                                                : exact_z[r] * stretch;
+                        return exact_z[r] < 0.0 ? std::max(t_far, ray.path(z_max))
+                                                : ray.path(exact_z[r]);
                     };
                     std::sort(order.begin(), order.end(),
                               [&](std::size_t a, std::size_t b) { return path(a) < path(b); });
                     t.assign(1, 0.0);
                     for (std::size_t r : order) t.push_back(path(r));
-                    const auto C = backscatter_cumulative(info.rig, info.water, ray / stretch, t,
-                                                          opt.quadrature, par.stop);
+                    const auto C = backscatter_cumulative(info.rig, info.water, ray.origin, ray.dir,
+                                                          t, opt.quadrature, par.stop);
                     for (std::size_t n = 0; n < R; ++n) {
                         const std::size_t r = order[n];
                         const Rgb lookup = asset.sample(u, v, rows[r].z);

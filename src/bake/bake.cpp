@@ -8,6 +8,7 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/bake/accuracy.h"
+#include "deepsea/bake/bake_ray.h"
 #include "deepsea/bake/higher_orders.h"
 #include "deepsea/bake/lattice_rule.h"
 #include "deepsea/core/error.h"
@@ -88,7 +89,7 @@ double far_path_length(const Water& water, double tolerance) {
 }
 
 double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int step, double tolerance,
-                  const Quadrature& q, const Parallel& par) {
+                  const Quadrature& q, const Parallel& par, const std::optional<Port>& port) {
     const int ni = lattice_count(cam.width, step), nj = lattice_count(cam.height, step);
     const double t_far = far_path_length(water, tolerance);
     // Geometric path samples from 5 cm to t_far: the tail decays roughly exponentially, so a
@@ -105,9 +106,10 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
         z_cross.size(),
         [&](std::size_t begin, std::size_t end) {
             for (std::size_t n = begin; n != end; ++n) {
-                const Vec3 ray = cam.ray(double(n / nj) * step, double(n % nj) * step);
-                const double stretch = length(ray);
-                const auto C = backscatter_cumulative(rig, water, ray / stretch, t, q, par.stop);
+                const BakeRay ray =
+                    bake_ray(cam, port, double(n / nj) * step, double(n % nj) * step);
+                const auto C =
+                    backscatter_cumulative(rig, water, ray.origin, ray.dir, t, q, par.stop);
                 const Rgb total = C.back();
                 // Fraction of the total still to come beyond t[m], worst channel.
                 const auto tail = [&](std::size_t m) {
@@ -127,7 +129,7 @@ double auto_z_max(const Camera& cam, const Rig& rig, const Water& water, int ste
                     const double w = (a - std::log(tolerance)) / (a - b);
                     t_cross = t[m - 1] + std::clamp(w, 0.0, 1.0) * (t[m] - t[m - 1]);
                 }
-                z_cross[n] = t_cross / stretch;
+                z_cross[n] = ray.depth(t_cross);
             }
         },
         par.or_grain(16));
@@ -161,6 +163,7 @@ BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const 
                    const Resolved& r, double z_max) {
     BakeInfo info;
     info.camera = cam;
+    info.port = s.port;
     info.rig = rig;
     info.water = water;
     info.lattice = make_lattice(cam, r.step, s.scheme,
@@ -192,7 +195,7 @@ Asset bake_single(const Camera& cam, const Rig& rig, const Water& water, const B
     const bool automatic = s.z_max == 0.0;
     const long columns = long(lattice_count(cam.width, r.step)) * lattice_count(cam.height, r.step);
     const double z_max = automatic ? auto_z_max(cam, rig, water, r.step, s.tolerance, s.quadrature,
-                                                stage(par, 0, total))
+                                                stage(par, 0, total), s.port)
                                    : s.z_max;
     Asset asset;
     asset.info = make_info(cam, rig, water, s, r, z_max);
@@ -206,11 +209,12 @@ Asset bake_single(const Camera& cam, const Rig& rig, const Water& water, const B
             std::vector<double> t(l.z.size());
             for (std::size_t n = begin; n != end; ++n) {
                 const int i = int(n / l.nj), j = int(n % l.nj);
-                const Vec3 ray = cam.ray(l.u(i), l.v(j));
-                const double stretch = length(ray);  // t = z / cos(phi) = z |r|
-                for (std::size_t k = 0; k < t.size(); ++k) t[k] = l.z[k] * stretch;
-                const auto C =
-                    backscatter_cumulative(rig, water, ray / stretch, t, s.quadrature, par.stop);
+                // Pinhole: t = z / cos(phi) = z |r|; through a port, the water-side ray's path
+                // from the outer surface to planar depth z (0 inside the housing).
+                const BakeRay ray = bake_ray(cam, s.port, l.u(i), l.v(j));
+                for (std::size_t k = 0; k < t.size(); ++k) t[k] = ray.path(l.z[k]);
+                const auto C = backscatter_cumulative(rig, water, ray.origin, ray.dir, t,
+                                                      s.quadrature, par.stop);
                 float* out = asset.values.data() + asset.index(i, j, 0);
                 for (std::size_t k = 0; k < C.size(); ++k) {
                     out[3 * k] = float(C[k].r);
@@ -242,6 +246,10 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
     validate(s);
     if (rig.lights.empty())
         throw ConfigError("rig '" + rig.name + "' has no lights: nothing to bake");
+    if (s.port) {  // before any work: every column's ray must reach the water
+        validate(*s.port);
+        check_port_view(*s.port, cam);
+    }
     Resolved r = resolve(cam, rig, s);
     Asset asset;
     for (int attempt = 0;; ++attempt) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "deepsea/bake/bake_ray.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/multiple_scattering.h"
 
@@ -100,13 +101,13 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
             std::vector<double> t(nk);
             for (std::size_t n = begin; n < end; ++n) {
                 const int i = ci[n / cj.size()], j = cj[n % cj.size()];
-                const Vec3 ray = info.camera.ray(l.u(i), l.v(j));
-                const double stretch = length(ray);
-                for (std::size_t k = 0; k < nk; ++k) t[k] = l.z[k] * stretch;
+                // the column's ray: pinhole, or the water-side ray through the port
+                const BakeRay ray = bake_ray(info.camera, info.port, l.u(i), l.v(j));
+                for (std::size_t k = 0; k < nk; ++k) t[k] = ray.path(l.z[k]);
                 const std::uint64_t stream =
                     std::uint64_t(i) * std::uint64_t(l.nj) + std::uint64_t(j);
-                const Estimate e =
-                    higher_orders_cumulative(transport, ray / stretch, t, mc, stream, par.stop);
+                const Estimate e = higher_orders_cumulative(transport, ray.origin, ray.dir, t, mc,
+                                                            stream, par.stop);
                 std::copy(e.value.begin(), e.value.end(), coarse.begin() + std::ptrdiff_t(n * nk));
                 const Rgb single = asset.at(i, j, int(nk) - 1);
                 double err = 0.0, frac = 0.0;

@@ -18,9 +18,9 @@ std::string journal_name(const FrameJob& job) {
 
 }  // namespace
 
-CameraFrames::CameraFrames(const CameraModel& model, const std::vector<std::string>& manifests,
-                           bool resume)
-    : m_model(model), m_next(first_exposure(model)) {
+CameraFrames::CameraFrames(const CameraModel& model, const std::optional<Port>& port,
+                           const std::vector<std::string>& manifests, bool resume)
+    : m_model(model), m_port(port), m_next(first_exposure(model)) {
     if (!controller()) return;
     for (const std::string& manifest : manifests) {
         const std::string journal =
@@ -46,7 +46,7 @@ void CameraFrames::skipped(const FrameJob& job) {
 void CameraFrames::record(const Camera& camera, const FrameJob& job, const Image& radiance,
                           CameraLayerSet layers, CameraOutput& out, ExposureRecord& line) {
     if (!m_stage || !(m_stage->camera() == camera))
-        m_stage = std::make_unique<CameraStage>(m_model, camera);
+        m_stage = std::make_unique<CameraStage>(m_model, camera, m_port);
     if (controller()) layers.raw = true;  // the meter reads the raw DN
     m_stage->apply(out, radiance, frame_key(job), m_next, layers);
     line.rgb = journal_name(job);

@@ -18,7 +18,9 @@ class CameraFrames {
 public:
     /// `manifests`: the sequence's manifest paths (the journals lie beside them). A fresh run
     /// (not `resume`) removes the journals of an earlier run there; a resumed one reads them.
-    CameraFrames(const CameraModel& model, const std::vector<std::string>& manifests, bool resume);
+    /// `port`: the housing's, whose radiance factor the stage applies (docs/ports.md).
+    CameraFrames(const CameraModel& model, const std::optional<Port>& port,
+                 const std::vector<std::string>& manifests, bool resume);
 
     /// True when the auto-exposure controller is on.
     bool controller() const { return m_model.auto_exposure.enabled; }
@@ -38,6 +40,7 @@ public:
 
 private:
     CameraModel m_model;
+    std::optional<Port> m_port;
     std::vector<std::string> m_journals;
     std::map<std::string, ExposureRecord> m_read;  ///< resume: the journal's lines
     std::unique_ptr<CameraStage> m_stage;

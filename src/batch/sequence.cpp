@@ -192,7 +192,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     settings.port = opt.port;
     Renderer renderer(asset, settings);
     std::optional<CameraFrames> camera;
-    if (opt.camera_model) camera.emplace(*opt.camera_model, opt.manifests, opt.resume);
+    if (opt.camera_model) camera.emplace(*opt.camera_model, opt.port, opt.manifests, opt.resume);
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy
     double exposure = record.exposure;
     ImageMetadata meta;

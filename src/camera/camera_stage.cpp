@@ -113,11 +113,17 @@ std::vector<float> display_table(const camera_rows::ProcessParams& pp, const flo
 
 }  // namespace
 
-CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
+CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics,
+                         const std::optional<Port>& port)
     : m_model(model),
       m_camera(checked(model, intrinsics)),
-      m_map(intrinsics, model.lens.distortion) {
+      m_map(intrinsics, model.lens.distortion),
+      m_port(port) {
     const int w = m_camera.width, h = m_camera.height;
+    if (port) {
+        validate(*port);
+        check_port_view(*port, m_camera);
+    }
     if (model.sensor.bayer != BayerPattern::None && (w < 2 || h < 2))
         throw SchemaError("camera.sensor.bayer", "needs an image of at least 2 x 2 pixels, got " +
                                                      std::to_string(w) + " x " + std::to_string(h));
@@ -139,6 +145,10 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
         s.noise && s.dsnu > 0.0 ? aligned_floats(stride * h) : std::shared_ptr<float>();
     const NoiseKey prnu_key = fixed_pattern_key(s.seed, NoiseStream::Prnu);
     const NoiseKey dsnu_key = fixed_pattern_key(s.seed, NoiseStream::Dsnu);
+    // The port's radiance factor per pixel and channel: the water-side radiance the layers
+    // hold to the in-air radiance at the lens (the pixel's own ray, as vignetting's).
+    const std::shared_ptr<float> port_factor =
+        port ? aligned_floats(stride * h) : std::shared_ptr<float>();
     parallel_for(
         std::size_t(h),
         [&](std::size_t v0, std::size_t v1) {
@@ -147,6 +157,17 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
                 const double y = m_camera.ray_y(v);
                 camera_rows::gain_row(m_model.lens.vignetting, x2.get(), float(y * y), resp, w,
                                       row);
+                if (port_factor) {
+                    float* f = port_factor.get() + stride * v;
+                    for (int u = 0; u < w; ++u) {
+                        const Rgb k =
+                            port_radiance_factor(*port, trace_port(*port, m_camera, u, v));
+                        for (int c = 0; c < 3; ++c) {
+                            f[3 * u + c] = float(k[c]);
+                            row[3 * u + c] *= f[3 * u + c];
+                        }
+                    }
+                }
                 const std::uint32_t base = noise_counter(w, 0, v, 0);
                 for (std::size_t i = 0; i < n && prnu > 0.0; ++i) {
                     const double z =
@@ -163,6 +184,12 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics)
         Parallel().or_grain(8));
     m_response = response;
     m_dsnu = dsnu;
+    m_port_factor = port_factor;
+}
+
+float CameraStage::port_factor(int u, int v, int c) const {
+    if (!m_port_factor) return 1.0f;
+    return m_port_factor.get()[camera_rows::row_stride(m_camera.width) * v + 3 * u + c];
 }
 
 FrameExposure CameraStage::default_exposure() const {
@@ -301,6 +328,10 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
                     if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
                     if (layers.noise_free) {  // its DN, in t.gain
                         camera_rows::gain_row(vig, m_x2.get() + c0 / 3, y2, resp, len / 3, t.gain);
+                        if (m_port_factor) {
+                            const float* f = m_port_factor.get() + at;
+                            for (int i = 0; i < len; ++i) t.gain[i] *= f[i];
+                        }
                         camera_rows::noise_free_row(sp, len, rad, t.gain, t.gain);
                     }
                     if (two_pass) {

@@ -350,15 +350,13 @@ void require_complete(const Setup& setup, const std::string& where) {
     if (!missing.empty())
         throw ConfigError(where + ": missing section" + (missing.size() > 1 ? "s " : " ") +
                           join(missing) + " (give them in the config files)");
-    refuse_port(setup, where);
 }
 
-void refuse_port(const Setup& setup, const std::string& where) {
+void refuse_port(const Setup& setup, const std::string& where, const std::string& what) {
     if (setup.port)
-        throw ConfigError(where +
-                          ": camera.port: baking through a port is not built yet, and this "
-                          "command would ignore it (render --camera renders through one; "
-                          "docs/ports.md): remove the port section");
+        throw ConfigError(where + ": camera.port: " + what +
+                          ", and this command would ignore the port (docs/ports.md): remove "
+                          "the port section");
 }
 
 std::string setup_to_yaml(const Setup& s) {

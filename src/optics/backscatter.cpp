@@ -204,9 +204,16 @@ Integral backscatter_integral(const Rig& rig, const Water& water, const Vec3& or
 std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, const Vec3& dir,
                                         const std::vector<double>& t, const Quadrature& q,
                                         const StopFlag* stop) {
+    return backscatter_cumulative(rig, water, Vec3(0.0, 0.0, 0.0), dir, t, q, stop);
+}
+
+std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, const Vec3& origin,
+                                        const Vec3& dir, const std::vector<double>& t,
+                                        const Quadrature& q, const StopFlag* stop) {
     std::vector<Rgb> out(t.size());
     if (t.empty()) return out;
     Adaptive ray{rig, water, dir, stop};
+    if (origin.x != 0.0 || origin.y != 0.0 || origin.z != 0.0) ray.origin = &origin;
     // One tolerance for the whole ray, shared among segments by length: the error of the
     // cumulative value at any sample stays within rel_tol of the ray's total.
     const double t_end = t.back();

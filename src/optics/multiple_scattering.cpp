@@ -141,6 +141,12 @@ Rgb Transport::scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const {
 Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
                                   const std::vector<double>& t, const MonteCarlo& mc,
                                   std::uint64_t stream, const StopFlag* stop) {
+    return higher_orders_cumulative(tr, Vec3(0.0, 0.0, 0.0), dir, t, mc, stream, stop);
+}
+
+Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const Vec3& dir,
+                                  const std::vector<double>& t, const MonteCarlo& mc,
+                                  std::uint64_t stream, const StopFlag* stop) {
     const std::size_t nk = t.size();
     Estimate out;
     out.value.assign(nk, Rgb());
@@ -165,7 +171,7 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
             s = u * T;
             pdf = 1.0 / T;
         }
-        const Vec3 X = dir * s;
+        const Vec3 X = origin + dir * s;
         const PhaseSample ps = tr.next_direction(X, dir, rng);
         const Rgb f =
             w.b * exp(w.c * -s) * (ps.weight / pdf) * tr.scattered_radiance(X, ps.direction, rng);

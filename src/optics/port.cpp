@@ -229,6 +229,35 @@ void check_port_view(const Port& port, const Camera& camera) {
     }
 }
 
+bool same_rays(const Port& a, const Port& b) {
+    const auto same = [](const Vec3& x, const Vec3& y) {
+        return x.x == y.x && x.y == y.y && x.z == y.z;
+    };
+    if (a.kind != b.kind || a.n_air != b.n_air || a.n_glass != b.n_glass ||
+        a.n_water.r != b.n_water.r || a.n_water.g != b.n_water.g || a.n_water.b != b.n_water.b)
+        return false;
+    if (a.kind == PortKind::Flat)
+        return same(a.flat.normal, b.flat.normal) && a.flat.distance == b.flat.distance &&
+               a.flat.glass_thickness == b.flat.glass_thickness;
+    return same(a.dome.centre, b.dome.centre) && a.dome.radius == b.dome.radius &&
+           a.dome.glass_thickness == b.dome.glass_thickness;
+}
+
+std::string describe(const Port& p) {
+    std::string s = std::string(p.name()) + " port (";
+    if (p.kind == PortKind::Flat)
+        s += "normal " + triple(p.flat.normal) + ", distance " + short_number(p.flat.distance) +
+             " m, glass " + short_number(p.flat.glass_thickness) + " m";
+    else
+        s += "centre " + triple(p.dome.centre) + " m, radius " + short_number(p.dome.radius) +
+             " m, glass " + short_number(p.dome.glass_thickness) + " m";
+    s += ", n_air " + short_number(p.n_air) + ", n_glass " + short_number(p.n_glass) + ", n_water ";
+    s += p.dispersive() ? "[" + short_number(p.n_water.r) + ", " + short_number(p.n_water.g) +
+                              ", " + short_number(p.n_water.b) + "]"
+                        : short_number(p.n_water.g);
+    return s + (p.fresnel ? ", fresnel)" : ")");
+}
+
 std::vector<double> colmap_params(const Port& port) {
     const double nw = port.n_water.g;
     if (port.kind == PortKind::Flat) {

@@ -33,6 +33,9 @@ struct Renderer::State {
             throw ConfigError(
                 "--shadows: lamp shadows through a port are not built yet (the "
                 "shadow sweep works in the input's pinhole pixels; docs/ports.md)");
+        // An asset baked through a port renders only through that port; a pinhole asset
+        // renders through any (PortBackscatter's approximate lookup).
+        check_port(a, settings.port, true);
         if (settings.port) {
             // Checked and traced now: a port that shows nothing of the frames is refused
             // before any frame is read.
@@ -56,7 +59,13 @@ struct Renderer::State {
                     rays.reset();
                     rays = std::make_unique<PortRays>(*settings.port, c);
                 }
-                backscatter = std::make_unique<PortBackscatter>(asset, *rays);
+                // An asset baked through this port holds each pixel's water-side ray in its
+                // columns, indexed by planar depth: the pinhole lookup, row by row. A pinhole
+                // asset is looked up along the parallel pinhole columns (port_backscatter.h).
+                if (asset.info.port)
+                    backscatter = std::make_unique<AssetBackscatter>(asset, c);
+                else
+                    backscatter = std::make_unique<PortBackscatter>(asset, *rays);
             } else {
                 backscatter = std::make_unique<AssetBackscatter>(asset, c);
             }

@@ -75,4 +75,26 @@ expect_fail shadows-through-a-port render --rgb "$work/in/frame_0001.png" \
   --depth "$work/in/frame_0001_depth.exr" --camera "$work/flat.yaml" --shadows -o "$work/sh.png"
 grep -q "lamp shadows through a port are not built yet" "$work/err.txt"
 expect_absent "$work/sh.png"
+
+# 4. An asset baked through the flat port (docs/ports.md, "Baking through a port"): info prints
+# the port and the check along the refracted rays; it renders through that port only.
+"$ds" bake --camera "$work/flat.yaml" --rig "$src/volumes/rigs/authors-testset.yaml" \
+  --water jerlov:IB --xy-step 16 --depth-samples 16 -o "$work/p.vdb" >/dev/null
+"$ds" info "$work/p.vdb" >"$work/info.txt"
+grep -q "^port       flat port (normal \[0, 0, 1\], distance 0.03 m, glass 0.012 m" "$work/info.txt"
+grep -q "exact integrals along the port's refracted rays" "$work/info.txt"
+"$ds" info "$work/a.vdb" | grep -q "^port       none"
+"$ds" render --asset "$work/p.vdb" --rgb "$work/in/frame_0001.png" \
+  --depth "$work/in/frame_0001_depth.exr" --camera "$work/flat.yaml" -o "$work/p.png" >/dev/null
+test -s "$work/p.png"
+expect_fail port-asset-without-port "$ds" render --asset "$work/p.vdb" \
+  --rgb "$work/in/frame_0001.png" --depth "$work/in/frame_0001_depth.exr" -o "$work/q.png"
+grep -q "the asset was baked through a flat port (.*), the frames' camera has no port" \
+  "$work/err.txt"
+expect_fail port-asset-other-port "$ds" render --asset "$work/p.vdb" \
+  --rgb "$work/in/frame_0001.png" --depth "$work/in/frame_0001_depth.exr" \
+  --camera "$work/dome.yaml" -o "$work/q.png"
+grep -q "the frames' camera looks through a dome port" "$work/err.txt"
+expect_absent "$work/q.png"
+echo "ok port asset: info prints its port; another port or none refused in one line"
 echo "render_port_test: all ok"

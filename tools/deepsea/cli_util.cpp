@@ -242,9 +242,10 @@ std::string describe_check(const BakeInfo& info) {
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "mean %.3f %%, max %.3f %% at pixel (%d, %d) (depth interpolation alone: mean "
-                  "%.3f %%, max %.3f %%) on %ld test pixels; %s the bar (%.2f %% / %.0f %%)",
+                  "%.3f %%, max %.3f %%) on %ld test pixels%s; %s the bar (%.2f %% / %.0f %%)",
                   100.0 * c.mean_rel, 100.0 * c.max_rel, c.max_u, c.max_v,
                   100.0 * c.columns_mean_rel, 100.0 * c.columns_max_rel, c.pixels,
+                  info.port ? " (exact integrals along the port's refracted rays)" : "",
                   meets_bar(c) ? "meets" : "MISSES", 100.0 * kBarMeanRel, 100.0 * kBarMaxRel);
     std::string out = buf;
     if (c.refinements > 0) {

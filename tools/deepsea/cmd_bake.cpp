@@ -33,6 +33,7 @@ void run(const BakeArgs& a) {
     require_distinct(a.output, a.setup.inputs());
     Setup setup = a.setup.load();
     require_complete(setup, "deepsea bake");
+    settings.port = setup.port;  // the columns follow its water-side rays (docs/ports.md)
     Progress bar("bake", 1);
     const auto t0 = std::chrono::steady_clock::now();
     const StopOnSignals stop;

@@ -77,6 +77,7 @@ void run(const LibraryArgs& a) {
             Setup setup = load_setup({entry.camera, entry.rig});
             setup.water = load_water(entry.water);
             require_complete(setup, entry.name);
+            settings.port = setup.port;  // the entry's camera's port, or none
             const BakeInfo want = bake_request(*setup.camera, *setup.rig, *setup.water, settings);
             // An asset of an older format, or unreadable, is baked again.
             if (!a.force && asset_up_to_date(path, want.input_hash)) {

@@ -375,6 +375,9 @@ void run(const BenchArgs& a) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     Setup setup = load_setup({a.config});
     require_complete(setup, a.config);
+    refuse_port(setup, a.config,
+                "bench's cases are timed without a port and its own composite_flat_port case "
+                "adds one");
     std::vector<Case> cases;
     for (const auto& [w, h] : {std::pair{800, 800}, std::pair{1920, 1080}}) {
         const Camera cam = scaled(*setup.camera, w, h);

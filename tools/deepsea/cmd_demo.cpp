@@ -36,6 +36,7 @@ struct DemoArgs {
 Asset demo_asset(const Setup& setup, const std::string& path, Scattering scattering, int threads) {
     BakeSettings settings;
     settings.scattering = scattering;
+    settings.port = setup.port;  // baked along its water-side rays (docs/ports.md)
     // Unreadable, stale or of an older format: bake a new one below.
     if (asset_up_to_date(
             path, bake_request(*setup.camera, *setup.rig, *setup.water, settings).input_hash)) {
@@ -95,7 +96,9 @@ void run(const DemoArgs& a) {
     const Asset asset =
         demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering), a.threads);
     SequenceOptions opt;
-    opt.shadows = true;  // the lamps' shadows: what marks a deep-sea photograph
+    // the lamps' shadows: what marks a deep-sea photograph (not built through a port)
+    opt.shadows = !setup.port;
+    opt.port = setup.port;  // rendered through it, as baked
     Progress bar("render", a.frames);
     opt.on_frame = frame_lines();
     opt.progress = [&](long done, long) {
@@ -118,7 +121,8 @@ void run(const DemoArgs& a) {
             camera_jobs.push_back(j);
         }
         SequenceOptions cam;
-        cam.shadows = true;
+        cam.shadows = !setup.port;
+        cam.port = setup.port;
         cam.camera_model = setup.camera_model;
         cam.layer_output.camera = true;
         Progress cam_bar("camera", a.frames);

@@ -36,6 +36,10 @@ void run(const InfoArgs& a) {
                 s.format);
     std::printf("camera     %dx%d fx=%g fy=%g cx=%g cy=%g\n", c.width, c.height, c.fx, c.fy, c.cx,
                 c.cy);
+    // Baked along the port's water-side rays (docs/ports.md), or along pinhole rays.
+    std::printf("port       %s\n",
+                b.port ? (describe(*b.port) + ": columns along its water-side rays").c_str()
+                       : "none (pinhole rays from the camera centre)");
     std::printf("rig        %s, %zu lamp(s)\n", b.rig.name.c_str(), b.rig.lights.size());
     for (const Light& L : b.rig.lights) {
         char rid[64] = "table RID";

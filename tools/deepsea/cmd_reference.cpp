@@ -127,6 +127,9 @@ void run(const ReferenceArgs& a) {
     if (!a.layers.empty()) require_writable_image(a.layers, /*exr_only=*/true);
     Setup setup = a.setup.load();
     require_complete(setup, "deepsea reference");
+    refuse_port(setup, "deepsea reference",
+                "the exact reference through a port is not built (its surfaces need the port's "
+                "hits; the bake's check integrates the refracted rays exactly)");
     const Image rgb = read_color(a.rgb);
     Image depth = read_depth(a.depth_path, a.depth.read_options());
     require_same_size(rgb, depth, a.rgb + " and " + a.depth_path);

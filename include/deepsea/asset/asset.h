@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
+#include "deepsea/optics/port.h"
 #include "deepsea/optics/water.h"
 
 namespace deepsea {
@@ -67,6 +69,11 @@ struct BakeInfo {
     Rig rig;
     Water water;
     Lattice lattice;
+    /// The housing's port the columns were baked through (docs/ports.md, "Baking through a
+    /// port"): each column is its pixel's water-side ray (the green channel's), its samples at the
+    /// planar depth z of points on that ray. Unset: pinhole rays from the camera centre (every
+    /// asset baked before ports, which records none).
+    std::optional<Port> port;
     bool z_max_auto = false;  ///< z_max was chosen by the tail tolerance, not given
     bool step_auto = false;   ///< the xy step was chosen by the baker (lattice_rule.h), not given
     bool depth_samples_auto = false;  ///< K was chosen by the baker, not given
@@ -110,6 +117,11 @@ struct Asset {
     /// water), 0 for z <= 0. This is the runtime's lookup; the accuracy tables measure it.
     Rgb sample(double u, double v, double z) const;
 };
+
+/// Throws AssetError naming both unless the frames' port refracts as the asset's (same_rays):
+/// both none, or the same port. A pinhole asset with a port is accepted only where
+/// `pinhole_with_port` (the runtime's approximate lookup, runtime/port_backscatter.h).
+void check_port(const Asset& asset, const std::optional<Port>& port, bool pinhole_with_port);
 
 /// Throws AssetError naming both cameras unless `camera` equals the asset's camera or has the
 /// same view at another resolution (check_same_view; the runtime then resamples).

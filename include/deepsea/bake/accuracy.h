@@ -1,6 +1,7 @@
 #pragma once
 /// \file How well an asset's lookup (Asset::sample, the runtime's interpolation) reproduces
-/// exact per-pixel integration (backscatter_cumulative along each pixel's own ray). This is
+/// exact per-pixel integration (backscatter_cumulative along each pixel's own ray: through the
+/// asset's port, its water-side ray from the port's outer surface, bake_ray.h). This is
 /// what `deepsea bake --check` prints and what docs/asset-format.md tabulates.
 
 #include <string>

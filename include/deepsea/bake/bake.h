@@ -3,6 +3,7 @@
 /// single-scattering backscatter of every lattice column, from optics' backscatter_cumulative,
 /// into an Asset.
 
+#include <optional>
 #include <string>
 
 #include "deepsea/asset/asset.h"
@@ -11,6 +12,7 @@
 #include "deepsea/optics/backscatter.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
+#include "deepsea/optics/port.h"
 #include "deepsea/optics/water.h"
 
 namespace deepsea {
@@ -66,6 +68,9 @@ struct BakeSettings {
     int max_refinements = 3;
     /// A check that still misses the bar throws AccuracyError instead of returning the asset.
     bool strict = false;
+    /// The housing's port (docs/ports.md, "Baking through a port"): each column is its pixel's
+    /// water-side ray, recorded in the asset (BakeInfo::port). Unset: pinhole rays.
+    std::optional<Port> port;
 };
 
 /// Throws ConfigError naming the setting unless the settings can be baked (step in
@@ -87,7 +92,8 @@ BakeInfo bake_request(const Camera& camera, const Rig& rig, const Water& water,
 /// checked (check_lattice, recorded in info.check) and, while it misses the bar, refined and
 /// baked again before any Monte Carlo. Progress counts lattice columns, twice as many with an
 /// auto z_max (the search visits them first); a refinement starts the count again. Throws
-/// ConfigError for bad settings, a rig without lights or threads < 0; Cancelled when the
+/// ConfigError for bad settings, a rig without lights or threads < 0, SchemaError for a port
+/// the camera cannot look through (validate, check_port_view); Cancelled when the
 /// progress callback returns false; AccuracyError for a strict check that misses the bar.
 Asset bake(const Camera& camera, const Rig& rig, const Water& water, const BakeSettings& settings,
            const Parallel& par = {});
@@ -96,10 +102,10 @@ Asset bake(const Camera& camera, const Rig& rig, const Water& water, const BakeS
 /// every channel, the backscatter still to come (to where exp(-2 c_min t) is negligible) is at
 /// most `tolerance` of the column's total (the paper's Fig. 6 argument). Rounded up to 1 mm,
 /// within [kMinZMax, kMaxZMax].
-/// Progress counts lattice columns.
+/// Progress counts lattice columns. With a port, along the columns' water-side rays.
 double auto_z_max(const Camera& camera, const Rig& rig, const Water& water, int step,
                   double tolerance, const Quadrature& q = {1e-6, 1e-14, 40},
-                  const Parallel& par = {});
+                  const Parallel& par = {}, const std::optional<Port>& port = {});
 
 /// Path length (metres) beyond which every ray's backscatter is negligible for the auto
 /// z_max search with this tolerance: exp(-2 c_min t) < 1e-4 tolerance.

@@ -12,12 +12,14 @@
 #include <cstdint>
 #include <vector>
 #include <memory>
+#include <optional>
 
 #include "deepsea/camera/distortion.h"
 #include "deepsea/camera/model.h"
 #include "deepsea/core/image.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/port.h"
 
 namespace deepsea {
 
@@ -71,12 +73,20 @@ struct CameraOutput {
 class CameraStage {
 public:
     /// validate(model), validate(intrinsics) (optics/schema.h) and check_distortion: throws
-    /// SchemaError (a ConfigError) naming the first key out of range.
-    CameraStage(const CameraModel& model, const Camera& intrinsics);
+    /// SchemaError (a ConfigError) naming the first key out of range. With the housing's `port`
+    /// (docs/ports.md, "Radiance across the interfaces") each pixel's irradiance takes
+    /// port_radiance_factor of its ray (the n^2 law, Fresnel where the port asks), built once
+    /// into the pixels' response like vignetting (validate, check_port_view first).
+    CameraStage(const CameraModel& model, const Camera& intrinsics,
+                const std::optional<Port>& port = {});
 
     const CameraModel& model() const { return m_model; }
     const Camera& camera() const { return m_camera; }
     const DistortionMap& distortion() const { return m_map; }
+    const std::optional<Port>& port() const { return m_port; }
+    /// The port's radiance factor of pixel (u, v), channel c (1 without a port): what the
+    /// stage multiplies the pixel's radiance by.
+    float port_factor(int u, int v, int c) const;
     /// The model's exposure time and system gain.
     FrameExposure default_exposure() const;
     /// Mean photo-electrons per unit radiance (1 W/(m^2 sr)) on the axis, channel c, at an
@@ -98,10 +108,12 @@ private:
     CameraModel m_model;
     Camera m_camera;
     DistortionMap m_map;
+    std::optional<Port> m_port;
     // 64-byte aligned arrays: per column ray_x(u)^2; per value (3 x width x height) the mean
     // electrons per unit radiance and millisecond (falloff, channel response, PRNU) and the
-    // DSNU in electrons (null without DSNU).
-    std::shared_ptr<const float> m_x2, m_response, m_dsnu;
+    // DSNU in electrons (null without DSNU); per value the port's radiance factor (null
+    // without a port), already in m_response.
+    std::shared_ptr<const float> m_x2, m_response, m_dsnu, m_port_factor;
 };
 
 }  // namespace deepsea

@@ -42,14 +42,13 @@ Setup parse_setup(const std::string& yaml_text, const std::string& file_name);
 /// with a `water` section.
 Water load_water(const std::string& spec);
 
-/// Throws ConfigError naming what is missing unless the setup has camera, rig and water, and
-/// refuse_port's.
+/// Throws ConfigError naming what is missing unless the setup has camera, rig and water.
 void require_complete(const Setup& setup, const std::string& where);
 
-/// Throws ConfigError naming camera.port if the setup has a port: its geometry is read and
-/// checked (optics/port.h), but nothing renders or bakes through it yet, and a command that
-/// ignored it would make images without the refraction the user asked for.
-void refuse_port(const Setup& setup, const std::string& where);
+/// Throws ConfigError naming camera.port if the setup has a port: for a command that cannot
+/// work through one and would otherwise ignore it (an image without the refraction the user
+/// asked for). `what` says what is not built ("surfaces through a port in the reference").
+void refuse_port(const Setup& setup, const std::string& where, const std::string& what);
 
 /// The setup as YAML that parse_setup accepts and reads back to the same values (numbers with
 /// 17 significant digits, water as explicit values without a preset). Absent sections are

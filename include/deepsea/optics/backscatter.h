@@ -79,4 +79,10 @@ std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, cons
                                         const std::vector<double>& t, const Quadrature& q = {},
                                         const StopFlag* stop = nullptr);
 
+/// The same along the ray X(t) = origin + t dir (a port's water-side ray, from its outer
+/// surface): the baker's columns through a port. origin = 0 is the overload above.
+std::vector<Rgb> backscatter_cumulative(const Rig& rig, const Water& water, const Vec3& origin,
+                                        const Vec3& dir, const std::vector<double>& t,
+                                        const Quadrature& q = {}, const StopFlag* stop = nullptr);
+
 }  // namespace deepsea

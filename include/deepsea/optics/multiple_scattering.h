@@ -86,6 +86,11 @@ struct Estimate {
 Estimate higher_orders_cumulative(const Transport& transport, const Vec3& dir,
                                   const std::vector<double>& t, const MonteCarlo& mc,
                                   std::uint64_t stream, const StopFlag* stop = nullptr);
+/// The same along X(s) = origin + s dir (a port's water-side ray, from its outer surface): the
+/// light attenuated back to the origin. origin = 0 is the overload above.
+Estimate higher_orders_cumulative(const Transport& transport, const Vec3& origin, const Vec3& dir,
+                                  const std::vector<double>& t, const MonteCarlo& mc,
+                                  std::uint64_t stream, const StopFlag* stop = nullptr);
 
 }  // namespace deepsea
 

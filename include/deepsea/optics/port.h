@@ -161,6 +161,16 @@ void validate(const Port& port);
 /// image rectangle); a dome's is checked along the edges.
 void check_port_view(const Port& port, const Camera& camera);
 
+/// The two ports refract every ray alike: the same kind, geometry and indices (all the bake
+/// and the rendered rays depend on). `fresnel` is left out: it changes only the camera stage's
+/// radiance factor, not a ray.
+bool same_rays(const Port& a, const Port& b);
+
+/// One line for messages and `deepsea info`: "flat port (normal [0, 0, 1], distance 0.03 m,
+/// glass 0.012 m, n_air 1, n_glass 1.49, n_water 1.34)", the dome's with centre and radius;
+/// ", fresnel" where it is on.
+std::string describe(const Port& port);
+
 /// Refractive COLMAP's parameter list for the port: FLATPORT "Nx, Ny, Nz, int_dist, int_thick,
 /// na, ng, nw" or DOMEPORT "Cx, Cy, Cz, int_radius, int_thick, na, ng, nw" (the normal written
 /// unit, as COLMAP requires; nw the green channel's index).

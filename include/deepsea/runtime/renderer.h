@@ -31,7 +31,8 @@ struct RenderSettings {
     bool shadows = false;
     double shadow_thickness = kDefaultShadowThickness;
     /// The housing's port (docs/ports.md): each pixel sees along its water-side ray, and the
-    /// layers gain `mask`. Unset: the pinhole looks into the water.
+    /// layers gain `mask`. Unset: the pinhole looks into the water. An asset baked through a
+    /// port needs the same port (same_rays); a pinhole asset takes any.
     std::optional<Port> port;
 };
 
@@ -43,7 +44,9 @@ public:
     /// The asset must outlive the renderer (a temporary asset is refused at compile time).
     /// With a port, its rays are traced here for the settings' camera (or the asset's):
     /// SchemaError for a port that camera cannot look through (validate, check_port_view),
-    /// ConfigError for one through which no pixel sees the frame (PortRays), before any frame.
+    /// ConfigError for one through which no pixel sees the frame (PortRays), AssetError when
+    /// the asset was baked through another port or the settings have none (check_port), before
+    /// any frame.
     explicit Renderer(const Asset& asset, RenderSettings settings = {});
     Renderer(Asset&&, RenderSettings = {}) = delete;
     ~Renderer();

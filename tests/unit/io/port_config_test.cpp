@@ -182,22 +182,27 @@ TEST_F(PortFiles, ThePortComesWithTheCameraSection) {
 }
 
 TEST(PortConfig, CommandsThatWouldIgnoreThePortRefuseIt) {
-    // Nothing renders or bakes through a port yet: a setup with one is refused where a setup
-    // is used whole (bake, reference, demo, bench), naming the key, never silently ignored.
+    // A complete setup may hold a port (bake, demo and render work through one); a command that
+    // cannot (reference, bench) refuses it naming the key and what is not built, never silently
+    // ignoring it.
     deepsea::Setup s = parse_setup(kFlat, "cam.yaml");
     s.rig = Rig{};
     s.water = Water{};
+    EXPECT_NO_THROW(require_complete(s, "deepsea bake"));
     try {
-        require_complete(s, "deepsea bake");
+        refuse_port(s, "deepsea reference", "the reference through a port is not built");
         FAIL() << "a port was accepted";
     } catch (const ConfigError& e) {
-        EXPECT_EQ(std::string(e.what()).rfind(
-                      "deepsea bake: camera.port: baking through a port is not built yet", 0),
+        EXPECT_EQ(std::string(e.what()).rfind("deepsea reference: camera.port: the reference "
+                                              "through a port is not built, and this command "
+                                              "would ignore the port",
+                                              0),
                   0u)
             << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
     }
     s.port.reset();
-    EXPECT_NO_THROW(require_complete(s, "deepsea bake"));
+    EXPECT_NO_THROW(refuse_port(s, "deepsea reference", "not built"));
 }
 
 }  // namespace
