@@ -29,6 +29,7 @@ struct DemoArgs {
     int frames = 8;
     std::uint64_t seed = 1;
     std::string scattering = "multiple";
+    std::string snow = "abyssal";
     int threads = 0;
 };
 
@@ -83,6 +84,8 @@ void run(const DemoArgs& a) {
         j.depth = (input / (std::string(name) + "_depth.exr")).string();
         j.output = (frames / (std::string(name) + ".png")).string();
         j.layers = (layers / (std::string(name) + ".exr")).string();
+        const FlightPose pose = flight_pose(flight, i);  // the snow stays in the world
+        j.pose = CameraPose{pose.origin, pose.right, pose.down, pose.forward};
         write_color(j.rgb, f.rgb);
         write_depth_exr(j.depth, f.depth);
         jobs.push_back(j);
@@ -96,6 +99,7 @@ void run(const DemoArgs& a) {
         demo_asset(setup, (out / "demo.vdb").string(), parse_scattering(a.scattering), a.threads);
     SequenceOptions opt;
     opt.shadows = true;  // the lamps' shadows: what marks a deep-sea photograph
+    opt.snow = snow_settings(a.snow, a.seed, setup.camera_model);  // and the lit particles
     Progress bar("render", a.frames);
     opt.on_frame = frame_lines();
     opt.progress = [&](long done, long) {
@@ -119,6 +123,7 @@ void run(const DemoArgs& a) {
         }
         SequenceOptions cam;
         cam.shadows = true;
+        cam.snow = opt.snow;
         cam.camera_model = setup.camera_model;
         cam.layer_output.camera = true;
         Progress cam_bar("camera", a.frames);
@@ -167,6 +172,8 @@ void setup_demo(CLI::App& sub) {
     sub.add_option("--seed", a->seed, "seafloor seed");
     sub.add_option("--scattering", a->scattering,
                    "the asset's water light: multiple (all orders) or single (the paper's model)");
+    sub.add_option("--snow", a->snow,
+                   "marine snow: abyssal (the default), nepheloid, plume or off");
     add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }
