@@ -44,9 +44,8 @@ std::string manifest_to_json(const SequenceManifest& m) {
     // Written only when on: a sequence without shadows has the manifest it had before them.
     if (m.shadows) j["settings"]["shadows"] = true;
     if (m.snow != "off")
-        j["settings"]["snow"] = {{"preset", m.snow},
-                                 {"seed", m.snow_seed},
-                                 {"focus_distance_m", m.focus_distance_m}};
+        j["settings"]["snow"] = {
+            {"preset", m.snow}, {"seed", m.snow_seed}, {"focus_distance_m", m.focus_distance_m}};
     j["frames"] = {{"total", m.frames_total}, {"done", m.frames_done}};
     if (m.shard) {
         const ShardRecord& s = *m.shard;

@@ -1,10 +1,10 @@
 #include "deepsea/runtime/marine_snow.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "deepsea/core/random.h"
 #include "deepsea/optics/schema.h"
@@ -64,9 +64,9 @@ Vec3 to_camera(const CameraPose& p, const Vec3& world) {
 void validate(const SnowSettings& s) {
     validate(s.snow);
     if (!(s.focus_distance_m > 0.0) || !(s.focus_distance_m <= 1e4))
-        throw SchemaError("camera.lens.focus_distance_m",
-                          "must be > 0 and at most 10000 metres, got " +
-                              std::to_string(s.focus_distance_m));
+        throw SchemaError(
+            "camera.lens.focus_distance_m",
+            "must be > 0 and at most 10000 metres, got " + std::to_string(s.focus_distance_m));
     if (!(s.f_number > 0.0)) throw SchemaError("camera.lens.f_number", "must be > 0");
     if (!(s.pixel_pitch_um > 0.0)) throw SchemaError("camera.sensor.pixel_pitch_um", "must be > 0");
 }
@@ -75,12 +75,13 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
                                          std::uint64_t frame_key,
                                          const std::optional<CameraPose>& pose) {
     const Snow& snow = s.snow;
-    const View v{cam.ray_x(-0.5), cam.ray_x(cam.width - 0.5), cam.ray_y(-0.5),
-                 cam.ray_y(cam.height - 0.5), kSnowNearM, snow.max_distance_m};
+    const View v{cam.ray_x(-0.5), cam.ray_x(cam.width - 0.5),
+                 cam.ray_y(-0.5), cam.ray_y(cam.height - 0.5),
+                 kSnowNearM,      snow.max_distance_m};
     const CameraPose p = pose ? *pose : CameraPose{};
     // Without a pose every frame has its own cells: the frame key is part of their key.
-    const std::uint64_t base = mix_seed(s.seed ^ kSnowStream, pose ? 0x706f736564ull : frame_key,
-                                        pose ? 1 : 2);
+    const std::uint64_t base =
+        mix_seed(s.seed ^ kSnowStream, pose ? 0x706f736564ull : frame_key, pose ? 1 : 2);
     const double cell = std::min(kMaxCell, std::cbrt(kMaxPerCell / snow.concentration));
     const double lambda = snow.concentration * cell * cell * cell;
 
@@ -93,9 +94,12 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
                 lo = {std::min(lo.x, w.x), std::min(lo.y, w.y), std::min(lo.z, w.z)};
                 hi = {std::max(hi.x, w.x), std::max(hi.y, w.y), std::max(hi.z, w.z)};
             }
-    const long long i0 = (long long)std::floor(lo.x / cell), i1 = (long long)std::floor(hi.x / cell);
-    const long long j0 = (long long)std::floor(lo.y / cell), j1 = (long long)std::floor(hi.y / cell);
-    const long long k0 = (long long)std::floor(lo.z / cell), k1 = (long long)std::floor(hi.z / cell);
+    const long long i0 = (long long)std::floor(lo.x / cell),
+                    i1 = (long long)std::floor(hi.x / cell);
+    const long long j0 = (long long)std::floor(lo.y / cell),
+                    j1 = (long long)std::floor(hi.y / cell);
+    const long long k0 = (long long)std::floor(lo.z / cell),
+                    k1 = (long long)std::floor(hi.z / cell);
     const double r = cell * std::sqrt(3.0) / 2.0;
 
     // One list per slab of cells (i), joined in order: the same particles at any thread count.
@@ -176,27 +180,31 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                         m_settings.focus_distance_m};
     const int W = cam.width, H = cam.height;
     std::vector<Splat> splats(particles.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, particles.size(), 256),
-                      [&](const auto& range) {
-        for (std::size_t q = range.begin(); q != range.end(); ++q) {
-            const SnowParticle& pt = particles[q];
-            const Vec3& X = pt.position;
-            const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
-            const int iu = std::clamp(int(std::lround(u)), 0, W - 1);
-            const int iv = std::clamp(int(std::lround(v)), 0, H - 1);
-            Splat& s = splats[q];
-            s.id = 0;  // not drawn
-            const float zs = zdepth.at(iu, iv);
-            if (!open_water(zs) && double(zs) <= X.z) continue;  // behind the surface
-            const double d2 = length(X);
-            const Rgb L = particle_radiance(m_rig, m_water, m_settings.snow, X) *
-                          transmission(m_water.c, d2);
-            const double area =
-                M_PI * 0.25 * pt.diameter * pt.diameter * cam.fx * cam.fy * d2 / (X.z * X.z * X.z);
-            s = {float(u), float(v), float(snow_disc_radius_px(cam, lens, X, pt.diameter)),
-                 float(X.z), {float(L.r * area), float(L.g * area), float(L.b * area)}, pt.id};
-        }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, particles.size(), 256), [&](const auto& range) {
+            for (std::size_t q = range.begin(); q != range.end(); ++q) {
+                const SnowParticle& pt = particles[q];
+                const Vec3& X = pt.position;
+                const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
+                const int iu = std::clamp(int(std::lround(u)), 0, W - 1);
+                const int iv = std::clamp(int(std::lround(v)), 0, H - 1);
+                Splat& s = splats[q];
+                s.id = 0;  // not drawn
+                const float zs = zdepth.at(iu, iv);
+                if (!open_water(zs) && double(zs) <= X.z) continue;  // behind the surface
+                const double d2 = length(X);
+                const Rgb L = particle_radiance(m_rig, m_water, m_settings.snow, X) *
+                              transmission(m_water.c, d2);
+                const double area = M_PI * 0.25 * pt.diameter * pt.diameter * cam.fx * cam.fy * d2 /
+                                    (X.z * X.z * X.z);
+                s = {float(u),
+                     float(v),
+                     float(snow_disc_radius_px(cam, lens, X, pt.diameter)),
+                     float(X.z),
+                     {float(L.r * area), float(L.g * area), float(L.b * area)},
+                     pt.id};
+            }
+        });
 
     if (ids) m_best.assign(std::size_t(W) * H, 0.0f);
     int drawn = 0;

@@ -367,8 +367,8 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
                                depth = tmp.dir / ("in" + k + ".exr");
                 if (!fs::exists(rgb)) fs::copy_file(tmp.dir / ("f" + g + ".png"), rgb);
                 if (!fs::exists(depth)) fs::copy_file(tmp.dir / ("f" + g + "_depth.exr"), depth);
-                jobs.push_back(
-                    {rgb.string(), depth.string(), (tmp.dir / "out" / (k + ext)).string(), "", std::nullopt});
+                jobs.push_back({rgb.string(), depth.string(),
+                                (tmp.dir / "out" / (k + ext)).string(), "", std::nullopt});
             }
             SequenceOptions opt;
             opt.forward = !a.no_forward;
@@ -471,12 +471,13 @@ void setup_bench(CLI::App& sub) {
     sub.add_option("--scattering", a->scattering,
                    "single | multiple: the asset's scattering (multiple adds the lamps' "
                    "scattered light per pixel)");
-    sub.add_option("--cases", a->cases,
-                   "comma-separated prefixes of the cases to run: composite (composite, "
-                   "composite_final_only, each also -shadows: with lamp shadows), snow (snow-abyssal, "
-                   "snow-nepheloid, snow-plume: marine snow alone), stage, camera "
-                   "(camera, camera-layers, camera-lens), sequence-png, sequence-jpeg (each also "
-                   "-camera: with the setup's camera stage)");
+    sub.add_option(
+        "--cases", a->cases,
+        "comma-separated prefixes of the cases to run: composite (composite, "
+        "composite_final_only, each also -shadows: with lamp shadows), snow (snow-abyssal, "
+        "snow-nepheloid, snow-plume: marine snow alone), stage, camera "
+        "(camera, camera-layers, camera-lens), sequence-png, sequence-jpeg (each also "
+        "-camera: with the setup's camera stage)");
     sub.add_flag("--json", a->json, "print JSON for scripts");
     sub.callback([a] { run(*a); });
 }

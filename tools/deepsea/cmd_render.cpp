@@ -83,8 +83,9 @@ void run(const RenderArgs& a) {
                           "exposure is camera.sensor's exposure_time_ms and gain");
     opt.snow = snow_settings(a.snow, a.snow_seed, opt.camera_model);
     if (opt.snow && opt.port)
-        throw ConfigError("--snow: marine snow through a port is not built yet (particles are "
-                          "drawn in the input's pinhole pixels; docs/ports.md)");
+        throw ConfigError(
+            "--snow: marine snow through a port is not built yet (particles are "
+            "drawn in the input's pinhole pixels; docs/ports.md)");
     opt.layer_output.camera = opt.camera_model.has_value();
     opt.layer_output.names = parse_layer_set(a.layer_set, opt.layer_output.camera);
     opt.layer_output.half = a.half;

@@ -80,9 +80,9 @@ double visible_volume(const Camera& camera, const std::vector<float>& zdepth, do
 /// The lens for defocus: the camera's focal length in pixels (fx), the pixel pitch, the
 /// f-number and the distance the lens is focused at (planar, metres, in water as seen).
 struct ThinLens {
-    double fx = 600.0;              ///< pixels
-    double pixel_pitch_um = 3.45;   ///< metres per pixel on the sensor, in micrometres
-    double f_number = 2.8;          ///< N
+    double fx = 600.0;             ///< pixels
+    double pixel_pitch_um = 3.45;  ///< metres per pixel on the sensor, in micrometres
+    double f_number = 2.8;         ///< N
     double focus_distance_m = kDefaultFocusDistance;  ///< s, > focal length
 
     double focal_length_m() const { return fx * pixel_pitch_um * 1e-6; }

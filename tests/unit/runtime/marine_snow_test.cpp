@@ -9,8 +9,8 @@
 
 #include <cmath>
 #include <map>
-#include <tuple>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "deepsea/core/error.h"
@@ -68,7 +68,8 @@ std::pair<double, double> moments(const std::vector<double>& n) {
 
 /// A rotation from three angles, as a camera pose at `origin`.
 CameraPose pose(const Vec3& origin, double a, double b, double c) {
-    const Vec3 f = normalize(Vec3{std::sin(a) * std::cos(b), std::sin(b), std::cos(a) * std::cos(b)});
+    const Vec3 f =
+        normalize(Vec3{std::sin(a) * std::cos(b), std::sin(b), std::cos(a) * std::cos(b)});
     const Vec3 up0 = normalize(Vec3{std::sin(c), std::cos(c), 0.1});
     const Vec3 r = normalize(cross(up0, f));
     const Vec3 d = cross(f, r);
@@ -86,9 +87,9 @@ TEST(MarineSnow, CountInViewIsPoissonWithConcentrationTimesVolume) {
     Rng rng(7);
     for (int k = 0; k < 300; ++k) {
         fresh.push_back(double(snow_particles(s, cam, std::uint64_t(k), std::nullopt).size()));
-        const CameraPose p = pose({rng.uniform() * 50 - 25, rng.uniform() * 50 - 25,
-                                   rng.uniform() * 50 - 25},
-                                  rng.uniform() * 6.3, rng.uniform() * 3 - 1.5, rng.uniform() * 6.3);
+        const CameraPose p =
+            pose({rng.uniform() * 50 - 25, rng.uniform() * 50 - 25, rng.uniform() * 50 - 25},
+                 rng.uniform() * 6.3, rng.uniform() * 3 - 1.5, rng.uniform() * 6.3);
         posed.push_back(double(snow_particles(s, cam, 0, p).size()));
     }
     for (const auto& counts : {fresh, posed}) {
@@ -162,10 +163,9 @@ TEST(MarineSnow, ParticleLightIsTheLampTermAtItsPosition) {
             const double sigma = L.rid.sigma_deg * M_PI / 180.0;
             const double cos_psi = dot(lx, X * -1.0) / (d1 * d2);
             const double g = 0.3;
-            const double hg =
-                (1 - g * g) / (4 * M_PI * std::pow(1 + g * g - 2 * g * cos_psi, 1.5));
-            const double area = M_PI * p.diameter * p.diameter / 4.0 * cam.fx * cam.fy * d2 /
-                                (X.z * X.z * X.z);
+            const double hg = (1 - g * g) / (4 * M_PI * std::pow(1 + g * g - 2 * g * cos_psi, 1.5));
+            const double area =
+                M_PI * p.diameter * p.diameter / 4.0 * cam.fx * cam.fy * d2 / (X.z * X.z * X.z);
             const double I0[3] = {L.intensity.r, L.intensity.g, L.intensity.b};
             const double c[3] = {water.c.r, water.c.g, water.c.b};
             for (int ch = 0; ch < 3; ++ch) {
@@ -222,7 +222,8 @@ TEST(MarineSnow, DiscIsTheThinLensCircleOfConfusion) {
         snow.draw(cam, depth, final, nullptr, nullptr);
         double lit = 0.0;  // coverage falls from 1 to 0 over the last pixel: area pi R^2 + ...
         for (int y = 0; y < cam.height; ++y)
-            for (int x = 0; x < cam.width; ++x) lit += final.at(x, y, 1) / final.at(int(u), int(v), 1);
+            for (int x = 0; x < cam.width; ++x)
+                lit += final.at(x, y, 1) / final.at(int(u), int(v), 1);
         // Sum of coverage over the disc / the centre's (1): pi R^2 within a pixel of edge.
         EXPECT_NEAR(lit, M_PI * R * R, 2.0 * M_PI * R * 0.5) << "R = " << R;
         ++checked;
@@ -255,7 +256,8 @@ TEST(MarineSnow, SeedsAndSurfaces) {
     const auto w0 = snow_particles(s, cam, 1, p0), w1 = snow_particles(s, cam, 2, p1);
     // Every particle p1 sees that p0 also sees (0.1 m farther, nearer the axis) is in both.
     const auto key = [](const Vec3& x) {
-        return std::tuple{std::llround(x.x * 1e6), std::llround(x.y * 1e6), std::llround(x.z * 1e6)};
+        return std::tuple{std::llround(x.x * 1e6), std::llround(x.y * 1e6),
+                          std::llround(x.z * 1e6)};
     };
     std::map<std::tuple<long long, long long, long long>, int> seen;
     for (const auto& p : w0) seen[key(p.position)] = 1;
