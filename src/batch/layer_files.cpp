@@ -92,10 +92,20 @@ void write_layers(const std::string& path, const Layers& l, const ImageMetadata&
                                     {"backscatter", &l.backscatter, rgb},
                                     {"transmission", &l.transmission, rgb},
                                     {"depth", &l.depth, {"Z"}},
-                                    {"normal", &l.normal, {"X", "Y", "Z"}}};
+                                    {"normal", &l.normal, {"X", "Y", "Z"}},
+                                    {"snow", &l.snow, rgb},
+                                    {"snow_id", &l.snow_id, {"id"}}};
     std::vector<ExrLayer> chosen;
-    for (const ExrLayer& layer : all)
-        if (named(out.names, layer.name)) chosen.push_back(layer);
+    for (const ExrLayer& layer : all) {
+        if (!named(out.names, layer.name)) continue;
+        // Snow's layers exist only with marine snow on: "all" leaves them out without it.
+        if (layer.image->empty() && (layer.name == "snow" || layer.name == "snow_id")) {
+            if (out.all()) continue;
+            throw InputError(path + ": layer '" + layer.name +
+                             "' is marine snow's: render with --snow");
+        }
+        chosen.push_back(layer);
+    }
     // Through a port, with every layer: which pixels see the input (docs/ports.md).
     if (!l.mask.empty() && out.compositor_set() == LayerSet::All && out.all())
         chosen.push_back({"mask", &l.mask, {"Y"}});

@@ -79,6 +79,11 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.half = m.layers && opt.layer_output.half;
     m.forward = opt.forward;
     m.shadows = opt.shadows;
+    if (opt.snow) {
+        m.snow = opt.snow->snow.name;
+        m.snow_seed = opt.snow->seed;
+        m.focus_distance_m = opt.snow->focus_distance_m;
+    }
     m.depth_kind = opt.depth_kind == DepthKind::Range ? "range" : "z";
     m.depth_channel = opt.depth_read.channel;
     m.depth_scale = opt.depth_read.scale;
@@ -113,6 +118,7 @@ double exposure_on(Renderer& renderer, const FrameJob& job, const SequenceOption
     Slot probe(opt.bits, opt.layer_output);
     try {
         read_frame(job, opt.depth_read, frame);
+        renderer.set_frame(frame_key(job), job.pose);
         renderer.render(layers, frame, probe.writer.layer_set(job), opt.depth_kind);
         return exposure_factor(opt.exposure, layers.final);
     } catch (...) {
@@ -187,9 +193,12 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
 
     if (opt.camera_model && !opt.layer_output.camera)
         throw InputError("render_sequence: a camera stage needs layer_output.camera");
-    RenderSettings settings{opt.camera, opt.forward};
+    RenderSettings settings;
+    settings.camera = opt.camera;
+    settings.forward = opt.forward;
     settings.shadows = opt.shadows;
     settings.port = opt.port;
+    settings.snow = opt.snow;
     Renderer renderer(asset, settings);
     std::optional<CameraFrames> camera;
     if (opt.camera_model) camera.emplace(*opt.camera_model, opt.port, opt.manifests, opt.resume);
@@ -262,6 +271,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         // is encoded row by row as the compositor finishes it, and no
                         // float image is kept.
                         Layers& out = job.layers.empty() ? shared : s->layers;
+                        renderer.set_frame(frame_key(job), job.pose);
                         if (camera) {
                             renderer.render(out, s->frame, s->writer.layer_set(job),
                                             opt.depth_kind);

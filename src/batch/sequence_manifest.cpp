@@ -43,6 +43,9 @@ std::string manifest_to_json(const SequenceManifest& m) {
                      {"depth_scale", m.depth_scale}};
     // Written only when on: a sequence without shadows has the manifest it had before them.
     if (m.shadows) j["settings"]["shadows"] = true;
+    if (m.snow != "off")
+        j["settings"]["snow"] = {
+            {"preset", m.snow}, {"seed", m.snow_seed}, {"focus_distance_m", m.focus_distance_m}};
     j["frames"] = {{"total", m.frames_total}, {"done", m.frames_done}};
     if (m.shard) {
         const ShardRecord& s = *m.shard;
@@ -138,6 +141,13 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
     // "shadows" came with lamp shadows; absent: off.
     m.shadows =
         j["settings"].contains("shadows") ? get<bool>(j, path, "settings", "shadows") : false;
+    // "snow" came with marine snow; absent: off.
+    if (j["settings"].contains("snow")) {
+        m.snow = get<std::string>(j["settings"], path + ": settings", "snow", "preset");
+        m.snow_seed = get<std::uint64_t>(j["settings"], path + ": settings", "snow", "seed");
+        m.focus_distance_m =
+            get<double>(j["settings"], path + ": settings", "snow", "focus_distance_m");
+    }
     m.depth_kind = get<std::string>(j, path, "settings", "depth_kind");
     m.depth_channel = get<std::string>(j, path, "settings", "depth_channel");
     m.depth_scale = get<double>(j, path, "settings", "depth_scale");
@@ -266,6 +276,11 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
         differ("forward scatter", folder.forward ? "on" : "off", run.forward ? "on" : "off");
     if (folder.shadows != run.shadows)
         differ("--shadows", folder.shadows ? "on" : "off", run.shadows ? "on" : "off");
+    if (folder.snow != run.snow) differ("--snow", folder.snow, run.snow);
+    if (folder.snow != "off" && folder.snow_seed != run.snow_seed)
+        differ("--snow-seed", std::to_string(folder.snow_seed), std::to_string(run.snow_seed));
+    if (folder.snow != "off" && folder.focus_distance_m != run.focus_distance_m)
+        differ("focus_distance_m", num(folder.focus_distance_m), num(run.focus_distance_m));
     if (folder.depth_kind != run.depth_kind)
         differ("--depth-kind", folder.depth_kind, run.depth_kind);
     if (folder.depth_channel != run.depth_channel)

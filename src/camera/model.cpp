@@ -42,6 +42,8 @@ void validate_lens(const Lens& l) {
     bounded(l.f_number > 0.0, "> 0", 1e3, "", "camera.lens.f_number", l.f_number);
     require(l.transmittance > 0.0 && l.transmittance <= 1.0, "camera.lens.transmittance",
             "in (0, 1]", l.transmittance);
+    bounded(l.focus_distance_m > 0.0, "> 0", 1e4, " metres", "camera.lens.focus_distance_m",
+            l.focus_distance_m);
     const Vignetting& v = l.vignetting;
     require_finite("camera.lens.vignetting.k1", v.k1);
     require_finite("camera.lens.vignetting.k2", v.k2);

@@ -20,7 +20,8 @@ using yaml::MapView;
 // ranges: docs/camera.md;
 // the ranges are checked by validate(CameraModel) in the camera layer)
 //
-//   lens.f_number, lens.transmittance                  numbers
+//   lens.f_number, lens.transmittance,
+//   lens.focus_distance_m                              numbers
 //   lens.vignetting: {natural: bool, k1, k2, k3}       numbers
 //   lens.distortion: {k1, k2, p1, p2, k3}              OpenCV's distCoeffs
 //   sensor.preset                                      a name (camera/presets.h), read first:
@@ -44,6 +45,7 @@ void parse_lens(const Document& doc, const Field& f, Lens& lens) {
     const MapView m(doc, f, camera_schema::kLens);
     if (const Field* x = m.opt("f_number")) lens.f_number = doc.number(*x);
     if (const Field* x = m.opt("transmittance")) lens.transmittance = doc.number(*x);
+    if (const Field* x = m.opt("focus_distance_m")) lens.focus_distance_m = doc.number(*x);
     if (const Field* v = m.opt("vignetting")) {
         const MapView vm(doc, *v, camera_schema::kVignetting);
         Vignetting& g = lens.vignetting;
@@ -192,6 +194,7 @@ void write_camera_model(std::ostream& o, const CameraModel& model) {
     o << "  lens:\n"
       << "    f_number: " << fmt(l.f_number) << "\n"
       << "    transmittance: " << fmt(l.transmittance) << "\n"
+      << "    focus_distance_m: " << fmt(l.focus_distance_m) << "\n"
       << "    vignetting: {natural: " << (v.natural ? "true" : "false") << ", k1: " << fmt(v.k1)
       << ", k2: " << fmt(v.k2) << ", k3: " << fmt(v.k3) << "}\n"
       << "    distortion: {k1: " << fmt(d.k1) << ", k2: " << fmt(d.k2) << ", p1: " << fmt(d.p1)

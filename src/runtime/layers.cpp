@@ -10,8 +10,8 @@ void Layers::resize(int width, int height, LayerSet set) {
     };
     if (set == LayerSet::Final) {
         fit(final, 3);
-        for (Image* img :
-             {&direct, &forward, &backscatter, &transmission, &depth, &normal, &mask}) {
+        for (Image* img : {&direct, &forward, &backscatter, &transmission, &depth, &normal, &mask,
+                           &snow, &snow_id}) {
             *img = Image();
         }
         return;
@@ -26,8 +26,9 @@ void Layers::resize(int width, int height, LayerSet set) {
 }
 
 const std::vector<std::string>& layer_names() {
-    static const std::vector<std::string> names{"final",        "direct", "forward", "backscatter",
-                                                "transmission", "depth",  "normal"};
+    static const std::vector<std::string> names{"final",       "direct",       "forward",
+                                                "backscatter", "transmission", "depth",
+                                                "normal",      "snow",         "snow_id"};
     return names;
 }
 

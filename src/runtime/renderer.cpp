@@ -36,6 +36,11 @@ struct Renderer::State {
         // An asset baked through a port renders only through that port; a pinhole asset
         // renders through any (PortBackscatter's approximate lookup).
         check_port(a, settings.port, true);
+        if (settings.port && settings.snow)
+            throw ConfigError(
+                "--snow: marine snow through a port is not built yet (particles are drawn in "
+                "the input's pinhole pixels; docs/ports.md)");
+        if (settings.snow) snow.emplace(*settings.snow, a.info.rig, water);
         if (settings.port) {
             // Checked and traced now: a port that shows nothing of the frames is refused
             // before any frame is read.
@@ -103,6 +108,25 @@ struct Renderer::State {
     std::unique_ptr<BackscatterSource> backscatter;
     std::unique_ptr<Compositor> compositor_;
     Image depth;  ///< a depth view's pixels, planar
+    std::optional<MarineSnow> snow;
+
+    /// Adds the snow to the layers of a frame composited with `set` over planar `zdepth`.
+    void add_snow(Layers& dst, const Image& zdepth, LayerSet set) {
+        if (!snow) return;
+        if (set == LayerSet::All) {
+            dst.snow = Image(camera.width, camera.height, 3);
+            dst.snow_id = Image(camera.width, camera.height, 1);
+            snow->draw(camera, zdepth, dst.final, &dst.snow, &dst.snow_id);
+        } else {
+            snow->draw(camera, zdepth, dst.final, nullptr, nullptr);
+        }
+    }
+
+    /// With snow, a FinalRows render composites the whole image first, adds the snow, then
+    /// hands over the rows.
+    static void hand_over(const Image& final, const FinalRows& rows) {
+        for (int v = 0; v < final.height; ++v) rows(v, final.row(v));
+    }
 };
 
 Renderer::Renderer(const Asset& asset, RenderSettings settings)
@@ -114,21 +138,41 @@ Renderer::Renderer(Renderer&&) noexcept = default;
 void Renderer::render(Layers& dst, const ColorView& color, const DepthView& depth, LayerSet set) {
     const ColorView c = checked(color, "colour view");
     m->prepare(c, checked(depth, "depth view")).composite(dst, c, m->depth, set);
+    m->add_snow(dst, m->depth, set);
 }
 
 void Renderer::render(Layers& dst, const ColorView& color, const DepthView& depth,
                       const FinalRows& rows) {
     const ColorView c = checked(color, "colour view");
+    if (m->snow) {
+        m->prepare(c, checked(depth, "depth view")).composite(dst, c, m->depth, LayerSet::Final);
+        m->add_snow(dst, m->depth, LayerSet::Final);
+        State::hand_over(dst.final, rows);
+        return;
+    }
     m->prepare(c, checked(depth, "depth view")).composite(dst, c, m->depth, rows);
 }
 
 void Renderer::render(Layers& dst, Frame& frame, LayerSet set, DepthKind kind) {
     m->prepare(frame, kind).composite(dst, frame, set);
+    m->add_snow(dst, frame.depth, set);
 }
 
 void Renderer::render(Layers& dst, Frame& frame, const FinalRows& rows, DepthKind kind) {
+    if (m->snow) {
+        m->prepare(frame, kind).composite(dst, frame, LayerSet::Final);
+        m->add_snow(dst, frame.depth, LayerSet::Final);
+        State::hand_over(dst.final, rows);
+        return;
+    }
     m->prepare(frame, kind).composite(dst, frame, rows);
 }
+
+void Renderer::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose) {
+    if (m->snow) m->snow->set_frame(frame_key, pose);
+}
+
+int Renderer::snow_drawn() const { return m->snow ? m->snow->drawn() : 0; }
 
 const Camera& Renderer::camera() const {
     if (m->camera.width > 0) return m->camera;

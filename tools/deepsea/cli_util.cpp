@@ -337,4 +337,18 @@ void Progress::finish() {
     if (m_tty) std::fprintf(stderr, "\n");
 }
 
+std::optional<SnowSettings> snow_settings(const std::string& preset, std::uint64_t seed,
+                                          const std::optional<CameraModel>& model) {
+    if (preset == "off") return std::nullopt;
+    SnowSettings s;
+    s.snow = snow_preset(preset, "--snow");
+    s.seed = seed;
+    const CameraModel m = model ? *model : CameraModel{};
+    s.f_number = m.lens.f_number;
+    s.pixel_pitch_um = m.sensor.pixel_pitch_um;
+    s.focus_distance_m = m.lens.focus_distance_m;
+    validate(s);
+    return s;
+}
+
 }  // namespace deepsea::cli

@@ -13,6 +13,7 @@
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/runtime/marine_snow.h"
 
 namespace deepsea::cli {
 
@@ -21,6 +22,12 @@ namespace deepsea::cli {
 /// prefix finds its own); for the program where the build put it, the source tree's
 /// volumes/demo.yaml.
 std::string default_demo_config();
+
+/// Marine snow from `--snow PRESET|off` (unset for off; ConfigError naming --snow for an
+/// unknown preset), its seed and the lens (the camera model's where given, else the default
+/// lens: f-number, pixel pitch, focus distance).
+std::optional<SnowSettings> snow_settings(const std::string& preset, std::uint64_t seed,
+                                          const std::optional<CameraModel>& model);
 
 /// --threads: worker threads, 0 (the default) for all cores; "must be an integer >= 0"
 /// otherwise. Every command that computes adds it through here.

@@ -196,6 +196,41 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
     return cases;
 }
 
+/// Marine snow alone (MarineSnow::draw: placing, lighting and drawing the particles into the
+/// image) at each preset's density, on the flight's first frame, the camera moving along the
+/// flight from one run to the next (particles fixed in the world).
+std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchArgs& a,
+                            int threads) {
+    std::vector<Case> cases;
+    FlightParams flight;
+    flight.camera = cam;
+    const Frame frame = render_flight_frame(flight, 0);
+    for (const std::string& preset : snow_preset_names()) {
+        const std::string name = "snow-" + preset;
+        if (!wanted(a.cases, name)) continue;
+        SnowSettings s;
+        s.snow = snow_preset(preset);
+        MarineSnow snow(s, asset.info.rig, asset.info.water);
+        Image final(cam.width, cam.height, 3);
+        std::vector<double> t, cpu;
+        long particles = 0;
+        for (int r = 0; r <= a.repeats; ++r) {
+            const FlightPose p = flight_pose(flight, r);
+            snow.set_frame(std::uint64_t(r), CameraPose{p.origin, p.right, p.down, p.forward});
+            const double t0 = now_ms(), c0 = cpu_ms();
+            snow.draw(cam, frame.depth, final, nullptr, nullptr);
+            if (r == 0) continue;  // the first run allocates
+            t.push_back(now_ms() - t0);
+            cpu.push_back(cpu_ms() - c0);
+            particles += snow.drawn();
+        }
+        detail("%s: %ld particles drawn per frame on average\n", name.c_str(),
+               particles / std::max(a.repeats, 1));
+        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
+    }
+    return cases;
+}
+
 /// A temporary folder for generated files, removed with everything in it at the end.
 struct TempFolder {
     fs::path dir;
@@ -338,8 +373,8 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
                                depth = tmp.dir / ("in" + k + ".exr");
                 if (!fs::exists(rgb)) fs::copy_file(tmp.dir / ("f" + g + ".png"), rgb);
                 if (!fs::exists(depth)) fs::copy_file(tmp.dir / ("f" + g + "_depth.exr"), depth);
-                jobs.push_back(
-                    {rgb.string(), depth.string(), (tmp.dir / "out" / (k + ext)).string(), ""});
+                jobs.push_back({rgb.string(), depth.string(),
+                                (tmp.dir / "out" / (k + ext)).string(), "", std::nullopt});
             }
             SequenceOptions opt;
             opt.forward = !a.no_forward;
@@ -393,6 +428,7 @@ void run(const BenchArgs& a) {
         if (wanted(a.cases, "stage")) {
             for (Case& c : time_stages(asset, cam, a, threads)) cases.push_back(c);
         }
+        for (Case& c : time_snow(asset, cam, a, threads)) cases.push_back(c);
         for (Case& c : time_camera(asset, cam, a, threads)) cases.push_back(c);
         for (Case& c : time_sequences(asset, cam, a, threads, setup.camera_model))
             cases.push_back(c);
@@ -444,12 +480,13 @@ void setup_bench(CLI::App& sub) {
     sub.add_option("--scattering", a->scattering,
                    "single | multiple: the asset's scattering (multiple adds the lamps' "
                    "scattered light per pixel)");
-    sub.add_option("--cases", a->cases,
-                   "comma-separated prefixes of the cases to run: composite (composite, "
-                   "composite_final_only, each also -shadows: with lamp shadows), stage, camera "
-                   "(camera, camera-layers, camera-codes, camera-lens), sequence-png, "
-                   "sequence-jpeg (each also "
-                   "-camera: with the setup's camera stage)");
+    sub.add_option(
+        "--cases", a->cases,
+        "comma-separated prefixes of the cases to run: composite (composite, "
+        "composite_final_only, each also -shadows: with lamp shadows), snow (snow-abyssal, "
+        "snow-nepheloid, snow-plume: marine snow alone), stage, camera "
+        "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
+        "also -camera: with the setup's camera stage)");
     sub.add_flag("--json", a->json, "print JSON for scripts");
     sub.callback([a] { run(*a); });
 }

@@ -29,6 +29,7 @@ struct DemoArgs {
     int frames = 8;
     std::uint64_t seed = 1;
     std::string scattering = "multiple";
+    std::string snow = "abyssal";
     int threads = 0;
 };
 
@@ -84,6 +85,8 @@ void run(const DemoArgs& a) {
         j.depth = (input / (std::string(name) + "_depth.exr")).string();
         j.output = (frames / (std::string(name) + ".png")).string();
         j.layers = (layers / (std::string(name) + ".exr")).string();
+        const FlightPose pose = flight_pose(flight, i);  // the snow stays in the world
+        j.pose = CameraPose{pose.origin, pose.right, pose.down, pose.forward};
         write_color(j.rgb, f.rgb);
         write_depth_exr(j.depth, f.depth);
         jobs.push_back(j);
@@ -99,6 +102,8 @@ void run(const DemoArgs& a) {
     // the lamps' shadows: what marks a deep-sea photograph (not built through a port)
     opt.shadows = !setup.port;
     opt.port = setup.port;  // rendered through it, as baked
+    // and the lit particles (not built through a port either)
+    if (!setup.port) opt.snow = snow_settings(a.snow, a.seed, setup.camera_model);
     Progress bar("render", a.frames);
     opt.on_frame = frame_lines();
     opt.progress = [&](long done, long) {
@@ -123,6 +128,7 @@ void run(const DemoArgs& a) {
         SequenceOptions cam;
         cam.shadows = !setup.port;
         cam.port = setup.port;
+        cam.snow = opt.snow;
         cam.camera_model = setup.camera_model;
         cam.layer_output.camera = true;
         Progress cam_bar("camera", a.frames);
@@ -171,6 +177,8 @@ void setup_demo(CLI::App& sub) {
     sub.add_option("--seed", a->seed, "seafloor seed");
     sub.add_option("--scattering", a->scattering,
                    "the asset's water light: multiple (all orders) or single (the paper's model)");
+    sub.add_option("--snow", a->snow,
+                   "marine snow: abyssal (the default), nepheloid, plume or off");
     add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }

@@ -23,6 +23,8 @@ struct RenderArgs {
     std::string asset, rgb, depth_path, output, layers, exposure, camera;
     std::string layer_set = "all", format;
     bool resume = false, no_forward = false, half = false, shadows = false;
+    std::string snow = "off";
+    std::uint64_t snow_seed = 1;
     int bits = 8;
     int threads = 0;
     ShardFlags shard;
@@ -79,6 +81,11 @@ void run(const RenderArgs& a) {
         throw ConfigError("--exposure: " + a.camera +
                           " records the frames with a camera (lens, sensor, processing), whose "
                           "exposure is camera.sensor's exposure_time_ms and gain");
+    opt.snow = snow_settings(a.snow, a.snow_seed, opt.camera_model);
+    if (opt.snow && opt.port)
+        throw ConfigError(
+            "--snow: marine snow through a port is not built yet (particles are "
+            "drawn in the input's pinhole pixels; docs/ports.md)");
     opt.layer_output.camera = opt.camera_model.has_value();
     opt.layer_output.names = parse_layer_set(a.layer_set, opt.layer_output.camera);
     opt.layer_output.half = a.half;
@@ -171,7 +178,8 @@ void setup_render(CLI::App& sub) {
         "");
     sub.add_option("--layer-set", a->layer_set,
                    "layers the --layers files hold, comma-separated: final, direct, forward, "
-                   "backscatter, transmission, depth, normal, with a camera stage raw, "
+                   "backscatter, transmission, depth, normal, with --snow snow, snow_id, with a "
+                   "camera stage raw, "
                    "linear_dn, noise_free, or all")
         ->check(layer_names);
     sub.add_flag("--half", a->half, "write the --layers files in half floats (16 bits)");
@@ -196,6 +204,13 @@ void setup_render(CLI::App& sub) {
     sub.add_flag("--shadows", a->shadows,
                  "lamp shadows from the depth map, penumbrae from each lamp's radius "
                  "(docs/model.md, \"Lamp shadows\"); off by default, as in the paper's model");
+    sub.add_option("--snow", a->snow,
+                   "marine snow lit by the lamps (docs/model.md, \"Marine snow\"): a preset, "
+                   "abyssal, nepheloid or plume, or off (the default); adds the layers snow and "
+                   "snow_id");
+    sub.add_option("--snow-seed", a->snow_seed,
+                   "seed of the marine snow's particles (same seed, same particles)")
+        ->default_str("1");
     add_threads(sub, a->threads);
     sub.callback([a] { run(*a); });
 }

@@ -4,8 +4,11 @@
 /// files, before any work and without creating anything.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "deepsea/optics/snow.h"
 
 namespace deepsea {
 
@@ -14,6 +17,8 @@ struct FrameJob {
     std::string rgb, depth;
     std::string output;  ///< exposed image (PNG/JPEG/TIFF/EXR)
     std::string layers;  ///< multi-layer EXR
+    /// The camera's pose (camera to world), where known: marine snow stays fixed in the world.
+    std::optional<CameraPose> pose;
 };
 
 /// The frame's key for a camera's noise (camera_stage.h): FNV-1a (core/hash.h) of the colour

@@ -18,6 +18,7 @@
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/port.h"
 #include "deepsea/runtime/exposure.h"
+#include "deepsea/runtime/marine_snow.h"
 
 namespace deepsea {
 
@@ -27,6 +28,9 @@ struct SequenceOptions {
     Exposure exposure;     ///< auto: chosen on the first frame composited, then kept (no flicker)
     bool forward = true;   ///< forward scatter, if the asset's water defines it
     bool shadows = false;  ///< lamp shadows from the depth map (docs/model.md)
+    /// Marine snow (docs/model.md): unset, none. Each frame's key is frame_key(job), its pose
+    /// the job's.
+    std::optional<SnowSettings> snow;
     /// Skip frames whose outputs are complete (non-empty and decoding fully); with manifests,
     /// continue the sequence they record (its exposure) or refuse (check_resumable).
     bool resume = false;

@@ -51,6 +51,11 @@ struct SequenceManifest {
     bool half = false;                 ///< half-float layers (--half)
     bool forward = true;               ///< forward scatter on
     bool shadows = false;              ///< lamp shadows on (absent from older manifests: off)
+    /// Marine snow: its preset ("off": none; absent from older manifests: off), the seed of
+    /// its particles and the lens's focus distance (metres).
+    std::string snow = "off";
+    std::uint64_t snow_seed = 0;
+    double focus_distance_m = 0;
     std::string depth_kind = "z", depth_channel;
     double depth_scale = 0.001;
     int frames_total = 0;

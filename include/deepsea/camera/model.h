@@ -21,6 +21,7 @@
 
 #include "deepsea/core/vec.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/snow.h"
 
 namespace deepsea {
 
@@ -50,6 +51,8 @@ struct Vignetting {
 struct Lens {
     double f_number = 2.8;       ///< N, > 0 (image-space: the lens's focal ratio)
     double transmittance = 0.9;  ///< T in (0, 1]: lens (and port window) transmission
+    /// Distance the lens is focused at, metres, > 0: marine snow's defocus (optics/snow.h).
+    double focus_distance_m = kDefaultFocusDistance;
     Vignetting vignetting;
     Distortion distortion;
 };
@@ -161,8 +164,8 @@ void validate(const CameraModel& model);
 namespace camera_schema {
 inline const std::vector<std::string> kCameraModel = {"lens", "sensor", "processing",
                                                       "auto_exposure"};
-inline const std::vector<std::string> kLens = {"f_number", "transmittance", "vignetting",
-                                               "distortion"};
+inline const std::vector<std::string> kLens = {"f_number", "transmittance", "focus_distance_m",
+                                               "vignetting", "distortion"};
 inline const std::vector<std::string> kVignetting = {"natural", "k1", "k2", "k3"};
 inline const std::vector<std::string> kDistortion = {"k1", "k2", "p1", "p2", "k3"};
 inline const std::vector<std::string> kSensor = {"preset",

@@ -14,7 +14,7 @@ namespace deepsea {
 /// others are then left empty (no memory).
 enum class LayerSet { All, Final };
 
-/// Per-pixel layers of one rendered frame. final = direct + forward + backscatter.
+/// Per-pixel layers of one rendered frame. final = direct + forward + backscatter (+ snow).
 struct Layers {
     Image final;         ///< RGB radiance
     Image direct;        ///< RGB, Lambertian signal of the lamps (D)
@@ -28,6 +28,12 @@ struct Layers {
     /// (the ray leaves the input's view, or passes behind a foreground edge and finds nothing):
     /// those pixels are rendered as open water. docs/ports.md.
     Image mask;
+    /// With marine snow only (else empty; docs/model.md, "Marine snow"): the snow's radiance
+    /// (RGB, also in final) and, 1 channel, the id of the particle that adds most light to each
+    /// pixel (integers 1, 2, ... within the frame; 0: no particle). Ground truth for
+    /// segmentation.
+    Image snow;
+    Image snow_id;
 
     /// Allocates the layers of `set` at width x height (no-op for those already that size)
     /// and frees the others.
@@ -40,7 +46,8 @@ struct Layers {
 using FinalRows = std::function<void(int v, const float* rgb)>;
 
 /// Every layer's name, in the order they are written: final, direct, forward, backscatter,
-/// transmission, depth, normal (and, through a port, mask after them: not in this list).
+/// transmission, depth, normal, snow, snow_id (the last two only where marine snow is on;
+/// through a port, mask after them: not in this list).
 const std::vector<std::string>& layer_names();
 
 }  // namespace deepsea

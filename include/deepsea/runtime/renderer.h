@@ -16,6 +16,7 @@
 #include "deepsea/optics/water.h"
 #include "deepsea/runtime/frame_view.h"
 #include "deepsea/runtime/layers.h"
+#include "deepsea/runtime/marine_snow.h"
 
 namespace deepsea {
 
@@ -34,6 +35,9 @@ struct RenderSettings {
     /// layers gain `mask`. Unset: the pinhole looks into the water. An asset baked through a
     /// port needs the same port (same_rays); a pinhole asset takes any.
     std::optional<Port> port;
+    /// Marine snow (docs/model.md, "Marine snow"): unset, none. With it, final holds the snow
+    /// and LayerSet::All fills the layers snow and snow_id. Not through a port (refused).
+    std::optional<SnowSettings> snow;
 };
 
 /// Renders frames with one asset. Keeps the compositor and its buffers between frames of one
@@ -71,6 +75,13 @@ public:
     void render(Layers& dst, Frame& frame, LayerSet set = LayerSet::All,
                 DepthKind kind = DepthKind::Z);
     void render(Layers& dst, Frame& frame, const FinalRows& rows, DepthKind kind = DepthKind::Z);
+
+    /// The next frames' key and, where known, camera pose (camera to world), for marine snow:
+    /// with a pose its particles stay fixed in the world; without one they are drawn afresh
+    /// for each key. Without a call: key 0, no pose.
+    void set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose = {});
+    /// Marine snow particles drawn in the last frame (0 without snow).
+    int snow_drawn() const;
 
     /// The camera of the last frame's size; before any frame, the settings' or the asset's.
     const Camera& camera() const;

@@ -1,0 +1,116 @@
+#pragma once
+/// \file Marine snow (docs/model.md, "Marine snow"): the particles' size spectrum and number
+/// concentration, the presets, how a particle lit by the rig's lamps looks from the camera, and
+/// the thin-lens circle of confusion that blurs it. Pure functions on plain structs; the
+/// runtime's MarineSnow (runtime/marine_snow.h) places and draws the particles.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "deepsea/core/vec.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/phase.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea {
+
+/// A water's marine snow: particles of diameter D in [d_min, d_max] with the number spectrum
+/// n(D) proportional to D^-slope (a truncated power law, as UVP and camera profiles report
+/// it), `concentration` particles per cubic metre in that range, each scattering a fraction
+/// `albedo` of the light its geometric cross-section pi D^2 / 4 intercepts with the phase
+/// function `phase`.
+struct Snow {
+    std::string name;            ///< the preset's name, or "custom"
+    double concentration = 0.0;  ///< particles per m^3 with D in [d_min, d_max], > 0
+    double d_min_mm = 0.5;       ///< smallest diameter drawn, mm, > 0
+    double d_max_mm = 5.0;       ///< largest, mm, > d_min_mm
+    double slope = 3.5;          ///< b of n(D) ~ D^-b, in [0, 6]
+    double albedo = 0.5;         ///< fraction of the intercepted light scattered, in (0, 1]
+    Phase phase;                 ///< of the scattered light (isotropic by default)
+    /// Particles are placed up to this planar depth (metres, > 0.1) or the scene's surface,
+    /// whichever is nearer: beyond it a particle is a small part of the water's own scattering
+    /// (the backscatter layer), which already holds it.
+    double max_distance_m = 4.0;
+};
+
+/// The default distance a camera's lens is focused at (metres, camera.lens.focus_distance_m):
+/// about where a survey camera sees the seafloor.
+inline constexpr double kDefaultFocusDistance = 2.0;
+
+/// The closest planar depth a particle is placed at, metres: the housing's port.
+inline constexpr double kSnowNearM = 0.1;
+
+/// The presets' names: "abyssal" (clear abyssal water), "nepheloid" (a bottom nepheloid
+/// layer), "plume" (a sediment plume, e.g. behind a collector or a landing), docs/model.md.
+const std::vector<std::string>& snow_preset_names();
+
+/// A preset by name; ConfigError naming `key` ("--snow", "snow") and listing the presets for
+/// an unknown one.
+Snow snow_preset(const std::string& name, const std::string& key = "--snow");
+
+/// Checks every value's range; SchemaError naming "snow.<key>".
+void validate(const Snow& snow);
+
+/// Diameter (metres) at the quantile q in [0, 1) of the truncated power law: the inverse of
+/// its cumulative distribution (slope 1: logarithmic).
+double snow_diameter(const Snow& snow, double q);
+
+/// snow_diameter with its constants computed once: one pow per diameter.
+class SnowSizes {
+public:
+    explicit SnowSizes(const Snow& snow);
+    double operator()(double q) const;
+
+private:
+    double m_a, m_b, m_k, m_ak, m_bk;
+};
+
+/// Volume (m^3) of the pinhole camera's view between planar depths z0 and z1 over the image's
+/// pixels (u in [-0.5, width - 0.5], v likewise): (W / fx) (H / fy) (z1^3 - z0^3) / 3.
+double view_volume(const Camera& camera, double z0, double z1);
+
+/// Volume of the view in front of a depth map (planar z, metres; <= 0 or not finite: open
+/// water), from z_near to min(depth, z_far) per pixel: each pixel's pyramid, (z^3 - z0^3) /
+/// (3 fx fy).
+double visible_volume(const Camera& camera, const std::vector<float>& zdepth, double z_near,
+                      double z_far);
+
+/// The lens for defocus: the camera's focal length in pixels (fx), the pixel pitch, the
+/// f-number and the distance the lens is focused at (planar, metres, in water as seen).
+struct ThinLens {
+    double fx = 600.0;             ///< pixels
+    double pixel_pitch_um = 3.45;  ///< metres per pixel on the sensor, in micrometres
+    double f_number = 2.8;         ///< N
+    double focus_distance_m = kDefaultFocusDistance;  ///< s, > focal length
+
+    double focal_length_m() const { return fx * pixel_pitch_um * 1e-6; }
+};
+
+/// Diameter in pixels of the thin lens's circle of confusion for a point at distance z
+/// (metres): c = A |z - s| / z * f / (s - f) on the sensor, A = f / N the aperture, divided
+/// by the pixel pitch. Zero at z = s.
+double circle_of_confusion_px(const ThinLens& lens, double z);
+
+/// Irradiance (W/m^2 per channel) of lamp L on a small sphere at X (camera frame, metres): the
+/// lamp term I0 RID(theta) exp(-c d1) / d1^2 with no Lambert cosine (optics/lamp.h's
+/// lamp_term with lamp_spread(d1, 1)). Writes the unit vector lamp -> X to w.
+Rgb lamp_irradiance_at(const Light& L, const Water& water, const Vec3& X, Vec3* w = nullptr);
+
+/// Radiance (W/(m^2 sr) per channel) a particle at X sends toward the camera, before the water
+/// between them: albedo sum_l E_l p(psi_l), with E_l lamp_irradiance_at and psi_l the angle
+/// between lamp -> X and X -> camera. Its image, pi D^2 / 4 of projected area, carries this
+/// radiance times transmission(c, |X|).
+Rgb particle_radiance(const Rig& rig, const Water& water, const Snow& snow, const Vec3& X);
+
+/// A camera's pose in a world frame: its centre and the world directions of its axes (OpenCV:
+/// x right, y down, z forward).
+struct CameraPose {
+    Vec3 origin;
+    Vec3 right{1, 0, 0};
+    Vec3 down{0, 1, 0};
+    Vec3 forward{0, 0, 1};
+};
+
+}  // namespace deepsea

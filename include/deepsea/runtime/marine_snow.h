@@ -1,0 +1,88 @@
+#pragma once
+/// \file Marine snow drawn into a frame (docs/model.md, "Marine snow"): particles placed in the
+/// view up to the frame's surfaces, lit by the rig's lamps (optics/snow.h), drawn as discs of
+/// their projected size widened by the lens's circle of confusion.
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "deepsea/core/image.h"
+#include "deepsea/optics/camera.h"
+#include "deepsea/optics/light.h"
+#include "deepsea/optics/snow.h"
+#include "deepsea/optics/water.h"
+
+namespace deepsea {
+
+/// The largest disc radius drawn, pixels: a nearer, more defocused particle is drawn at this
+/// radius (its light kept), so that a frame's work stays bounded.
+inline constexpr double kMaxSnowRadiusPx = 32.0;
+
+/// How marine snow is drawn: which snow, the random numbers' seed and the lens (its focal
+/// length in pixels is the frame camera's fx).
+struct SnowSettings {
+    Snow snow;
+    std::uint64_t seed = 1;
+    double f_number = 2.8;
+    double pixel_pitch_um = 3.45;
+    double focus_distance_m = kDefaultFocusDistance;
+};
+
+/// Checks the snow and the lens values; SchemaError naming the key (snow.*,
+/// camera.lens.focus_distance_m, ...).
+void validate(const SnowSettings& s);
+
+/// One particle in a frame: camera-frame centre (metres), diameter (metres), its instance id.
+struct SnowParticle {
+    Vec3 position;
+    double diameter = 0.0;
+    std::uint32_t id = 0;
+};
+
+/// The particles in the view of `camera` between kSnowNearM and the snow's max_distance_m
+/// (planar depth), before surfaces hide any. Space is cut into cubic cells keyed by their
+/// integer coordinates; a cell holds Poisson(concentration x volume) particles, each placed and
+/// sized by numbers keyed by (seed, cell, index): with a pose, the cells are the world's
+/// (particles fixed in the world, any frame made alone); without one, the camera's, with the
+/// frame key in the key (drawn afresh per frame). Ids are 1, 2, ... in a fixed order.
+std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& camera,
+                                         std::uint64_t frame_key,
+                                         const std::optional<CameraPose>& pose);
+
+/// Radius (pixels) of the disc drawn for a particle of diameter D at camera-frame X: its
+/// projected radius plus half the circle of confusion, at least 0.5 (a pixel), at most
+/// kMaxSnowRadiusPx.
+double snow_disc_radius_px(const Camera& camera, const ThinLens& lens, const Vec3& X, double D);
+
+/// Draws marine snow into frames of one rig and water.
+class MarineSnow {
+public:
+    MarineSnow(SnowSettings settings, const Rig& rig, const Water& water);
+
+    /// The next frame's key and, where known, its camera pose (camera to world).
+    void set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose);
+
+    /// Adds the snow seen by `camera` in front of the planar depth map `zdepth` to `final`
+    /// (RGB radiance); where `snow` and `ids` are given (same size, zeroed by the caller), the
+    /// snow's radiance and, per pixel, the id of the particle that adds most there (0: none).
+    /// A particle whose centre lies behind the surface at its pixel is not drawn; a disc's
+    /// pixels behind their surface get nothing.
+    void draw(const Camera& camera, const Image& zdepth, Image& final, Image* snow,
+              Image* ids) const;
+
+    /// Particles drawn in the last frame.
+    int drawn() const { return m_drawn; }
+    const SnowSettings& settings() const { return m_settings; }
+
+private:
+    SnowSettings m_settings;
+    Rig m_rig;
+    Water m_water;
+    std::uint64_t m_key = 0;
+    std::optional<CameraPose> m_pose;
+    mutable std::vector<float> m_best;  ///< per pixel, the largest contribution so far
+    mutable int m_drawn = 0;
+};
+
+}  // namespace deepsea

@@ -1,0 +1,146 @@
+#include "deepsea/optics/snow.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "deepsea/optics/lamp.h"
+#include "deepsea/optics/schema.h"
+
+namespace deepsea {
+
+namespace {
+
+std::string num(double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+}
+
+void require(bool ok, const std::string& key, const std::string& what, double v) {
+    if (!ok) throw SchemaError("snow." + key, "must be " + what + ", got " + num(v));
+}
+
+/// The presets (docs/model.md, "Marine snow", where each number comes from).
+Snow preset(const std::string& name) {
+    Snow s;
+    s.name = name;
+    if (name == "abyssal") {
+        s.concentration = 200.0;  // 0.2 per litre larger than 0.5 mm
+        s.d_min_mm = 0.5;
+        s.d_max_mm = 5.0;
+        s.slope = 3.5;
+        s.max_distance_m = 4.0;
+    } else if (name == "nepheloid") {
+        s.concentration = 2000.0;  // 2 per litre
+        s.d_min_mm = 0.5;
+        s.d_max_mm = 5.0;
+        s.slope = 3.2;
+        s.max_distance_m = 3.0;
+    } else if (name == "plume") {
+        s.concentration = 5000.0;  // 5 per litre larger than 0.25 mm: sediment flocs
+        s.d_min_mm = 0.25;
+        s.d_max_mm = 3.0;
+        s.slope = 3.0;
+        s.max_distance_m = 2.0;
+    } else {
+        s.concentration = -1.0;
+    }
+    return s;
+}
+
+}  // namespace
+
+const std::vector<std::string>& snow_preset_names() {
+    static const std::vector<std::string> names{"abyssal", "nepheloid", "plume"};
+    return names;
+}
+
+Snow snow_preset(const std::string& name, const std::string& key) {
+    const Snow s = preset(name);
+    if (s.concentration < 0.0) {
+        std::string list;
+        for (const std::string& n : snow_preset_names()) list += (list.empty() ? "" : ", ") + n;
+        throw ConfigError(key + ": unknown marine snow preset '" + name + "' (presets: " + list +
+                          ", or off)");
+    }
+    return s;
+}
+
+void validate(const Snow& s) {
+    require(s.concentration > 0.0 && s.concentration <= 1e6, "concentration",
+            "in (0, 1e6] particles per m^3", s.concentration);
+    require(s.d_min_mm > 0.0 && s.d_min_mm <= 100.0, "d_min_mm", "in (0, 100] mm", s.d_min_mm);
+    require(s.d_max_mm > s.d_min_mm && s.d_max_mm <= 100.0, "d_max_mm",
+            "> d_min_mm and at most 100 mm", s.d_max_mm);
+    require(s.slope >= 0.0 && s.slope <= 6.0, "slope", "in [0, 6]", s.slope);
+    require(s.albedo > 0.0 && s.albedo <= 1.0, "albedo", "in (0, 1]", s.albedo);
+    require(s.max_distance_m > kSnowNearM && s.max_distance_m <= 100.0, "max_distance_m",
+            "in (0.1, 100] metres", s.max_distance_m);
+    if (s.phase.kind == PhaseKind::HenyeyGreenstein)
+        require(std::fabs(s.phase.g) < 1.0, "phase.g", "in (-1, 1)", s.phase.g);
+}
+
+SnowSizes::SnowSizes(const Snow& s)
+    : m_a(s.d_min_mm * 1e-3),
+      m_b(s.d_max_mm * 1e-3),
+      m_k(1.0 - s.slope),  // the CDF goes as D^(1 - slope)
+      m_ak(std::pow(m_a, m_k)),
+      m_bk(std::pow(m_b, m_k)) {}
+
+double SnowSizes::operator()(double q) const {
+    if (std::fabs(m_k) < 1e-9) return m_a * std::pow(m_b / m_a, q);
+    return std::pow(m_ak + q * (m_bk - m_ak), 1.0 / m_k);
+}
+
+double snow_diameter(const Snow& s, double q) { return SnowSizes(s)(q); }
+
+double view_volume(const Camera& c, double z0, double z1) {
+    return (double(c.width) / c.fx) * (double(c.height) / c.fy) * (z1 * z1 * z1 - z0 * z0 * z0) /
+           3.0;
+}
+
+double visible_volume(const Camera& c, const std::vector<float>& zdepth, double z_near,
+                      double z_far) {
+    const double z03 = z_near * z_near * z_near;
+    double sum = 0.0;
+    for (const float d : zdepth) {
+        const double z = (std::isfinite(d) && d > 0.0f) ? std::fmin(double(d), z_far) : z_far;
+        if (z > z_near) sum += z * z * z - z03;
+    }
+    return sum / (3.0 * c.fx * c.fy);
+}
+
+double circle_of_confusion_px(const ThinLens& lens, double z) {
+    const double f = lens.focal_length_m(), s = lens.focus_distance_m;
+    const double aperture = f / lens.f_number;
+    const double c = aperture * std::fabs(z - s) / z * f / (s - f);
+    return c / (lens.pixel_pitch_um * 1e-6);
+}
+
+Rgb lamp_irradiance_at(const Light& L, const Water& water, const Vec3& X, Vec3* w_out) {
+    const Vec3 lx = X - L.position;
+    const double d1 = length(lx);
+    if (!(d1 > 0.0)) return {};
+    const Vec3 w = lx / d1;
+    if (w_out) *w_out = w;
+    const double rid = L.rid(lamp_angle(dot(L.direction, w)));
+    const double spread = lamp_spread(d1, 1.0);  // a sphere faces every lamp
+    return {lamp_term(L.intensity.r, rid, spread, water.c.r, d1),
+            lamp_term(L.intensity.g, rid, spread, water.c.g, d1),
+            lamp_term(L.intensity.b, rid, spread, water.c.b, d1)};
+}
+
+Rgb particle_radiance(const Rig& rig, const Water& water, const Snow& snow, const Vec3& X) {
+    const double d2 = length(X);
+    if (!(d2 > 0.0)) return {};
+    const Vec3 to_camera = X * (-1.0 / d2);
+    Rgb sum;
+    for (const Light& L : rig.lights) {
+        Vec3 w;
+        const Rgb E = lamp_irradiance_at(L, water, X, &w);
+        sum += E * snow.phase(dot(w, to_camera));
+    }
+    return sum * snow.albedo;
+}
+
+}  // namespace deepsea

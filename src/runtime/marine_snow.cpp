@@ -1,0 +1,258 @@
+#include "deepsea/runtime/marine_snow.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "deepsea/core/random.h"
+#include "deepsea/optics/schema.h"
+#include "deepsea/optics/transmission.h"
+
+namespace deepsea {
+
+namespace {
+
+/// Cells hold this many particles on average at most (their edge shrinks in dense snow), so
+/// that Poisson counts by inversion stay short and cells fit the view's edges.
+constexpr double kMaxPerCell = 32.0;
+constexpr double kMaxCell = 0.5;  ///< metres
+/// The random numbers' stream for snow (another stream than any camera noise's).
+constexpr std::uint64_t kSnowStream = 0x736e6f775f706172ull;  // "snow_par"
+
+/// Poisson(lambda) by inversion (Knuth): lambda <= kMaxPerCell keeps exp(-lambda) far above
+/// the smallest double.
+int poisson(double lambda, Rng& rng) {
+    const double limit = std::exp(-lambda);
+    int k = 0;
+    double p = rng.uniform();
+    while (p > limit) {
+        ++k;
+        p *= rng.uniform();
+    }
+    return k;
+}
+
+std::uint64_t pack(long long i, long long j, long long k) {
+    const auto b = [](long long x) { return std::uint64_t(x) & ((1ull << 21) - 1); };
+    return b(i) | (b(j) << 21) | (b(k) << 42);
+}
+
+struct View {
+    double xl, xr, yt, yb;  ///< the image rectangle's edges as x / z and y / z
+    double z0, z1;          ///< planar depth range
+};
+
+/// Whether a sphere (camera-frame centre c, radius r) may meet the view.
+bool may_meet(const View& v, const Vec3& c, double r) {
+    if (c.z < v.z0 - r || c.z > v.z1 + r) return false;
+    if (c.x - v.xl * c.z < -r * std::sqrt(1.0 + v.xl * v.xl)) return false;
+    if (v.xr * c.z - c.x < -r * std::sqrt(1.0 + v.xr * v.xr)) return false;
+    if (c.y - v.yt * c.z < -r * std::sqrt(1.0 + v.yt * v.yt)) return false;
+    if (v.yb * c.z - c.y < -r * std::sqrt(1.0 + v.yb * v.yb)) return false;
+    return true;
+}
+
+Vec3 to_camera(const CameraPose& p, const Vec3& world) {
+    const Vec3 d = world - p.origin;
+    return {dot(d, p.right), dot(d, p.down), dot(d, p.forward)};
+}
+
+}  // namespace
+
+void validate(const SnowSettings& s) {
+    validate(s.snow);
+    if (!(s.focus_distance_m > 0.0) || !(s.focus_distance_m <= 1e4))
+        throw SchemaError(
+            "camera.lens.focus_distance_m",
+            "must be > 0 and at most 10000 metres, got " + std::to_string(s.focus_distance_m));
+    if (!(s.f_number > 0.0)) throw SchemaError("camera.lens.f_number", "must be > 0");
+    if (!(s.pixel_pitch_um > 0.0)) throw SchemaError("camera.sensor.pixel_pitch_um", "must be > 0");
+}
+
+std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& cam,
+                                         std::uint64_t frame_key,
+                                         const std::optional<CameraPose>& pose) {
+    const Snow& snow = s.snow;
+    const View v{cam.ray_x(-0.5), cam.ray_x(cam.width - 0.5),
+                 cam.ray_y(-0.5), cam.ray_y(cam.height - 0.5),
+                 kSnowNearM,      snow.max_distance_m};
+    const CameraPose p = pose ? *pose : CameraPose{};
+    // Without a pose every frame has its own cells: the frame key is part of their key.
+    const std::uint64_t base =
+        mix_seed(s.seed ^ kSnowStream, pose ? 0x706f736564ull : frame_key, pose ? 1 : 2);
+    const double cell = std::min(kMaxCell, std::cbrt(kMaxPerCell / snow.concentration));
+    const double lambda = snow.concentration * cell * cell * cell;
+
+    // The world box of the view's corners, in cells.
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const double z : {v.z0, v.z1})
+        for (const double x : {v.xl, v.xr})
+            for (const double y : {v.yt, v.yb}) {
+                const Vec3 w = p.origin + p.right * (x * z) + p.down * (y * z) + p.forward * z;
+                lo = {std::min(lo.x, w.x), std::min(lo.y, w.y), std::min(lo.z, w.z)};
+                hi = {std::max(hi.x, w.x), std::max(hi.y, w.y), std::max(hi.z, w.z)};
+            }
+    const long long i0 = (long long)std::floor(lo.x / cell),
+                    i1 = (long long)std::floor(hi.x / cell);
+    const long long j0 = (long long)std::floor(lo.y / cell),
+                    j1 = (long long)std::floor(hi.y / cell);
+    const long long k0 = (long long)std::floor(lo.z / cell),
+                    k1 = (long long)std::floor(hi.z / cell);
+    const double r = cell * std::sqrt(3.0) / 2.0;
+
+    // One list per slab of cells (i), joined in order: the same particles at any thread count.
+    std::vector<std::vector<SnowParticle>> slabs(std::size_t(i1 - i0 + 1));
+    tbb::parallel_for(tbb::blocked_range<long long>(i0, i1 + 1), [&](const auto& range) {
+        for (long long i = range.begin(); i != range.end(); ++i) {
+            std::vector<SnowParticle>& out = slabs[std::size_t(i - i0)];
+            for (long long j = j0; j <= j1; ++j)
+                for (long long k = k0; k <= k1; ++k) {
+                    const Vec3 centre{(double(i) + 0.5) * cell, (double(j) + 0.5) * cell,
+                                      (double(k) + 0.5) * cell};
+                    if (!may_meet(v, to_camera(p, centre), r)) continue;
+                    const std::uint64_t key = mix_seed(base, pack(i, j, k));
+                    Rng rng(key);
+                    const int n = poisson(lambda, rng);
+                    for (int q = 0; q < n; ++q) {
+                        Rng pr(mix_seed(key, std::uint64_t(q) + 1));
+                        const Vec3 w{(double(i) + pr.uniform()) * cell,
+                                     (double(j) + pr.uniform()) * cell,
+                                     (double(k) + pr.uniform()) * cell};
+                        const double size_q = pr.uniform();
+                        const Vec3 c = to_camera(p, w);
+                        if (!(c.z >= v.z0 && c.z <= v.z1)) continue;
+                        const double x = c.x / c.z, y = c.y / c.z;
+                        if (x < v.xl || x >= v.xr || y < v.yt || y >= v.yb) continue;
+                        out.push_back({c, size_q, 0});
+                    }
+                }
+        }
+    });
+    std::vector<SnowParticle> all;
+    for (auto& slab : slabs) all.insert(all.end(), slab.begin(), slab.end());
+    const SnowSizes sizes(snow);
+    for (std::size_t q = 0; q < all.size(); ++q) {
+        all[q].id = std::uint32_t(q + 1);
+        all[q].diameter = sizes(all[q].diameter);  // the quantile drawn above
+    }
+    return all;
+}
+
+double snow_disc_radius_px(const Camera& cam, const ThinLens& lens, const Vec3& X, double D) {
+    const double z = X.z, d2 = length(X);
+    // A sphere's image: pi (D/2)^2 fx fy d2 / z^3 pixels (its solid angle over a pixel's).
+    const double area = M_PI * 0.25 * D * D * cam.fx * cam.fy * d2 / (z * z * z);
+    const double radius = std::sqrt(area / M_PI) + 0.5 * circle_of_confusion_px(lens, z);
+    return std::clamp(radius, 0.5, kMaxSnowRadiusPx);
+}
+
+MarineSnow::MarineSnow(SnowSettings settings, const Rig& rig, const Water& water)
+    : m_settings(std::move(settings)), m_rig(rig), m_water(water) {
+    validate(m_settings);
+}
+
+void MarineSnow::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose) {
+    m_key = frame_key;
+    m_pose = pose;
+}
+
+namespace {
+
+/// A particle as drawn: pixel centre, disc radius, the light it brings (radiance times its
+/// image's area in pixels, per channel).
+struct Splat {
+    float u, v, radius;
+    float z;
+    float energy[3];
+    std::uint32_t id;
+};
+
+bool open_water(float z) { return !(z > 0.0f) || !std::isfinite(z); }
+
+}  // namespace
+
+void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Image* snow,
+                      Image* ids) const {
+    const std::vector<SnowParticle> particles = snow_particles(m_settings, cam, m_key, m_pose);
+    const ThinLens lens{cam.fx, m_settings.pixel_pitch_um, m_settings.f_number,
+                        m_settings.focus_distance_m};
+    const int W = cam.width, H = cam.height;
+    std::vector<Splat> splats(particles.size());
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, particles.size(), 256), [&](const auto& range) {
+            for (std::size_t q = range.begin(); q != range.end(); ++q) {
+                const SnowParticle& pt = particles[q];
+                const Vec3& X = pt.position;
+                const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
+                const int iu = std::clamp(int(std::lround(u)), 0, W - 1);
+                const int iv = std::clamp(int(std::lround(v)), 0, H - 1);
+                Splat& s = splats[q];
+                s.id = 0;  // not drawn
+                const float zs = zdepth.at(iu, iv);
+                if (!open_water(zs) && double(zs) <= X.z) continue;  // behind the surface
+                const double d2 = length(X);
+                const Rgb L = particle_radiance(m_rig, m_water, m_settings.snow, X) *
+                              transmission(m_water.c, d2);
+                const double area = M_PI * 0.25 * pt.diameter * pt.diameter * cam.fx * cam.fy * d2 /
+                                    (X.z * X.z * X.z);
+                s = {float(u),
+                     float(v),
+                     float(snow_disc_radius_px(cam, lens, X, pt.diameter)),
+                     float(X.z),
+                     {float(L.r * area), float(L.g * area), float(L.b * area)},
+                     pt.id};
+            }
+        });
+
+    if (ids) m_best.assign(std::size_t(W) * H, 0.0f);
+    int drawn = 0;
+    std::vector<float> cover;
+    for (const Splat& s : splats) {
+        if (s.id == 0) continue;
+        ++drawn;
+        const float R = s.radius;
+        // Every pixel the disc touches, also off the image (so that an edge particle loses
+        // what falls outside): its coverage, linear over the last pixel.
+        const int ua = int(std::floor(s.u - R - 0.5f)), ub = int(std::ceil(s.u + R + 0.5f));
+        const int va = int(std::floor(s.v - R - 0.5f)), vb = int(std::ceil(s.v + R + 0.5f));
+        const int nu = ub - ua + 1;
+        cover.resize(std::size_t(nu) * std::size_t(vb - va + 1));
+        float total = 0.0f;
+        for (int y = va; y <= vb; ++y)
+            for (int x = ua; x <= ub; ++x) {
+                const float dx = float(x) - s.u, dy = float(y) - s.v;
+                const float c = std::clamp(R + 0.5f - std::sqrt(dx * dx + dy * dy), 0.0f, 1.0f);
+                cover[std::size_t(y - va) * nu + (x - ua)] = c;
+                total += c;
+            }
+        if (!(total > 0.0f)) continue;
+        // Normalised over the disc: the particle's light is spread, not multiplied.
+        const float inv = 1.0f / total;
+        for (int y = std::max(va, 0); y <= std::min(vb, H - 1); ++y) {
+            float* f = final.row(y);
+            for (int x = std::max(ua, 0); x <= std::min(ub, W - 1); ++x) {
+                const float w = cover[std::size_t(y - va) * nu + (x - ua)] * inv;
+                if (w <= 0.0f) continue;
+                const float z = zdepth.at(x, y);
+                if (!open_water(z) && z <= s.z) continue;  // this pixel's surface is nearer
+                const float e[3] = {s.energy[0] * w, s.energy[1] * w, s.energy[2] * w};
+                for (int c = 0; c < 3; ++c) f[3 * x + c] += e[c];
+                if (snow)
+                    for (int c = 0; c < 3; ++c) snow->at(x, y, c) += e[c];
+                if (ids) {
+                    float& best = m_best[std::size_t(y) * W + x];
+                    const float sum = e[0] + e[1] + e[2];
+                    if (sum > best) {
+                        best = sum;
+                        ids->at(x, y) = float(s.id);
+                    }
+                }
+            }
+        }
+    }
+    m_drawn = drawn;
+}
+
+}  // namespace deepsea
