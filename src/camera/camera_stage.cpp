@@ -168,17 +168,9 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics,
                         }
                     }
                 }
-                const std::uint32_t base = noise_counter(w, 0, v, 0);
-                for (std::size_t i = 0; i < n && prnu > 0.0; ++i) {
-                    const double z =
-                        normal_from_bits<double>(noise_bits(prnu_key, base + std::uint32_t(i)));
-                    row[i] = float(std::max(0.0, row[i] * (1.0 + prnu * z)));
-                }
-                if (!dsnu) continue;
-                float* d = dsnu.get() + stride * v;
-                for (std::size_t i = 0; i < n; ++i)
-                    d[i] = float(s.dsnu * normal_from_bits<double>(
-                                              noise_bits(dsnu_key, base + std::uint32_t(i))));
+                camera_rows::fixed_pattern_row(prnu_key, dsnu_key, noise_counter(w, 0, v, 0),
+                                               int(n), float(prnu), float(s.dsnu), row,
+                                               dsnu ? dsnu.get() + stride * v : nullptr);
             }
         },
         Parallel().or_grain(8));

@@ -188,8 +188,7 @@ template <bool kLinear, bool kMosaic>
         raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), max_dn);
         if constexpr (kLinear) linear[i] = dn;
         mean_out[i] = mean;
-        std::int32_t slow =
-            mean < poisson_below || mean + kClipReach * sigma >= fw || w >= 5.0f;
+        std::int32_t slow = mean < poisson_below || mean + kClipReach * sigma >= fw || w >= 5.0f;
         if constexpr (kMosaic) slow &= record[i];
         flag[i] = slow;
         exact += slow;
@@ -236,6 +235,24 @@ void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
     if (!b.record) return;
     mask(b.record, n, b.raw);
     if (p.keep_linear) mask(b.record, n, b.linear);
+}
+
+DEEPSEA_CAMERA_CLONES
+void fixed_pattern_row(NoiseKey prnu_key, NoiseKey dsnu_key, std::uint32_t base, int n, float prnu,
+                       float dsnu, float* response, float* dsnu_out) {
+    float* __restrict r = response;
+    float* __restrict d = dsnu_out;
+    if (prnu > 0.0f) {
+#pragma omp simd
+        for (int i = 0; i < n; ++i) {
+            const float z = normal_from_bits<float>(noise_bits(prnu_key, base + std::uint32_t(i)));
+            r[i] = max_of(0.0f, r[i] * (1.0f + prnu * z));
+        }
+    }
+    if (!d) return;
+#pragma omp simd
+    for (int i = 0; i < n; ++i)
+        d[i] = dsnu * normal_from_bits<float>(noise_bits(dsnu_key, base + std::uint32_t(i)));
 }
 
 DEEPSEA_CAMERA_CLONES

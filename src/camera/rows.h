@@ -91,6 +91,12 @@ void noise_free_row(const SensorParams& p, int n, const float* radiance, const f
 void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp[3], int pixels,
               float* gain);
 
+/// The camera's fixed patterns for n values from noise counter `base` on (a row): PRNU scales
+/// `response` by max(0, 1 + prnu z) (prnu 0: untouched), and `dsnu_out` (null: none) gets
+/// dsnu z, each z a standard normal from its stream (normal_from_bits<float>).
+void fixed_pattern_row(NoiseKey prnu_key, NoiseKey dsnu_key, std::uint32_t base, int n, float prnu,
+                       float dsnu, float* response, float* dsnu_out);
+
 /// What the processing kernel needs (per-channel scales come as a row, `scale`).
 struct ProcessParams {
     float black = 0;
