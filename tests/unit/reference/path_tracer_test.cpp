@@ -2,10 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "deepsea/core/error.h"
 #include "deepsea/reference/reference.h"
@@ -100,6 +102,17 @@ std::pair<double, double> image_sum(const Image& img, const Image& se, int ch) {
     return {sum, std::sqrt(var)};
 }
 
+/// The median over pixels of b's standard error over a's, channel ch: robust to the few pixels
+/// whose error estimate a heavy-tailed sample has thrown far off.
+double median_error_ratio(const Image& se_a, const Image& se_b, int ch) {
+    std::vector<double> r;
+    for (int v = 0; v < se_a.height; ++v)
+        for (int u = 0; u < se_a.width; ++u)
+            if (se_a.at(u, v, ch) > 0.0) r.push_back(se_b.at(u, v, ch) / se_a.at(u, v, ch));
+    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+    return r[r.size() / 2];
+}
+
 TEST(PathTracer, StandardErrorShrinksAsOneOverSquareRootOfPaths) {
     // Single scattering: a bounded estimator, so four times the paths halve every error.
     {
@@ -113,8 +126,10 @@ TEST(PathTracer, StandardErrorShrinksAsOneOverSquareRootOfPaths) {
     }
     // All orders, in clear water (HG 0.9, a plane at 3 m): the water light's error halves as
     // well. Paths that pass close to a lamp make the surface layers' errors (and their own
-    // estimates) heavy-tailed at a few hundred paths (docs/reference.md), so the final image's
-    // bar is wider; the two runs agree within their errors.
+    // estimates) heavy-tailed at a few hundred paths (docs/reference.md): a few pixels' error
+    // estimates can be far off (they differ between compilers' floating point), so the final
+    // image's errors are compared pixel by pixel, by the median ratio; the two runs agree
+    // within their errors.
     const Camera cam = testing::camera(8, 6);
     const testing::Scene scene = testing::plane(cam, 3.0, 0.1, 0.0);
     const Water clear = testing::hg_water({0.49, 0.2, 0.18}, {0.11, 0.12, 0.14}, 0.9);
@@ -132,9 +147,15 @@ TEST(PathTracer, StandardErrorShrinksAsOneOverSquareRootOfPaths) {
         EXPECT_NEAR(wb.second / wa.second, 0.5, 0.25) << "channel " << ch;
         const auto sa = image_sum(a.layers.final, a.std_error.final, ch);
         const auto sb = image_sum(b.layers.final, b.std_error.final, ch);
-        std::printf("channel %d: final %.5g +- %.2g %% (256 paths), %.5g +- %.2g %% (1024)\n", ch,
-                    sa.first, 100.0 * sa.second / sa.first, sb.first, 100.0 * sb.second / sb.first);
-        EXPECT_LT(sb.second / sa.second, 0.8) << "channel " << ch;
+        std::printf(
+            "channel %d: final %.5g +- %.2g %% (256 paths), %.5g +- %.2g %% (1024); per pixel, "
+            "errors x %.2f\n",
+            ch, sa.first, 100.0 * sa.second / sa.first, sb.first, 100.0 * sb.second / sb.first,
+            median_error_ratio(a.std_error.final, b.std_error.final, ch));
+        // 0.5 for a bounded estimator; 256 paths miss some of the tail, so a little above.
+        const double shrink = median_error_ratio(a.std_error.final, b.std_error.final, ch);
+        EXPECT_GT(shrink, 0.3) << "channel " << ch;
+        EXPECT_LT(shrink, 0.8) << "channel " << ch;
         EXPECT_LE(std::fabs(sa.first - sb.first), 4.0 * std::hypot(sa.second, sb.second));
     }
 }
