@@ -35,12 +35,23 @@ template <class T>
 struct Marcher {
     const Image& inv;
     const PortMarch<T>& ray;
+    SurfaceTapsT<T>& taps;  ///< the taps of the refinement's last probe,
+    T& taps_s;              ///< at this s
 
     Probe<T> at(T s) const {
         T inv_z;
         const int count =
             taps_at<T, false>(inv, ray.u_inf + ray.du * s, ray.v_inf + ray.dv * s, inv_z, nullptr);
         return {s, s - inv_z, inv_z, count};
+    }
+
+    /// at(s) that also writes its taps to `taps` (in place: a struct assembled and then copied
+    /// stalls the loads that read it).
+    Probe<T> at_with_taps(T s) const {
+        taps.count = taps_at<T, true>(inv, ray.u_inf + ray.du * s, ray.v_inf + ray.dv * s,
+                                      taps.inv_z, &taps);
+        taps_s = s;
+        return {s, s - taps.inv_z, taps.inv_z, taps.count};
     }
 
     /// The crossing between a (in front) and b (behind, b.s < a.s): Illinois steps (bisection
@@ -54,7 +65,7 @@ struct Marcher {
         for (int it = 0; it < 200 && b.h != 0; ++it) {
             T s = a.open() ? T(0.5) * (a.s + b.s) : (a.s * b.h - b.s * a.h) / (b.h - a.h);
             if (!(s < a.s && s > b.s)) s = T(0.5) * (a.s + b.s);
-            const Probe<T> c = at(s);
+            const Probe<T> c = at_with_taps(s);
             if (c.front()) {
                 a = c;
                 if (side == 1) b.h *= T(0.5);
@@ -101,7 +112,8 @@ PortCrossing<T> march_port_ray(const Image& inv, const PortMarch<T>& ray, T s_ne
     hi = std::min(hi, ray.s_hi);
     const T lo = ray.s_lo;
     if (!(lo <= hi)) return hit;  // never inside the input's view
-    const port_detail::Marcher<T> m{inv, ray};
+    T taps_s = -1;  // (s >= 0: no probe yet)
+    const port_detail::Marcher<T> m{inv, ray, hit.taps, taps_s};
     // (the hit is written in place: a struct assembled and then copied stalls the loads)
     const auto surface = [&](T s) {
         hit.kind = PortHitKind::Surface;
@@ -142,6 +154,14 @@ PortCrossing<T> march_port_ray(const Image& inv, const PortMarch<T>& ray, T s_ne
             bool continuous = false;
             const Probe x = m.refine(prev, cur, continuous);
             if (continuous) {
+                if (x.s == taps_s) {
+                    // the crossing is the refinement's last probe: its taps are in place
+                    hit.kind = PortHitKind::Surface;
+                    hit.s = x.s;
+                    hit.u = ray.u_inf + ray.du * x.s;
+                    hit.v = ray.v_inf + ray.dv * x.s;
+                    return hit;
+                }
                 surface(x.s);
                 return hit;
             }
