@@ -68,8 +68,8 @@ template <class T>
 struct SurfaceTapsT {
     int count = 0;  ///< 4 (bilinear), 1 (nearest) or 0 (the nearest pixel is open water)
     int x[4] = {}, y[4] = {};
-    T w[4] = {};    ///< weights, summing to 1
-    T inv_z = 0;    ///< the interpolated inverse planar depth 1 / z (0: open water)
+    T w[4] = {};  ///< weights, summing to 1
+    T inv_z = 0;  ///< the interpolated inverse planar depth 1 / z (0: open water)
 };
 using SurfaceTaps = SurfaceTapsT<double>;
 
@@ -146,8 +146,8 @@ enum class PortHitKind {
 template <class T>
 struct PortCrossing {
     PortHitKind kind = PortHitKind::Unseen;
-    T s = 0, u = 0, v = 0;   ///< (Surface)
-    SurfaceTapsT<T> taps;    ///< the input pixels at (u, v) (Surface)
+    T s = 0, u = 0, v = 0;  ///< (Surface)
+    SurfaceTapsT<T> taps;   ///< the input pixels at (u, v) (Surface)
 };
 
 /// A ray's hit: where on the input image, at what planar depth, how far along the ray.

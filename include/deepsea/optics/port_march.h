@@ -112,7 +112,8 @@ PortCrossing<T> march_port_ray(const Image& inv, const PortMarch<T>& ray, T s_ne
     hi = std::min(hi, ray.s_hi);
     const T lo = ray.s_lo;
     if (!(lo <= hi)) return hit;  // never inside the input's view
-    T taps_s = -1;  // (s >= 0: no probe yet)
+    // the s of the refinement's last probe, whose taps are in hit.taps (-1: none yet)
+    T taps_s = -1;
     const port_detail::Marcher<T> m{inv, ray, hit.taps, taps_s};
     // (the hit is written in place: a struct assembled and then copied stalls the loads)
     const auto surface = [&](T s) {

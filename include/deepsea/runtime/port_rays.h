@@ -43,8 +43,8 @@ public:
     /// What optics' march_port_ray takes of the ray, in float (the compositor's rows).
     PortMarch<float> march(int u, int v) const {
         const Ray& r = ray(u, v);
-        return {float(u) + r.u_inf, float(v) + r.v_inf, r.du, r.dv, r.s_origin, r.s_lo,
-                r.s_hi,             r.rate};
+        return {
+            float(u) + r.u_inf, float(v) + r.v_inf, r.du, r.dv, r.s_origin, r.s_lo, r.s_hi, r.rate};
     }
     /// Where pixel (u, v)'s ray meets the frame's surface, given its inverse planar depth
     /// (optics' inverse_depth) and nearest surface depth z_near (+inf: no surface): the float
