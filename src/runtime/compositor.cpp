@@ -183,9 +183,8 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     if (port) {
         // The frame in input pixels: its normals and linear colour, which the rays' hits take.
         z_near = nearest_surface(depth);
-        if (m_in_normal.width != W || m_in_normal.height != H) {
-            m_in_normal = Image(W, H, 3);
-            m_in_color = Image(W, H, 3);
+        if (m_in_surface.width != W || m_in_surface.height != H) {
+            m_in_surface = Image(W, H, kPortSurfaceChannels);
             m_inv_depth = Image(W, H, 1);
         }
         tbb::parallel_for(0, H, [&](int v) {
@@ -194,14 +193,19 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             back_project_row(W, depth.row(v), m_rx.data(), float(cam.ray_y(v)), s.x.data(),
                              s.y.data(), s.z.data());
             row_normals(cam, depth, v, m_rx.data(), s);
-            float* N = m_in_normal.row(v);
-            for (int u = 0; u < W; ++u) {
-                N[3 * u] = s.nx[u];
-                N[3 * u + 1] = s.ny[u];
-                N[3 * u + 2] = s.nz[u];
-            }
             const float* J = color_row(color, v, s.color);
-            std::copy(J, J + 3 * std::size_t(W), m_in_color.row(v));
+            float* S = m_in_surface.row(v);
+            for (int u = 0; u < W; ++u) {
+                float* p = S + std::size_t(u) * kPortSurfaceChannels;
+                p[0] = s.nx[u];
+                p[1] = s.ny[u];
+                p[2] = s.nz[u];
+                p[3] = 0.0f;
+                p[4] = J[3 * u];
+                p[5] = J[3 * u + 1];
+                p[6] = J[3 * u + 2];
+                p[7] = 0.0f;
+            }
             float* inv = m_inv_depth.row(v);
             for (int u = 0; u < W; ++u) inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
         });
@@ -218,7 +222,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         s.fit(W);
         const float* J;
         if (port) {
-            port_row(*m_port, v, m_inv_depth, m_in_normal, m_in_color, z_near,
+            port_row(*m_port, v, m_inv_depth, m_in_surface, z_near,
                      {s.x.data(), s.y.data(), s.z.data(), s.t.data(), s.nx.data(), s.ny.data(),
                       s.nz.data(), s.j.data(), s.mask.data()});
             J = s.j.data();

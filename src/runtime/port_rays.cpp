@@ -27,6 +27,7 @@ PortRays::PortRays(const Port& port, const Camera& camera)
             Ray& f = m_rays[std::size_t(v) * camera.width + u];
             const Vec3& d = r.direction[1];
             const RayProjection p = r.valid() ? project_ray(camera, r.origin, d) : RayProjection{};
+            const PortMarch<double> m = port_march(camera, p);
             f = {float(r.origin.x),
                  float(r.origin.y),
                  float(r.origin.z),
@@ -37,7 +38,10 @@ PortRays::PortRays(const Port& port, const Camera& camera)
                  float(p.v_inf - v),
                  float(p.du),
                  float(p.dv),
-                 p.forward ? float(std::min(p.s_origin, 1e30)) : 0.0f};
+                 p.forward ? float(std::min(p.s_origin, 1e30)) : 0.0f,
+                 float(m.s_lo),
+                 float(m.s_hi),
+                 float(m.rate)};
             if (r.valid() && sees_input(camera, p)) ++row_seeing;
             const Rgb k = port_radiance_factor(port, r);
             for (int c = 0; c < 3; ++c) m_factor.at(u, v, c) = float(k[c]);
@@ -73,8 +77,22 @@ RayProjection PortRays::projection(int u, int v) const {
 
 PortHit PortRays::hit(int u, int v, const Image& inv_depth, double z_near) const {
     const Ray& r = ray(u, v);
-    return find_port_hit(m_camera, inv_depth, projection(u, v), Vec3(r.ox, r.oy, r.oz),
-                         Vec3(r.dx, r.dy, r.dz), z_near);
+    const PortCrossing<float> c = march_port_ray(inv_depth, march(u, v), float(1.001 / z_near));
+    PortHit h;
+    h.kind = c.kind;
+    if (c.kind != PortHitKind::Surface) return h;
+    h.z = 1.0f / c.s;
+    h.t = float((float(h.z) - r.oz) / r.dz);
+    h.u = c.u;
+    h.v = c.v;
+    h.taps.count = c.taps.count;
+    for (int i = 0; i < 4; ++i) {
+        h.taps.x[i] = c.taps.x[i];
+        h.taps.y[i] = c.taps.y[i];
+        h.taps.w[i] = c.taps.w[i];
+    }
+    h.taps.inv_z = c.taps.inv_z;
+    return h;
 }
 
 double nearest_surface(const Image& depth) {

@@ -421,7 +421,8 @@ void run(const BenchArgs& a) {
         Water water = *setup.water;
         if (a.no_forward) water.forward.enabled = false;
         const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
-        if (std::any_of(std::begin(kCompositeCases), std::end(kCompositeCases),
+        if (wanted(a.cases, "composite_flat_port") ||
+            std::any_of(std::begin(kCompositeCases), std::end(kCompositeCases),
                         [&](const char* n) { return wanted(a.cases, n); })) {
             for (Case& c : time_compositor(asset, cam, a, threads)) cases.push_back(c);
         }

@@ -3,11 +3,17 @@
 /// describes (docs/ports.md, "Where a refracted ray meets the scene"). The input RGB-D is a
 /// pinhole view from the camera centre; a ray through a port starts on the port's outer surface
 /// and runs in another direction, so its hit is found by marching its projection through the
-/// depth image. Pure geometry on a depth image: the runtime and the tests share it.
+/// depth image. Pure geometry on a depth image, templated on the number type: the runtime's rows
+/// march in float (runtime/port_warp.cpp), find_port_hit in double, with the same code.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "deepsea/core/image.h"
 #include "deepsea/core/vec.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/normals.h"
 
 namespace deepsea {
 
@@ -39,27 +45,93 @@ inline constexpr double kPortViewNear = 0.1;
 /// something of what it meets.
 bool sees_input(const Camera& input, const RayProjection& ray);
 
+/// What the march needs of one ray, all of it fixed per ray (PortRays keeps it in float): the
+/// projection, and the stretch of s in which it lies inside the input image (pixel edges -0.5 ..
+/// width - 0.5, s >= 0; empty where s_lo > s_hi).
+template <class T>
+struct PortMarch {
+    T u_inf = 0, v_inf = 0, du = 0, dv = 0;  ///< the projection (RayProjection)
+    T s_origin = 0;                          ///< the ray exists for s <= s_origin (0: none)
+    T s_lo = 1, s_hi = 0;                    ///< the view's stretch of s
+    T rate = 0;                              ///< RayProjection::rate
+};
+
+/// A ray's march constants from its projection in `input`.
+PortMarch<double> port_march(const Camera& input, const RayProjection& ray);
+
 /// Which input pixels a fractional image position takes its values from (depth, colour,
 /// normal): bilinear between the four pixel centres around it where all four are surfaces on
 /// one surface (optics' same_surface, each pair), otherwise the nearest pixel alone (nothing is
 /// mixed across a depth edge). Positions are clamped to the pixel centres' range (the half
 /// pixel at each border takes the border's values).
-struct SurfaceTaps {
+template <class T>
+struct SurfaceTapsT {
     int count = 0;  ///< 4 (bilinear), 1 (nearest) or 0 (the nearest pixel is open water)
     int x[4] = {}, y[4] = {};
-    double w[4] = {};    ///< weights, summing to 1
-    double inv_z = 0.0;  ///< the interpolated inverse planar depth 1 / z (0: open water)
+    T w[4] = {};  ///< weights, summing to 1
+    T inv_z = 0;  ///< the interpolated inverse planar depth 1 / z (0: open water)
 };
+using SurfaceTaps = SurfaceTapsT<double>;
 
 /// A planar depth image's inverse, 1 / z, with 0 for open water (has_surface): what the march
 /// reads. Inverse depth is interpolated, not depth: 1 / z is affine in (u, v) on any plane, so a
 /// plane is reproduced exactly between its pixels.
 Image inverse_depth(const Image& depth);
 
+namespace port_detail {
+
+/// surface_taps' rule at (u, v); returns the count and the inverse depth, and fills `taps`
+/// (weights and pixels) only where kTaps: the march's probes need the value alone.
+template <class T, bool kTaps>
+inline int taps_at(const Image& inv, T u, T v, T& inv_z, SurfaceTapsT<T>* taps) {
+    const int W = inv.width, H = inv.height;
+    u = std::clamp(u, T(0), T(W - 1));
+    v = std::clamp(v, T(0), T(H - 1));
+    const int x0 = std::min(int(u), std::max(W - 2, 0)), y0 = std::min(int(v), std::max(H - 2, 0));
+    const int dx = x0 + 1 < W ? 1 : 0, y1 = std::min(y0 + 1, H - 1);
+    const float* r0 = inv.data.data() + std::size_t(y0) * W + x0;
+    const float* r1 = inv.data.data() + std::size_t(y1) * W + x0;
+    const float s0 = r0[0], s1 = r0[dx], s2 = r1[0], s3 = r1[dx];
+    const float lo = std::min(std::min(s0, s1), std::min(s2, s3));
+    const float hi = std::max(std::max(s0, s1), std::max(s2, s3));
+    if (lo > 0.0f && hi - lo <= float(kDepthDiscontinuity) * lo) {
+        const T fu = u - T(x0), fv = v - T(y0);
+        const T w0 = (1 - fu) * (1 - fv), w1 = fu * (1 - fv), w2 = (1 - fu) * fv, w3 = fu * fv;
+        inv_z = ((w0 * T(s0) + w1 * T(s1)) + w2 * T(s2)) + w3 * T(s3);
+        if constexpr (kTaps) {
+            const int xs[4] = {x0, x0 + dx, x0, x0 + dx}, ys[4] = {y0, y0, y1, y1};
+            const T w[4] = {w0, w1, w2, w3};
+            for (int i = 0; i < 4; ++i) {
+                taps->x[i] = xs[i];
+                taps->y[i] = ys[i];
+                taps->w[i] = w[i];
+            }
+        }
+        return 4;
+    }
+    const int xn = std::min(int(u + T(0.5)), W - 1), yn = std::min(int(v + T(0.5)), H - 1);
+    const float sn = inv.data[std::size_t(yn) * W + xn];
+    inv_z = sn > 0.0f ? T(sn) : T(0);
+    if (!(sn > 0.0f)) return 0;
+    if constexpr (kTaps) {
+        taps->x[0] = xn;
+        taps->y[0] = yn;
+        taps->w[0] = 1;
+    }
+    return 1;
+}
+
+}  // namespace port_detail
+
 /// The taps at (u, v) of an inverse depth image (inverse_depth). Four pixels are one surface
 /// where their depths lie within kDepthDiscontinuity of each other:
 /// (max - min) <= kDepthDiscontinuity min, in depth or, equivalently, in inverse depth.
-SurfaceTaps surface_taps(const Image& inv_depth, double u, double v);
+template <class T>
+inline SurfaceTapsT<T> surface_taps(const Image& inv, T u, T v) {
+    SurfaceTapsT<T> t;
+    t.count = port_detail::taps_at<T, true>(inv, u, v, t.inv_z, &t);
+    return t;
+}
 
 /// What a ray sees of the input.
 enum class PortHitKind {
@@ -67,6 +139,15 @@ enum class PortHitKind {
     OpenWater,  ///< its whole path lies inside the input's view, in front of every surface
     Unseen,     ///< the input does not show what it meets: it leaves the view (or enters it
                 ///< behind a surface), or passes behind a foreground edge and finds nothing after
+};
+
+/// A ray's hit in the number type of the march: the inverse planar depth s and the input image
+/// position of the crossing, and the pixels there.
+template <class T>
+struct PortCrossing {
+    PortHitKind kind = PortHitKind::Unseen;
+    T s = 0, u = 0, v = 0;  ///< (Surface)
+    SurfaceTapsT<T> taps;   ///< the input pixels at (u, v) (Surface)
 };
 
 /// A ray's hit: where on the input image, at what planar depth, how far along the ray.
@@ -80,20 +161,33 @@ struct PortHit {
 };
 
 /// Tolerance of the refinement: the crossing is located to this share of its inverse depth
-/// (so its depth to about 1e-9 relative), or, at a depth edge, to this many pixels.
+/// (so its depth to about 1e-9 relative), or, at a depth edge, to this many pixels; in float,
+/// kPortHitToleranceFloat (a few units in the last place).
 inline constexpr double kPortHitTolerance = 1e-9;
+inline constexpr float kPortHitToleranceFloat = 1e-6f;
 
-/// The first crossing of the ray with the surface of `inv_depth` (the input's inverse planar
-/// depth, inverse_depth; camera
-/// `input`), searched at depths >= z_near (the frame's nearest surface: nothing is hit before
-/// it; +inf or 0 when the frame has no surface). Marches the projection from the ray's start
-/// (or z_near, whichever is deeper) toward the vanishing point in steps of at most one pixel,
-/// comparing the ray's inverse depth s with the surface's (surface_taps), and refines the first
-/// sign change by the Illinois method (regula falsi with halving; exact in one step on a plane,
-/// where both sides are affine in s). A sign change across a depth edge (the ray passes behind a
-/// foreground surface the pinhole does not see past) is skipped: the hit is on a surface found
-/// beyond it, or the ray is Unseen. `origin` and `direction` as given to project_ray.
+/// Where the projection moves less than this many pixels over the whole march it is taken as
+/// standing still (a dome with the camera at its centre: not at all): the hit is the surface
+/// under it, without a march.
+inline constexpr double kPortStillPx = 0.01;
+
+/// The first crossing of a ray with the surface of `inv` (the input's inverse planar depth,
+/// inverse_depth), searched at inverse depths s <= s_near (1.001 / z_near, z_near the frame's
+/// nearest surface: nothing is hit before it; 0 when the frame has no surface). Marches the
+/// projection from the ray's start (or s_near, whichever is deeper) toward the vanishing point in
+/// steps of at most one pixel, comparing the ray's s with the surface's (surface_taps), and
+/// refines the first sign change by the Illinois method (regula falsi with halving; exact in one
+/// step on a plane, where both sides are affine in s). A sign change across a depth edge (the ray
+/// passes behind a foreground surface the pinhole does not see past) is skipped: the hit is on a
+/// surface found beyond it, or the ray is Unseen. Defined in port_march.h.
+template <class T>
+PortCrossing<T> march_port_ray(const Image& inv, const PortMarch<T>& ray, T s_near);
+
+/// The same in double for the ray from `origin` along unit `direction` (project_ray's), with
+/// its planar depth and path length; z_near as above in metres (+inf or 0 without a surface).
 PortHit find_port_hit(const Camera& input, const Image& inv_depth, const RayProjection& ray,
                       const Vec3& origin, const Vec3& direction, double z_near);
 
 }  // namespace deepsea
+
+#include "deepsea/optics/port_march.h"

@@ -66,10 +66,9 @@ private:
     Image m_surface;  ///< surface radiance J/pi E: what the blur spreads
     // Through a port:
     const PortRays* m_port = nullptr;
-    Image m_in_normal;  ///< the frame's normals per input pixel
-    Image m_in_color;   ///< the frame's linear colour per input pixel
-    Image m_inv_depth;  ///< the frame's inverse depth (optics' inverse_depth)
-    Image m_hit_z;      ///< planar depth of each output pixel's hit (forward scatter's pass)
+    Image m_in_surface;  ///< the frame's normal and linear colour per input pixel (port_warp.h)
+    Image m_inv_depth;   ///< the frame's inverse depth (optics' inverse_depth)
+    Image m_hit_z;       ///< planar depth of each output pixel's hit (forward scatter's pass)
 };
 
 }  // namespace deepsea

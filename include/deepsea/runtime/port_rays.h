@@ -30,6 +30,9 @@ public:
         /// Its projection (optics' RayProjection), the vanishing point as an offset from (u, v)
         /// (float keeps it to 1e-5 px)
         float u_inf, v_inf, du, dv, s_origin;
+        /// The march's per-ray constants (optics' PortMarch): the stretch of s in which the
+        /// projection lies inside the input (empty: s_lo > s_hi), pixels per unit of s
+        float s_lo, s_hi, rate;
     };
 
     const Port& port() const { return m_port; }
@@ -37,9 +40,15 @@ public:
     const Ray& ray(int u, int v) const { return m_rays[std::size_t(v) * m_camera.width + u]; }
     /// The ray's projection in double, as find_port_hit takes it.
     RayProjection projection(int u, int v) const;
-    /// Where pixel (u, v)'s ray meets the frame's surface (see find_port_hit), given its
-    /// inverse planar depth (optics' inverse_depth) and nearest surface depth z_near (+inf: no
-    /// surface).
+    /// What optics' march_port_ray takes of the ray, in float (the compositor's rows).
+    PortMarch<float> march(int u, int v) const {
+        const Ray& r = ray(u, v);
+        return {
+            float(u) + r.u_inf, float(v) + r.v_inf, r.du, r.dv, r.s_origin, r.s_lo, r.s_hi, r.rate};
+    }
+    /// Where pixel (u, v)'s ray meets the frame's surface, given its inverse planar depth
+    /// (optics' inverse_depth) and nearest surface depth z_near (+inf: no surface): the float
+    /// march of the compositor's rows (march_port_ray), its hit in double.
     PortHit hit(int u, int v, const Image& inv_depth, double z_near) const;
     /// Pixels per radian of the water-side rays at the image centre, along x: fx without a port,
     /// about n_water / n_air times fx behind a flat one. The forward blur's angular scale.

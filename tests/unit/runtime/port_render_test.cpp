@@ -148,6 +148,53 @@ TEST(PortRender, HitsMatchAnIndependentTraceOntoAnalyticScenes) {
     }
 }
 
+TEST(PortRender, FloatMarchAgreesWithTheDoubleMarch) {
+    // The compositor's float march (PortRays::hit) and find_port_hit in double, from the same
+    // traced ray: the same kind of hit everywhere, positions to float rounding, depths to float
+    // rounding on the plane and to that times the surface's slope on the sphere (steep near its
+    // rim, which is not left out here).
+    const Camera cam = test_camera();
+    const Port ports[] = {flat_port({0.06, -0.04, 1}, 0.05, 0.02),
+                          dome_port({0.004, -0.003, 0.002}, 0.05, 0.008)};
+    const Scene scenes[] = {plane({0.4, -0.2, 1}, 2.5), sphere({0.1, -0.05, 1.6}, 0.45)};
+    const double depth_bar[] = {1e-5, 1e-4};
+    for (const Port& port : ports) {
+        const PortRays rays(port, cam);
+        for (int i = 0; i < 2; ++i) {
+            const Image z = depth_of(cam, scenes[i]);
+            const Image inv = inverse_depth(z);
+            const double z_near = nearest_surface(z);
+            double px = 0, rel_z = 0;
+            long surfaces = 0, differ = 0;
+            for (int v = 0; v < cam.height; v += 2) {
+                for (int u = 0; u < cam.width; u += 2) {
+                    const PortRay r = trace_port(port, cam, u, v);
+                    const Vec3& w = r.direction[1];
+                    const PortHit d =
+                        find_port_hit(cam, inv, project_ray(cam, r.origin, w), r.origin, w, z_near);
+                    const PortHit f = rays.hit(u, v, inv, z_near);
+                    if (d.kind != f.kind) {
+                        ++differ;
+                        continue;
+                    }
+                    if (d.kind != PortHitKind::Surface) continue;
+                    ++surfaces;
+                    px = std::max(px, std::hypot(d.u - f.u, d.v - f.v));
+                    rel_z = std::max(rel_z, std::fabs(d.z - f.z) / d.z);
+                }
+            }
+            std::printf(
+                "%s port, scene %d: %ld surface hits, float against double: %.1e px, "
+                "%.1e relative depth, %ld of another kind\n",
+                port.name(), i, surfaces, px, rel_z, differ);
+            EXPECT_GT(surfaces, 1000);
+            EXPECT_EQ(differ, 0);
+            EXPECT_LT(px, 1e-3);
+            EXPECT_LT(rel_z, depth_bar[i]);
+        }
+    }
+}
+
 TEST(PortRender, FlatPortShrinksThePlanesFootprintByThePredictedFactor) {
     // A thin flat port on the axis and a far plane facing the camera: each output pixel at
     // tan(a) = t sees the input at fx tan(w), tan(w) = t / sqrt(n^2 + (n^2 - 1) t^2).
