@@ -71,8 +71,8 @@ double view_depth(const Rig& rig, const Water& water, const Camera& cam, double 
 }
 
 /// The backscatter grid's transform (every depth scheme): its index box, rounded up to whole
-/// leaf nodes, divided evenly over the frustum's bounding box to the view depth, index (i, j, k) at the centre
-/// of cell (i, j, k); columns left to right, rows top to bottom, samples from the camera
+/// leaf nodes, divided evenly over the frustum's bounding box to the view depth, index (i, j, k) at
+/// the centre of cell (i, j, k); columns left to right, rows top to bottom, samples from the camera
 /// forward. So a plain import frames the light field. The true camera-space point of a
 /// voxel is in the grid's metadata (add_lattice_geometry_meta), not in this map: OpenVDB's frustum
 /// map holds only uniform depths, and Blender 3.4 drops its perspective (docs/blender.md).
@@ -221,7 +221,8 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     const detail::Preview preview =
         opt.preview ? detail::make_preview(asset, std::max(opt.preview_resolution, 8))
                     : detail::Preview{};
-    const double z_view = view_depth(asset.info.rig, asset.info.water, asset.info.camera, l.z_max());
+    const double z_view =
+        view_depth(asset.info.rig, asset.info.water, asset.info.camera, l.z_max());
     grid->setName(kBackscatterGrid);
     grid->setTransform(lattice_transform(asset.info.camera, l, z_view));
     add_lattice_geometry_meta(*grid, asset.info.camera, l);

@@ -58,8 +58,7 @@ double beam_source(const Rig& rig, const Water& water, const Vec3& X) {
         if (!(d > 0.0)) continue;  // the lamp itself
         // Facing the lamp (n = w): the irradiance a small sphere of water there receives.
         const auto v = [](const Vec3& a) { return Vec3T<double>{a.x, a.y, a.z}; };
-        const LampGeometry<double> g =
-            lamp_geometry(v(to_light), v(to_light / d), v(L.direction));
+        const LampGeometry<double> g = lamp_geometry(v(to_light), v(to_light / d), v(L.direction));
         const double rid = L.rid(lamp_angle(g.cos_theta));
         const double spread = lamp_spread(g.d1, g.cos_n);
         for (int c = 0; c < 3; ++c) {
@@ -102,7 +101,8 @@ Preview make_preview(const Asset& asset, int max_across) {
     Preview out;
     out.density_scale = density_scale(rig, water);
     if (!(out.density_scale > 0.0)) return out;
-    out.domain = beam_domain(rig, water, frustum_extent(asset.info.camera, asset.lattice().z_max()));
+    out.domain =
+        beam_domain(rig, water, frustum_extent(asset.info.camera, asset.lattice().z_max()));
     const WorldBox& d = out.domain;
     double longest = 0.0;
     for (int a = 0; a < 3; ++a) longest = std::max(longest, d.max[a] - d.min[a]);
