@@ -62,14 +62,22 @@ vdb::math::Transform::Ptr axis_transform(const Vec3& scale, const Vec3& origin) 
     }
 }
 
+/// The depth (metres) of the view extent every grid is placed in: the lamps' beams (the preview
+/// domain's depth, at least 1 m), at most z_max. So Frame All in Blender frames the beams.
+double view_depth(const Rig& rig, const Water& water, const Camera& cam, double z_max) {
+    const WorldBox beams = detail::beam_domain(rig, water, frustum_extent(cam, z_max));
+    const double d = beams.min.z < beams.max.z ? -beams.min.z : z_max;
+    return std::min(z_max, std::max(d, 1.0));
+}
+
 /// The backscatter grid's transform (every depth scheme): its index box, rounded up to whole
-/// leaf nodes, divided evenly over the frustum's bounding box, index (i, j, k) at the centre
-/// of cell (i, j, k); columns left to right, rows top to bottom, samples from the camera
+/// leaf nodes, divided evenly over the frustum's bounding box to the view depth, index (i, j, k) at
+/// the centre of cell (i, j, k); columns left to right, rows top to bottom, samples from the camera
 /// forward. So a plain import frames the light field. The true camera-space point of a
 /// voxel is in the grid's metadata (add_lattice_geometry_meta), not in this map: OpenVDB's frustum
 /// map holds only uniform depths, and Blender 3.4 drops its perspective (docs/blender.md).
-vdb::math::Transform::Ptr lattice_transform(const Camera& cam, const Lattice& l) {
-    const WorldBox box = frustum_extent(cam, l.z_max());
+vdb::math::Transform::Ptr lattice_transform(const Camera& cam, const Lattice& l, double depth) {
+    const WorldBox box = frustum_extent(cam, depth);
     const Vec3 cell{(box.max.x - box.min.x) / leaf_cells(l.ni),
                     (box.max.y - box.min.y) / leaf_cells(l.nj),
                     (box.max.z - box.min.z) / leaf_cells(l.nk())};
@@ -164,12 +172,12 @@ void require_writable(const std::string& path) {
 void check_storable(const Camera& camera, const Lattice& lattice) {
     init_openvdb();
     try {
-        lattice_transform(camera, lattice);
+        lattice_transform(camera, lattice, std::min(lattice.z_max(), 1.0));
         LampField f;
         const LampFieldSettings ls;
         f.nr = ls.nr;
         f.ntheta = ls.ntheta;
-        lamp_field_transform(f, frustum_extent(camera, lattice.z_max()));
+        lamp_field_transform(f, frustum_extent(camera, std::min(lattice.z_max(), 1.0)));
     } catch (const AssetError& e) {
         char z[32];
         std::snprintf(z, sizeof z, "%g", lattice.z_max());
@@ -209,10 +217,16 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
         vdb::tools::Dense<vdb::Vec3s, vdb::tools::LayoutZYX> dense(box, stored.data());
         vdb::tools::copyFromDense(dense, *grid, vdb::Vec3s(0.0f));
     }
+    // The beams decide where every grid goes: a plain import frames them (docs/blender.md).
+    const detail::Preview preview =
+        opt.preview ? detail::make_preview(asset, std::max(opt.preview_resolution, 8))
+                    : detail::Preview{};
+    const double z_view =
+        view_depth(asset.info.rig, asset.info.water, asset.info.camera, l.z_max());
     grid->setName(kBackscatterGrid);
-    grid->setTransform(lattice_transform(asset.info.camera, l));
+    grid->setTransform(lattice_transform(asset.info.camera, l, z_view));
     add_lattice_geometry_meta(*grid, asset.info.camera, l);
-    const WorldBox extent = frustum_extent(asset.info.camera, l.z_max());
+    const WorldBox extent = frustum_extent(asset.info.camera, z_view);
     grid->setSaveFloatAsHalf(opt.half);
     grid->setVectorType(vdb::VEC_INVARIANT);
 
@@ -234,40 +248,25 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     // The backscatter grid goes last: a truncated file then always damages it (or the
     // descriptors before it), and load_asset, which reads only this grid, notices.
     vdb::GridPtrVec grids;
-    if (opt.preview) {
-        const detail::Preview pv = detail::make_preview(asset, std::max(opt.preview_resolution, 8),
-                                                        std::max(opt.preview_across, 8));
-        if (!pv.voxels.empty()) {
-            auto density = vdb::FloatGrid::create(0.0f);
-            auto color = vdb::Vec3SGrid::create(vdb::Vec3s(0.0f));
-            auto da = density->getAccessor();
-            auto ca = color->getAccessor();
-            for (const auto& v : pv.voxels) {
-                const vdb::Coord ijk(v.a, v.b, v.c);
-                da.setValue(ijk, v.density);
-                ca.setValue(ijk, vdb::Vec3s(v.color[0], v.color[1], v.color[2]));
-            }
-            vdb::math::Transform::Ptr xform;
-            try {
-                xform = vdb::math::Transform::createLinearTransform(pv.voxel_size);
-            } catch (const vdb::Exception&) {
-                throw AssetError("cannot write " + path + ": preview voxels of " +
-                                 std::to_string(pv.voxel_size) +
-                                 " m are too small for an OpenVDB transform");
-            }
-            density->setTransform(xform);
-            color->setTransform(xform->copy());
-            density->setName(kDensityGrid);
-            color->setName(kColorGrid);
-            density->setGridClass(vdb::GRID_FOG_VOLUME);
-            color->setVectorType(vdb::VEC_INVARIANT);
-            density->setSaveFloatAsHalf(true);
-            color->setSaveFloatAsHalf(true);
-            grids.push_back(density);
-            grids.push_back(color);
-            meta.insertMeta(kMetaPreviewVoxel, vdb::DoubleMetadata(pv.voxel_size));
-            meta.insertMeta(kMetaPreviewScale, vdb::DoubleMetadata(pv.density_scale));
+    if (opt.preview && !preview.voxels.empty()) {
+        auto density = vdb::FloatGrid::create(0.0f);
+        auto da = density->getAccessor();
+        for (const auto& v : preview.voxels) da.setValue(vdb::Coord(v.a, v.b, v.c), v.density);
+        vdb::math::Transform::Ptr xform;
+        try {
+            xform = vdb::math::Transform::createLinearTransform(preview.voxel_size);
+        } catch (const vdb::Exception&) {
+            throw AssetError("cannot write " + path + ": preview voxels of " +
+                             std::to_string(preview.voxel_size) +
+                             " m are too small for an OpenVDB transform");
         }
+        density->setTransform(xform);
+        density->setName(kDensityGrid);
+        density->setGridClass(vdb::GRID_FOG_VOLUME);
+        density->setSaveFloatAsHalf(true);
+        grids.push_back(density);
+        meta.insertMeta(kMetaPreviewVoxel, vdb::DoubleMetadata(preview.voxel_size));
+        meta.insertMeta(kMetaPreviewScale, vdb::DoubleMetadata(preview.density_scale));
     }
     if (asset.info.scattering == Scattering::Multiple) {
         if (asset.lamp_fields.size() != asset.info.rig.lights.size()) {

@@ -1,8 +1,10 @@
-"""Open a deepsea asset in Blender: the in-scatter preview grids as a glowing volume, a camera
-matching the rig's camera, small spheres at the lamps; optionally render a preview PNG.
+"""Open a deepsea asset in Blender: the lamps' beams (the `density` preview grid) as a glowing
+volume, a camera matching the rig's camera, small spheres at the lamps; optionally render a
+preview PNG.
 
 blender -b --factory-startup --python open_asset.py -- ASSET.vdb [--deepsea PATH]
         [--render OUT.png] [--samples N] [--resolution W] [--save OUT.blend] [--strength S]
+        [--view beams|camera]
 
 Works with any Blender build (no OpenVDB module needed in its Python). The asset's metadata
 (camera, rig, frustum) comes from `deepsea info --json ASSET`, with the deepsea binary found as
@@ -10,7 +12,8 @@ Works with any Blender build (no OpenVDB module needed in its Python). The asset
 (<prefix>/share/deepsea/blender/ -> <prefix>/bin/deepsea), else on PATH. Without one, the
 `deepsea:bake` JSON is read from the file's own header (plain Python; no integrity check).
 World frame of the asset's grids: OpenGL-style camera frame (x right, y up, looking down -z),
-which is a Blender camera with identity rotation at the origin.
+which is a Blender camera with identity rotation at the origin: in Blender (Z up) the rig looks
+down -Z, the image's up along +Y.
 """
 import argparse
 import json
@@ -29,11 +32,11 @@ def parse_args():
     p.add_argument("asset")
     p.add_argument("--deepsea", help="the deepsea binary (default: $DEEPSEA, the install, PATH)")
     p.add_argument("--render")
-    p.add_argument("--samples", type=int, default=16)
-    p.add_argument("--resolution", type=int, default=320, help="render width in pixels")
-    p.add_argument("--strength", type=float, default=0.4, help="emission strength of the cones")
-    p.add_argument("--view", choices=["camera", "side"], default="camera",
-                   help="render through the rig's camera, or from beside the rig")
+    p.add_argument("--samples", type=int, default=8)
+    p.add_argument("--resolution", type=int, default=480, help="render width in pixels")
+    p.add_argument("--strength", type=float, default=8.0, help="emission strength of the beams")
+    p.add_argument("--view", choices=["beams", "camera"], default="beams",
+                   help="render the beams from beside the rig (16:9), or through the rig's camera")
     p.add_argument("--save")
     return p.parse_args(argv)
 
@@ -101,13 +104,13 @@ def asset_info(path, deepsea):
 
 
 def cone_box(meta):
-    """Centre and size (metres) of the lit water: the density grid's world bounds, or a guess
+    """Centre and size (metres) of the beams: the density grid's world bounds, or a guess
     (without deepsea info)."""
     for g in meta.get("grids", []):
         if g["name"] == "density":
             lo, hi = g["world_min"], g["world_max"]
             return [(a + b) / 2 for a, b in zip(lo, hi)], max(b - a for a, b in zip(lo, hi))
-    return [0.0, 0.0, -3.0], 5.0
+    return [0.0, 0.0, -1.0], 3.0
 
 
 def main():
@@ -127,7 +130,7 @@ def main():
     for g in volume.grids:
         print(f"grid {g.name} {g.data_type}")
 
-    # The preview grids glow with their own colour: density is the in-scatter luminance.
+    # The beams glow: density is the lamps' source in decades (docs/asset-format.md).
     mat = bpy.data.materials.new("deepsea_inscatter")
     mat.use_nodes = True
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
@@ -136,14 +139,17 @@ def main():
     vol = nodes.new("ShaderNodeVolumePrincipled")
     dens = nodes.new("ShaderNodeAttribute")
     dens.attribute_name = "density"
-    col = nodes.new("ShaderNodeAttribute")
-    col.attribute_name = "color"
+    # density^8: the bright cores of the beams stand out of their fainter spread
+    power = nodes.new("ShaderNodeMath")
+    power.operation = "POWER"
+    power.inputs[1].default_value = 8.0
+    links.new(dens.outputs["Fac"], power.inputs[0])
     scale = nodes.new("ShaderNodeMath")
     scale.operation = "MULTIPLY"
     scale.inputs[1].default_value = args.strength
-    links.new(dens.outputs["Fac"], scale.inputs[0])
+    links.new(power.outputs[0], scale.inputs[0])
     links.new(scale.outputs[0], vol.inputs["Emission Strength"])
-    links.new(col.outputs["Color"], vol.inputs["Emission Color"])
+    vol.inputs["Emission Color"].default_value = (0.55, 0.75, 1.0, 1.0)
     vol.inputs["Density"].default_value = 0.0  # show the light, not an absorbing fog
     links.new(vol.outputs["Volume"], out.inputs["Volume"])
     volume.materials.append(mat)
@@ -159,16 +165,17 @@ def main():
     cam_obj = bpy.data.objects.new("deepsea_camera", cam_data)
     scene.collection.objects.link(cam_obj)
     scene.camera = cam_obj
-    if args.view == "side":
-        # A second camera above and beside the rig, looking at the cones in front of it.
+    if args.view == "beams":
+        # A second camera beside the rig, across the plane of the beams (Blender's -Y) and a
+        # little above and to the side, looking at the middle of the beams' box.
         side = bpy.data.objects.new("side_view", bpy.data.cameras.new("side_view"))
-        side.data.lens = 24.0
+        side.data.lens = 30.0
         side.data.clip_end = 1000.0
         scene.collection.objects.link(side)
         centre, size = cone_box(meta)
-        side.location = [c + d * size / 5.0 for c, d in zip(centre, (5.0, 3.0, 2.0))]
+        side.location = [c + d * size for c, d in zip(centre, (0.3, -1.0, 0.6))]
         target = bpy.data.objects.new("cones_centre", None)
-        target.location = centre
+        target.location = [centre[0], centre[1], centre[2] + 0.25 * size]  # nearer the lamps
         scene.collection.objects.link(target)
         track = side.constraints.new("TRACK_TO")
         track.target = target
@@ -186,8 +193,10 @@ def main():
     scene.cycles.samples = args.samples
     scene.cycles.use_denoising = False  # Debian builds Blender without OpenImageDenoise
     scene.cycles.volume_step_rate = 4.0
+    scene.cycles.max_bounces = 0  # emission only: nothing to bounce
     scene.render.resolution_x = args.resolution
-    scene.render.resolution_y = max(1, round(args.resolution * cam["height"] / cam["width"]))
+    aspect = cam["height"] / cam["width"] if args.view == "camera" else 9 / 16
+    scene.render.resolution_y = max(1, round(args.resolution * aspect))
     scene.render.resolution_percentage = 100
     world = bpy.data.worlds.new("black")
     world.color = (0, 0, 0)

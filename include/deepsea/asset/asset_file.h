@@ -1,8 +1,8 @@
 #pragma once
 /// \file The asset's `.vdb` file (docs/asset-format.md): grid `backscatter` (Vec3f, index
 /// (i, j, k), an affine transform into the frustum's bounding box, its camera-space geometry in
-/// metadata), preview grids `density` and `color` on a world-space linear grid, metadata
-/// `deepsea:format` and `deepsea:bake`.
+/// metadata), the preview grid `density` (the lamps' beams) on a world-space linear grid,
+/// metadata `deepsea:format` and `deepsea:bake`.
 /// OpenVDB stays behind this header; errors are AssetError (what is in the file) or IoError
 /// (the file system).
 
@@ -17,8 +17,8 @@ namespace deepsea {
 
 /// Grid names in the file.
 inline constexpr const char* kBackscatterGrid = "backscatter";
+/// The lamps' beams (Blender's Principled Volume reads `density` by default).
 inline constexpr const char* kDensityGrid = "density";
-inline constexpr const char* kColorGrid = "color";
 /// Prefix of the multiple-scattering lamp tables: lamp_field_0, lamp_field_1, ...
 inline constexpr const char* kLampFieldGrid = "lamp_field_";
 
@@ -27,14 +27,10 @@ struct WriteOptions {
     /// are scaled by a power of two first so that they sit in half's normal range; the loader
     /// undoes it exactly (`deepsea:value_scale`).
     bool half = true;
-    /// Write the `density` and `color` preview grids for Blender and Houdini.
+    /// Write the `density` preview grid (the lamps' beams) for Blender and Houdini.
     bool preview = true;
-    /// At most this many preview voxels along the preview depth.
+    /// Preview voxels along the longest side of the beams' box (docs/asset-format.md).
     int preview_resolution = 128;
-    /// At most this many preview voxels across the image's longer side at the preview depth,
-    /// and never more than its pixels: the preview's size follows the camera's resolution,
-    /// not its field of view (docs/asset-format.md).
-    int preview_across = 192;
 };
 
 /// ConfigError unless OpenVDB can store an asset of this camera and lattice: the backscatter
@@ -75,7 +71,7 @@ struct AssetFileSummary {
     BakeInfo info;
     double value_scale = 1.0;          ///< stored backscatter = radiance * value_scale
     double preview_voxel_size = 0.0;   ///< metres; 0 without preview grids
-    double preview_density_scale = 0;  ///< in-scatter luminance (radiance/m) per unit density
+    double preview_density_scale = 0;  ///< scattered power (luminance, W/m^3) at density 1
     std::vector<GridSummary> grids;
 };
 

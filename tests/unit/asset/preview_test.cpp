@@ -1,110 +1,112 @@
-// The preview grid's size (issue 29): bounded for every camera validate() accepts, however
-// wide, with coarser voxels when the frustum is wide; every voxel's leaf node in the extent.
+// The `density` preview: the lamps' beams around the rig (docs/asset-format.md, "Preview
+// grid"), checked against the lamp equation written out here, and by where the beams point.
 #include "preview.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "deepsea/optics/schema.h"
+#include "deepsea/asset/asset_file.h"
 #include "test_assets.h"
 
 namespace deepsea {
 namespace {
 
-/// The widest camera validate() accepts at this size: edge rays at the angle limit (a hair in).
-Camera widest(int width, int height) {
-    const double tan_max = std::tan(kMaxRayAngleDeg * M_PI / 180.0);
-    const double fx = 0.5 * width / tan_max * (1.0 + 1e-6);
-    const double fy = 0.5 * height / tan_max * (1.0 + 1e-6);
-    return Camera{width, height, fx, fy, 0.5 * (width - 1), 0.5 * (height - 1)};
+const Camera kCam{800, 800, 600.0, 600.0, 399.5, 399.5};
+
+Asset beams_asset(const Rig& rig) {
+    Asset a = test::function_asset(kCam, 32, DepthScheme::Log, 16, 20.0,
+                                   [](double, double, double z) { return Rgb(z); });
+    a.info.rig = rig;
+    return a;
 }
 
-/// Backscatter that rises within `scale` metres of the camera: the preview depth is short and
-/// the frustum there is wide in voxels of the pixel footprint.
-Asset near_asset(const Camera& cam, double z_max, double scale) {
-    return test::function_asset(cam, 8, DepthScheme::Log, 32, z_max,
-                                [scale](double, double, double z) {
-                                    return Rgb{1.0, 0.9, 0.8} * (1.0 - std::exp(-z / scale));
-                                });
+/// DESIGN.md's lamp, independently: b I0 exp(-theta^2 / (2 sigma^2)) exp(-c d) / d^2, the
+/// luminance of its sum over lamps (camera-frame point X).
+double source(const Rig& rig, const Water& w, const Vec3& X) {
+    double y = 0.0;
+    for (const Light& L : rig.lights) {
+        const Vec3 d = X - L.position;
+        const double r = length(d);
+        const double theta = std::acos(std::clamp(dot(d, L.direction) / r, -1.0, 1.0));
+        const double sigma = L.rid.sigma_deg * M_PI / 180.0;
+        const double g = std::exp(-theta * theta / (2.0 * sigma * sigma)) / (r * r);
+        const double k[3] = {0.2126, 0.7152, 0.0722};
+        for (int c = 0; c < 3; ++c) y += k[c] * w.b[c] * L.intensity[c] * g * std::exp(-w.c[c] * r);
+    }
+    return y;
 }
 
-/// The documented bound (preview.h): at most max_depth slabs of at most about max_across^2
-/// voxels when the voxel is fine, at most 8 slabs of at most
-/// (W / p + 8 W / fx + 1) x (H / p + 8 H / fy + 1) when it is coarse.
-double bound(const Camera& cam, int max_depth, int max_across) {
-    const double p = std::max(1.0, double(std::max(cam.width, cam.height)) / max_across);
-    const double fine = double(max_depth) * (cam.width / p + 2) * (cam.height / p + 2);
-    const double coarse = 8.0 * (cam.width / p + 8 * cam.width / cam.fx + 2) *
-                          (cam.height / p + 8 * cam.height / cam.fy + 2);
-    return std::max(fine, coarse);
+TEST(Preview, DensityIsTheLampsSourceInDecadesBelowItsValueTenCentimetresDownTheAxis) {
+    const Asset a = beams_asset(test::two_lamp_rig());
+    const detail::Preview p = detail::make_preview(a, 64);
+    ASSERT_GT(p.voxels.size(), 1000u);
+    Rig one = a.info.rig;
+    one.lights.resize(1);
+    const Light& L = one.lights[0];
+    const double scale = source(one, a.info.water, L.position + L.direction * 0.1);
+    EXPECT_NEAR(p.density_scale, scale, 1e-9 * scale);
+    const double h = p.voxel_size;
+    for (std::size_t n = 0; n < p.voxels.size(); n += 37) {
+        const detail::PreviewVoxel& v = p.voxels[n];
+        // 1 + log10(S / S_ref) / 3, clamped to [0, 1]
+        const double s = source(a.info.rig, a.info.water, {v.a * h, -v.b * h, -v.c * h});
+        const double want = std::clamp(1.0 + std::log10(s / scale) / 3.0, 0.0, 1.0);
+        ASSERT_NEAR(v.density, want, 1e-6) << v.a << " " << v.b << " " << v.c;
+        ASSERT_GE(v.density, detail::kBeamCut);
+    }
 }
 
-TEST(Preview, WidestAcceptedCamerasStayWithinTheBound) {
-    for (const Camera& cam : {widest(320, 240), widest(64, 48), widest(800, 800)}) {
-        ASSERT_NO_THROW(validate(cam));
-        for (int across : {8, 32, 192}) {
-            for (double scale : {0.05, 0.5, 5.0}) {
-                SCOPED_TRACE(std::to_string(cam.width) + " px, across " + std::to_string(across) +
-                             ", scale " + std::to_string(scale));
-                const detail::Preview p =
-                    detail::make_preview(near_asset(cam, 10.0, scale), 128, across);
-                ASSERT_GT(p.voxels.size(), 0u);
-                EXPECT_LE(double(p.voxels.size()), bound(cam, 128, across));
-                EXPECT_LE(p.depth, 10.0 * (1 + 1e-9));
-                EXPECT_GE(p.voxel_size, 1e-4);
-                // Every voxel's leaf node lies within the depth extent [-z_max, 0].
-                for (const detail::PreviewVoxel& v : p.voxels) {
-                    ASSERT_LT(v.c, 0);
-                    ASSERT_LE(8.0 * std::ceil(-v.c / 8.0) * p.voxel_size, 10.0 * (1 + 1e-9));
-                }
-            }
+TEST(Preview, LeafNodesLieInTheDomainInFrontOfTheCamera) {
+    const Asset a = beams_asset(test::two_lamp_rig());
+    const detail::Preview p = detail::make_preview(a, 64);
+    const WorldBox extent = frustum_extent(kCam, 20.0);
+    const WorldBox& d = p.domain;
+    EXPECT_LE(d.max.z, 0.0);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GE(d.min[k], extent.min[k]);
+        EXPECT_LE(d.max[k], extent.max[k]);
+    }
+    const double h = p.voxel_size, eps = 1e-9;
+    for (const detail::PreviewVoxel& v : p.voxels) {
+        const int idx[3] = {v.a, v.b, v.c};
+        for (int k = 0; k < 3; ++k) {
+            const int leaf = idx[k] & ~7;
+            ASSERT_GE(leaf * h, d.min[k] - eps);
+            ASSERT_LE((leaf + 7) * h, d.max[k] + eps);
         }
     }
 }
 
-TEST(Preview, AWideFrustumKeepsTheFootprintVoxel) {
-    // 320x240 at the angle limit (fx 28.2), 32 voxels across: the footprint of 10 pixels at
-    // the preview depth is wider than depth / 8. Shrinking the voxel to depth / 8 (as before)
-    // put 8 x 11.3 voxels across the far slab and 8 slabs; the footprint voxel covers the depth
-    // in fewer slabs, with at most the pixels / 10 across (plus the rounding up of the depth).
-    const Camera cam = widest(320, 240);
-    const detail::Preview p = detail::make_preview(near_asset(cam, 10.0, 0.05), 128, 32);
-    EXPECT_GT(p.voxel_size, p.depth / 8.0);
-    const int slabs = int(std::lround(p.depth / p.voxel_size));
-    EXPECT_LT(slabs, 8);
-    EXPECT_LE(double(p.voxels.size()), double(slabs) * (32 + 12) * (24 + 10));
+/// Mean direction from lamp L to the voxels within `radius` of it whose density is at least
+/// `bright`: the axis of the lamp's bright lobe.
+Vec3 beam_direction(const detail::Preview& p, const Light& L, double radius, double bright) {
+    Vec3 sum;
+    for (const detail::PreviewVoxel& v : p.voxels) {
+        const Vec3 X{v.a * p.voxel_size, -v.b * p.voxel_size, -v.c * p.voxel_size};
+        const Vec3 d = X - L.position;
+        if (length(d) < radius && v.density >= bright) sum = sum + d;
+    }
+    return normalize(sum);
 }
 
-TEST(Preview, VoxelSizeCases) {
-    const Camera narrow{800, 800, 600.0, 600.0, 399.5, 399.5};
-    double depth = 5.0;
-    // Fine: 128 deep, a whole number of leaves.
-    double h = detail::preview_voxel_size(narrow, 10.0, 128, 192, depth);
-    EXPECT_DOUBLE_EQ(depth, 5.0);
-    EXPECT_NEAR(depth / h / 8.0, std::round(depth / h / 8.0), 1e-9);
-    EXPECT_LE(depth / h, 128.0 + 1e-9);
-    // Coarse: the footprint of 10 pixels at fx 28.2 (0.35 x depth): 3 voxels cover the depth.
-    const Camera wide = widest(320, 240);
-    depth = 0.5;
-    h = detail::preview_voxel_size(wide, 10.0, 128, 32, depth);
-    EXPECT_NEAR(h, 10.0 * 0.5 / std::min(wide.fx, wide.fy), 1e-12);
-    EXPECT_NEAR(depth, 3 * h, 1e-12);
-    // A footprint of 40 pixels (1.4 x depth): at most depth / 2, 2 deep.
-    depth = 0.5;
-    h = detail::preview_voxel_size(wide, 10.0, 128, 8, depth);
-    EXPECT_DOUBLE_EQ(h, 0.25);
-    EXPECT_DOUBLE_EQ(depth, 0.5);
-    // Coarse, but 8 of them would reach beyond z_max = 1.5 m: depth / 8, 8 deep.
-    depth = 0.5;
-    h = detail::preview_voxel_size(wide, 1.5, 128, 8, depth);
-    EXPECT_DOUBLE_EQ(h, 0.5 / 8);
-    EXPECT_DOUBLE_EQ(depth, 0.5);
-    // Never below 0.1 mm (OpenVDB's transforms stop near 14 micrometres).
-    depth = 1e-6;
-    h = detail::preview_voxel_size(narrow, 0.01, 128, 192, depth);
-    EXPECT_GE(h, 1e-4);
-    EXPECT_LE(8.0 * h, 0.01 * (1 + 1e-9));
+TEST(Preview, EachBeamPointsAlongItsLamp) {
+    // The authors' rig (lamps turned 31 degrees inward) and a rig of one lamp looking down and
+    // to the side: the beam near each lamp is centred on its axis.
+    Rig side = test::two_lamp_rig();
+    side.lights.resize(1);
+    side.lights[0].position = {0.2, -0.3, 0.1};
+    side.lights[0].direction = normalize(Vec3{0.3, 0.5, 0.8});
+    for (const Rig& rig : {test::two_lamp_rig(), side}) {
+        const detail::Preview p = detail::make_preview(beams_asset(rig), 128);
+        for (const Light& L : rig.lights) {
+            SCOPED_TRACE(L.name);
+            // density 0.6: the source 10^-1.2 of its value 0.1 m down the axis, 0.4 m out
+            const Vec3 d = beam_direction(p, L, 0.45, 0.6);
+            const double deg = std::acos(std::min(1.0, dot(d, L.direction))) * 180.0 / M_PI;
+            EXPECT_LT(deg, 2.0);
+        }
+    }
 }
 
 }  // namespace
