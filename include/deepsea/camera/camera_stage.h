@@ -10,9 +10,9 @@
 /// any order, at any thread count, with the same bits.
 
 #include <cstdint>
-#include <vector>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "deepsea/camera/distortion.h"
 #include "deepsea/camera/model.h"
