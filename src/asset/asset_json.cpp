@@ -8,6 +8,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/core/hash.h"
 #include "deepsea/optics/schema.h"
+#include "higher_orders_json.h"
 #include "port_json.h"
 
 namespace deepsea {
@@ -83,8 +84,9 @@ json settings_json(const BakeInfo& info) {
     if (info.scattering == Scattering::Multiple) {
         s["scattering"] = to_string(info.scattering);
         s["paths"] = info.higher_orders.paths;
+        // "auto" was 64 px / step before the angular rule: another request.
         s["stride"] =
-            info.higher_orders.stride_auto ? json("auto") : json(info.higher_orders.stride);
+            info.higher_orders.stride_auto ? json("angular") : json(info.higher_orders.stride);
         s["seed"] = info.higher_orders.seed;
         s["lamp_samples"] = info.higher_orders.lamp_samples;
     }
@@ -268,16 +270,7 @@ std::string bake_info_to_json(const BakeInfo& info, int indent) {
               {"scattering", to_string(info.scattering)}};
     if (info.port) j["port"] = port_json(*info.port);  // none: pinhole columns
     if (info.scattering == Scattering::Multiple) {
-        const HigherOrderSettings& h = info.higher_orders;
-        j["multiple_scattering"] = {{"method", "monte carlo, orders >= 2"},
-                                    {"paths", h.paths},
-                                    {"stride", h.stride},
-                                    {"stride_auto", h.stride_auto},
-                                    {"seed", h.seed},
-                                    {"rel_std_error", h.rel_std_error},
-                                    {"fraction", h.fraction},
-                                    {"lamp_samples", h.lamp_samples},
-                                    {"lamp_rel_std_error", h.lamp_rel_std_error}};
+        j["multiple_scattering"] = higher_orders_json(info.higher_orders);
     }
     if (info.check.done) {
         const LatticeCheck& c = info.check;
@@ -361,21 +354,7 @@ BakeInfo bake_info_from_json(const std::string& text) {
         }
     }
     if (info.scattering == Scattering::Multiple) {
-        const json& m = get(j, "multiple_scattering", "(top)");
-        HigherOrderSettings& h = info.higher_orders;
-        h.paths = integer(m, "paths", "multiple_scattering");
-        h.stride = integer(m, "stride", "multiple_scattering");
-        h.stride_auto = flag(m, "stride_auto");
-        const json& seed = get(m, "seed", "multiple_scattering");
-        if (!seed.is_number_unsigned()) fail("multiple_scattering.seed", "not an unsigned integer");
-        h.seed = seed.get<std::uint64_t>();
-        h.rel_std_error = num(m, "rel_std_error", "multiple_scattering");
-        h.fraction = num(m, "fraction", "multiple_scattering");
-        h.lamp_samples = integer(m, "lamp_samples", "multiple_scattering");
-        h.lamp_rel_std_error = num(m, "lamp_rel_std_error", "multiple_scattering");
-        if (h.paths < 1 || h.stride < 1 || h.lamp_samples < 1) {
-            fail("multiple_scattering", "paths, stride and lamp_samples must be >= 1");
-        }
+        info.higher_orders = parse_higher_orders(get(j, "multiple_scattering", "(top)"));
     }
     if (j.contains("check")) {
         const json& cj = j["check"];

@@ -153,9 +153,11 @@ Resolved resolve(const Camera& cam, const Rig& rig, const BakeSettings& s) {
     return r;
 }
 
-int mc_stride(const BakeSettings& s, int step) {
-    return s.higher_orders.stride > 0 ? s.higher_orders.stride
-                                      : std::max(1, kMonteCarloSpacing / step);
+int mc_stride(const Camera& cam, const Rig& rig, const Water& water, const BakeSettings& s,
+              int step) {
+    return s.higher_orders.stride > 0
+               ? s.higher_orders.stride
+               : auto_ms_stride(cam, rig, water, step, s.higher_orders.paths);
 }
 
 /// Everything but the values: shared by bake() and bake_request() so their hashes agree.
@@ -177,7 +179,7 @@ BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const 
     if (s.scattering == Scattering::Multiple) {
         info.higher_orders = s.higher_orders;
         info.higher_orders.stride_auto = s.higher_orders.stride == 0;
-        info.higher_orders.stride = mc_stride(s, r.step);
+        info.higher_orders.stride = mc_stride(cam, rig, water, s, r.step);
     }
     info.check.done = s.check;  // the request; bake() fills in what it measured
     info.baker_version = kBakerVersion;
@@ -259,7 +261,8 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
         const long columns = long(ni) * nj;
         const long mc_weight =
             s.scattering == Scattering::Multiple
-                ? kMonteCarloColumnWeight * higher_order_columns(ni, nj, mc_stride(s, r.step))
+                ? kMonteCarloColumnWeight *
+                      higher_order_columns(ni, nj, mc_stride(cam, rig, water, s, r.step))
                 : 0;
         const long total = (s.z_max == 0.0 ? 2 * columns : columns) + mc_weight;
         asset = bake_single(cam, rig, water, s, r, par, total);

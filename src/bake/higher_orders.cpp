@@ -5,38 +5,14 @@
 #include <vector>
 
 #include "deepsea/bake/bake_ray.h"
+#include "deepsea/bake/higher_orders_check.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/multiple_scattering.h"
 
 namespace deepsea {
 
-namespace {
-
-/// Lattice indices computed along one axis of n: 0, stride, 2 stride, ..., and n - 1.
-std::vector<int> computed(int n, int stride) {
-    std::vector<int> out;
-    for (int i = 0; i < n; i += stride) out.push_back(i);
-    if (out.back() != n - 1) out.push_back(n - 1);
-    return out;
-}
-
-/// Bracket of lattice index i among the computed indices c: c[a] <= i <= c[a + 1], weight of
-/// c[a + 1].
-void bracket(const std::vector<int>& c, int i, std::size_t& a, double& w) {
-    a = std::size_t(std::upper_bound(c.begin(), c.end(), i) - c.begin());
-    a = std::min(std::max<std::size_t>(a, 1), c.size() - 1) - 1;
-    if (c.size() == 1) {
-        w = 0.0;
-        return;
-    }
-    w = double(i - c[a]) / double(c[a + 1] - c[a]);
-}
-
-}  // namespace
-
 long higher_order_columns(int ni, int nj, int stride) {
-    return long(computed(ni, std::max(stride, 1)).size()) *
-           long(computed(nj, std::max(stride, 1)).size());
+    return long(computed_indices(ni, stride).size()) * long(computed_indices(nj, stride).size());
 }
 
 namespace {
@@ -89,10 +65,13 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
     const BakeInfo& info = asset.info;
     const Lattice& l = info.lattice;
     const Transport transport(info.rig, info.water);
-    const std::vector<int> ci = computed(l.ni, s.stride), cj = computed(l.nj, s.stride);
-    const std::size_t nk = std::size_t(l.nk());
-    // Higher orders of computed column (a, b) at [(a * cj.size() + b) * nk + k].
-    std::vector<Rgb> coarse(ci.size() * cj.size() * nk);
+    MsColumns ms;
+    ms.ci = computed_indices(l.ni, s.stride);
+    ms.cj = computed_indices(l.nj, s.stride);
+    const std::vector<int>&ci = ms.ci, &cj = ms.cj;
+    const std::size_t nk = ms.nk = std::size_t(l.nk());
+    std::vector<Rgb>& coarse = ms.values;
+    coarse.resize(ci.size() * cj.size() * nk);
     std::vector<double> rel_error(ci.size() * cj.size()), fraction(ci.size() * cj.size());
     const MonteCarlo mc{s.paths, s.seed};
     parallel_for(
@@ -123,24 +102,17 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
             }
         },
         Parallel{par.threads, 1, par.progress}.with_stop(par.stop));
+    // The check needs the single scattering alone, so it runs before the sum.
+    s.check = info.check.done
+                  ? check_higher_orders(asset, ms, Parallel{par.threads}.with_stop(par.stop))
+                  : HigherOrderCheck{};
+    s.spacing_rad = double(s.stride) * l.step / std::min(info.camera.fx, info.camera.fy);
 
     for (int i = 0; i < l.ni; ++i) {
-        std::size_t a;
-        double wa;
-        bracket(ci, i, a, wa);
         for (int j = 0; j < l.nj; ++j) {
-            std::size_t b;
-            double wb;
-            bracket(cj, j, b, wb);
-            const auto at = [&](std::size_t ia, std::size_t jb, std::size_t k) {
-                return coarse[(ia * cj.size() + jb) * nk + k];
-            };
-            const std::size_t a1 = std::min(a + 1, ci.size() - 1),
-                              b1 = std::min(b + 1, cj.size() - 1);
             float* out = asset.values.data() + asset.index(i, j, 0);
             for (std::size_t k = 0; k < nk; ++k) {
-                const Rgb v = at(a, b, k) * ((1 - wa) * (1 - wb)) + at(a1, b, k) * (wa * (1 - wb)) +
-                              at(a, b1, k) * ((1 - wa) * wb) + at(a1, b1, k) * (wa * wb);
+                const Rgb v = ms.at(i, j, k);
                 for (int c = 0; c < 3; ++c) out[3 * k + c] += float(v[c]);
             }
         }

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "deepsea/asset/lattice.h"
+#include "deepsea/bake/higher_orders.h"
+#include "deepsea/optics/phase_sampling.h"
+
 namespace deepsea {
 
 namespace {
@@ -34,6 +38,59 @@ int auto_step(const Camera& cam, const Rig& rig) {
     const double pixel = 1.0 / std::min(cam.fx, cam.fy);  // radians per pixel on the axis
     const double step = std::floor(kStepPerDetail * detail / pixel);
     return int(std::clamp(step, 1.0, double(kMaxAutoStep)));
+}
+
+namespace {
+
+/// Least s / t along lamp L's axis where it is in the camera's view (pixel within the image,
+/// or half an image beyond: the beam's flank is seen there) and its light not yet negligible
+/// (exp(-c_min (s + t)) > 1e-3); 1 where the axis is never in view. s from 0.1 m: the first
+/// centimetres next to the lamp are too short a stretch of beam to matter.
+double parallax(const Camera& cam, const Light& L, const Water& water) {
+    const double c_min = water.c.min();
+    const double reach = c_min > 0.0 ? std::min(std::log(1e3) / c_min, 200.0) : 200.0;
+    double least = 1.0;
+    bool seen = false;
+    constexpr int kM = 96;
+    for (int m = 0; m <= kM; ++m) {
+        const double s = 0.1 * std::pow(reach / 0.1, double(m) / kM);
+        const Vec3 P = L.position + L.direction * s;
+        const double t = length(P);
+        if (!(P.z > 0.0) || s + t > reach) continue;
+        const double u = cam.fx * P.x / P.z + cam.cx, v = cam.fy * P.y / P.z + cam.cy;
+        if (u < -0.5 * cam.width || u > 1.5 * cam.width || v < -0.5 * cam.height ||
+            v > 1.5 * cam.height)
+            continue;
+        least = seen ? std::min(least, s / t) : s / t;
+        seen = true;
+    }
+    return seen ? std::min(least, 1.0e3) : 1.0;
+}
+
+}  // namespace
+
+double ms_detail(const Camera& cam, const Rig& rig, const Water& water) {
+    double w = 0.0;
+    const double median =
+        std::acos(std::clamp(PhaseSampler(water.phase).sample_cos(0.5, w), -1.0, 1.0));
+    double detail = 3.14159265358979323846;
+    for (const Light& l : rig.lights) {
+        const double beam = profile_detail(l.rid) * parallax(cam, l, water);
+        detail = std::min(detail, std::hypot(beam, median));
+    }
+    return detail;
+}
+
+int auto_ms_stride(const Camera& cam, const Rig& rig, const Water& water, int step, int paths) {
+    const double spacing =
+        std::min(kMsSpacingPerDetail * ms_detail(cam, rig, water), kMaxMsSpacing);
+    const double pixels = spacing * std::min(cam.fx, cam.fy);
+    int stride = std::max(1, int(std::floor(pixels / std::max(step, 1))));
+    const int ni = lattice_count(cam.width, step), nj = lattice_count(cam.height, step);
+    while (stride < std::max(ni, nj) &&
+           double(higher_order_columns(ni, nj, stride)) * std::max(paths, 1) > kMsPathBudget)
+        ++stride;
+    return stride;
 }
 
 bool Refinement::changed() const { return step > 0 || depth_samples > 0; }

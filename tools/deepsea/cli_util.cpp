@@ -203,7 +203,7 @@ void BakeFlags::add_to(CLI::App& sub) {
                        std::to_string(kMaxPaths) + " (64 x the default)");
     sub.add_option("--ms-stride", settings.higher_orders.stride,
                    "multiple scattering: computed on every n-th lattice column and row "
-                   "(default 0: auto, columns about 64 px apart)");
+                   "(default 0: auto, spaced in angle by the light's angular detail)");
     sub.add_option("--seed", settings.higher_orders.seed, "multiple scattering: random seed");
 }
 

@@ -81,6 +81,15 @@ void run(const BakeArgs& a) {
         say("multiple scattering: orders >= 2 are %.1f %% of the light at z_max, "
             "Monte Carlo standard error %.2f %% of the total (%d paths per column)\n",
             100.0 * h.fraction, 100.0 * h.rel_std_error, h.paths);
+        say("multiple scattering: columns %.2f deg apart (every %d-th lattice column)",
+            h.spacing_rad * 57.29577951308232, h.stride);
+        if (h.check.done) {
+            say("; check mean %.2f %%, max %.2f %% of the total at pixel (%g, %g) on %ld "
+                "columns between them (their standard error %.2f %%)",
+                100.0 * h.check.mean_rel, 100.0 * h.check.max_rel, h.check.max_u, h.check.max_v,
+                h.check.columns, 100.0 * h.check.rel_std_error);
+        }
+        say("\n");
     }
     if (a.check) {  // asked for: printed with -q too
         // The file's values, as the runtime will see them (half storage included).

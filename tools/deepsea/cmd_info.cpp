@@ -79,6 +79,26 @@ void run(const InfoArgs& a) {
             "%.2f %% of the total\n",
             h.paths, h.stride, static_cast<unsigned long long>(h.seed), 100.0 * h.fraction,
             100.0 * h.rel_std_error);
+        if (h.spacing_rad > 0.0) {
+            std::printf("           columns %.2f deg apart on the axis (%s)\n",
+                        h.spacing_rad * 57.29577951308232,
+                        h.stride_auto ? "from the light's angular detail" : "--ms-stride");
+        } else {
+            std::printf(
+                "           columns every %d-th lattice column (%d px; baked before the "
+                "angular rule)\n",
+                h.stride, h.stride * l.step);
+        }
+        if (h.check.done) {
+            std::printf(
+                "           check of orders >= 2: mean %.2f %%, max %.2f %% of the total "
+                "at pixel (%g, %g), on %ld columns between computed ones (%d paths each, "
+                "their standard error %.2f %%)\n",
+                100.0 * h.check.mean_rel, 100.0 * h.check.max_rel, h.check.max_u, h.check.max_v,
+                h.check.columns, h.check.paths, 100.0 * h.check.rel_std_error);
+        } else {
+            std::printf("           orders >= 2 not checked\n");
+        }
         std::printf(
             "           scattered lamp light at surfaces: %zu lamp table(s), %d directions "
             "per node, standard error %.2f %% (facing the lamp, mean over nodes)\n",

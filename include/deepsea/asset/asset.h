@@ -35,18 +35,34 @@ const char* to_string(Scattering s);
 /// Inverse of to_string; throws ConfigError naming the known values.
 Scattering parse_scattering(const std::string& name);
 
+/// The bake's own check of orders >= 2 (bake/higher_orders_check.h): the interpolated Monte
+/// Carlo columns against a direct estimate with more paths at columns it did not compute.
+struct HigherOrderCheck {
+    bool done = false;         ///< false: not checked (--no-check, or baked before the check)
+    double mean_rel = 0.0;     ///< |interpolated - direct| / all-order total, mean over columns
+    double max_rel = 0.0;      ///< and worst column (worst channel and depth of each)
+    double max_u = 0, max_v = 0;  ///< where the worst is, pixels (half pixels between columns)
+    long columns = 0;             ///< test columns
+    int paths = 0;             ///< paths of each direct estimate
+    double rel_std_error = 0;  ///< the direct estimates' mean standard error / total: the floor
+};
+
 /// Monte Carlo settings of a multiple-scattering bake, and what it measured of itself.
 struct HigherOrderSettings {
     int paths = 65536;              ///< Monte Carlo paths per computed column, >= 1
     int stride = 4;                 ///< computed on every stride-th lattice column and row (and the
                                     ///< last), bilinear in between: this light is smooth in angle
-    bool stride_auto = false;       ///< stride chosen as kMonteCarloSpacing / step (bake.h)
+    bool stride_auto = false;       ///< stride chosen by auto_ms_stride (bake/lattice_rule.h)
     std::uint64_t seed = 1;         ///< base seed; results depend on it, never on the threads
     int lamp_samples = 4096;        ///< directions per node of each lamp's scattered-light table
     double rel_std_error = 0;       ///< measured: mean over computed columns and channels of the
                                     ///< standard error at z_max / the all-order total
     double fraction = 0;            ///< measured: mean share of orders >= 2 in the total at z_max
     double lamp_rel_std_error = 0;  ///< measured: lamp tables' mean LampField::rel_std_error
+    /// Angle between computed columns on the optical axis, radians (stride * step / min(fx,
+    /// fy)); 0: baked before the angular rule (an automatic stride was 64 px / step).
+    double spacing_rad = 0;
+    HigherOrderCheck check;  ///< the bake's check of the interpolation
 };
 
 /// What the bake's own accuracy check measured (bake/accuracy.h, check_lattice): the lookup

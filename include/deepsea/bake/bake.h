@@ -41,10 +41,6 @@ inline constexpr double kMaxZMax = 1000.0;
 inline constexpr int kMaxPaths = 64 * 65536;
 inline constexpr int kMaxLampSamples = 64 * 4096;
 
-/// Multiple scattering's automatic stride: Monte Carlo columns about this many pixels apart
-/// (every 4th column of a 16 px lattice), whatever the lattice step.
-inline constexpr int kMonteCarloSpacing = 64;
-
 /// Defaults chosen by measurement (docs/asset-format.md, "Choosing the lattice").
 struct BakeSettings {
     int step = 0;  ///< pixels between lattice columns, 1 .. kMaxXyStep; 0: auto (lattice_rule.h)
@@ -56,7 +52,7 @@ struct BakeSettings {
     double tolerance = 5e-4;    ///< auto z_max: the tail beyond it / the total, (0, 0.5)
     Quadrature quadrature{1e-6, 1e-14, 40};      ///< the exact integrals' accuracy
     Scattering scattering = Scattering::Single;  ///< Multiple: add orders >= 2 (Monte Carlo)
-    /// Multiple only; stride 0: auto, kMonteCarloSpacing / step.
+    /// Multiple only; stride 0: auto, from the field's angular detail (auto_ms_stride).
     HigherOrderSettings higher_orders = [] {
         HigherOrderSettings h;
         h.stride = 0;

@@ -6,6 +6,7 @@
 #include "deepsea/asset/asset.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
+#include "deepsea/optics/water.h"
 
 namespace deepsea {
 
@@ -37,6 +38,33 @@ double profile_detail(const Rid& rid);
 /// camera's largest angular pixel size (1 / min(fx, fy) radians, at the principal point),
 /// within [1, kMaxAutoStep].
 int auto_step(const Camera& camera, const Rig& rig);
+
+/// Multiple scattering's columns (docs/asset-format.md, "Multiple-scattering columns"): the
+/// spacing spans this fraction of the narrowest angular detail of orders >= 2 (measured on
+/// crossing pencil beams, docs/asset-format.md).
+inline constexpr double kMsSpacingPerDetail = 0.25;
+
+/// The coarsest automatic spacing, radians on the axis: the demo's (64 px at fx = 600), which
+/// the Cycles and path-tracer comparisons of docs/model.md measured.
+inline constexpr double kMaxMsSpacing = 0.11;
+
+/// Monte Carlo paths an automatic stride may spend on the computed columns (400 columns at the
+/// default 65536 paths: the default 800x800 asset stays within its 90 s on 2 cores). A finer
+/// spacing than this allows is widened, and the check says what that costs.
+inline constexpr double kMsPathBudget = 400.0 * 65536.0;
+
+/// Angular scale (radians, seen from the camera) of the narrowest detail of orders >= 2: per
+/// lamp, its profile_detail times the parallax factor (the beam's width s sigma at distance s
+/// from the lamp over its distance t from the camera, least where the axis is in view and its
+/// light not negligible), widened by the phase function's median scattering angle (added in
+/// quadrature); the least over lamps.
+double ms_detail(const Camera& camera, const Rig& rig, const Water& water);
+
+/// The automatic multiple-scattering stride (lattice columns between computed columns, >= 1):
+/// kMsSpacingPerDetail of ms_detail, at most kMaxMsSpacing, in lattice steps of the camera's
+/// largest angular pixel size; widened until the computed columns times `paths` fit
+/// kMsPathBudget.
+int auto_ms_stride(const Camera& camera, const Rig& rig, const Water& water, int step, int paths);
 
 /// What to change when a check missed the bar (0: leave that parameter as it is).
 struct Refinement {

@@ -317,6 +317,28 @@ TEST_F(BakeFile, MultipleScatteringRoundTripAndDamage) {
     EXPECT_EQ(b.info.higher_orders.paths, 512);
     EXPECT_EQ(b.info.higher_orders.lamp_samples, 32);
     EXPECT_EQ(b.info.input_hash, a.info.input_hash);
+    // The columns' angle and the check of orders >= 2 (full float JSON: exact).
+    const HigherOrderSettings &ha = a.info.higher_orders, &hb = b.info.higher_orders;
+    EXPECT_GT(ha.spacing_rad, 0.0);
+    EXPECT_EQ(hb.spacing_rad, ha.spacing_rad);
+    ASSERT_TRUE(ha.check.done && hb.check.done);
+    EXPECT_GT(ha.check.columns, 0);
+    EXPECT_EQ(hb.check.mean_rel, ha.check.mean_rel);
+    EXPECT_EQ(hb.check.max_rel, ha.check.max_rel);
+    EXPECT_EQ(hb.check.max_u, ha.check.max_u);
+    EXPECT_EQ(hb.check.columns, ha.check.columns);
+    // An asset from before the angular rule and its check (keys absent) still reads: spacing
+    // unknown (0), not checked.
+    {
+        BakeInfo before = a.info;
+        before.higher_orders.spacing_rad = 0.0;
+        before.higher_orders.check = {};
+        const BakeInfo read = bake_info_from_json(bake_info_to_json(before));
+        EXPECT_EQ(bake_info_to_json(before).find("spacing_rad"), std::string::npos);
+        EXPECT_EQ(read.higher_orders.spacing_rad, 0.0);
+        EXPECT_FALSE(read.higher_orders.check.done);
+        EXPECT_EQ(read.higher_orders.stride, ha.stride);
+    }
     ASSERT_EQ(b.lamp_fields.size(), 2u);
     for (std::size_t f = 0; f < 2; ++f) {
         EXPECT_EQ(b.lamp_fields[f].sh, a.lamp_fields[f].sh);  // full float: exact

@@ -1,0 +1,109 @@
+#include "higher_orders_json.h"
+
+#include <string>
+#include <vector>
+
+#include "deepsea/core/error.h"
+
+namespace deepsea {
+
+using nlohmann::json;
+
+namespace {
+
+const std::string kWhere = "multiple_scattering";
+
+[[noreturn]] void fail(const std::string& key, const std::string& problem) {
+    throw AssetError("deepsea:bake: " + key + ": " + problem);
+}
+
+const json& get(const json& j, const char* key, const std::string& where) {
+    if (!j.is_object()) fail(where, "not an object");
+    const auto it = j.find(key);
+    if (it == j.end()) fail(where + "." + key, "missing");
+    return *it;
+}
+
+double num(const json& j, const char* key, const std::string& where) {
+    const json& x = get(j, key, where);
+    if (!x.is_number()) fail(where + "." + key, "not a number");
+    return x.get<double>();
+}
+
+int integer(const json& j, const char* key, const std::string& where) {
+    const json& x = get(j, key, where);
+    if (!x.is_number_integer()) fail(where + "." + key, "not an integer");
+    return x.get<int>();
+}
+
+/// Absent (assets from before the key) or not a boolean: false, as the other flags read.
+bool flag(const json& j, const char* key) {
+    return j.contains(key) && j[key].is_boolean() && j[key].get<bool>();
+}
+
+HigherOrderCheck parse_check(const json& c) {
+    const std::string where = kWhere + ".check";
+    const json& at = get(c, "max_pixel", where);
+    if (!at.is_array() || at.size() != 2 || !at[0].is_number() || !at[1].is_number())
+        fail(where + ".max_pixel", "not two numbers");
+    HigherOrderCheck k{true,
+                       num(c, "mean_rel", where),
+                       num(c, "max_rel", where),
+                       at[0].get<double>(),
+                       at[1].get<double>(),
+                       integer(c, "columns", where),
+                       integer(c, "paths", where),
+                       num(c, "rel_std_error", where)};
+    if (!(k.mean_rel >= 0.0 && k.max_rel >= k.mean_rel && k.columns >= 0 && k.paths >= 1 &&
+          k.rel_std_error >= 0.0))
+        fail(where, "errors must be >= 0 (max >= mean), paths >= 1");
+    return k;
+}
+
+}  // namespace
+
+json higher_orders_json(const HigherOrderSettings& h) {
+    json m = {{"method", "monte carlo, orders >= 2"},
+              {"paths", h.paths},
+              {"stride", h.stride},
+              {"stride_auto", h.stride_auto},
+              {"seed", h.seed},
+              {"rel_std_error", h.rel_std_error},
+              {"fraction", h.fraction},
+              {"lamp_samples", h.lamp_samples},
+              {"lamp_rel_std_error", h.lamp_rel_std_error}};
+    if (h.spacing_rad > 0.0) m["spacing_rad"] = h.spacing_rad;
+    const HigherOrderCheck& c = h.check;
+    if (c.done) {
+        m["check"] = {
+            {"mean_rel", c.mean_rel}, {"max_rel", c.max_rel}, {"max_pixel", {c.max_u, c.max_v}},
+            {"columns", c.columns},   {"paths", c.paths},     {"rel_std_error", c.rel_std_error}};
+    }
+    return m;
+}
+
+HigherOrderSettings parse_higher_orders(const json& m) {
+    HigherOrderSettings h;
+    h.paths = integer(m, "paths", kWhere);
+    h.stride = integer(m, "stride", kWhere);
+    h.stride_auto = flag(m, "stride_auto");
+    const json& seed = get(m, "seed", kWhere);
+    if (!seed.is_number_unsigned()) fail(kWhere + ".seed", "not an unsigned integer");
+    h.seed = seed.get<std::uint64_t>();
+    h.rel_std_error = num(m, "rel_std_error", kWhere);
+    h.fraction = num(m, "fraction", kWhere);
+    h.lamp_samples = integer(m, "lamp_samples", kWhere);
+    h.lamp_rel_std_error = num(m, "lamp_rel_std_error", kWhere);
+    if (h.paths < 1 || h.stride < 1 || h.lamp_samples < 1) {
+        fail(kWhere, "paths, stride and lamp_samples must be >= 1");
+    }
+    // Absent before the angular rule and its check: spacing 0 (64 px / step), not checked.
+    if (m.contains("spacing_rad")) {
+        h.spacing_rad = num(m, "spacing_rad", kWhere);
+        if (!(h.spacing_rad > 0.0)) fail(kWhere + ".spacing_rad", "must be > 0");
+    }
+    if (m.contains("check")) h.check = parse_check(m["check"]);
+    return h;
+}
+
+}  // namespace deepsea
