@@ -124,12 +124,12 @@ TEST(PathTracer, StandardErrorShrinksAsOneOverSquareRootOfPaths) {
             EXPECT_LE(std::fabs(sa.first - sb.first), 4.0 * std::hypot(sa.second, sb.second));
         }
     }
-    // All orders, in clear water (HG 0.9, a plane at 3 m): the water light's error halves as
-    // well. Paths that pass close to a lamp make the surface layers' errors (and their own
+    // All orders, in clear water (HG 0.9, a plane at 3 m): the errors halve as well. Paths that
+    // pass close to a lamp make the water's and the surface layers' errors (and their own
     // estimates) heavy-tailed at a few hundred paths (docs/reference.md): a few pixels' error
-    // estimates can be far off (they differ between compilers' floating point), so the final
-    // image's errors are compared pixel by pixel, by the median ratio; the two runs agree
-    // within their errors.
+    // estimates can be far off (which ones differs with the compiler's floating point), so the
+    // errors are compared pixel by pixel, by the median ratio; the two runs agree within their
+    // errors.
     const Camera cam = testing::camera(8, 6);
     const testing::Scene scene = testing::plane(cam, 3.0, 0.1, 0.0);
     const Water clear = testing::hg_water({0.49, 0.2, 0.18}, {0.11, 0.12, 0.14}, 0.9);
@@ -142,9 +142,10 @@ TEST(PathTracer, StandardErrorShrinksAsOneOverSquareRootOfPaths) {
     const PathTraced b =
         render_path_traced(cam, testing::two_spots(), clear, scene.rgb, scene.depth, opt);
     for (int ch = 0; ch < 3; ++ch) {
-        const auto wa = image_sum(a.layers.backscatter, a.std_error.backscatter, ch);
-        const auto wb = image_sum(b.layers.backscatter, b.std_error.backscatter, ch);
-        EXPECT_NEAR(wb.second / wa.second, 0.5, 0.25) << "channel " << ch;
+        const double water =
+            median_error_ratio(a.std_error.backscatter, b.std_error.backscatter, ch);
+        EXPECT_GT(water, 0.3) << "channel " << ch;
+        EXPECT_LT(water, 0.8) << "channel " << ch;
         const auto sa = image_sum(a.layers.final, a.std_error.final, ch);
         const auto sb = image_sum(b.layers.final, b.std_error.final, ch);
         std::printf(
