@@ -35,6 +35,13 @@ const std::string& checked(const std::string& path) {
     return path;
 }
 
+/// The backscatter grid's name in an open file: format 3's, or before it `backscatter`.
+const char* backscatter_grid_name(vdb::io::File& file) {
+    return file.hasGrid(kOldBackscatterGrid) && !file.hasGrid(kBackscatterGrid)
+               ? kOldBackscatterGrid
+               : kBackscatterGrid;
+}
+
 /// An open file and its deepsea metadata (file-level first, else the backscatter grid's,
 /// which survives when Houdini re-saves the grid).
 struct OpenAsset {
@@ -58,9 +65,12 @@ struct OpenAsset {
         try {
             meta = *file.getMetadata();
             std::int32_t f = 0;
-            if (!get_meta(meta, kMetaFormat, f) && file.hasGrid(kBackscatterGrid)) {
-                meta = *file.readGridMetadata(kBackscatterGrid);
-                get_meta(meta, kMetaFormat, f);
+            if (!get_meta(meta, kMetaFormat, f)) {
+                const char* grid = backscatter_grid_name(file);
+                if (file.hasGrid(grid)) {
+                    meta = *file.readGridMetadata(grid);
+                    get_meta(meta, kMetaFormat, f);
+                }
             }
             format = f;
         } catch (const std::exception& e) {
@@ -170,8 +180,9 @@ Asset load_asset(const std::string& path) {
     const Lattice& l = asset.info.lattice;
     vdb::GridBase::Ptr base;
     try {
-        if (!f.file.hasGrid(kBackscatterGrid)) throw AssetError("no backscatter grid");
-        base = f.file.readGrid(kBackscatterGrid);
+        const char* grid = backscatter_grid_name(f.file);
+        if (!f.file.hasGrid(grid)) throw AssetError("no backscatter grid");
+        base = f.file.readGrid(grid);
     } catch (const AssetError& e) {
         throw AssetError(path + ": " + one_line(e.what()));
     } catch (const std::exception& e) {
@@ -228,7 +239,9 @@ AssetFileSummary read_asset_summary(const std::string& path) {
         for (const auto& g : *grids) s.grids.push_back(summarize(*g));
         // OpenVDB lists grids by name; show the asset's own grid first.
         std::stable_partition(s.grids.begin(), s.grids.end(),
-                              [](const GridSummary& g) { return g.name == kBackscatterGrid; });
+                              [](const GridSummary& g) {
+                                  return g.name == kBackscatterGrid || g.name == kOldBackscatterGrid;
+                              });
     } catch (const std::exception& e) {
         throw AssetError(path + ": damaged OpenVDB file (" + one_line(e.what()) + ")");
     }

@@ -242,10 +242,10 @@ for sh in "" "1" "a/b" "1/2/3" " 0/2" "0/0" "2/2" "99999999999/2"; do
   [[ $rc -eq 2 ]] || { echo "FAIL: --shard '$sh' exit $rc, expected 2"; exit 1; }
 done
 
-# --- a full disk: a 1 MB tmpfs (root only) ---
+# --- a full disk: a 128 KB tmpfs (root only; the small asset is about 360 KB) ---
 full=$work/full
 mkdir -p "$full"
-if mount -t tmpfs -o size=1m tmpfs "$full" 2>/dev/null; then
+if mount -t tmpfs -o size=128k tmpfs "$full" 2>/dev/null; then
   trap 'umount "$full" 2>/dev/null || true' EXIT
   set +e
   "$ds" bake "${small[@]}" -o "$full/a.vdb" >"$work/out.txt" 2>"$work/err.txt"

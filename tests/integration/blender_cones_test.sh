@@ -2,7 +2,8 @@
 # Blender 3.4 headless, as a technical artist opens an asset: File > Import > OpenVDB
 # (bpy.ops.object.volume_import, default settings) of an asset of the authors' rig, then what
 # View > Frame All frames (the object's box: every grid's leaf nodes). Checks that the box is the
-# beams' (the density grid's, read with pyopenvdb), that it holds both lamps, and that each
+# beams' (the density grid's, read with pyopenvdb) and the grid the viewport draws is theirs,
+# that it holds both lamps, and that each
 # lamp's bright lobe in the imported grid points along that lamp's axis in Blender's frame
 # (camera (x, y, z) -> (x, -y, -z)) within 2 degrees: the mean direction from the lamp to the
 # voxels within 0.45 m of it whose density is at least 0.6.
@@ -25,6 +26,7 @@ obj = [o for o in bpy.context.scene.objects if o.type == "VOLUME"][0]
 obj.data.grids.load()
 corners = [obj.matrix_world @ mathutils.Vector(c) for c in obj.bound_box]
 json.dump({"grids": sorted(g.name for g in obj.data.grids),
+           "shown": obj.data.grids[obj.data.grids.active_index].name,  # the viewport draws it
            "min": [min(c[a] for c in corners) for a in range(3)],
            "max": [max(c[a] for c in corners) for a in range(3)]}, open(out, "w"))
 PY
@@ -37,7 +39,8 @@ import pyopenvdb as vdb
 work = sys.argv[1]
 frame = json.load(open(f"{work}/frame.json"))
 info = json.load(open(f"{work}/a.json"))
-assert frame["grids"] == ["backscatter", "density"], frame["grids"]
+assert frame["grids"] == ["density", "water_backscatter"], frame["grids"]
+assert frame["shown"] == "density", frame["shown"]  # the viewport shows the beams
 g = vdb.read(f"{work}/a.vdb", "density")
 lo, hi = g.evalActiveVoxelBoundingBox()
 leaf_lo = [x & ~7 for x in lo]

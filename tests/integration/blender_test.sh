@@ -4,7 +4,7 @@
 #    depth schemes and two cameras (one at 110 degrees): the box Blender frames (every grid's
 #    leaf nodes) lies within the frustum extent computed from the asset's camera and spans it;
 #    the same for each grid alone (split out with pyopenvdb), so no grid is flat or outside.
-# 2. The backscatter grid's metadata gives its true camera-space points (docs/asset-format.md).
+# 2. The backscatter grid's (water_backscatter) metadata gives its true camera-space points (docs/asset-format.md).
 # 3. tools/blender/open_asset.py opens an asset with deepsea info --json (and without a deepsea
 #    binary, from the file's header), and the rendered light cones are visible.
 set -euo pipefail
@@ -43,7 +43,7 @@ for a in ["log", "uniform", "wide-sqrt", "wide-taylor"]:
     info = json.load(open(f"{work}/{a}.json"))
     cam, z_max = info["bake"]["camera"], info["bake"]["lattice"]["z_max"]
     names = [g["name"] for g in info["grids"]]
-    assert sorted(names) == ["backscatter", "density"], names
+    assert sorted(names) == ["density", "water_backscatter"], names
     # Whole file: within the extent (every grid lies within the beams' depth, docs/blender.md).
     cases.append({"file": f"{work}/{a}.vdb", "camera": cam, "z_max": z_max, "grids": names,
                   "fill": 0.02})
@@ -55,7 +55,7 @@ for a in ["log", "uniform", "wide-sqrt", "wide-taylor"]:
 
     # The backscatter grid's true camera-space geometry, read from its own metadata as any
     # OpenVDB tool would, is the camera point of pixel (i step, j step) at depth z_k.
-    m = vdb.read(f"{work}/{a}.vdb", "backscatter").metadata
+    m = vdb.read(f"{work}/{a}.vdb", "water_backscatter").metadata
     z = [float(t) for t in m["deepsea:z_samples"].split()]
     lat = info["bake"]["lattice"]
     assert m["deepsea:depth_scheme"] == lat["depth_scheme"], m["deepsea:depth_scheme"]

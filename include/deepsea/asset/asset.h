@@ -23,7 +23,7 @@ namespace deepsea {
 /// grid's transform lies within the frustum's extent, the backscatter grid carries its
 /// camera-space geometry as metadata (format 1's are read the same way: only the transforms
 /// and the preview differ, which the loader does not use).
-inline constexpr int kAssetFormat = 2;
+inline constexpr int kAssetFormat = 3;
 
 /// Which light the backscatter values hold.
 enum class Scattering {

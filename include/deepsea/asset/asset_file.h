@@ -15,8 +15,12 @@
 
 namespace deepsea {
 
-/// Grid names in the file.
-inline constexpr const char* kBackscatterGrid = "backscatter";
+/// Grid names in the file. The backscatter lookup table's name sorts after `density`: OpenVDB
+/// lists a file's grids by name and Blender shows the first one in its viewport, which must be
+/// the beams (docs/blender.md). Assets before format 3 call it `backscatter`
+/// (kOldBackscatterGrid), and are read as before.
+inline constexpr const char* kBackscatterGrid = "water_backscatter";
+inline constexpr const char* kOldBackscatterGrid = "backscatter";
 /// The lamps' beams (Blender's Principled Volume reads `density` by default).
 inline constexpr const char* kDensityGrid = "density";
 /// Prefix of the multiple-scattering lamp tables: lamp_field_0, lamp_field_1, ...
