@@ -238,10 +238,9 @@ AssetFileSummary read_asset_summary(const std::string& path) {
         const auto grids = f.file.readAllGridMetadata();
         for (const auto& g : *grids) s.grids.push_back(summarize(*g));
         // OpenVDB lists grids by name; show the asset's own grid first.
-        std::stable_partition(s.grids.begin(), s.grids.end(),
-                              [](const GridSummary& g) {
-                                  return g.name == kBackscatterGrid || g.name == kOldBackscatterGrid;
-                              });
+        std::stable_partition(s.grids.begin(), s.grids.end(), [](const GridSummary& g) {
+            return g.name == kBackscatterGrid || g.name == kOldBackscatterGrid;
+        });
     } catch (const std::exception& e) {
         throw AssetError(path + ": damaged OpenVDB file (" + one_line(e.what()) + ")");
     }

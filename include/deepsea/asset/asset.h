@@ -38,13 +38,13 @@ Scattering parse_scattering(const std::string& name);
 /// The bake's own check of orders >= 2 (bake/higher_orders_check.h): the interpolated Monte
 /// Carlo columns against a direct estimate with more paths at columns it did not compute.
 struct HigherOrderCheck {
-    bool done = false;         ///< false: not checked (--no-check, or baked before the check)
-    double mean_rel = 0.0;     ///< |interpolated - direct| / all-order total, mean over columns
-    double max_rel = 0.0;      ///< and worst column (worst channel and depth of each)
+    bool done = false;            ///< false: not checked (--no-check, or baked before the check)
+    double mean_rel = 0.0;        ///< |interpolated - direct| / all-order total, mean over columns
+    double max_rel = 0.0;         ///< and worst column (worst channel and depth of each)
     double max_u = 0, max_v = 0;  ///< where the worst is, pixels (half pixels between columns)
     long columns = 0;             ///< test columns
-    int paths = 0;             ///< paths of each direct estimate
-    double rel_std_error = 0;  ///< the direct estimates' mean standard error / total: the floor
+    int paths = 0;                ///< paths of each direct estimate
+    double rel_std_error = 0;     ///< the direct estimates' mean standard error / total: the floor
 };
 
 /// Monte Carlo settings of a multiple-scattering bake, and what it measured of itself.
