@@ -1,6 +1,6 @@
-// MarineSnow::draw: the particles of a frame lit in float rows (snow_light.h), then drawn into
-// the image by bands of rows in parallel, each band taking its particles in id order, so that
-// the image and the ids are the same at any thread count.
+// MarineSnow::draw: the particles of a frame lit in float rows (snow_light.h), tested against
+// the surface and drawn into the image by bands of rows in parallel, each band taking its
+// particles in id order, so that the image and the ids are the same at any thread count.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -19,8 +19,6 @@ namespace {
 constexpr std::size_t kBlock = 1024;
 /// Rows per band of the drawing pass.
 constexpr int kBandRows = 16;
-/// How far ahead the drawing pass fetches a particle's pixels.
-constexpr std::uint32_t kPrefetch = 8;
 
 /// A particle as drawn: pixel centre, disc radius (0.5: a bilinear splat into four pixels),
 /// planar depth, the light it brings (radiance times its image's area in pixels, per channel)
@@ -30,6 +28,7 @@ struct Splat {
     float energy[3];
     float inv_cover;
     int va, vb;  ///< rows touched
+    int iu, iv;  ///< the centre's pixel
     std::uint32_t id;  ///< 0: not drawn
 };
 
@@ -88,13 +87,19 @@ struct Target {
         }
     }
 
-    /// Asks for the depth and final pixels at the corners of splat s's window.
-    void prefetch(const Splat& s) const {
-        const int x = std::clamp(int(s.u), 0, W - 1);
-        for (const int y : {std::clamp(s.va, 0, H - 1), std::clamp(s.vb, 0, H - 1)}) {
-            __builtin_prefetch(zdepth.row(y) + x);
-            __builtin_prefetch(final.row(y) + 3 * x, 1);
+    /// Reads rows y0..y1 of the depth and final images in order, a value per cache line: a
+    /// dense band's particles then find their pixels in the cache (sequential reads stream at
+    /// the memory's bandwidth; scattered ones each wait for memory).
+    float warm(int y0, int y1, bool with_final) const {
+        float sink = 0.0f;
+        for (int y = y0; y <= y1; ++y) {
+            const float* d = zdepth.row(y);
+            for (int x = 0; x < W; x += 16) sink += d[x];
+            if (!with_final) continue;
+            const float* f = final.row(y);
+            for (int x = 0; x < 3 * W; x += 16) sink += f[x];
         }
+        return sink;
     }
 
     /// Draws the rows y0..y1 of splat s.
@@ -132,6 +137,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                         m_settings.focus_distance_m};
     const int W = cam.width, H = cam.height;
     const std::size_t n = particles.size();
+    if (ids) m_best.assign(std::size_t(W) * H, 0.0f);
     std::vector<Splat> splats(n);
     // Rows: x, y, z, 1/|X|, D, the three energies and five of scratch.
     m_rows.resize(13 * n);
@@ -157,24 +163,14 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         }
         snow_light(m_rig, m_water, m_settings.snow, cam.fx, cam.fy,
                    ParticleRows{int(m), x, y, z, inv_d2, D}, er, eg, eb, scratch);
-        // The centre's pixel (the surface there hides a particle behind it), fetched ahead.
-        int* centre = reinterpret_cast<int*>(scratch.theta);
-        for (std::size_t q = 0; q < m; ++q) {
-            const Vec3& X = particles[b + q].position;
-            const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
-            const int iu = std::clamp(int(std::lround(u)), 0, W - 1);
-            const int iv = std::clamp(int(std::lround(v)), 0, H - 1);
-            centre[q] = iv * W + iu;
-            __builtin_prefetch(zdepth.row(iv) + iu);
-        }
         for (std::size_t q = 0; q < m; ++q) {
             const SnowParticle& pt = particles[b + q];
             const Vec3& X = pt.position;
             Splat& s = splats[b + q];
             s.id = 0;  // not drawn
             const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
-            const float zs = zdepth.data[std::size_t(centre[q])];
-            if (!open_water(zs) && double(zs) <= X.z) continue;  // behind the surface
+            s.iu = std::clamp(int(std::lround(u)), 0, W - 1);
+            s.iv = std::clamp(int(std::lround(v)), 0, H - 1);
             s.u = float(u);
             s.v = float(v);
             s.radius = float(snow_disc_radius_px(cam, lens, X, pt.diameter));
@@ -190,7 +186,8 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                 // Normalised over the disc: the particle's light is spread, not multiplied.
                 float total = 0.0f;
                 for (int yy = w.va; yy <= w.vb; ++yy)
-                    for (int xx = w.ua; xx <= w.ub; ++xx) total += coverage(s.u, s.v, s.radius, xx, yy);
+                    for (int xx = w.ua; xx <= w.ub; ++xx)
+                        total += coverage(s.u, s.v, s.radius, xx, yy);
                 if (!(total > 0.0f)) continue;
                 s.inv_cover = 1.0f / total;
             }
@@ -198,8 +195,36 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         }
     });
 
-    // Each band's particles, in id order (a counting sort by band).
+    // A particle whose centre lies behind the surface at its pixel is not drawn: tested by
+    // bands of the centre's row, each band's depth read in order first where it is dense.
     const int bands = (H + kBandRows - 1) / kBandRows;
+    const Target target{zdepth, final, snow, ids, m_best.data(), W, H};
+    std::vector<float> sinks(std::size_t(bands), 0.0f);
+    {
+        std::vector<std::uint32_t> start(std::size_t(bands) + 1, 0);
+        for (const Splat& s : splats)
+            if (s.id != 0) ++start[std::size_t(s.iv / kBandRows) + 1];
+        for (int b = 0; b < bands; ++b) start[std::size_t(b) + 1] += start[std::size_t(b)];
+        std::vector<std::uint32_t> order(start.back()), fill(start.begin(), start.end() - 1);
+        for (std::size_t q = 0; q < n; ++q)
+            if (splats[q].id != 0)
+                order[fill[std::size_t(splats[q].iv / kBandRows)]++] = std::uint32_t(q);
+        tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
+            for (int b = range.begin(); b != range.end(); ++b) {
+                const int y0 = b * kBandRows, y1 = std::min(H, y0 + kBandRows) - 1;
+                const std::uint32_t i0 = start[std::size_t(b)], i1 = start[std::size_t(b) + 1];
+                if (std::int64_t(i1 - i0) * 128 > std::int64_t(y1 - y0 + 1) * W)
+                    sinks[std::size_t(b)] = target.warm(y0, y1, false);
+                for (std::uint32_t i = i0; i < i1; ++i) {
+                    Splat& s = splats[order[i]];
+                    const float zs = zdepth.row(s.iv)[s.iu];
+                    if (!open_water(zs) && zs <= s.z) s.id = 0;  // behind the surface
+                }
+            }
+        });
+    }
+
+    // Each band's particles, in id order (a counting sort by band).
     std::vector<std::uint32_t> start(std::size_t(bands) + 1, 0);
     int drawn = 0;
     const auto band_span = [&](const Splat& s) {
@@ -221,16 +246,14 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         for (int b = b0; b <= b1; ++b) order[fill[std::size_t(b)]++] = std::uint32_t(q);
     }
 
-    if (ids) m_best.assign(std::size_t(W) * H, 0.0f);
-    const Target target{zdepth, final, snow, ids, m_best.data(), W, H};
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
         for (int b = range.begin(); b != range.end(); ++b) {
             const int y0 = b * kBandRows, y1 = std::min(H, y0 + kBandRows) - 1;
             const std::uint32_t i0 = start[std::size_t(b)], i1 = start[std::size_t(b) + 1];
+            // Warm when the particles would touch most of the band's cache lines anyway.
+            if (std::int64_t(i1 - i0) * 64 > std::int64_t(y1 - y0 + 1) * W)
+                sinks[std::size_t(b)] = target.warm(y0, y1, true);
             for (std::uint32_t i = i0; i < i1; ++i) {
-                // The particles fall at random places: fetch the pixels of one kPrefetch
-                // ahead while this one is drawn (the frame is far larger than the caches).
-                if (i + kPrefetch < i1) target.prefetch(splats[order[i + kPrefetch]]);
                 target.draw(splats[order[i]], y0, y1);
             }
         }
