@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # deepsea render --snow (docs/model.md, "Marine snow"): the snow and snow_id layers, the
 # manifest's settings.snow, --resume refusing other snow settings, a bad preset refused with one
-# line and exit 2 before any work.
+# line and exit 2 before any work, the setup's snow section.
 set -euo pipefail
 ds=$1 work=$2 src=$3
 rm -rf "$work"; mkdir -p "$work"
@@ -50,15 +50,18 @@ assert "snow" not in m.get("settings", {}), m
 PY
 
 # 2. --resume with other snow settings: refused, one line, nothing rewritten.
-sum_before=$(cat "$work"/lay/* | md5sum)
-expect_fail "resume with another preset" render --layers "$work/lay" --resume --snow plume \
-  --snow-seed 7 --exposure 100
+sum_before=$(cat "$work"/lay/* "$work"/seq/* | md5sum)
+expect_fail "resume with another preset" render -o "$work/seq" --layers "$work/lay" --resume \
+  --snow plume --snow-seed 7 --exposure 100
 grep -q "snow" "$work/err.txt"
-expect_fail "resume with another seed" render --layers "$work/lay" --resume --snow nepheloid \
-  --snow-seed 8 --exposure 100
-expect_fail "resume without snow" render --layers "$work/lay" --resume --exposure 100
-[[ $(cat "$work"/lay/* | md5sum) == "$sum_before" ]] || { echo "FAIL: layers changed"; exit 1; }
-render --layers "$work/lay" --resume --snow nepheloid --snow-seed 7 --exposure 100 \
+grep -q -- "--snow" "$work/err.txt"
+expect_fail "resume with another seed" render -o "$work/seq" --layers "$work/lay" --resume \
+  --snow nepheloid --snow-seed 8 --exposure 100
+grep -q -- "--snow-seed" "$work/err.txt"
+expect_fail "resume without snow" render -o "$work/seq" --layers "$work/lay" --resume \
+  --exposure 100
+[[ $(cat "$work"/lay/* "$work"/seq/* | md5sum) == "$sum_before" ]] || { echo "FAIL: layers changed"; exit 1; }
+render -o "$work/seq" --layers "$work/lay" --resume --snow nepheloid --snow-seed 7 --exposure 100 \
   | grep -q "skipped 2"
 
 # 3. An unknown preset: one line naming it, exit 2, nothing written.
@@ -66,5 +69,27 @@ expect_fail "unknown preset" render -o "$work/bad" --snow blizzard
 [[ $(grep -c "blizzard" "$work/err.txt") -eq 1 ]]
 set +e; render -o "$work/bad" --snow blizzard 2>/dev/null; rc=$?; set -e
 [[ $rc -eq 2 ]] || { echo "FAIL: unknown preset exit $rc, not 2"; exit 1; }
+expect_absent "$work/bad"
+
+# 4. A snow section in the --camera file (docs/config.md): applies without --snow, its values
+# recorded in the manifest; --snow overrides it; a value out of range names its key and line.
+{ cat "$work/in/camera.yaml"; printf 'snow:\n  preset: plume\n  albedo: 0.3\n'; } > "$work/cam_snow.yaml"
+render --camera "$work/cam_snow.yaml" --layers "$work/yaml" --exposure 100 | grep -q "rendered 2"
+render --camera "$work/cam_snow.yaml" --layers "$work/yaml_off" --exposure 100 --snow off \
+  | grep -q "rendered 2"
+/usr/bin/python3 - "$work/yaml" "$work/yaml_off" <<'PY'
+import json, os, sys
+import OpenImageIO as oiio
+on, off = sys.argv[1:]
+s = json.load(open(os.path.join(on, "deepsea-sequence.json")))["settings"]["snow"]
+assert s["preset"] == "custom" and s["albedo"] == 0.3 and s["concentration"] == 5000, s
+assert "snow" not in json.load(open(os.path.join(off, "deepsea-sequence.json")))["settings"]
+assert "snow.R" in oiio.ImageInput.open(os.path.join(on, "frame_0001.exr")).spec().channelnames
+assert "snow.R" not in oiio.ImageInput.open(os.path.join(off, "frame_0001.exr")).spec().channelnames
+PY
+{ cat "$work/in/camera.yaml"; printf 'snow:\n  preset: plume\n  albedo: 1.5\n'; } > "$work/cam_bad.yaml"
+expect_fail "albedo out of range" render --camera "$work/cam_bad.yaml" -o "$work/bad"
+line=$(( $(wc -l < "$work/in/camera.yaml") + 3 ))
+grep -q "cam_bad.yaml:$line: snow.albedo: must be in (0, 1\]" "$work/err.txt"
 expect_absent "$work/bad"
 echo "render --snow: ok"
