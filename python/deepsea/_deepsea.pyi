@@ -18,6 +18,9 @@ _DepthKind = Literal["z", "range"]
 _Layers = Union[str, Sequence[str]]
 _Array = npt.ArrayLike
 _Float32 = npt.NDArray[np.float32]
+# Marine snow: a preset's name, "off", or a dict as the setup's snow section.
+_Snow = Union[None, str, Mapping[str, Any]]
+_FrameKey = Union[int, str]
 
 class Error(Exception): ...
 class ConfigError(Error, ValueError): ...
@@ -41,7 +44,14 @@ def load_asset(path: _Path, *, threads: int = 0) -> Asset: ...
 
 class Renderer:
     def __init__(
-        self, asset: Asset, *, camera: _Section = None, forward: bool = True, threads: int = 0
+        self,
+        asset: Asset,
+        *,
+        camera: _Section = None,
+        forward: bool = True,
+        threads: int = 0,
+        snow: _Snow = None,
+        snow_seed: int = 1,
     ) -> None: ...
     def render(
         self,
@@ -52,6 +62,8 @@ class Renderer:
         depth_kind: _DepthKind = "z",
         depth_scale: float = 0.001,
         layers: _Layers = "all",
+        frame_key: _FrameKey = 0,
+        pose: Optional[_Array] = None,
     ) -> Dict[str, _Float32]: ...
     @property
     def camera(self) -> Dict[str, Any]: ...

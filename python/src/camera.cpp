@@ -63,21 +63,6 @@ Setup camera_setup(const py::handle& config) {
     return s;
 }
 
-/// An int in [0, 2^64) as it is; a str hashed as `deepsea render` hashes a colour file's stem.
-std::uint64_t frame_key_of(const py::handle& key) {
-    if (py::isinstance<py::str>(key)) return fnv1a64(key.cast<std::string>());
-    if (!py::isinstance<py::bool_>(key) && PyIndex_Check(key.ptr())) {
-        const auto i = py::reinterpret_steal<py::object>(PyNumber_Index(key.ptr()));
-        if (!i) throw py::error_already_set();
-        const unsigned long long v = PyLong_AsUnsignedLongLong(i.ptr());
-        if (!PyErr_Occurred()) return v;
-        PyErr_Clear();
-    }
-    throw ConfigError(
-        "frame_key: expected an integer from 0 to 2^64 - 1 or a str (a frame's "
-        "name), got " +
-        type_name(key) + " " + py::repr(key).cast<std::string>());
-}
 
 double number_of(const py::handle& h, const std::string& what) {
     if (!py::isinstance<py::str>(h) && !py::isinstance<py::bytes>(h) && !h.is_none()) {
@@ -382,6 +367,22 @@ private:
 };
 
 }  // namespace
+
+/// An int in [0, 2^64) as it is; a str hashed as `deepsea render` hashes a colour file's stem.
+std::uint64_t frame_key_of(const py::handle& key) {
+    if (py::isinstance<py::str>(key)) return fnv1a64(key.cast<std::string>());
+    if (!py::isinstance<py::bool_>(key) && PyIndex_Check(key.ptr())) {
+        const auto i = py::reinterpret_steal<py::object>(PyNumber_Index(key.ptr()));
+        if (!i) throw py::error_already_set();
+        const unsigned long long v = PyLong_AsUnsignedLongLong(i.ptr());
+        if (!PyErr_Occurred()) return v;
+        PyErr_Clear();
+    }
+    throw ConfigError(
+        "frame_key: expected an integer from 0 to 2^64 - 1 or a str (a frame's "
+        "name), got " +
+        type_name(key) + " " + py::repr(key).cast<std::string>());
+}
 
 void register_camera(py::module_& m) {
     py::class_<PyCamera>(m, "Camera",

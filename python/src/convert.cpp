@@ -142,6 +142,55 @@ void check_depth_scale(double scale) {
     }
 }
 
+std::optional<SnowSettings> snow_of(const py::handle& snow, std::uint64_t seed,
+                                    const std::optional<CameraModel>& model) {
+    if (snow.is_none()) return std::nullopt;
+    if (!py::isinstance<py::str>(snow) && !py::isinstance<py::dict>(snow))
+        throw ConfigError("snow: expected a preset's name, 'off' or a dict, got " +
+                          py::repr(snow).cast<std::string>());
+    py::dict wrapped;
+    wrapped["snow"] = snow;
+    const Setup s = parse_setup(to_json(wrapped), "<snow=>");
+    if (!s.snow) return std::nullopt;  // "off"
+    SnowSettings out;
+    out.snow = *s.snow;
+    out.seed = seed;
+    const CameraModel m = model ? *model : CameraModel{};
+    out.f_number = m.lens.f_number;
+    out.pixel_pitch_um = m.sensor.pixel_pitch_um;
+    out.focus_distance_m = m.lens.focus_distance_m;
+    validate(out);
+    return out;
+}
+
+std::optional<CameraPose> pose_of(const py::handle& pose) {
+    if (pose.is_none()) return std::nullopt;
+    const auto bad = [&](const std::string& why) {
+        return ConfigError("pose: " + why + " (a 4x4 or 3x4 camera-to-world matrix)");
+    };
+    py::array_t<double, py::array::c_style | py::array::forcecast> a;
+    try {
+        a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(pose);
+    } catch (const py::error_already_set&) {
+    }
+    if (!a || a.ndim() != 2 || a.shape(1) != 4 || (a.shape(0) != 3 && a.shape(0) != 4))
+        throw bad("expected a 4x4 or 3x4 array of numbers");
+    const auto m = a.unchecked<2>();
+    for (py::ssize_t r = 0; r < a.shape(0); ++r)
+        for (py::ssize_t c = 0; c < 4; ++c)
+            if (!std::isfinite(m(r, c))) throw bad("not finite");
+    const auto column = [&](int c) { return Vec3{m(0, c), m(1, c), m(2, c)}; };
+    CameraPose p{column(3), column(0), column(1), column(2)};
+    const Vec3 axes[3] = {p.right, p.down, p.forward};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (std::fabs(dot(axes[i], axes[j]) - (i == j ? 1.0 : 0.0)) > 1e-6)
+                throw bad("its 3x3 part is not a rotation");
+    if (std::fabs(dot(cross(p.right, p.down), p.forward) - 1.0) > 1e-6)
+        throw bad("its 3x3 part is a reflection, not a rotation");
+    return p;
+}
+
 LayerOutput parse_layers(const py::handle& layers) {
     std::string list;
     if (py::isinstance<py::str>(layers)) {
@@ -191,6 +240,8 @@ py::dict layers_dict(Layers& l, const std::shared_ptr<BufferPool>& pool,
     put("depth", l.depth);
     put("normal", l.normal);
     put("mask", l.mask);  // through a port only
+    put("snow", l.snow);  // with marine snow only
+    put("snow_id", l.snow_id);
     return d;
 }
 

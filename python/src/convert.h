@@ -5,7 +5,9 @@
 
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "arrays.h"
@@ -13,6 +15,7 @@
 #include "deepsea/io/config.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/runtime/layers.h"
+#include "deepsea/runtime/marine_snow.h"
 
 namespace deepsea::python {
 
@@ -50,6 +53,16 @@ void check_depth_scale(double scale);
 /// `layers=`: "all", or layer names as `deepsea render --layer-set` takes them (parse_layer_set:
 /// comma-separated, or a list or tuple of names). ConfigError naming the unknown or repeated
 /// name.
+/// Marine snow from snow= (None or "off": none; a preset's name; a dict as the setup's snow
+/// section, docs/config.md), its seed and the camera's lens (the default lens without one).
+std::optional<SnowSettings> snow_of(const py::handle& snow, std::uint64_t seed,
+                                    const std::optional<CameraModel>& model);
+
+/// A camera pose from pose= (None: unset; a 4x4 or 3x4 camera-to-world matrix whose 3x3 part
+/// is a rotation: its columns are the camera's x, y, z axes in the world, the last column its
+/// centre). ConfigError naming pose= otherwise.
+std::optional<CameraPose> pose_of(const py::handle& pose);
+
 LayerOutput parse_layers(const py::handle& layers);
 
 /// Layers as a dict of arrays (moved out: no copy; their buffers return to `pool`, if given,

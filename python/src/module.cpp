@@ -66,22 +66,35 @@ PyAsset load(const py::object& file, int threads) {
 /// render in parallel.
 class PyRenderer {
 public:
-    PyRenderer(PyAsset asset, const py::object& camera, bool forward, int threads)
-        : m_asset(std::move(asset)), m_camera_arg(camera), m_forward(forward), m_threads(threads) {
+    PyRenderer(PyAsset asset, const py::object& camera, bool forward, int threads,
+               const py::object& snow = py::none(), std::uint64_t snow_seed = 1)
+        : m_asset(std::move(asset)),
+          m_camera_arg(camera),
+          m_forward(forward),
+          m_threads(threads),
+          m_snow_arg(snow),
+          m_snow_seed(snow_seed) {
         check_threads(threads);
         RenderSettings settings;
+        std::optional<CameraModel> model;
         if (!camera.is_none()) {
             const Setup section = section_from(camera, "camera");
             settings.camera = *section.camera;
             settings.port = section.port;  // rendered through (docs/ports.md)
+            model = section.camera_model;
         }
         settings.forward = forward;
+        settings.snow = snow_of(snow, snow_seed, model);
         m_renderer = std::make_unique<deepsea::Renderer>(*m_asset.asset, settings);
     }
 
     py::dict render(const py::object& rgb, const py::object& depth, const py::object& encoding,
-                    const std::string& depth_kind, double depth_scale, const py::object& layers) {
+                    const std::string& depth_kind, double depth_scale, const py::object& layers,
+                    const py::object& frame_key = py::int_(0),
+                    const py::object& pose = py::none()) {
         const auto t0 = Clock::now();
+        const std::uint64_t key = frame_key_of(frame_key);
+        const std::optional<CameraPose> camera_pose = pose_of(pose);
         const DepthKind kind = parse_depth_kind(depth_kind);
         check_depth_scale(depth_scale);
         const LayerOutput wanted = parse_layers(layers);
@@ -99,6 +112,7 @@ public:
         {
             py::gil_scoped_release nogil;
             std::lock_guard<std::mutex> lock(m_mutex);
+            m_renderer->set_frame(key, camera_pose);
             if (!color_as_is) {
                 fill_color(c, m_rgb, m_threads);
                 color = ColorView{m_rgb.data.data(), m_rgb.width, m_rgb.height, SampleType::F32,
@@ -141,13 +155,17 @@ public:
     }
     const PyAsset& asset() const { return m_asset; }
     /// What re-creates it (pickle): the asset and the constructor's arguments.
-    py::tuple state() const { return py::make_tuple(m_asset, m_camera_arg, m_forward, m_threads); }
+    py::tuple state() const {
+        return py::make_tuple(m_asset, m_camera_arg, m_forward, m_threads, m_snow_arg, m_snow_seed);
+    }
 
 private:
     PyAsset m_asset;
     py::object m_camera_arg;  ///< as given (None, a dict, YAML text or a path): for pickle
     bool m_forward = true;
     int m_threads = 0;
+    py::object m_snow_arg;  ///< as given: for pickle
+    std::uint64_t m_snow_seed = 1;
     std::unique_ptr<deepsea::Renderer> m_renderer;  ///< on m_asset's asset, which it keeps alive
     Image m_rgb, m_depth;  ///< arrays converted (grey, float64), reused between frames
     std::shared_ptr<BufferPool> m_pool = std::make_shared<BufferPool>();
@@ -344,23 +362,33 @@ PYBIND11_MODULE(_deepsea, m) {
                            "frames of one size. One frame at a time per renderer. Pickles as its "
                            "asset's file and its arguments (the asset is loaded again).")
         .def(
-            py::init([](const PyAsset& asset, const py::object& camera, bool forward, int threads) {
-                return std::make_unique<PyRenderer>(asset, camera, forward, threads);
+            py::init([](const PyAsset& asset, const py::object& camera, bool forward, int threads,
+                        const py::object& snow, std::uint64_t snow_seed) {
+                return std::make_unique<PyRenderer>(asset, camera, forward, threads, snow,
+                                                    snow_seed);
             }),
             py::arg("asset"), py::kw_only(), py::arg("camera") = py::none(),
-            py::arg("forward") = true, py::arg("threads") = 0,
+            py::arg("forward") = true, py::arg("threads") = 0, py::arg("snow") = py::none(),
+            py::arg("snow_seed") = 1,
             "camera: the frames' camera (dict, YAML text or file; default: the asset's, "
             "resampled to the frame size); forward=False leaves forward scatter out; "
-            "threads: worker threads (0: all cores)")
+            "threads: worker threads (0: all cores); snow: marine snow (docs/model.md): a "
+            "preset's name ('abyssal', 'nepheloid', 'plume'), 'off', or a dict as the setup's "
+            "snow section (docs/config.md), lit by the asset's lamps through the camera's lens; "
+            "snow_seed: its particles' seed")
         .def("render", &PyRenderer::render, py::arg("rgb"), py::arg("depth"), py::kw_only(),
              py::arg("encoding") = py::none(), py::arg("depth_kind") = "z",
              py::arg("depth_scale") = 0.001, py::arg("layers") = "all",
+             py::arg("frame_key") = 0, py::arg("pose") = py::none(),
              "Renders one frame. rgb: (H, W, 3) colour ((H, W, 4): alpha dropped; (H, W): "
              "grey); uint8/uint16 are sRGB codes unless encoding='linear'; float32/float64 need "
              "encoding='srgb' or 'linear'. depth: (H, W) float metres, planar ('z') or along the "
              "ray ('range'), or uint16 times depth_scale; not finite or <= 0 is open water. "
              "layers: 'all', or names as `render --layer-set` takes them ('final,depth', or a "
-             "list). Returns a dict of float32 arrays, those layers only.")
+             "list). Returns a dict of float32 arrays, those layers only (with snow: also "
+             "'snow' and 'snow_id'). frame_key (int, or a str hashed as render hashes a file's "
+             "name) and pose (a 4x4 camera-to-world matrix, OpenCV axes) place the snow: with a "
+             "pose it is fixed in the world, without one drawn afresh for each frame_key.")
         .def_property_readonly("camera", &PyRenderer::camera,
                                "the frames' camera (after the first frame: the one in use)")
         .def_property_readonly("asset", [](const PyRenderer& r) { return r.asset(); })
@@ -370,7 +398,9 @@ PYBIND11_MODULE(_deepsea, m) {
         .def(py::pickle([](const PyRenderer& r) { return r.state(); },
                         [](const py::tuple& t) {
                             return std::make_unique<PyRenderer>(
-                                t[0].cast<PyAsset>(), t[1], t[2].cast<bool>(), t[3].cast<int>());
+                                t[0].cast<PyAsset>(), t[1], t[2].cast<bool>(), t[3].cast<int>(),
+                                t.size() > 4 ? py::object(t[4]) : py::none(),
+                                t.size() > 5 ? t[5].cast<std::uint64_t>() : 1);
                         }));
 
     m.def(

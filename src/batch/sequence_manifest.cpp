@@ -46,6 +46,7 @@ std::string manifest_to_json(const SequenceManifest& m) {
     if (m.snow != "off")
         j["settings"]["snow"] = {
             {"preset", m.snow}, {"seed", m.snow_seed}, {"focus_distance_m", m.focus_distance_m}};
+    for (const auto& [key, v] : m.snow_values) j["settings"]["snow"][key] = v;
     j["frames"] = {{"total", m.frames_total}, {"done", m.frames_done}};
     if (m.shard) {
         const ShardRecord& s = *m.shard;
@@ -147,6 +148,10 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
         m.snow_seed = get<std::uint64_t>(j["settings"], path + ": settings", "snow", "seed");
         m.focus_distance_m =
             get<double>(j["settings"], path + ": settings", "snow", "focus_distance_m");
+        for (const auto& [key, v] : j["settings"]["snow"].items())
+            if (key != "preset" && key != "seed" && key != "focus_distance_m")
+                m.snow_values.emplace_back(
+                    key, get<double>(j["settings"], path + ": settings", "snow", key.c_str()));
     }
     m.depth_kind = get<std::string>(j, path, "settings", "depth_kind");
     m.depth_channel = get<std::string>(j, path, "settings", "depth_channel");
@@ -281,6 +286,10 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
         differ("--snow-seed", std::to_string(folder.snow_seed), std::to_string(run.snow_seed));
     if (folder.snow != "off" && folder.focus_distance_m != run.focus_distance_m)
         differ("focus_distance_m", num(folder.focus_distance_m), num(run.focus_distance_m));
+    if (folder.snow != "off" && !folder.snow_values.empty())
+        for (const auto& [key, v] : run.snow_values)
+            for (const auto& [fkey, fv] : folder.snow_values)
+                if (key == fkey && v != fv) differ("snow." + key, num(fv), num(v));
     if (folder.depth_kind != run.depth_kind)
         differ("--depth-kind", folder.depth_kind, run.depth_kind);
     if (folder.depth_channel != run.depth_channel)

@@ -11,6 +11,7 @@
 #include "deepsea/optics/schema.h"
 #include "deepsea/optics/water_presets.h"
 #include "port_config.h"
+#include "snow_config.h"
 #include "yaml_reader.h"
 
 namespace deepsea {
@@ -255,13 +256,14 @@ Parsed parse_document(const Document& doc) {
     Parsed out;
     try {
         static const char* const kEmpty =
-            "empty configuration (expected camera, rig and/or water sections)";
+            "empty configuration (expected camera, rig, water and/or snow sections)";
         if (doc.empty()) doc.fail(YAML::Mark::null_mark(), "", kEmpty);
         const MapView m(doc, doc.root(), schema::kSections);
-        const Field *c = m.opt("camera"), *r = m.opt("rig"), *w = m.opt("water");
+        const Field *c = m.opt("camera"), *r = m.opt("rig"), *w = m.opt("water"),
+                    *sn = m.opt("snow");
         // A map with none of the sections (`{}`) is as empty as no text: refused alike, so that
         // whatever parses also prints as a configuration that parses (fuzz_config's property).
-        if (!c && !r && !w) doc.fail(doc.root().mark, "", kEmpty);
+        if (!c && !r && !w && !sn) doc.fail(doc.root().mark, "", kEmpty);
         if (c) {
             out.setup.camera = parse_camera(doc, *c, out.setup.camera_model, out.setup.port);
             out.line["camera"] = yaml::line_of(c->key_mark);
@@ -273,6 +275,10 @@ Parsed parse_document(const Document& doc) {
         if (w) {
             out.setup.water = parse_water(doc, *w);
             out.line["water"] = yaml::line_of(w->key_mark);
+        }
+        if (sn) {
+            out.setup.snow = parse_snow(doc, *sn);
+            out.line["snow"] = yaml::line_of(sn->key_mark);
         }
     } catch (const SchemaError& e) {
         doc.fail(e);
@@ -327,6 +333,7 @@ Setup load_setup(const std::vector<std::string>& files) {
         merge(all.camera, p.setup.camera, "camera");
         merge(all.rig, p.setup.rig, "rig");
         merge(all.water, p.setup.water, "water");
+        merge(all.snow, p.setup.snow, "snow");
     }
     return all;
 }
@@ -428,6 +435,7 @@ std::string setup_to_yaml(const Setup& s) {
         else
             o << "  forward_scatter: off\n";
     }
+    if (s.snow) write_snow(o, *s.snow);
     return o.str();
 }
 

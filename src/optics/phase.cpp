@@ -105,10 +105,8 @@ double Phase::operator()(double cos_psi) const {
     switch (kind) {
         case PhaseKind::Isotropic:
             return 1.0 / (4.0 * M_PI);
-        case PhaseKind::HenyeyGreenstein: {
-            const double d = 1.0 + g * g - 2.0 * g * cos_psi;
-            return (1.0 - g * g) / (4.0 * M_PI * d * std::sqrt(d));
-        }
+        case PhaseKind::HenyeyGreenstein:
+            return henyey_greenstein(g, cos_psi);
         default:
             return petzold(kind).eval(std::acos(cos_psi));
     }

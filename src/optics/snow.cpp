@@ -117,28 +117,36 @@ double circle_of_confusion_px(const ThinLens& lens, double z) {
     return c / (lens.pixel_pitch_um * 1e-6);
 }
 
-Rgb lamp_irradiance_at(const Light& L, const Water& water, const Vec3& X, Vec3* w_out) {
-    const Vec3 lx = X - L.position;
-    const double d1 = length(lx);
-    if (!(d1 > 0.0)) return {};
-    const Vec3 w = lx / d1;
-    if (w_out) *w_out = w;
-    const double rid = L.rid(lamp_angle(dot(L.direction, w)));
-    const double spread = lamp_spread(d1, 1.0);  // a sphere faces every lamp
+namespace {
+
+/// lamp_term with no Lambert cosine (a sphere faces every lamp), per channel.
+Rgb sphere_irradiance(const Light& L, const Water& water, double d1, double cos_theta) {
+    const double rid = L.rid(lamp_angle(cos_theta));
+    const double spread = lamp_spread(d1, 1.0);
     return {lamp_term(L.intensity.r, rid, spread, water.c.r, d1),
             lamp_term(L.intensity.g, rid, spread, water.c.g, d1),
             lamp_term(L.intensity.b, rid, spread, water.c.b, d1)};
 }
 
+}  // namespace
+
+Rgb lamp_irradiance_at(const Light& L, const Water& water, const Vec3& X, Vec3* w_out) {
+    const Vec3 lx = X - L.position;
+    const double d1 = length(lx);
+    if (!(d1 > 0.0)) return {};
+    if (w_out) *w_out = lx / d1;
+    const auto g = particle_geometry(vec3t(X), 0.0, vec3t(L.position), vec3t(L.direction));
+    return sphere_irradiance(L, water, g.d1, g.cos_theta);
+}
+
 Rgb particle_radiance(const Rig& rig, const Water& water, const Snow& snow, const Vec3& X) {
     const double d2 = length(X);
     if (!(d2 > 0.0)) return {};
-    const Vec3 to_camera = X * (-1.0 / d2);
     Rgb sum;
     for (const Light& L : rig.lights) {
-        Vec3 w;
-        const Rgb E = lamp_irradiance_at(L, water, X, &w);
-        sum += E * snow.phase(dot(w, to_camera));
+        const auto g = particle_geometry(vec3t(X), 1.0 / d2, vec3t(L.position), vec3t(L.direction));
+        if (!(g.d1 > 0.0)) continue;
+        sum += sphere_irradiance(L, water, g.d1, g.cos_theta) * snow.phase(g.cos_psi);
     }
     return sum * snow.albedo;
 }

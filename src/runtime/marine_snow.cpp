@@ -102,6 +102,7 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
                     k1 = (long long)std::floor(hi.z / cell);
     const double r = cell * std::sqrt(3.0) / 2.0;
 
+    const SnowSizes sizes(snow);
     // One list per slab of cells (i), joined in order: the same particles at any thread count.
     std::vector<std::vector<SnowParticle>> slabs(std::size_t(i1 - i0 + 1));
     tbb::parallel_for(tbb::blocked_range<long long>(i0, i1 + 1), [&](const auto& range) {
@@ -125,18 +126,17 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
                         if (!(c.z >= v.z0 && c.z <= v.z1)) continue;
                         const double x = c.x / c.z, y = c.y / c.z;
                         if (x < v.xl || x >= v.xr || y < v.yt || y >= v.yb) continue;
-                        out.push_back({c, size_q, 0});
+                        out.push_back({c, sizes(size_q), 0});
                     }
                 }
         }
     });
+    std::size_t total = 0;
+    for (const auto& slab : slabs) total += slab.size();
     std::vector<SnowParticle> all;
+    all.reserve(total);
     for (auto& slab : slabs) all.insert(all.end(), slab.begin(), slab.end());
-    const SnowSizes sizes(snow);
-    for (std::size_t q = 0; q < all.size(); ++q) {
-        all[q].id = std::uint32_t(q + 1);
-        all[q].diameter = sizes(all[q].diameter);  // the quantile drawn above
-    }
+    for (std::size_t q = 0; q < all.size(); ++q) all[q].id = std::uint32_t(q + 1);
     return all;
 }
 
@@ -156,103 +156,6 @@ MarineSnow::MarineSnow(SnowSettings settings, const Rig& rig, const Water& water
 void MarineSnow::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose) {
     m_key = frame_key;
     m_pose = pose;
-}
-
-namespace {
-
-/// A particle as drawn: pixel centre, disc radius, the light it brings (radiance times its
-/// image's area in pixels, per channel).
-struct Splat {
-    float u, v, radius;
-    float z;
-    float energy[3];
-    std::uint32_t id;
-};
-
-bool open_water(float z) { return !(z > 0.0f) || !std::isfinite(z); }
-
-}  // namespace
-
-void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Image* snow,
-                      Image* ids) const {
-    const std::vector<SnowParticle> particles = snow_particles(m_settings, cam, m_key, m_pose);
-    const ThinLens lens{cam.fx, m_settings.pixel_pitch_um, m_settings.f_number,
-                        m_settings.focus_distance_m};
-    const int W = cam.width, H = cam.height;
-    std::vector<Splat> splats(particles.size());
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, particles.size(), 256), [&](const auto& range) {
-            for (std::size_t q = range.begin(); q != range.end(); ++q) {
-                const SnowParticle& pt = particles[q];
-                const Vec3& X = pt.position;
-                const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
-                const int iu = std::clamp(int(std::lround(u)), 0, W - 1);
-                const int iv = std::clamp(int(std::lround(v)), 0, H - 1);
-                Splat& s = splats[q];
-                s.id = 0;  // not drawn
-                const float zs = zdepth.at(iu, iv);
-                if (!open_water(zs) && double(zs) <= X.z) continue;  // behind the surface
-                const double d2 = length(X);
-                const Rgb L = particle_radiance(m_rig, m_water, m_settings.snow, X) *
-                              transmission(m_water.c, d2);
-                const double area = M_PI * 0.25 * pt.diameter * pt.diameter * cam.fx * cam.fy * d2 /
-                                    (X.z * X.z * X.z);
-                s = {float(u),
-                     float(v),
-                     float(snow_disc_radius_px(cam, lens, X, pt.diameter)),
-                     float(X.z),
-                     {float(L.r * area), float(L.g * area), float(L.b * area)},
-                     pt.id};
-            }
-        });
-
-    if (ids) m_best.assign(std::size_t(W) * H, 0.0f);
-    int drawn = 0;
-    std::vector<float> cover;
-    for (const Splat& s : splats) {
-        if (s.id == 0) continue;
-        ++drawn;
-        const float R = s.radius;
-        // Every pixel the disc touches, also off the image (so that an edge particle loses
-        // what falls outside): its coverage, linear over the last pixel.
-        const int ua = int(std::floor(s.u - R - 0.5f)), ub = int(std::ceil(s.u + R + 0.5f));
-        const int va = int(std::floor(s.v - R - 0.5f)), vb = int(std::ceil(s.v + R + 0.5f));
-        const int nu = ub - ua + 1;
-        cover.resize(std::size_t(nu) * std::size_t(vb - va + 1));
-        float total = 0.0f;
-        for (int y = va; y <= vb; ++y)
-            for (int x = ua; x <= ub; ++x) {
-                const float dx = float(x) - s.u, dy = float(y) - s.v;
-                const float c = std::clamp(R + 0.5f - std::sqrt(dx * dx + dy * dy), 0.0f, 1.0f);
-                cover[std::size_t(y - va) * nu + (x - ua)] = c;
-                total += c;
-            }
-        if (!(total > 0.0f)) continue;
-        // Normalised over the disc: the particle's light is spread, not multiplied.
-        const float inv = 1.0f / total;
-        for (int y = std::max(va, 0); y <= std::min(vb, H - 1); ++y) {
-            float* f = final.row(y);
-            for (int x = std::max(ua, 0); x <= std::min(ub, W - 1); ++x) {
-                const float w = cover[std::size_t(y - va) * nu + (x - ua)] * inv;
-                if (w <= 0.0f) continue;
-                const float z = zdepth.at(x, y);
-                if (!open_water(z) && z <= s.z) continue;  // this pixel's surface is nearer
-                const float e[3] = {s.energy[0] * w, s.energy[1] * w, s.energy[2] * w};
-                for (int c = 0; c < 3; ++c) f[3 * x + c] += e[c];
-                if (snow)
-                    for (int c = 0; c < 3; ++c) snow->at(x, y, c) += e[c];
-                if (ids) {
-                    float& best = m_best[std::size_t(y) * W + x];
-                    const float sum = e[0] + e[1] + e[2];
-                    if (sum > best) {
-                        best = sum;
-                        ids->at(x, y) = float(s.id);
-                    }
-                }
-            }
-        }
-    }
-    m_drawn = drawn;
 }
 
 }  // namespace deepsea

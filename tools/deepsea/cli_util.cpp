@@ -338,10 +338,11 @@ void Progress::finish() {
 }
 
 std::optional<SnowSettings> snow_settings(const std::string& preset, std::uint64_t seed,
-                                          const std::optional<CameraModel>& model) {
-    if (preset == "off") return std::nullopt;
+                                          const std::optional<CameraModel>& model,
+                                          const std::optional<Snow>& setup_snow) {
+    if (preset == "off" || (preset.empty() && !setup_snow)) return std::nullopt;
     SnowSettings s;
-    s.snow = snow_preset(preset, "--snow");
+    s.snow = preset.empty() ? *setup_snow : snow_preset(preset, "--snow");
     s.seed = seed;
     const CameraModel m = model ? *model : CameraModel{};
     s.f_number = m.lens.f_number;

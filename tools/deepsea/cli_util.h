@@ -24,10 +24,12 @@ namespace deepsea::cli {
 std::string default_demo_config();
 
 /// Marine snow from `--snow PRESET|off` (unset for off; ConfigError naming --snow for an
-/// unknown preset), its seed and the lens (the camera model's where given, else the default
-/// lens: f-number, pixel pitch, focus distance).
+/// unknown preset), or where `preset` is empty (no --snow) the setup's `snow` section; its seed
+/// and the lens (the camera model's where given, else the default lens: f-number, pixel pitch,
+/// focus distance).
 std::optional<SnowSettings> snow_settings(const std::string& preset, std::uint64_t seed,
-                                          const std::optional<CameraModel>& model);
+                                          const std::optional<CameraModel>& model,
+                                          const std::optional<Snow>& setup_snow = {});
 
 /// --threads: worker threads, 0 (the default) for all cores; "must be an integer >= 0"
 /// otherwise. Every command that computes adds it through here.

@@ -23,7 +23,7 @@ struct RenderArgs {
     std::string asset, rgb, depth_path, output, layers, exposure, camera;
     std::string layer_set = "all", format;
     bool resume = false, no_forward = false, half = false, shadows = false;
-    std::string snow = "off";
+    std::string snow;  ///< empty: not given (the --camera file's snow section, else none)
     std::uint64_t snow_seed = 1;
     int bits = 8;
     int threads = 0;
@@ -70,8 +70,10 @@ void run(const RenderArgs& a) {
     if ((a.half || a.layer_set != "all") && a.layers.empty())
         throw ConfigError("--layer-set and --half choose what --layers writes: give --layers");
     opt.version = DEEPSEA_VERSION;
+    std::optional<Snow> setup_snow;
     if (!a.camera.empty()) {
         Setup s = load_setup({a.camera});
+        setup_snow = s.snow;
         if (!s.camera) throw ConfigError(a.camera + ": no camera section");
         opt.camera = *s.camera;
         opt.camera_model = s.camera_model;
@@ -81,7 +83,7 @@ void run(const RenderArgs& a) {
         throw ConfigError("--exposure: " + a.camera +
                           " records the frames with a camera (lens, sensor, processing), whose "
                           "exposure is camera.sensor's exposure_time_ms and gain");
-    opt.snow = snow_settings(a.snow, a.snow_seed, opt.camera_model);
+    opt.snow = snow_settings(a.snow, a.snow_seed, opt.camera_model, setup_snow);
     if (opt.snow && opt.port)
         throw ConfigError(
             "--snow: marine snow through a port is not built yet (particles are "
@@ -206,8 +208,9 @@ void setup_render(CLI::App& sub) {
                  "(docs/model.md, \"Lamp shadows\"); off by default, as in the paper's model");
     sub.add_option("--snow", a->snow,
                    "marine snow lit by the lamps (docs/model.md, \"Marine snow\"): a preset, "
-                   "abyssal, nepheloid or plume, or off (the default); adds the layers snow and "
-                   "snow_id");
+                   "abyssal, nepheloid or plume, or off; overrides the --camera file's snow "
+                   "section (docs/config.md), which applies without it; adds the layers snow "
+                   "and snow_id");
     sub.add_option("--snow-seed", a->snow_seed,
                    "seed of the marine snow's particles (same seed, same particles)")
         ->default_str("1");

@@ -56,6 +56,9 @@ struct SequenceManifest {
     std::string snow = "off";
     std::uint64_t snow_seed = 0;
     double focus_distance_m = 0;
+    /// The snow's values by their setup keys (concentration, d_min_mm, ...), so
+    /// that a custom snow is compared too; empty in older manifests (not compared).
+    std::vector<std::pair<std::string, double>> snow_values;
     std::string depth_kind = "z", depth_channel;
     double depth_scale = 0.001;
     int frames_total = 0;

@@ -11,6 +11,7 @@
 #include "deepsea/camera/model.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
+#include "deepsea/optics/snow.h"
 #include "deepsea/optics/port.h"
 #include "deepsea/optics/water.h"
 
@@ -29,6 +30,8 @@ struct Setup {
     std::optional<Port> port;
     std::optional<Rig> rig;
     std::optional<Water> water;
+    /// The `snow` section (docs/config.md): marine snow for render. Unset: none (or `off`).
+    std::optional<Snow> snow;
 };
 
 /// Parses every file in order and merges the sections. Files may hold any subset of

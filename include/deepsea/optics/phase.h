@@ -2,7 +2,19 @@
 /// \file Normalised phase functions p(psi), 1/sr, with integral over the sphere equal to 1.
 /// The volume scattering function is beta(psi) = b * p(psi).
 
+#include <cmath>
+
 namespace deepsea {
+
+/// Henyey-Greenstein p(psi) = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos psi)^1.5), 1/sr, for
+/// |g| < 1 and cos_psi in [-1, 1]; g = 0 is the isotropic 1 / (4 pi). Templated on the number
+/// type for the vectorised float rows (lamp.h's reasons).
+template <class T>
+inline T henyey_greenstein(T g, T cos_psi) {
+    using std::sqrt;
+    const T d = T(1) + g * g - T(2) * g * cos_psi;
+    return (T(1) - g * g) / (T(4.0 * M_PI) * d * sqrt(d));
+}
 
 enum class PhaseKind { Isotropic, HenyeyGreenstein, PetzoldClear, PetzoldCoastal, PetzoldTurbid };
 

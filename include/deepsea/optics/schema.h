@@ -31,7 +31,7 @@ private:
 /// The keys of each map of the schema, in the order the writers emit them. Readers accept no
 /// others; writers write no others (tests/unit/io/config_test.cpp and asset_test check both).
 namespace schema {
-inline const std::vector<std::string> kSections = {"camera", "rig", "water"};
+inline const std::vector<std::string> kSections = {"camera", "rig", "water", "snow"};
 inline const std::vector<std::string> kCamera = {"width", "height", "fx", "fy", "cx", "cy"};
 inline const std::vector<std::string> kRig = {"name", "lights"};
 inline const std::vector<std::string> kLight = {"name", "position",   "direction", "intensity",
@@ -45,6 +45,9 @@ inline const std::vector<std::string> kWater = {"name",       "preset", "attenua
 inline const std::vector<std::string> kPhase = {"petzold", "henyey_greenstein"};
 inline const std::vector<std::string> kPhaseHg = {"g"};
 inline const std::vector<std::string> kForwardScatter = {"G", "k"};
+/// `preset` only in YAML: what is written is the values.
+inline const std::vector<std::string> kSnow = {"preset", "concentration", "d_min_mm", "d_max_mm",
+                                               "slope",  "albedo",        "max_distance_m"};
 }  // namespace schema
 
 /// The nearest a lamp may be to the camera centre, metres. The single-scattering backscatter

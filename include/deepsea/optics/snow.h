@@ -12,6 +12,7 @@
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/phase.h"
+#include "deepsea/optics/vec3t.h"
 #include "deepsea/optics/water.h"
 
 namespace deepsea {
@@ -92,6 +93,27 @@ struct ThinLens {
 /// (metres): c = A |z - s| / z * f / (s - f) on the sensor, A = f / N the aperture, divided
 /// by the pixel pitch. Zero at z = s.
 double circle_of_confusion_px(const ThinLens& lens, double z);
+
+/// How a lamp lights a small sphere and turns toward the camera (particle_geometry's result).
+template <class T>
+struct ParticleGeometry {
+    T d1;         ///< lamp to particle, metres
+    T cos_theta;  ///< cosine of theta, the angle between the lamp's axis and lamp -> X
+    T cos_psi;    ///< cosine of the scattering angle: lamp -> X against X -> camera
+};
+
+/// Geometry of a lamp at `lamp` with unit axis `axis` lighting a particle at X (camera frame,
+/// metres), inv_d2 = 1 / |X|. Templated for the runtime's float rows (lamp.h's reasons); the
+/// double functions below call it too.
+template <class T>
+inline ParticleGeometry<T> particle_geometry(Vec3T<T> X, T inv_d2, Vec3T<T> lamp,
+                                             Vec3T<T> axis) {
+    using std::sqrt;
+    const Vec3T<T> lx = X - lamp;
+    const T d1 = sqrt(dot(lx, lx));
+    const T inv = T(1) / d1;
+    return {d1, dot(axis, lx) * inv, -dot(lx, X) * (inv * inv_d2)};
+}
 
 /// Irradiance (W/m^2 per channel) of lamp L on a small sphere at X (camera frame, metres): the
 /// lamp term I0 RID(theta) exp(-c d1) / d1^2 with no Lambert cosine (optics/lamp.h's

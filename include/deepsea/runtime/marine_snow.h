@@ -82,6 +82,7 @@ private:
     std::uint64_t m_key = 0;
     std::optional<CameraPose> m_pose;
     mutable std::vector<float> m_best;  ///< per pixel, the largest contribution so far
+    mutable std::vector<float> m_rows;  ///< the particles as float rows (snow_light.h)
     mutable int m_drawn = 0;
 };
 

@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# deepsea render --snow (docs/model.md, "Marine snow"): the snow and snow_id layers, the
+# manifest's settings.snow, --resume refusing other snow settings, a bad preset refused with one
+# line and exit 2 before any work, the setup's snow section.
+set -euo pipefail
+ds=$1 work=$2 src=$3
+rm -rf "$work"; mkdir -p "$work"
+source "$(dirname "$0")/cli_lib.sh"
+"$ds" scene --out "$work/in" --frames 2 --width 160 --height 120 --altitude 1.5 -q
+"$ds" bake --camera "$work/in/camera.yaml" --rig "$src/volumes/rigs/authors-testset.yaml" \
+  --water jerlov:IB --xy-step 16 --depth-samples 16 -o "$work/a.vdb" >/dev/null
+rgb=$work/in/'*.png' depth=$work/in/'*_depth.exr'
+render() { "$ds" render --asset "$work/a.vdb" --rgb "$rgb" --depth "$depth" "$@"; }
+
+# 1. A sequence with snow: the layers, and the snow added to final (final - snow is the frame
+# without snow, to float rounding); the manifest records preset, seed and focus distance.
+render -o "$work/seq" --layers "$work/lay" --snow nepheloid --snow-seed 7 --exposure 100 \
+  | grep -q "rendered 2 frame(s)"
+render --layers "$work/plain" --exposure 100 | grep -q "rendered 2 frame(s)"
+/usr/bin/python3 - "$work/lay" "$work/plain" "$work/seq" <<'PY'
+import json, os, sys
+import numpy as np
+import OpenImageIO as oiio
+lay, plain, seq = sys.argv[1:]
+def read(path):
+    f = oiio.ImageInput.open(path)
+    names = list(f.spec().channelnames)
+    px = f.read_image("float")
+    return {n: px[..., i] for i, n in enumerate(names)}
+for name in ("frame_0001.exr", "frame_0002.exr"):
+    a, b = read(os.path.join(lay, name)), read(os.path.join(plain, name))
+    for ch in ("snow.R", "snow.G", "snow.B", "snow_id.id"):
+        assert ch in a, (name, sorted(a))
+        assert ch not in b, (name, ch)
+    assert a["snow.G"].sum() > 0, "no snow drawn"
+    ids = a["snow_id.id"]
+    assert (ids == np.round(ids)).all() and ids.max() >= 1, "ids"
+    # where no particle adds light there is no id, and the reverse
+    lit = (a["snow.R"] + a["snow.G"] + a["snow.B"]) > 0
+    assert ((ids > 0) == lit).all(), "ids where snow is"
+    for c in "RGB":
+        diff = a["final." + c] - a["snow." + c] - b["final." + c]
+        assert np.abs(diff).max() <= 1e-5 * max(1.0, np.abs(b["final." + c]).max()), c
+for folder in (lay, seq):
+    m = json.load(open(os.path.join(folder, "deepsea-sequence.json")))
+    s = m["settings"]["snow"]
+    assert s["preset"] == "nepheloid" and s["seed"] == 7 and s["focus_distance_m"] > 0, s
+m = json.load(open(os.path.join(plain, "deepsea-sequence.json")))
+assert "snow" not in m.get("settings", {}), m
+PY
+
+# 2. --resume with other snow settings: refused, one line, nothing rewritten.
+sum_before=$(cat "$work"/lay/* "$work"/seq/* | md5sum)
+expect_fail "resume with another preset" render -o "$work/seq" --layers "$work/lay" --resume \
+  --snow plume --snow-seed 7 --exposure 100
+grep -q "snow" "$work/err.txt"
+grep -q -- "--snow" "$work/err.txt"
+expect_fail "resume with another seed" render -o "$work/seq" --layers "$work/lay" --resume \
+  --snow nepheloid --snow-seed 8 --exposure 100
+grep -q -- "--snow-seed" "$work/err.txt"
+expect_fail "resume without snow" render -o "$work/seq" --layers "$work/lay" --resume \
+  --exposure 100
+[[ $(cat "$work"/lay/* "$work"/seq/* | md5sum) == "$sum_before" ]] || { echo "FAIL: layers changed"; exit 1; }
+render -o "$work/seq" --layers "$work/lay" --resume --snow nepheloid --snow-seed 7 --exposure 100 \
+  | grep -q "skipped 2"
+
+# 3. An unknown preset: one line naming it, exit 2, nothing written.
+expect_fail "unknown preset" render -o "$work/bad" --snow blizzard
+[[ $(grep -c "blizzard" "$work/err.txt") -eq 1 ]]
+set +e; render -o "$work/bad" --snow blizzard 2>/dev/null; rc=$?; set -e
+[[ $rc -eq 2 ]] || { echo "FAIL: unknown preset exit $rc, not 2"; exit 1; }
+expect_absent "$work/bad"
+
+# 4. A snow section in the --camera file (docs/config.md): applies without --snow, its values
+# recorded in the manifest; --snow overrides it; a value out of range names its key and line.
+{ cat "$work/in/camera.yaml"; printf 'snow:\n  preset: plume\n  albedo: 0.3\n'; } > "$work/cam_snow.yaml"
+render --camera "$work/cam_snow.yaml" --layers "$work/yaml" --exposure 100 | grep -q "rendered 2"
+render --camera "$work/cam_snow.yaml" --layers "$work/yaml_off" --exposure 100 --snow off \
+  | grep -q "rendered 2"
+/usr/bin/python3 - "$work/yaml" "$work/yaml_off" <<'PY'
+import json, os, sys
+import OpenImageIO as oiio
+on, off = sys.argv[1:]
+s = json.load(open(os.path.join(on, "deepsea-sequence.json")))["settings"]["snow"]
+assert s["preset"] == "custom" and s["albedo"] == 0.3 and s["concentration"] == 5000, s
+assert "snow" not in json.load(open(os.path.join(off, "deepsea-sequence.json")))["settings"]
+assert "snow.R" in oiio.ImageInput.open(os.path.join(on, "frame_0001.exr")).spec().channelnames
+assert "snow.R" not in oiio.ImageInput.open(os.path.join(off, "frame_0001.exr")).spec().channelnames
+PY
+{ cat "$work/in/camera.yaml"; printf 'snow:\n  preset: plume\n  albedo: 1.5\n'; } > "$work/cam_bad.yaml"
+expect_fail "albedo out of range" render --camera "$work/cam_bad.yaml" -o "$work/bad"
+line=$(( $(wc -l < "$work/in/camera.yaml") + 3 ))
+grep -q "cam_bad.yaml:$line: snow.albedo: must be in (0, 1\]" "$work/err.txt"
+expect_absent "$work/bad"
+echo "render --snow: ok"

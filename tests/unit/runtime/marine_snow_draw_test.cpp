@@ -1,0 +1,181 @@
+// Marine snow's float rows and drawing (runtime/snow_light.h, marine_snow_draw.cpp): the rows
+// against optics' particle_radiance in double for every kind of lamp profile and phase
+// function, a sub-pixel particle's bilinear weights, and the same image at any thread count.
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <vector>
+
+#include "deepsea/core/random.h"
+#include "deepsea/optics/transmission.h"
+#include "deepsea/runtime/marine_snow.h"
+#include "deepsea/runtime/snow_light.h"
+
+namespace deepsea {
+
+namespace {
+
+Camera camera() {
+    Camera c;
+    c.width = 240;
+    c.height = 180;
+    c.fx = c.fy = 200.0;
+    c.cx = 119.5;
+    c.cy = 89.5;
+    return c;
+}
+
+Rig lamps(bool table) {
+    Rig rig;
+    Light a;
+    a.position = {0.4, -0.1, 0.0};
+    a.direction = normalize(Vec3{-0.25, 0.05, 1.0});
+    a.intensity = {2.0, 1.5, 1.0};
+    a.rid.sigma_deg = 30.0;
+    a.rid.cutoff_deg = 40.0;
+    rig.lights.push_back(a);
+    Light b = a;
+    b.position = {-0.4, 0.1, 0.05};
+    b.direction = normalize(Vec3{0.2, 0.1, 1.0});
+    b.intensity = {1.0, 1.2, 1.4};
+    b.rid.cutoff_deg = 180.0;
+    if (table) {
+        b.rid.kind = Rid::Kind::Table;
+        b.rid.angle_deg = {0, 10, 25, 50, 70};
+        b.rid.value = {1.0, 0.9, 0.6, 0.1, 0.0};
+    }
+    rig.lights.push_back(b);
+    return rig;
+}
+
+Water water() {
+    Water w;
+    w.c = {0.3, 0.1, 0.06};
+    w.b = {0.05, 0.05, 0.05};
+    return w;
+}
+
+}  // namespace
+
+TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
+    const Camera cam = camera();
+    const Water wat = water();
+    Rng rng(11);
+    const int n = 301;  // not a multiple of any vector width
+    std::vector<Vec3> X(static_cast<std::size_t>(n));
+    std::vector<float> x, y, z, inv, D;
+    for (Vec3& p : X) {
+        p.z = 0.1 + 3.0 * rng.uniform();
+        p.x = (rng.uniform() - 0.5) * 1.2 * p.z;
+        p.y = (rng.uniform() - 0.5) * 0.9 * p.z;
+        x.push_back(float(p.x));
+        y.push_back(float(p.y));
+        z.push_back(float(p.z));
+        inv.push_back(float(1.0 / length(p)));
+        D.push_back(float(1e-3 * (0.5 + 2.0 * rng.uniform())));
+    }
+    for (const bool table : {false, true})
+        for (const Phase phase : {Phase{PhaseKind::Isotropic, 0.0},
+                                  Phase{PhaseKind::HenyeyGreenstein, 0.6},
+                                  Phase{PhaseKind::PetzoldClear, 0.0}}) {
+            const Rig rig = lamps(table);
+            Snow snow = snow_preset("nepheloid");
+            snow.albedo = 0.4;
+            snow.phase = phase;
+            std::vector<float> e(3 * std::size_t(n)), scratch(5 * std::size_t(n));
+            float* s = scratch.data();
+            snow_light(rig, wat, snow, cam.fx, cam.fy,
+                       ParticleRows{n, x.data(), y.data(), z.data(), inv.data(), D.data()},
+                       e.data(), e.data() + n, e.data() + 2 * n,
+                       SnowLightScratch{s, s + n, s + 2 * n, s + 3 * n, s + 4 * n});
+            int lit = 0;
+            for (int q = 0; q < n; ++q) {
+                // Written from optics' double functions: radiance, water, area in pixels.
+                const Vec3& p = X[std::size_t(q)];
+                const double d2 = length(p), Dq = double(D[std::size_t(q)]);
+                const double area = M_PI / 4 * Dq * Dq * cam.fx * cam.fy * d2 / std::pow(p.z, 3);
+                const Rgb L = particle_radiance(rig, wat, snow, p) * transmission(wat.c, d2) * area;
+                const double want[3] = {L.r, L.g, L.b};
+                const double scale = std::max({want[0], want[1], want[2]});
+                lit += scale > 0.0;
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(e[std::size_t(c * n + q)], want[c], 2e-4 * scale + 1e-30)
+                        << "table " << table << " phase " << int(phase.kind) << " particle " << q;
+            }
+            EXPECT_GT(lit, n / 2);
+        }
+}
+
+TEST(MarineSnowDraw, SubPixelParticleIsSharedBilinearly) {
+    const Camera cam = camera();
+    SnowSettings s;
+    s.snow = snow_preset("abyssal");
+    s.snow.concentration = 0.3;  // about 7 particles in view
+    MarineSnow snow(s, lamps(false), water());
+    const ThinLens lens{cam.fx, s.pixel_pitch_um, s.f_number, s.focus_distance_m};
+    const Image depth(cam.width, cam.height, 1);
+    int checked = 0;
+    for (std::uint64_t key = 0; key < 400 && checked < 10; ++key) {
+        const auto particles = snow_particles(s, cam, key, std::nullopt);
+        Image final(cam.width, cam.height, 3);
+        snow.set_frame(key, std::nullopt);
+        snow.draw(cam, depth, final, nullptr, nullptr);
+        for (const SnowParticle& p : particles) {
+            const Vec3& X = p.position;
+            if (snow_disc_radius_px(cam, lens, X, p.diameter) > 0.5) continue;
+            const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
+            const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
+            if (x0 < 0 || y0 < 0 || x0 + 1 >= cam.width || y0 + 1 >= cam.height) continue;
+            bool alone = true;  // no other particle within 40 px
+            for (const SnowParticle& o : particles) {
+                const double ou = cam.fx * o.position.x / o.position.z + cam.cx;
+                const double ov = cam.fy * o.position.y / o.position.z + cam.cy;
+                alone &= o.id == p.id || std::hypot(ou - u, ov - v) > 2 * kMaxSnowRadiusPx + 4;
+            }
+            if (!alone) continue;
+            const double fu = u - x0, fv = v - y0;
+            const double sum = final.at(x0, y0, 1) + final.at(x0 + 1, y0, 1) +
+                               final.at(x0, y0 + 1, 1) + final.at(x0 + 1, y0 + 1, 1);
+            if (!(sum > 0.0)) continue;
+            EXPECT_NEAR(final.at(x0, y0, 1) / sum, (1 - fu) * (1 - fv), 1e-4);
+            EXPECT_NEAR(final.at(x0 + 1, y0, 1) / sum, fu * (1 - fv), 1e-4);
+            EXPECT_NEAR(final.at(x0, y0 + 1, 1) / sum, (1 - fu) * fv, 1e-4);
+            EXPECT_NEAR(final.at(x0 + 1, y0 + 1, 1) / sum, fu * fv, 1e-4);
+            EXPECT_EQ(final.at(x0 - 1, y0, 1), 0.0f);
+            EXPECT_EQ(final.at(x0 + 2, y0 + 1, 1), 0.0f);
+            ++checked;
+        }
+    }
+    EXPECT_GE(checked, 5);
+}
+
+TEST(MarineSnowDraw, SameImageAtAnyThreadCount) {
+    const Camera cam = camera();
+    SnowSettings s;
+    s.snow = snow_preset("plume");
+    s.focus_distance_m = 1.5;
+    s.f_number = 1.4;  // large soft discs near the lens, overlapping across bands
+    MarineSnow snow(s, lamps(true), water());
+    // A slanted floor: some particles and parts of discs behind it.
+    Image depth(cam.width, cam.height, 1);
+    for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) depth.at(u, v) = float(0.5 + 3.0 * v / cam.height);
+    const auto draw = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        std::vector<Image> out{Image(cam.width, cam.height, 3), Image(cam.width, cam.height, 3),
+                               Image(cam.width, cam.height, 1)};
+        snow.set_frame(3, std::nullopt);
+        snow.draw(cam, depth, out[0], &out[1], &out[2]);
+        return out;
+    };
+    const auto one = draw(1), many = draw(8);
+    ASSERT_GT(snow.drawn(), 1000);
+    for (std::size_t i = 0; i < one.size(); ++i) EXPECT_EQ(one[i].data, many[i].data) << i;
+    double sum = 0.0;
+    for (float f : one[1].data) sum += f;
+    EXPECT_GT(sum, 0.0);
+}
+
+}  // namespace deepsea
