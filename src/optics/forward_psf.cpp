@@ -286,8 +286,9 @@ ForwardPsf::ForwardPsf(const ForwardPsfTable& table, const Water& water, double 
             std::vector<double> first(kWidths, total / kWidths);
             const std::vector<double> mass = fit.fit(target, std::move(first));
             // how far the mixture's enclosed share strays from the table's, at any ring edge
+            // but the last (the fit's last ring reaches to infinity)
             double table_cum = 0.0, worst = 0.0;
-            for (int i = 0; i < R; ++i) {
+            for (int i = 0; i + 1 < R; ++i) {
                 table_cum += target[i];
                 double model = 0.0;
                 for (int j = 0; j < kWidths; ++j) {

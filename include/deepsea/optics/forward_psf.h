@@ -63,9 +63,9 @@ public:
 
     /// Whether the weights come from a transport table (else: the small-angle model).
     bool from_transport() const { return m_table; }
-    /// Transport tables only: the largest difference, over depths, channels and ring edges,
-    /// between the fitted mixture's enclosed share and the table's, relative to the depth's
-    /// total scattered share.
+    /// Transport tables only: the largest difference, over depths, channels and ring edges
+    /// below pi/2, between the fitted mixture's enclosed share and the table's, relative to the
+    /// depth's total scattered share.
     double fit_error() const { return m_fit_error; }
 
     int scales() const { return int(m_sigma_px.size()); }
