@@ -14,6 +14,7 @@
 #include <filesystem>
 
 #include "asset_vdb.h"
+#include "forward_psf_json.h"
 #include "deepsea/asset/asset_integrity.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/error.h"
@@ -213,6 +214,14 @@ Asset load_asset(const std::string& path) {
             const float x = dense_data[n][c];
             if (!std::isfinite(x)) throw AssetError(path + ": non-finite backscatter value");
             asset.values[3 * n + c] = float(x * inv);
+        }
+    }
+    std::string psf;
+    if (get_meta(f.meta, kMetaForwardPsf, psf)) {
+        try {
+            asset.forward_psf = forward_psf_from_json(psf);
+        } catch (const AssetError& e) {
+            throw AssetError(path + ": " + one_line(e.what()));
         }
     }
     if (asset.info.scattering == Scattering::Multiple) {

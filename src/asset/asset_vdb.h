@@ -23,6 +23,8 @@ inline constexpr const char* kMetaBake = "deepsea:bake";
 inline constexpr const char* kMetaScale = "deepsea:value_scale";
 inline constexpr const char* kMetaChecksum = "deepsea:checksum";
 inline constexpr const char* kMetaZ = "deepsea:z_samples";
+/// The forward-scatter table from transport (forward_psf_json.h); absent: the small-angle model.
+inline constexpr const char* kMetaForwardPsf = "deepsea:forward_psf";
 inline constexpr const char* kMetaPreviewVoxel = "deepsea:preview_voxel_size";
 inline constexpr const char* kMetaPreviewScale = "deepsea:preview_density_scale";
 

@@ -296,6 +296,7 @@ Asset bake(const Camera& cam, const Rig& rig, const Water& water, const BakeSett
         const long total = (s.z_max == 0.0 ? 2 * columns : columns) + mc_weight;
         add_higher_orders(asset, stage(par, total - mc_weight, total, kMonteCarloColumnWeight));
         add_lamp_fields(asset, Parallel{par.threads}.with_stop(par.stop));
+        add_forward_psf(asset, Parallel{par.threads}.with_stop(par.stop));
     }
     return asset;
 }

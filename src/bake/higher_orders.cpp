@@ -7,6 +7,7 @@
 #include "deepsea/bake/bake_ray.h"
 #include "deepsea/bake/higher_orders_check.h"
 #include "deepsea/core/error.h"
+#include "deepsea/optics/forward_transport.h"
 #include "deepsea/optics/multiple_scattering.h"
 
 namespace deepsea {
@@ -123,6 +124,21 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
         s.fraction += fraction[n] / double(fraction.size());
     }
     asset.info.scattering = Scattering::Multiple;
+}
+
+void add_forward_psf(Asset& asset, const Parallel& par) {
+    const Water& water = asset.info.water;
+    if (!water.forward.enabled || water.forward.model != ForwardModel::PhaseFunction) return;
+    const Camera& cam = asset.info.camera;
+    double corner = 0.0;
+    for (const double u : {0.0, double(cam.width - 1)}) {
+        for (const double v : {0.0, double(cam.height - 1)})
+            corner = std::max(corner, length(cam.ray(u, v)));
+    }
+    ForwardTransportSettings fs;
+    fs.seed = asset.info.higher_orders.seed;
+    asset.forward_psf = trace_forward_psf(
+        water, forward_psf_depths(asset.info.lattice.z_max() * corner), fs, par);
 }
 
 }  // namespace deepsea

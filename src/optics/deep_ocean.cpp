@@ -15,7 +15,7 @@ namespace {
 //   c_p(l) = c_p(660) (l / 660 nm)^-gamma,
 //
 // and take band means as integrals over B 400-500 nm, G 500-600 nm, R 600-700 nm (1 nm
-// steps, trapezoid rule) divided by 100 nm. Sources (docs/model.md, "Deep-sea water", has the
+// steps, trapezoid rule) divided by 100 nm. Sources (docs/water.md has the
 // table of every term and how sure each number is):
 // - a_w: pure water absorption, R. M. Pope, E. S. Fry, "Absorption spectrum (380-700 nm) of
 //   pure water. II. Integrating cavity measurements", Appl. Opt. 36(33), 8710-8723 (1997),

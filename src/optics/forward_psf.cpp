@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "deepsea/optics/forward.h"
+#include "deepsea/optics/forward_transport.h"
 #include "deepsea/optics/water.h"
 
 namespace deepsea {
@@ -75,6 +76,58 @@ void place(const std::vector<double>& grid, double sigma, double w, std::vector<
     add_placed(placement(grid, sigma), w, out);
 }
 
+/// Gaussian mixtures on fixed widths fitted to shares on rings [edge[i], edge[i + 1]) (the
+/// last ring reaching to infinity) by expectation-maximisation, which keeps the weights
+/// non-negative and their sum that of the shares.
+class RingFit {
+public:
+    RingFit(const std::vector<double>& sigma, const std::vector<double>& edge)
+        : m_widths(int(sigma.size())), m_rings(int(edge.size()) - 1) {
+        m_share.resize(std::size_t(m_widths) * m_rings);
+        for (int j = 0; j < m_widths; ++j) {
+            for (int i = 0; i < m_rings; ++i) {
+                const auto out = [&](double r) {
+                    return std::exp(-0.5 * r * r / (sigma[j] * sigma[j]));
+                };
+                m_share[std::size_t(j) * m_rings + i] =
+                    out(edge[i]) - (i + 1 < m_rings ? out(edge[i + 1]) : 0.0);
+            }
+        }
+    }
+    /// Share of width j on ring i.
+    double share(int j, int i) const { return m_share[std::size_t(j) * m_rings + i]; }
+    /// Weights on the widths for ring shares `target`, from the positive start `first`.
+    std::vector<double> fit(const std::vector<double>& target, std::vector<double> first,
+                            int iterations = 400) const {
+        const int W = m_widths, R = m_rings;
+        std::vector<double> model(R), ratio(R), next(W);
+        for (int iter = 0; iter < iterations; ++iter) {
+            std::fill(model.begin(), model.end(), 0.0);
+            for (int j = 0; j < W; ++j) {
+                for (int i = 0; i < R; ++i) model[i] += first[j] * m_share[std::size_t(j) * R + i];
+            }
+            // each ring's target over its model, once a ring rather than once a ring and width
+            for (int i = 0; i < R; ++i) ratio[i] = model[i] > 0.0 ? target[i] / model[i] : 0.0;
+            // four widths' sums side by side, each over the rings in order (independent chains)
+            static_assert(kWidths % 4 == 0, "widths in fours");
+            for (int j = 0; j < W; j += 4) {
+                const double* s0 = &m_share[std::size_t(j) * R];
+                double sum[4] = {};
+                for (int i = 0; i < R; ++i) {
+                    for (int m = 0; m < 4; ++m) sum[m] += ratio[i] * s0[std::size_t(m) * R + i];
+                }
+                for (int m = 0; m < 4; ++m) next[j + m] = first[j + m] * sum[m];
+            }
+            first.swap(next);
+        }
+        return first;
+    }
+
+private:
+    int m_widths, m_rings;
+    std::vector<double> m_share;
+};
+
 }  // namespace
 
 double forward_kernel(const Phase& phase, double psi) {
@@ -94,8 +147,7 @@ ForwardSpread forward_spread(const Phase& phase, int orders) {
     s.sigma.resize(kWidths);
     for (int j = 0; j < kWidths; ++j) s.sigma[j] = kSigma0 * std::pow(kStep, j);
     // K_1: mixture weights fitted to the kernel's share on 480 rings (log-spaced radii up to
-    // pi/2) by expectation-maximisation, which keeps them non-negative and their sum exact;
-    // started from the ring between neighbouring median radii of each width.
+    // pi/2), started from the ring between neighbouring median radii of each width.
     const int rings = 480;
     std::vector<double> edge(rings + 1), target(rings);
     edge[0] = 0.0;
@@ -103,17 +155,6 @@ ForwardSpread forward_spread(const Phase& phase, int orders) {
         edge[i] = 1e-7 * std::pow(kHalfPi / 1e-7, double(i - 1) / (rings - 1));
     for (int i = 0; i < rings; ++i)
         target[i] = table.at(table.E, edge[i + 1]) - table.at(table.E, edge[i]);
-    // share of width j on ring i (the last ring reaches to infinity)
-    std::vector<double> share(std::size_t(kWidths) * rings);
-    for (int j = 0; j < kWidths; ++j) {
-        for (int i = 0; i < rings; ++i) {
-            const auto out = [&](double r) {
-                return std::exp(-0.5 * r * r / (s.sigma[j] * s.sigma[j]));
-            };
-            share[std::size_t(j) * rings + i] =
-                out(edge[i]) - (i + 1 < rings ? out(edge[i + 1]) : 0.0);
-        }
-    }
     std::vector<double> first(kWidths, 0.0);
     double below = 0.0;
     const double half_step = std::sqrt(kStep);
@@ -123,27 +164,7 @@ ForwardSpread forward_spread(const Phase& phase, int orders) {
         first[j] = std::max(within - below, 1e-12);
         below = within;
     }
-    std::vector<double> model(rings), ratio(rings), next(kWidths);
-    for (int iter = 0; iter < 400; ++iter) {
-        std::fill(model.begin(), model.end(), 0.0);
-        for (int j = 0; j < kWidths; ++j) {
-            for (int i = 0; i < rings; ++i)
-                model[i] += first[j] * share[std::size_t(j) * rings + i];
-        }
-        // each ring's target over its model, once a ring rather than once a ring and width
-        for (int i = 0; i < rings; ++i) ratio[i] = model[i] > 0.0 ? target[i] / model[i] : 0.0;
-        // four widths' sums side by side, each over the rings in order (independent chains)
-        static_assert(kWidths % 4 == 0, "widths in fours");
-        for (int j = 0; j < kWidths; j += 4) {
-            const double* s0 = &share[std::size_t(j) * rings];
-            double sum[4] = {};
-            for (int i = 0; i < rings; ++i) {
-                for (int m = 0; m < 4; ++m) sum[m] += ratio[i] * s0[std::size_t(m) * rings + i];
-            }
-            for (int m = 0; m < 4; ++m) next[j + m] = first[j + m] * sum[m];
-        }
-        first.swap(next);
-    }
+    first = RingFit(s.sigma, edge).fit(target, std::move(first));
     // K_{n+1} = K_n * K_1: Gaussians convolve by adding variances. Where each pair of widths
     // lands is the same for every order: found once.
     std::vector<Placement> pair(std::size_t(kWidths) * kWidths);
@@ -177,36 +198,140 @@ double mixture_within(const std::vector<double>& sigma, const std::vector<double
     return sum;
 }
 
+namespace {
+
+/// The pixel scales of a camera: 0 (unblurred), then 1, 2, 4, ... px up to the cap.
+std::vector<double> pixel_scales(int width, int height) {
+    const double cap = max_forward_sigma_px(width, height);
+    std::vector<double> px = {0.0};
+    for (double s = 1.0; s < cap; s *= 2.0) px.push_back(s);
+    px.push_back(cap);
+    return px;
+}
+
+/// Adds a mixture on angular widths (radians) to weights on pixel scales (`scales`, scale 0
+/// unblurred): widths below a pixel split between unblurred and 1 px in the proportion that
+/// keeps the variance, wider ones placed between the two scales around them.
+void add_on_pixels(const std::vector<double>& sigma, const std::vector<double>& mass, double fx,
+                   const std::vector<double>& scales, double* out) {
+    const std::vector<double> blurred(scales.begin() + 1, scales.end());
+    std::vector<double> on_blurred(blurred.size(), 0.0);
+    for (std::size_t i = 0; i < sigma.size(); ++i) {
+        const double w = mass[i];
+        if (w <= 0.0) continue;
+        const double s = fx * sigma[i];
+        if (s < 1.0) {
+            out[0] += w * (1.0 - s * s);
+            on_blurred[0] += w * s * s;
+        } else {
+            place(blurred, s, w, on_blurred);
+        }
+    }
+    for (std::size_t j = 0; j < blurred.size(); ++j) out[j + 1] += on_blurred[j];
+}
+
+std::vector<double> mixture_widths() {
+    std::vector<double> sigma(kWidths);
+    for (int j = 0; j < kWidths; ++j) sigma[j] = kSigma0 * std::pow(kStep, j);
+    return sigma;
+}
+
+}  // namespace
+
 ForwardPsf::ForwardPsf(const Water& water, double fx, int width, int height)
     : m_c(water.c), m_b(water.b) {
-    const double cap = max_forward_sigma_px(width, height);
-    m_sigma_px = {0.0};
-    for (double s = 1.0; s < cap; s *= 2.0) m_sigma_px.push_back(s);
-    m_sigma_px.push_back(cap);
-    const std::vector<double> blurred(m_sigma_px.begin() + 1, m_sigma_px.end());
+    m_sigma_px = pixel_scales(width, height);
     const ForwardSpread spread = forward_spread(water.phase);
     for (const double m : spread.mass[0]) m_forward += m;
     m_mass.assign(spread.mass.size(), std::vector<double>(m_sigma_px.size(), 0.0));
-    for (std::size_t n = 0; n < spread.mass.size(); ++n) {
-        std::vector<double> on_blurred(blurred.size(), 0.0);
-        for (std::size_t i = 0; i < spread.sigma.size(); ++i) {
-            const double w = spread.mass[n][i];
-            if (w <= 0.0) continue;
-            const double s = fx * spread.sigma[i];
-            if (s < 1.0) {
-                // below a pixel: unblurred and 1 px in the proportion that keeps the variance
-                m_mass[n][0] += w * (1.0 - s * s);
-                on_blurred[0] += w * s * s;
-            } else {
-                place(blurred, s, w, on_blurred);
+    for (std::size_t n = 0; n < spread.mass.size(); ++n)
+        add_on_pixels(spread.sigma, spread.mass[n], fx, m_sigma_px, m_mass[n].data());
+}
+
+ForwardPsf::ForwardPsf(const ForwardPsfTable& table, const Water& water, double fx, int width,
+                       int height)
+    : m_c(water.c), m_b(water.b), m_table(true) {
+    table.validate("forward scatter table");
+    m_sigma_px = pixel_scales(width, height);
+    m_forward = forward_kernel_within(water.phase, kHalfPi);
+    const std::vector<double> sigma = mixture_widths();
+    const RingFit fit(sigma, table.ring_edge);
+    const int K = table.depths(), R = table.rings(), S = scales();
+    // The table holds what a pixel gathers from a plane at depth d; a surface point seen at
+    // range r sends a pixel psi away what the plane at depth r cos(psi) sends it (the same
+    // point): resampled per ring, linear in depth between the table's, 0 at depth 0.
+    const auto gathered = [&](int i, double d, int c) {
+        const std::vector<double>& z = table.depth;
+        if (d <= 0.0) return 0.0;
+        const std::size_t k = std::size_t(std::upper_bound(z.begin(), z.end(), d) - z.begin());
+        const auto at = [&](std::size_t m) { return table.share[m * R + i][c]; };
+        if (k == 0) return at(0) * d / z[0];
+        if (k >= z.size()) return at(z.size() - 1);
+        const double f = (d - z[k - 1]) / (z[k] - z[k - 1]);
+        return at(k - 1) + f * (at(k) - at(k - 1));
+    };
+    m_node = table.depth;
+    m_node_weight.assign(std::size_t(K) * S, Rgb());
+    std::vector<double> target(R), cum_fit(R + 1);
+    for (int k = 0; k < K; ++k) {
+        for (int c = 0; c < 3; ++c) {
+            double total = 0.0;
+            for (int i = 0; i < R; ++i) {
+                const double psi = i == 0 ? 0.5 * table.ring_edge[1]
+                                          : std::sqrt(table.ring_edge[i] * table.ring_edge[i + 1]);
+                target[i] = gathered(i, table.depth[k] * std::cos(psi), c);
+                total += target[i];
             }
+            if (!(total > 0.0)) continue;
+            std::vector<double> first(kWidths, total / kWidths);
+            const std::vector<double> mass = fit.fit(target, std::move(first));
+            // how far the mixture's enclosed share strays from the table's, at any ring edge
+            // but the last (the fit's last ring reaches to infinity)
+            double table_cum = 0.0, worst = 0.0;
+            for (int i = 0; i + 1 < R; ++i) {
+                table_cum += target[i];
+                double model = 0.0;
+                for (int j = 0; j < kWidths; ++j) {
+                    const double r = table.ring_edge[i + 1];
+                    model += mass[j] * (1.0 - std::exp(-0.5 * r * r / (sigma[j] * sigma[j])));
+                }
+                worst = std::max(worst, std::abs(model - table_cum) / total);
+            }
+            m_fit_error = std::max(m_fit_error, worst);
+            std::vector<double> px(S, 0.0);
+            add_on_pixels(sigma, mass, fx, m_sigma_px, px.data());
+            for (int j = 0; j < S; ++j) m_node_weight[std::size_t(k) * S + j][c] = px[j];
         }
-        for (std::size_t j = 0; j < blurred.size(); ++j) m_mass[n][j + 1] += on_blurred[j];
+    }
+    // Beyond the last depth the weights keep their shape and fall as the total did between
+    // the last two depths (at least as fast as exp(-(c - b) d), at most as exp(-c d)).
+    for (int c = 0; c < 3; ++c) {
+        double rate = m_c[c];
+        if (K >= 2) {
+            double t0 = 0.0, t1 = 0.0;
+            for (int j = 0; j < S; ++j) {
+                t0 += m_node_weight[std::size_t(K - 2) * S + j][c];
+                t1 += m_node_weight[std::size_t(K - 1) * S + j][c];
+            }
+            if (t0 > 0.0 && t1 > 0.0) rate = std::log(t0 / t1) / (m_node[K - 1] - m_node[K - 2]);
+        }
+        m_tail_rate[c] = std::clamp(rate, m_c[c] - m_b[c], m_c[c]);
     }
 }
 
 Rgb ForwardPsf::weight(int j, double d) const {
     Rgb out;
+    if (m_table) {
+        if (!(d > 0.0)) return out;
+        const int S = scales(), K = int(m_node.size());
+        const auto w = [&](int k) { return m_node_weight[std::size_t(k) * S + j]; };
+        const std::size_t k =
+            std::size_t(std::upper_bound(m_node.begin(), m_node.end(), d) - m_node.begin());
+        if (k == 0) return w(0) * (d / m_node[0]);
+        if (k >= std::size_t(K)) return w(K - 1) * exp(m_tail_rate * -(d - m_node[K - 1]));
+        const double f = (d - m_node[k - 1]) / (m_node[k] - m_node[k - 1]);
+        return w(int(k) - 1) * (1.0 - f) + w(int(k)) * f;
+    }
     for (int ch = 0; ch < 3; ++ch) {
         const double bd = m_b[ch] * d;
         double term = std::exp(-m_c[ch] * d), terms = term, sum = 0.0;
@@ -223,7 +348,9 @@ Rgb ForwardPsf::weight(int j, double d) const {
 
 double ForwardPsf::negligible_beyond() const {
     double rate = 1e300;
-    for (int ch = 0; ch < 3; ++ch) rate = std::min(rate, m_c[ch] - m_forward * m_b[ch]);
+    for (int ch = 0; ch < 3; ++ch)
+        rate = std::min(rate, m_table ? m_tail_rate[ch] : m_c[ch] - m_forward * m_b[ch]);
+    if (m_table && !m_node.empty()) return std::min(m_node.back() + 40.0 / std::max(rate, 1e-7), 1e7);
     return rate > 0.0 ? std::min(40.0 / rate, 1e7) : 1e7;
 }
 

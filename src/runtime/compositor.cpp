@@ -1,5 +1,7 @@
 #include "deepsea/runtime/compositor.h"
 
+#include "deepsea/optics/forward_transport.h"
+
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -83,12 +85,16 @@ void row_normals(const Camera& cam, const Image& depth, int v, const float* rx, 
 }  // namespace
 
 Compositor::Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
-                       const BackscatterSource& backscatter, const PortRays* port)
+                       const BackscatterSource& backscatter, const PortRays* port,
+                       const ForwardPsfTable* forward_table)
     : m_camera(camera), m_water(water), m_lamps(lamps), m_backscatter(backscatter), m_port(port) {
     if (port && !(port->camera() == camera))
         throw InputError("compositor: the port's rays belong to another camera");
     if (water.forward.enabled && water.forward.model == ForwardModel::PhaseFunction) {
-        m_psf_blur.emplace(ForwardPsf(water, forward_fx(), camera.width, camera.height));
+        m_psf_blur.emplace(forward_table ? ForwardPsf(*forward_table, water, forward_fx(),
+                                                      camera.width, camera.height)
+                                         : ForwardPsf(water, forward_fx(), camera.width,
+                                                      camera.height));
     }
 }
 

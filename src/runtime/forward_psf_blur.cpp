@@ -363,8 +363,13 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2) {
         const double sigma = m_psf.sigma_px(int(i) + 1);
         const double rest = std::sqrt(std::max(sigma * sigma - g.spent, 0.09)) / g.factor;
         float* sum = g.factor == 1 ? m_full.data() : grid_of(g.factor).acc.data();
+        // Beyond the frame: a transport table's scene continues as its borders (its wide
+        // scales reach across small images, and lamp-lit scenes are dimmer outside than in);
+        // the small-angle model's as the in-image mean, as it always has.
         planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), sum, rest, m_kernel,
-                            m_norm_x, m_norm_y, planes::Store::Add);
+                            m_norm_x, m_norm_y, planes::Store::Add,
+                            m_psf.from_transport() ? planes::Edge::Clamp
+                                                   : planes::Edge::Normalise);
     }
 
     // Coarse to fine: each grid holds its own scales plus the next coarser grid upsampled.

@@ -50,14 +50,24 @@ Source planar(const float* data, int w, int h) {
 // the frame, docs/model.md):
 //   (G_sigma * s)(x, y) = ny[y] sum_l g_l nx[x] sum_k g_k s(x + k, y + l),
 // k and l over in-image pixels, nx and ny from inside_weights: a uniform image stays uniform.
+// With Edge::Clamp, k and l run over the whole kernel, s(x + k, y + l) read at the nearest
+// in-image pixel, and nx = ny = 1 / sum_k g_k.
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
-                 std::vector<float>& nx, std::vector<float>& ny, Store store) {
+                 std::vector<float>& nx, std::vector<float>& ny, Store store, Edge edge) {
     const int w = src.w, h = src.h;
     const int r = std::max(1, int(std::ceil(3.0 * sigma)));
     g.resize(2 * r + 1);
     for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
-    inside_weights(w, g, r, nx);
-    inside_weights(h, g, r, ny);
+    const bool clamp = edge == Edge::Clamp;
+    if (clamp) {
+        double total = 0.0;
+        for (const float x : g) total += x;
+        nx.assign(w, float(1.0 / total));
+        ny.assign(h, float(1.0 / total));
+    } else {
+        inside_weights(w, g, r, nx);
+        inside_weights(h, g, r, ny);
+    }
     const std::size_t plane = std::size_t(w) * h;
     // Strips of rows, each through a ring of its 2r + 1 latest rows of the horizontal pass, so
     // that the horizontal pass is never written out and read back (a strip computes the r rows
@@ -74,6 +84,10 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
             for (; next <= std::min(h - 1, y + r); ++next) {
                 const float* in = src.at(c, next);
                 for (int x = 0; x < w; ++x) padded[r + x] = in[x * src.pixel];
+                if (clamp) {
+                    std::fill(padded.begin(), padded.begin() + r, padded[r]);
+                    std::fill(padded.begin() + r + w, padded.end(), padded[r + w - 1]);
+                }
                 float* dst = rows.data() + std::size_t(next % ring) * w;
                 convolve_row(padded.data(), dst, w, g.data(), r);
                 for (int x = 0; x < w; ++x) dst[x] *= nx[x];
@@ -81,10 +95,11 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
             float* out = dst_planes + c * plane + std::size_t(y) * w;
             float* dst = store == Store::Add ? sum.data() : out;
             std::fill(dst, dst + w, 0.0f);
-            const int k0 = std::max(-r, -y), k1 = std::min(r, h - 1 - y);
+            const int k0 = clamp ? -r : std::max(-r, -y), k1 = clamp ? r : std::min(r, h - 1 - y);
             for (int k = k0; k <= k1; ++k) {
                 const float gk = g[k + r] * ny[y];
-                const float* in = rows.data() + std::size_t((y + k) % ring) * w;
+                const int yk = std::clamp(y + k, 0, h - 1);
+                const float* in = rows.data() + std::size_t(yk % ring) * w;
 #pragma omp simd
                 for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
             }

@@ -25,12 +25,19 @@ Source planar(const float* data, int w, int h);
 /// Whether a result replaces what its destination holds or is added to it.
 enum class Store { Set, Add };
 
-/// Separable normalised Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to
-/// planar dst (stored or added), normalised over in-image pixels. g, nx, ny (kernel, row and
-/// column normalisation) are the caller's, kept between frames so that nothing is allocated
-/// once they have grown (each worker keeps its own few rows of the horizontal pass).
+/// What lies beyond the image: its own mean under the kernel (normalised over in-image taps),
+/// or its border pixels continued outward. Both keep a uniform image uniform; where the image
+/// is brighter inside than at its borders (lamp-lit scenes), Normalise moves the inside's light
+/// to the borders, Clamp keeps the borders' own.
+enum class Edge { Normalise, Clamp };
+
+/// Separable Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to planar dst
+/// (stored or added), with `edge` beyond the image. g, nx, ny (kernel, row and column
+/// normalisation) are the caller's, kept between frames so that nothing is allocated once they
+/// have grown (each worker keeps its own few rows of the horizontal pass).
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
-                 std::vector<float>& nx, std::vector<float>& ny, Store store = Store::Set);
+                 std::vector<float>& nx, std::vector<float>& ny, Store store = Store::Set,
+                 Edge edge = Edge::Normalise);
 
 /// dst = a + t (b - a), n floats.
 void lerp_rows(int n, const float* a, const float* b, float t, float* dst);

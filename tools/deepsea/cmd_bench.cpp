@@ -162,8 +162,9 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
     flight.camera = cam;
     Frame frame = render_flight_frame(flight, 0);
     std::vector<Case> cases;
-    const auto time = [&](const std::string& name, const RenderSettings& settings, LayerSet set) {
-        Renderer renderer(asset, settings);
+    const auto time = [&](const std::string& name, const RenderSettings& settings, LayerSet set,
+                          const Asset* other = nullptr) {
+        Renderer renderer(other ? *other : asset, settings);
         // From here on only what the runtime holds: the asset, one frame, the compositor (made
         // by the first frame, which also allocates).
         reset_peak_rss();
@@ -183,6 +184,13 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
         RenderSettings settings{cam};
         settings.shadows = k >= 2;
         time(kCompositeCases[k], settings, k % 2 == 0 ? LayerSet::All : LayerSet::Final);
+    }
+    if (asset.forward_psf && wanted(a.cases, "composite_small_angle")) {
+        // The same asset without its forward scatter from transport: the small-angle point
+        // spread that assets without the table get, for the cost of the table's blur beside it.
+        Asset small_angle = asset;
+        small_angle.forward_psf.reset();
+        time("composite_small_angle", RenderSettings{cam}, LayerSet::All, &small_angle);
     }
     if (wanted(a.cases, "composite_flat_port")) {
         // Through a flat port (3 cm from the camera centre, 1.2 cm of acrylic, seawater): every
@@ -484,7 +492,8 @@ void setup_bench(CLI::App& sub) {
     sub.add_option(
         "--cases", a->cases,
         "comma-separated prefixes of the cases to run: composite (composite, "
-        "composite_final_only, each also -shadows: with lamp shadows), snow (snow-abyssal, "
+        "composite_final_only, each also -shadows: with lamp shadows; composite_small_angle: a "
+        "multiple-scattering asset's all layers without its forward-scatter table), snow (snow-abyssal, "
         "snow-nepheloid, snow-plume: marine snow alone), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
         "also -camera: with the setup's camera stage)");

@@ -1,5 +1,6 @@
 // deepsea info: what an asset holds, for a person (or --json for scripts).
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -105,6 +106,26 @@ void run(const InfoArgs& a) {
             b.rig.lights.size(), h.lamp_samples, 100.0 * h.lamp_rel_std_error);
     } else {
         std::printf("scattering single (the paper's model, exact)\n");
+    }
+    if (w.forward.enabled && w.forward.model == ForwardModel::PhaseFunction) {
+        if (const auto& t = asset.forward_psf) {
+            // the worst depth's standard error relative to its scattered light
+            double se = 0.0;
+            for (int k = 0; k < t->depths(); ++k) {
+                for (int ch = 0; ch < 3; ++ch) {
+                    const double total = t->total(k)[ch];
+                    if (total > 0.0) se = std::max(se, t->std_error[k][ch] / total);
+                }
+            }
+            std::printf(
+                "forward    from transport, all orders: %d plane depths to %.2f m, %d rings of "
+                "angle, %d paths (seed %llu), standard error up to %.2f %% of the scattered "
+                "light\n",
+                t->depths(), t->depth.back(), t->rings(), t->paths,
+                static_cast<unsigned long long>(t->seed), 100.0 * se);
+        } else {
+            std::printf("forward    small-angle model (no transport table in this asset)\n");
+        }
     }
     std::printf("check      %s\n", describe_check(b).c_str());
     std::printf("bake       tolerance %g, quadrature rel %g, %s, inputs %s\n", b.tolerance,

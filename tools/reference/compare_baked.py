@@ -2,6 +2,7 @@
 """deepsea's baked multiple scattering against its own all-order path tracer (docs/reference.md).
 
 Usage: compare_baked.py DEEPSEA WORK [--paths N] [--size 64x48] [--scenes clear-plane,...]
+                        [--keep-reference]
 Writes each scene's setup (YAML), albedo and depth (EXR) into WORK, runs
   deepsea bake --scattering multiple + deepsea render --layers   (the runtime)
   deepsea reference --scattering multiple --paths N              (the path tracer)
@@ -93,6 +94,8 @@ def main():
     ap.add_argument("--size", default="64x48")
     ap.add_argument("--scenes", default="clear-plane,turbid-plane")
     ap.add_argument("--threads", type=int, default=0)
+    ap.add_argument("--keep-reference", action="store_true",
+                    help="reuse a scene's pt.exr already in WORK (same paths and seed)")
     a = ap.parse_args()
     w, h = map(int, a.size.split("x"))
     f = w / 48 * 38.0  # the Cycles scenes' 64.5 degree field of view
@@ -118,10 +121,11 @@ def main():
         baked, pt = os.path.join(d, "baked.exr"), os.path.join(d, "pt.exr")
         run([a.deepsea, "render", "--asset", asset, "--rgb", rgb, "--depth", depth,
              "--layers", baked] + th)
-        t = run([a.deepsea, "reference", "--config", setup, "--rgb", rgb, "--depth", depth,
-                 "--scattering", "multiple", "--paths", str(a.paths), "--z-max", str(Z_MAX),
-                 "--layers", pt] + th)
-        print(f"{scene}: path tracer {t:.1f} s ({a.paths} paths per pixel)", file=sys.stderr)
+        if not (a.keep_reference and os.path.exists(pt)):
+            t = run([a.deepsea, "reference", "--config", setup, "--rgb", rgb, "--depth", depth,
+                     "--scattering", "multiple", "--paths", str(a.paths), "--z-max", str(Z_MAX),
+                     "--layers", pt] + th)
+            print(f"{scene}: path tracer {t:.1f} s ({a.paths} paths per pixel)", file=sys.stderr)
         layers = {"water": ["backscatter"], "surface": ["direct", "forward"],
                   "direct": ["direct"], "forward": ["forward"], "final": ["final"]}
         for name, parts in layers.items():

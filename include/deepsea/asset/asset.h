@@ -12,6 +12,7 @@
 #include "deepsea/asset/lattice.h"
 #include "deepsea/optics/backscatter.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/forward_transport.h"
 #include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/port.h"
@@ -112,6 +113,10 @@ struct Asset {
     /// per unit intensity; lamps with the same intensity profile share equal tables. Empty for
     /// single scattering.
     std::vector<LampField> lamp_fields;
+    /// The camera-side forward scatter from transport (optics/forward_transport.h), baked with
+    /// multiple scattering where the water's forward scatter is the phase function's; absent
+    /// (older assets, single scattering): the runtime uses the small-angle model.
+    std::optional<ForwardPsfTable> forward_psf;
 
     const Lattice& lattice() const { return info.lattice; }
     /// Offset of (i, j, k)'s red value: depth fastest, then row j, then column i (OpenVDB's

@@ -12,6 +12,12 @@ namespace deepsea {
 /// records its standard error. Lamps with the same intensity profile share one table.
 void add_lamp_fields(Asset& asset, const Parallel& par = {});
 
+/// Bakes the camera-side forward scatter from transport (optics/forward_transport.h) into
+/// asset.forward_psf, with asset.info.higher_orders' seed, on plane depths out to the range of
+/// the frustum's far corners: only where the water's forward scatter is the phase function's
+/// (`forward_scatter: on`); otherwise it leaves the asset as it is.
+void add_forward_psf(Asset& asset, const Parallel& par = {});
+
 /// Columns the Monte Carlo computes on an ni x nj lattice with this stride.
 long higher_order_columns(int ni, int nj, int stride);
 

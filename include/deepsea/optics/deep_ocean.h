@@ -1,6 +1,6 @@
 #pragma once
 /// \file Deep-ocean water presets: pure seawater plus a particle term from deep-ocean
-/// transmissometer data (docs/model.md, "Deep-sea water").
+/// transmissometer data (docs/water.md).
 
 #include <string>
 #include <vector>

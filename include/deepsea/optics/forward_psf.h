@@ -16,6 +16,7 @@
 namespace deepsea {
 
 struct Water;
+struct ForwardPsfTable;
 
 /// The angular kernels K_1 .. K_N of one phase function as Gaussian mixtures on a fixed grid of
 /// widths (radians) a factor 2^(1/4) apart.
@@ -52,6 +53,20 @@ double mixture_within(const std::vector<double>& sigma, const std::vector<double
 class ForwardPsf {
 public:
     ForwardPsf(const Water& water, double fx, int width, int height);
+    /// The same scales with weights from a transport table (forward_transport.h), fitted per
+    /// table depth: each ring share's mixture on the angular widths (expectation-maximisation,
+    /// as K_1's), then placed on the pixel scales; linear in distance between the table's
+    /// depths, 0 at the camera, and beyond the last depth falling as the total did over the
+    /// last step. ConfigError if the table is malformed.
+    ForwardPsf(const ForwardPsfTable& table, const Water& water, double fx, int width,
+               int height);
+
+    /// Whether the weights come from a transport table (else: the small-angle model).
+    bool from_transport() const { return m_table; }
+    /// Transport tables only: the largest difference, over depths, channels and ring edges
+    /// below pi/2, between the fitted mixture's enclosed share and the table's, relative to the
+    /// depth's total scattered share.
+    double fit_error() const { return m_fit_error; }
 
     int scales() const { return int(m_sigma_px.size()); }
     double sigma_px(int j) const { return m_sigma_px[j]; }
@@ -67,6 +82,11 @@ private:
     double m_forward = 0.0;  ///< forward-hemisphere fraction f
     std::vector<double> m_sigma_px;
     std::vector<std::vector<double>> m_mass;  ///< m_mass[n - 1][j]: order n on pixel scale j
+    bool m_table = false;                     ///< weights from a transport table
+    std::vector<double> m_node;               ///< the table's depths, metres
+    std::vector<Rgb> m_node_weight;           ///< [k * scales() + j]: scale j at depth k
+    Rgb m_tail_rate;                          ///< 1/m: fall of the weights beyond the last depth
+    double m_fit_error = 0.0;
 };
 
 }  // namespace deepsea

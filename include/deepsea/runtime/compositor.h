@@ -19,6 +19,8 @@
 
 namespace deepsea {
 
+struct ForwardPsfTable;
+
 /// Composites frames of one camera. Keeps its scratch buffers, so after the first frame of a
 /// size nothing is allocated. Output is identical at any thread count (rows are independent).
 class Compositor {
@@ -27,9 +29,12 @@ public:
     /// whose camera must be `camera`), each pixel sees along its water-side ray through the
     /// housing's port (docs/ports.md): the frame is where those rays meet, the backscatter
     /// source takes each pixel's hit as the planar depth of the hit point (PortBackscatter),
-    /// and the layers gain `mask`.
+    /// and the layers gain `mask`. With `forward_table` (an asset's forward scatter from
+    /// transport, optics/forward_transport.h) the phase-function forward scatter blurs with its
+    /// point spread instead of the small-angle model's; it is read only here.
     Compositor(const Camera& camera, const Water& water, const IrradianceSource& lamps,
-               const BackscatterSource& backscatter, const PortRays* port = nullptr);
+               const BackscatterSource& backscatter, const PortRays* port = nullptr,
+               const ForwardPsfTable* forward_table = nullptr);
 
     /// Fills the layers of dst that `set` names from a checked colour view (frame_view.h) and
     /// planar depth in metres. Throws InputError when the frame does not match the camera.

@@ -67,6 +67,30 @@ TEST_F(AssetFile, RoundTripFloatIsExact) {
     EXPECT_EQ(b.info.input_hash, a.info.input_hash);
 }
 
+TEST_F(AssetFile, ForwardScatterTableRoundTripsExactly) {
+    Asset a = smooth_asset();
+    write_asset(path("none.vdb"), a);
+    EXPECT_FALSE(load_asset(path("none.vdb")).forward_psf);  // as assets before the table
+    ForwardTransportSettings fs;
+    fs.paths = 256;
+    fs.rings = 8;
+    a.forward_psf = trace_forward_psf(a.info.water, {0.5, 1.5, 4.0}, fs);
+    write_asset(path("t.vdb"), a);
+    const Asset b = load_asset(path("t.vdb"));
+    ASSERT_TRUE(b.forward_psf);
+    EXPECT_EQ(b.forward_psf->depth, a.forward_psf->depth);
+    EXPECT_EQ(b.forward_psf->ring_edge, a.forward_psf->ring_edge);
+    ASSERT_EQ(b.forward_psf->share.size(), a.forward_psf->share.size());
+    for (std::size_t i = 0; i < a.forward_psf->share.size(); ++i)
+        EXPECT_EQ(b.forward_psf->share[i].g, a.forward_psf->share[i].g);
+    EXPECT_EQ(b.forward_psf->std_error[2].b, a.forward_psf->std_error[2].b);
+    EXPECT_EQ(b.forward_psf->paths, 256);
+    // a malformed table is refused when written, naming it, and nothing is left behind
+    a.forward_psf->share.pop_back();
+    EXPECT_THROW(write_asset(path("bad.vdb"), a), ConfigError);
+    EXPECT_FALSE(fs::exists(path("bad.vdb")));
+}
+
 TEST_F(AssetFile, RoundTripHalfKeepsElevenBits) {
     const Asset a = smooth_asset();
     write_asset(path("a.vdb"), a);  // half is the default

@@ -28,7 +28,7 @@ TEST(DeepOcean, PresetsArePhysical) {
     EXPECT_THROW(deep_ocean_water("murky"), ConfigError);
 }
 
-/// docs/model.md, "Deep-sea water": the table of band means.
+/// docs/water.md: the table of band means.
 struct DocumentedRow {
     const char* type;
     Rgb c, b;

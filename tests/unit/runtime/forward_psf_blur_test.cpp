@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "deepsea/optics/forward_transport.h"
 #include "deepsea/optics/jerlov.h"
 #include "deepsea/optics/water.h"
 
@@ -75,6 +76,27 @@ TEST(ForwardPsfBlur, ATinyImageBlursAtFullResolutionAndStaysUniform) {
     // a second frame gives the same: the sums are cleared between frames
     const Image again = expect_uniform(blur, W, H, Rgb(0.3, 0.6, 0.9), 2.0f);
     EXPECT_EQ(again.data, out.data);
+}
+
+TEST(ForwardPsfBlur, ATransportTableBlursAsItsWeightsSay) {
+    // The weights fitted to a forward-scatter table (optics/forward_transport.h): piecewise
+    // linear in distance, so the blur's basis spans them to its tolerance too, and a uniform
+    // surface stays uniform at their total.
+    const int W = 160, H = 90;
+    ForwardTransportSettings s;
+    s.paths = 1 << 12;
+    const Water w = coastal();
+    ForwardPsfBlur blur(ForwardPsf(trace_forward_psf(w, forward_psf_depths(8.0, 16), s), w,
+                                   120.0, W, H));
+    ASSERT_TRUE(blur.psf().from_transport());
+    expect_uniform(blur, W, H, Rgb(0.2, 0.5, 1.0), 3.0f);
+    for (const double d : {0.3, 1.1, 1.7, 2.9}) {  // within the frame's table (to 3 m)
+        const Rgb total = blur.psf().total(d);
+        for (int j = 0; j < blur.psf().scales(); ++j) {
+            const Rgb a = blur.applied_weight(j, d), e = blur.psf().weight(j, d);
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], e[c], 1e-4 * total[c]) << j << " " << d;
+        }
+    }
 }
 
 TEST(ForwardPsfBlur, EveryScaleIsWeighedAsTheOpticsSay) {
