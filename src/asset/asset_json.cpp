@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deepsea/core/error.h"
+#include "json_fields.h"
 #include "deepsea/core/hash.h"
 #include "deepsea/optics/schema.h"
 #include "higher_orders_json.h"
@@ -14,6 +15,10 @@
 namespace deepsea {
 
 using nlohmann::json;
+using json_fields::fail;
+using json_fields::get;
+using json_fields::integer;
+using json_fields::num;
 
 namespace {
 
@@ -100,29 +105,6 @@ json settings_json(const BakeInfo& info) {
 }
 
 // --- parsing -------------------------------------------------------------------------------
-
-[[noreturn]] void fail(const std::string& key, const std::string& problem) {
-    throw AssetError("deepsea:bake: " + key + ": " + problem);
-}
-
-const json& get(const json& j, const char* key, const std::string& where) {
-    if (!j.is_object()) fail(where, "not an object");
-    const auto it = j.find(key);
-    if (it == j.end()) fail(where + "." + key, "missing");
-    return *it;
-}
-
-double num(const json& j, const char* key, const std::string& where) {
-    const json& x = get(j, key, where);
-    if (!x.is_number()) fail(where + "." + key, "not a number");
-    return x.get<double>();
-}
-
-int integer(const json& j, const char* key, const std::string& where) {
-    const json& x = get(j, key, where);
-    if (!x.is_number_integer()) fail(where + "." + key, "not an integer");
-    return x.get<int>();
-}
 
 std::string str(const json& j, const char* key, const std::string& where) {
     const json& x = get(j, key, where);

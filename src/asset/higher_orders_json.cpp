@@ -4,37 +4,19 @@
 #include <vector>
 
 #include "deepsea/core/error.h"
+#include "json_fields.h"
 
 namespace deepsea {
 
 using nlohmann::json;
+using json_fields::fail;
+using json_fields::get;
+using json_fields::integer;
+using json_fields::num;
 
 namespace {
 
 const std::string kWhere = "multiple_scattering";
-
-[[noreturn]] void fail(const std::string& key, const std::string& problem) {
-    throw AssetError("deepsea:bake: " + key + ": " + problem);
-}
-
-const json& get(const json& j, const char* key, const std::string& where) {
-    if (!j.is_object()) fail(where, "not an object");
-    const auto it = j.find(key);
-    if (it == j.end()) fail(where + "." + key, "missing");
-    return *it;
-}
-
-double num(const json& j, const char* key, const std::string& where) {
-    const json& x = get(j, key, where);
-    if (!x.is_number()) fail(where + "." + key, "not a number");
-    return x.get<double>();
-}
-
-int integer(const json& j, const char* key, const std::string& where) {
-    const json& x = get(j, key, where);
-    if (!x.is_number_integer()) fail(where + "." + key, "not an integer");
-    return x.get<int>();
-}
 
 /// Absent (assets from before the key) or not a boolean: false, as the other flags read.
 bool flag(const json& j, const char* key) {

@@ -3,32 +3,20 @@
 #include <string>
 
 #include "deepsea/core/error.h"
+#include "json_fields.h"
 #include "deepsea/optics/schema.h"
 
 namespace deepsea {
 
 using nlohmann::json;
+using json_fields::fail;
+using json_fields::get;
+using json_fields::integer;
+using json_fields::num;
 
 namespace {
 
 json triple(double x, double y, double z) { return json::array({x, y, z}); }
-
-[[noreturn]] void fail(const std::string& key, const std::string& problem) {
-    throw AssetError("deepsea:bake: " + key + ": " + problem);
-}
-
-const json& get(const json& j, const char* key, const std::string& where) {
-    if (!j.is_object()) fail(where, "not an object");
-    const auto it = j.find(key);
-    if (it == j.end()) fail(where + "." + key, "missing");
-    return *it;
-}
-
-double num(const json& j, const char* key, const std::string& where) {
-    const json& x = get(j, key, where);
-    if (!x.is_number()) fail(where + "." + key, "not a number");
-    return x.get<double>();
-}
 
 Vec3 three(const json& j, const char* key, const std::string& where) {
     const json& x = get(j, key, where);
