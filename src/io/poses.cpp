@@ -42,8 +42,7 @@ std::vector<TimedPose> parse_tum_poses(const std::string& text, const std::strin
         const double qx = v[4], qy = v[5], qz = v[6], qw = v[7];
         const double norm = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
         if (!(std::fabs(norm - 1.0) <= 1e-3))
-            throw fail("the quaternion qx qy qz qw has length " + std::to_string(norm) +
-                       ", not 1");
+            throw fail("the quaternion qx qy qz qw has length " + std::to_string(norm) + ", not 1");
         const double x = qx / norm, y = qy / norm, z = qz / norm, w = qw / norm;
         // The rotation's columns: the camera's x, y and z axes in the world.
         TimedPose p;
@@ -54,7 +53,8 @@ std::vector<TimedPose> parse_tum_poses(const std::string& text, const std::strin
         p.pose.forward = {2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)};
         out.push_back(p);
     }
-    if (out.empty()) throw InputError(file + ": no poses (expected lines of timestamp tx ty tz qx qy qz qw)");
+    if (out.empty())
+        throw InputError(file + ": no poses (expected lines of timestamp tx ty tz qx qy qz qw)");
     return out;
 }
 

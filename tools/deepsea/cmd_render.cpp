@@ -97,11 +97,11 @@ void run(const RenderArgs& a) {
     const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers, a.format};
     std::vector<FrameJob> jobs = frame_jobs(files);
     if (!a.poses.empty()) {
-        // The n-th pose is the n-th frame's, in frame order (docs/cli.md).
+        // The n-th pose is the n-th frame's, in frame order (docs/model.md, "Marine snow").
         const std::vector<TimedPose> poses = load_tum_poses(a.poses);
         if (poses.size() != jobs.size())
-            throw InputError(a.poses + ": " + std::to_string(poses.size()) +
-                             " pose(s) for " + std::to_string(jobs.size()) +
+            throw InputError(a.poses + ": " + std::to_string(poses.size()) + " pose(s) for " +
+                             std::to_string(jobs.size()) +
                              " frame(s); give one pose a frame, in frame order");
         for (std::size_t i = 0; i < jobs.size(); ++i) jobs[i].pose = poses[i].pose;
     }
@@ -224,7 +224,7 @@ void setup_render(CLI::App& sub) {
     sub.add_option("--poses", a->poses,
                    "TUM trajectory file (timestamp tx ty tz qx qy qz qw a line, camera to "
                    "world; # comments): the n-th pose is the n-th frame's, in frame order, so "
-                   "that marine snow stays fixed in the world (docs/cli.md)");
+                   "that marine snow stays fixed in the world (docs/model.md, \"Marine snow\")");
     sub.add_option("--snow-seed", a->snow_seed,
                    "seed of the marine snow's particles (same seed, same particles)")
         ->default_str("1");

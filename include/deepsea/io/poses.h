@@ -1,6 +1,7 @@
 #pragma once
-/// \file Camera poses of an RGB-D sequence from a TUM-format trajectory file (docs/cli.md,
-/// `render --poses`): marine snow stays fixed in the world as the camera moves.
+/// \file Camera poses of an RGB-D sequence from a TUM-format trajectory file (`render
+/// --poses`, docs/model.md "Marine snow"): marine snow stays fixed in the world as the camera
+/// moves.
 
 #include <string>
 #include <vector>

@@ -55,7 +55,8 @@ TEST(TumPoses, BadLinesNameFileAndLine) {
         {"# only comments\n\n", "t.txt: no poses"},
     };
     for (const auto& c : cases) {
-        const std::string m = test::message_of<InputError>([&] { parse_tum_poses(c.text, "t.txt"); });
+        const std::string m =
+            test::message_of<InputError>([&] { parse_tum_poses(c.text, "t.txt"); });
         EXPECT_EQ(m.rfind(c.starts, 0), 0u) << c.text << " -> " << m;
         EXPECT_EQ(m.find('\n'), std::string::npos) << m;
     }
