@@ -63,7 +63,6 @@ Setup camera_setup(const py::handle& config) {
     return s;
 }
 
-
 double number_of(const py::handle& h, const std::string& what) {
     if (!py::isinstance<py::str>(h) && !py::isinstance<py::bytes>(h) && !h.is_none()) {
         const auto f = py::reinterpret_steal<py::object>(PyNumber_Float(h.ptr()));

@@ -361,25 +361,24 @@ PYBIND11_MODULE(_deepsea, m) {
                            "Composites RGB-D frames with one asset; keeps its buffers between "
                            "frames of one size. One frame at a time per renderer. Pickles as its "
                            "asset's file and its arguments (the asset is loaded again).")
-        .def(
-            py::init([](const PyAsset& asset, const py::object& camera, bool forward, int threads,
-                        const py::object& snow, std::uint64_t snow_seed) {
-                return std::make_unique<PyRenderer>(asset, camera, forward, threads, snow,
-                                                    snow_seed);
-            }),
-            py::arg("asset"), py::kw_only(), py::arg("camera") = py::none(),
-            py::arg("forward") = true, py::arg("threads") = 0, py::arg("snow") = py::none(),
-            py::arg("snow_seed") = 1,
-            "camera: the frames' camera (dict, YAML text or file; default: the asset's, "
-            "resampled to the frame size); forward=False leaves forward scatter out; "
-            "threads: worker threads (0: all cores); snow: marine snow (docs/model.md): a "
-            "preset's name ('abyssal', 'nepheloid', 'plume'), 'off', or a dict as the setup's "
-            "snow section (docs/config.md), lit by the asset's lamps through the camera's lens; "
-            "snow_seed: its particles' seed")
+        .def(py::init([](const PyAsset& asset, const py::object& camera, bool forward, int threads,
+                         const py::object& snow, std::uint64_t snow_seed) {
+                 return std::make_unique<PyRenderer>(asset, camera, forward, threads, snow,
+                                                     snow_seed);
+             }),
+             py::arg("asset"), py::kw_only(), py::arg("camera") = py::none(),
+             py::arg("forward") = true, py::arg("threads") = 0, py::arg("snow") = py::none(),
+             py::arg("snow_seed") = 1,
+             "camera: the frames' camera (dict, YAML text or file; default: the asset's, "
+             "resampled to the frame size); forward=False leaves forward scatter out; "
+             "threads: worker threads (0: all cores); snow: marine snow (docs/model.md): a "
+             "preset's name ('abyssal', 'nepheloid', 'plume'), 'off', or a dict as the setup's "
+             "snow section (docs/config.md), lit by the asset's lamps through the camera's lens; "
+             "snow_seed: its particles' seed")
         .def("render", &PyRenderer::render, py::arg("rgb"), py::arg("depth"), py::kw_only(),
              py::arg("encoding") = py::none(), py::arg("depth_kind") = "z",
-             py::arg("depth_scale") = 0.001, py::arg("layers") = "all",
-             py::arg("frame_key") = 0, py::arg("pose") = py::none(),
+             py::arg("depth_scale") = 0.001, py::arg("layers") = "all", py::arg("frame_key") = 0,
+             py::arg("pose") = py::none(),
              "Renders one frame. rgb: (H, W, 3) colour ((H, W, 4): alpha dropped; (H, W): "
              "grey); uint8/uint16 are sRGB codes unless encoding='linear'; float32/float64 need "
              "encoding='srgb' or 'linear'. depth: (H, W) float metres, planar ('z') or along the "

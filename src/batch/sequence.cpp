@@ -84,9 +84,12 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
         m.snow_seed = opt.snow->seed;
         m.focus_distance_m = opt.snow->focus_distance_m;
         const Snow& sn = opt.snow->snow;
-        m.snow_values = {{"concentration", sn.concentration}, {"d_min_mm", sn.d_min_mm},
-                         {"d_max_mm", sn.d_max_mm},           {"slope", sn.slope},
-                         {"albedo", sn.albedo},               {"max_distance_m", sn.max_distance_m}};
+        m.snow_values = {{"concentration", sn.concentration},
+                         {"d_min_mm", sn.d_min_mm},
+                         {"d_max_mm", sn.d_max_mm},
+                         {"slope", sn.slope},
+                         {"albedo", sn.albedo},
+                         {"max_distance_m", sn.max_distance_m}};
     }
     m.depth_kind = opt.depth_kind == DepthKind::Range ? "range" : "z";
     m.depth_channel = opt.depth_read.channel;

@@ -1,8 +1,8 @@
 #include "snow_config.h"
 
-#include "deepsea/core/error.h"
 #include <sstream>
 
+#include "deepsea/core/error.h"
 #include "deepsea/optics/schema.h"
 
 namespace deepsea {
@@ -28,8 +28,10 @@ std::optional<Snow> parse_snow(const yaml::Document& doc, const Field& f) {
     Snow s;
     s.name = "custom";
     const Field* p = m.opt("preset");
-    if (p) s = preset(*p);
-    else m.need("concentration");  // throws: required without a preset
+    if (p)
+        s = preset(*p);
+    else
+        m.need("concentration");  // throws: required without a preset
     bool changed = false;
     const auto value = [&](const char* key, double& v) {
         if (const Field* x = m.opt(key)) {

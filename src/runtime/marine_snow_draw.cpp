@@ -27,8 +27,8 @@ struct Splat {
     float u, v, radius, z;
     float energy[3];
     float inv_cover;
-    int va, vb;  ///< rows touched
-    int iu, iv;  ///< the centre's pixel
+    int va, vb;        ///< rows touched
+    int iu, iv;        ///< the centre's pixel
     std::uint32_t id;  ///< 0: not drawn
 };
 

@@ -68,14 +68,14 @@ void gaussian_hg(const Light& L, const Water& w, float hg_g, const ParticleRows&
 }
 
 DEEPSEA_CLONES
-void gaussian_kept_phase(const Light& L, const Water& w, const ParticleRows& p, float* r,
-                         float* g, float* b, float* cos_psi) {
+void gaussian_kept_phase(const Light& L, const Water& w, const ParticleRows& p, float* r, float* g,
+                         float* b, float* cos_psi) {
     lamp_particles<true, false>(L, w, 0.0f, p, r, g, b, nullptr, cos_psi);
 }
 
 DEEPSEA_CLONES
-void unit_hg(const Light& L, const Water& w, float hg_g, const ParticleRows& p, float* r,
-             float* g, float* b, float* theta) {
+void unit_hg(const Light& L, const Water& w, float hg_g, const ParticleRows& p, float* r, float* g,
+             float* b, float* theta) {
     lamp_particles<false, true>(L, w, hg_g, p, r, g, b, theta, nullptr);
 }
 
@@ -108,8 +108,7 @@ void finish(const Water& water, float albedo, float fxfy, const ParticleRows& p,
 }  // namespace
 
 void snow_light(const Rig& rig, const Water& water, const Snow& snow, double fx, double fy,
-                const ParticleRows& p, float* er, float* eg, float* eb,
-                const SnowLightScratch& s) {
+                const ParticleRows& p, float* er, float* eg, float* eb, const SnowLightScratch& s) {
     const int n = p.n;
     for (int q = 0; q < n; ++q) er[q] = eg[q] = eb[q] = 0.0f;
     const bool row_phase =

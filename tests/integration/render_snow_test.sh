@@ -92,4 +92,25 @@ expect_fail "albedo out of range" render --camera "$work/cam_bad.yaml" -o "$work
 line=$(( $(wc -l < "$work/in/camera.yaml") + 3 ))
 grep -q "cam_bad.yaml:$line: snow.albedo: must be in (0, 1\]" "$work/err.txt"
 expect_absent "$work/bad"
+
+# 5. --poses (TUM): the n-th pose is the n-th frame's; snow then fixed in the world (other
+# particles than without poses); a wrong count or a bad line is refused naming file (and line).
+printf '# timestamp tx ty tz qx qy qz qw\n1.0 0 0 0 0 0 0 1\n2.0 0.25 0 0 0 0 0 1\n' > "$work/poses.txt"
+render --layers "$work/posed" --snow plume --poses "$work/poses.txt" --exposure 100 \
+  | grep -q "rendered 2"
+render --layers "$work/unposed" --snow plume --exposure 100 | grep -q "rendered 2"
+/usr/bin/python3 - "$work/posed/frame_0001.exr" "$work/unposed/frame_0001.exr" <<'PY'
+import sys
+import numpy as np
+import OpenImageIO as oiio
+a, b = (oiio.ImageInput.open(f).read_image("float") for f in sys.argv[1:])
+assert not np.array_equal(a, b), "poses changed nothing"
+PY
+head -2 "$work/poses.txt" > "$work/one_pose.txt"
+expect_fail "one pose for two frames" render -o "$work/bad" --snow plume --poses "$work/one_pose.txt"
+grep -q "one_pose.txt: 1 pose(s) for 2 frame(s)" "$work/err.txt"
+printf '1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 1\n' > "$work/short.txt"
+expect_fail "a short line" render -o "$work/bad" --snow plume --poses "$work/short.txt"
+grep -q "short.txt:2: expected 8 numbers" "$work/err.txt"
+expect_absent "$work/bad"
 echo "render --snow: ok"

@@ -13,6 +13,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 #include "deepsea/io/image_io.h"
+#include "deepsea/io/poses.h"
 
 namespace deepsea::cli {
 
@@ -20,7 +21,7 @@ namespace {
 
 struct RenderArgs {
     DepthFlags depth;
-    std::string asset, rgb, depth_path, output, layers, exposure, camera;
+    std::string asset, rgb, depth_path, output, layers, exposure, camera, poses;
     std::string layer_set = "all", format;
     bool resume = false, no_forward = false, half = false, shadows = false;
     std::string snow;  ///< empty: not given (the --camera file's snow section, else none)
@@ -95,6 +96,15 @@ void run(const RenderArgs& a) {
     // and before any folder is made.
     const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers, a.format};
     std::vector<FrameJob> jobs = frame_jobs(files);
+    if (!a.poses.empty()) {
+        // The n-th pose is the n-th frame's, in frame order (docs/model.md, "Marine snow").
+        const std::vector<TimedPose> poses = load_tum_poses(a.poses);
+        if (poses.size() != jobs.size())
+            throw InputError(a.poses + ": " + std::to_string(poses.size()) + " pose(s) for " +
+                             std::to_string(jobs.size()) +
+                             " frame(s); give one pose a frame, in frame order");
+        for (std::size_t i = 0; i < jobs.size(); ++i) jobs[i].pose = poses[i].pose;
+    }
     if (const auto shard = a.shard.resolve(false)) jobs = shard_jobs(jobs, files, *shard, opt);
     if (a.bits == 16 && !jobs.empty() && image_format(jobs.front().output) == "jpg")
         throw ConfigError("--bits 16: JPEG holds 8 bits per sample; write PNG or TIFF for 16");
@@ -211,6 +221,10 @@ void setup_render(CLI::App& sub) {
                    "abyssal, nepheloid or plume, or off; overrides the --camera file's snow "
                    "section (docs/config.md), which applies without it; adds the layers snow "
                    "and snow_id");
+    sub.add_option("--poses", a->poses,
+                   "TUM trajectory file (timestamp tx ty tz qx qy qz qw a line, camera to "
+                   "world; # comments): the n-th pose is the n-th frame's, in frame order, so "
+                   "that marine snow stays fixed in the world (docs/model.md, \"Marine snow\")");
     sub.add_option("--snow-seed", a->snow_seed,
                    "seed of the marine snow's particles (same seed, same particles)")
         ->default_str("1");

@@ -11,8 +11,8 @@
 #include "deepsea/camera/model.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
-#include "deepsea/optics/snow.h"
 #include "deepsea/optics/port.h"
+#include "deepsea/optics/snow.h"
 #include "deepsea/optics/water.h"
 
 namespace deepsea {

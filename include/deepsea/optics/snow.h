@@ -106,8 +106,7 @@ struct ParticleGeometry {
 /// metres), inv_d2 = 1 / |X|. Templated for the runtime's float rows (lamp.h's reasons); the
 /// double functions below call it too.
 template <class T>
-inline ParticleGeometry<T> particle_geometry(Vec3T<T> X, T inv_d2, Vec3T<T> lamp,
-                                             Vec3T<T> axis) {
+inline ParticleGeometry<T> particle_geometry(Vec3T<T> X, T inv_d2, Vec3T<T> lamp, Vec3T<T> axis) {
     using std::sqrt;
     const Vec3T<T> lx = X - lamp;
     const T d1 = sqrt(dot(lx, lx));

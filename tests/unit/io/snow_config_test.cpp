@@ -29,10 +29,11 @@ TEST(SnowConfig, PresetOffAndValues) {
     EXPECT_EQ(a.snow->name, "nepheloid");
     EXPECT_EQ(a.snow->concentration, want.concentration);
     EXPECT_EQ(a.snow->slope, want.slope);
-    EXPECT_FALSE(parse("snow: off\ncamera: {width: 4, height: 4, fx: 4, fy: 4, cx: 2, cy: 2}\n")
-                     .snow);
+    EXPECT_FALSE(
+        parse("snow: off\ncamera: {width: 4, height: 4, fx: 4, fy: 4, cx: 2, cy: 2}\n").snow);
 
-    const deepsea::Setup b = parse("snow:\n  preset: plume\n  albedo: 0.25\n  max_distance_m: 1.5\n");
+    const deepsea::Setup b =
+        parse("snow:\n  preset: plume\n  albedo: 0.25\n  max_distance_m: 1.5\n");
     const Snow plume = snow_preset("plume");
     EXPECT_EQ(b.snow->name, "custom");  // no longer the preset
     EXPECT_EQ(b.snow->albedo, 0.25);
@@ -40,11 +41,12 @@ TEST(SnowConfig, PresetOffAndValues) {
     EXPECT_EQ(b.snow->concentration, plume.concentration);
     EXPECT_EQ(b.snow->d_min_mm, plume.d_min_mm);
     // The preset's own value given again keeps its name.
-    EXPECT_EQ(parse("snow: {preset: plume, slope: " + std::to_string(plume.slope) + "}\n")
-                  .snow->name,
-              "plume");
+    EXPECT_EQ(
+        parse("snow: {preset: plume, slope: " + std::to_string(plume.slope) + "}\n").snow->name,
+        "plume");
 
-    const deepsea::Setup c = parse("snow: {concentration: 300, d_min_mm: 1, d_max_mm: 2, slope: 0}\n");
+    const deepsea::Setup c =
+        parse("snow: {concentration: 300, d_min_mm: 1, d_max_mm: 2, slope: 0}\n");
     EXPECT_EQ(c.snow->name, "custom");
     EXPECT_EQ(c.snow->concentration, 300.0);
     EXPECT_EQ(c.snow->d_max_mm, 2.0);

@@ -77,9 +77,9 @@ TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
         D.push_back(float(1e-3 * (0.5 + 2.0 * rng.uniform())));
     }
     for (const bool table : {false, true})
-        for (const Phase phase : {Phase{PhaseKind::Isotropic, 0.0},
-                                  Phase{PhaseKind::HenyeyGreenstein, 0.6},
-                                  Phase{PhaseKind::PetzoldClear, 0.0}}) {
+        for (const Phase phase :
+             {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.6},
+              Phase{PhaseKind::PetzoldClear, 0.0}}) {
             const Rig rig = lamps(table);
             Snow snow = snow_preset("nepheloid");
             snow.albedo = 0.4;
