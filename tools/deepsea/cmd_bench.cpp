@@ -203,8 +203,8 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
                 cpu[k].push_back(cpu_ms() - c0);
             }
         }
-        cases.push_back(summarize("composite_transport_psf", cam.width, cam.height, threads, t[0],
-                                  cpu[0]));
+        cases.push_back(
+            summarize("composite_transport_psf", cam.width, cam.height, threads, t[0], cpu[0]));
         cases.push_back(
             summarize("composite_small_angle", cam.width, cam.height, threads, t[1], cpu[1]));
     }
