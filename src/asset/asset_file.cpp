@@ -14,11 +14,11 @@
 #include <filesystem>
 
 #include "asset_vdb.h"
-#include "forward_psf_json.h"
 #include "deepsea/asset/asset_integrity.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/input_file.h"
+#include "forward_psf_json.h"
 
 namespace deepsea {
 

@@ -440,7 +440,20 @@ std::string asset_info_json(const std::string& path, const AssetFileSummary& s,
                   "\"preview_voxel_size\": %.9g, \"grids\": [",
                   s.file_bytes, s.format, s.value_scale, lo.r, lo.g, lo.b, hi.r, hi.g, hi.b,
                   vec(box.min).c_str(), vec(box.max).c_str(), s.preview_voxel_size);
-    return head + buf + grids + "], \"bake\": " + bake_info_to_json(s.info, -1) + "}";
+    // Which forward scatter the runtime blurs with: the asset's table, or the small-angle
+    // model (null).
+    std::string psf = "null";
+    if (const auto& t = asset.forward_psf) {
+        char pb[256];
+        std::snprintf(pb, sizeof pb,
+                      "{\"depths\": %d, \"rings\": %d, \"far_depth\": %.9g, \"paths\": %d, "
+                      "\"seed\": %llu}",
+                      t->depths(), t->rings(), t->depth.back(), t->paths,
+                      static_cast<unsigned long long>(t->seed));
+        psf = pb;
+    }
+    return head + buf + grids + "], \"forward_psf\": " + psf +
+           ", \"bake\": " + bake_info_to_json(s.info, -1) + "}";
 }
 
 }  // namespace deepsea

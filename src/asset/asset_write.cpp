@@ -14,12 +14,12 @@
 #include <sstream>
 
 #include "asset_vdb.h"
-#include "forward_psf_json.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_integrity.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
+#include "forward_psf_json.h"
 #include "preview.h"
 
 namespace deepsea {
@@ -281,7 +281,8 @@ void write_asset(const std::string& path, const Asset& asset, const WriteOptions
     grids.push_back(grid);
     if (asset.forward_psf) {
         asset.forward_psf->validate("write_asset: forward scatter table");
-        meta.insertMeta(kMetaForwardPsf, vdb::StringMetadata(forward_psf_to_json(*asset.forward_psf)));
+        meta.insertMeta(kMetaForwardPsf,
+                        vdb::StringMetadata(forward_psf_to_json(*asset.forward_psf)));
     }
     meta.insertMeta("creator", vdb::StringMetadata("deepsea bake"));
     meta.insertMeta(kMetaIntegrity, vdb::StringMetadata(integrity_placeholder()));

@@ -53,9 +53,12 @@ json triples(const std::vector<Rgb>& v) {
 }  // namespace
 
 std::string forward_psf_to_json(const ForwardPsfTable& t) {
-    const json j = {{"depth", t.depth},         {"ring_edge", t.ring_edge},
-                    {"share", triples(t.share)}, {"direct", triples(t.direct)},
-                    {"std_error", triples(t.std_error)}, {"paths", t.paths},
+    const json j = {{"depth", t.depth},
+                    {"ring_edge", t.ring_edge},
+                    {"share", triples(t.share)},
+                    {"direct", triples(t.direct)},
+                    {"std_error", triples(t.std_error)},
+                    {"paths", t.paths},
                     {"seed", t.seed}};
     return j.dump();
 }

@@ -137,8 +137,8 @@ void add_forward_psf(Asset& asset, const Parallel& par) {
     }
     ForwardTransportSettings fs;
     fs.seed = asset.info.higher_orders.seed;
-    asset.forward_psf = trace_forward_psf(
-        water, forward_psf_depths(asset.info.lattice.z_max() * corner), fs, par);
+    asset.forward_psf =
+        trace_forward_psf(water, forward_psf_depths(asset.info.lattice.z_max() * corner), fs, par);
 }
 
 }  // namespace deepsea

@@ -350,7 +350,8 @@ double ForwardPsf::negligible_beyond() const {
     double rate = 1e300;
     for (int ch = 0; ch < 3; ++ch)
         rate = std::min(rate, m_table ? m_tail_rate[ch] : m_c[ch] - m_forward * m_b[ch]);
-    if (m_table && !m_node.empty()) return std::min(m_node.back() + 40.0 / std::max(rate, 1e-7), 1e7);
+    if (m_table && !m_node.empty())
+        return std::min(m_node.back() + 40.0 / std::max(rate, 1e-7), 1e7);
     return rate > 0.0 ? std::min(40.0 / rate, 1e7) : 1e7;
 }
 

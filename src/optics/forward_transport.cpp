@@ -36,8 +36,8 @@ void ForwardPsfTable::validate(const char* what) const {
     if (depth.empty()) bad("no depths");
     if (ring_edge.size() < 2) bad("fewer than two ring edges");
     if (share.size() != depth.size() * std::size_t(rings()))
-        bad("share holds " + std::to_string(share.size()) + " values, not depths x rings = " +
-            std::to_string(depth.size() * std::size_t(rings())));
+        bad("share holds " + std::to_string(share.size()) +
+            " values, not depths x rings = " + std::to_string(depth.size() * std::size_t(rings())));
     if (direct.size() != depth.size() || std_error.size() != depth.size())
         bad("direct and std_error need one value per depth");
     for (std::size_t k = 0; k < depth.size(); ++k) {
@@ -119,8 +119,8 @@ ForwardPsfTable trace_forward_psf(const Water& water, const std::vector<double>&
                     const double u = (i + rng.uniform()) / n;
                     const double t1 = -std::log1p(-u * norm) / s;
                     Rgb w = water.b * exp(excess * -t1) * (norm / s);
-                    int next = int(std::upper_bound(depths.begin(), depths.end(), t1) -
-                                   depths.begin());
+                    int next =
+                        int(std::upper_bound(depths.begin(), depths.end(), t1) - depths.begin());
                     Vec3 X(0.0, 0.0, t1), d(0.0, 0.0, 1.0);
                     for (int order = 1; order <= settings.max_order && next < K; ++order) {
                         const PhaseSample ps = sampler.sample(d, rng.uniform(), rng.uniform());
@@ -135,7 +135,8 @@ ForwardPsfTable trace_forward_psf(const Water& water, const std::vector<double>&
                             const double psi = std::atan2(std::hypot(P.x, P.y), P.z);
                             const int ring = std::clamp(
                                 int(std::upper_bound(t.ring_edge.begin(), t.ring_edge.end(), psi) -
-                                    t.ring_edge.begin()) - 1,
+                                    t.ring_edge.begin()) -
+                                    1,
                                 0, R - 1);
                             S.share[std::size_t(next) * R + ring] += f;
                             S.s1[next] += f;

@@ -1,7 +1,5 @@
 #include "deepsea/runtime/compositor.h"
 
-#include "deepsea/optics/forward_transport.h"
-
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -12,6 +10,7 @@
 #include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/forward.h"
+#include "deepsea/optics/forward_transport.h"
 #include "deepsea/optics/normals.h"
 #include "frame_input.h"
 #include "kernels.h"
@@ -91,10 +90,10 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
     if (port && !(port->camera() == camera))
         throw InputError("compositor: the port's rays belong to another camera");
     if (water.forward.enabled && water.forward.model == ForwardModel::PhaseFunction) {
-        m_psf_blur.emplace(forward_table ? ForwardPsf(*forward_table, water, forward_fx(),
-                                                      camera.width, camera.height)
-                                         : ForwardPsf(water, forward_fx(), camera.width,
-                                                      camera.height));
+        m_psf_blur.emplace(
+            forward_table
+                ? ForwardPsf(*forward_table, water, forward_fx(), camera.width, camera.height)
+                : ForwardPsf(water, forward_fx(), camera.width, camera.height));
     }
 }
 

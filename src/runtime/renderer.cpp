@@ -74,9 +74,9 @@ struct Renderer::State {
             } else {
                 backscatter = std::make_unique<AssetBackscatter>(asset, c);
             }
-            compositor_ = std::make_unique<Compositor>(
-                c, water, lamps, *backscatter, rays.get(),
-                asset.forward_psf ? &*asset.forward_psf : nullptr);
+            compositor_ =
+                std::make_unique<Compositor>(c, water, lamps, *backscatter, rays.get(),
+                                             asset.forward_psf ? &*asset.forward_psf : nullptr);
             camera = c;
         }
         return *compositor_;

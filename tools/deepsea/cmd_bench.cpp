@@ -162,9 +162,8 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
     flight.camera = cam;
     Frame frame = render_flight_frame(flight, 0);
     std::vector<Case> cases;
-    const auto time = [&](const std::string& name, const RenderSettings& settings, LayerSet set,
-                          const Asset* other = nullptr) {
-        Renderer renderer(other ? *other : asset, settings);
+    const auto time = [&](const std::string& name, const RenderSettings& settings, LayerSet set) {
+        Renderer renderer(asset, settings);
         // From here on only what the runtime holds: the asset, one frame, the compositor (made
         // by the first frame, which also allocates).
         reset_peak_rss();
@@ -186,11 +185,28 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
         time(kCompositeCases[k], settings, k % 2 == 0 ? LayerSet::All : LayerSet::Final);
     }
     if (asset.forward_psf && wanted(a.cases, "composite_small_angle")) {
-        // The same asset without its forward scatter from transport: the small-angle point
-        // spread that assets without the table get, for the cost of the table's blur beside it.
+        // All layers with the asset's forward scatter from transport and, frame by frame in
+        // turn, with the small-angle point spread that assets without the table get: paired
+        // timings, so that the machine's drift does not fall on one of the two.
         Asset small_angle = asset;
         small_angle.forward_psf.reset();
-        time("composite_small_angle", RenderSettings{cam}, LayerSet::All, &small_angle);
+        Renderer table(asset, RenderSettings{cam}), small(small_angle, RenderSettings{cam});
+        Layers lt, ls;
+        table.render(lt, frame, LayerSet::All);
+        small.render(ls, frame, LayerSet::All);
+        std::vector<double> t[2], cpu[2];
+        for (int r = 0; r < a.repeats; ++r) {
+            for (int k = 0; k < 2; ++k) {
+                const double t0 = now_ms(), c0 = cpu_ms();
+                (k == 0 ? table : small).render(k == 0 ? lt : ls, frame, LayerSet::All);
+                t[k].push_back(now_ms() - t0);
+                cpu[k].push_back(cpu_ms() - c0);
+            }
+        }
+        cases.push_back(
+            summarize("composite_transport_psf", cam.width, cam.height, threads, t[0], cpu[0]));
+        cases.push_back(
+            summarize("composite_small_angle", cam.width, cam.height, threads, t[1], cpu[1]));
     }
     if (wanted(a.cases, "composite_flat_port")) {
         // Through a flat port (3 cm from the camera centre, 1.2 cm of acrylic, seawater): every
@@ -429,7 +445,7 @@ void run(const BenchArgs& a) {
         Water water = *setup.water;
         if (a.no_forward) water.forward.enabled = false;
         const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
-        if (wanted(a.cases, "composite_flat_port") ||
+        if (wanted(a.cases, "composite_flat_port") || wanted(a.cases, "composite_small_angle") ||
             std::any_of(std::begin(kCompositeCases), std::end(kCompositeCases),
                         [&](const char* n) { return wanted(a.cases, n); })) {
             for (Case& c : time_compositor(asset, cam, a, threads)) cases.push_back(c);
@@ -493,7 +509,9 @@ void setup_bench(CLI::App& sub) {
         "--cases", a->cases,
         "comma-separated prefixes of the cases to run: composite (composite, "
         "composite_final_only, each also -shadows: with lamp shadows; composite_small_angle: a "
-        "multiple-scattering asset's all layers without its forward-scatter table), snow (snow-abyssal, "
+        "multiple-scattering asset's all layers with and without its forward-scatter table, "
+        "frame by frame in turn, as composite_transport_psf and composite_small_angle), snow "
+        "(snow-abyssal, "
         "snow-nepheloid, snow-plume: marine snow alone), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
         "also -camera: with the setup's camera stage)");

@@ -31,8 +31,9 @@ std::pair<Rgb, Rgb> backscatter_range(const Asset& asset);
 /// What `deepsea info --json` prints (one line, no newline) for the file at `path`, with its
 /// summary (read_asset_summary) and its loaded values (load_asset): file, bytes, format,
 /// value_scale, backscatter_at_z_max {min, max} over all columns, frustum_extent {min, max},
-/// preview_voxel_size, grids (with their world bounds) and bake. The CLI and the Python
-/// module's info() share it.
+/// preview_voxel_size, grids (with their world bounds), forward_psf (the forward-scatter table:
+/// depths, rings, far_depth, paths, seed; null: the small-angle model) and bake. The CLI and the
+/// Python module's info() share it.
 std::string asset_info_json(const std::string& path, const AssetFileSummary& summary,
                             const Asset& asset);
 

@@ -58,8 +58,7 @@ public:
     /// as K_1's), then placed on the pixel scales; linear in distance between the table's
     /// depths, 0 at the camera, and beyond the last depth falling as the total did over the
     /// last step. ConfigError if the table is malformed.
-    ForwardPsf(const ForwardPsfTable& table, const Water& water, double fx, int width,
-               int height);
+    ForwardPsf(const ForwardPsfTable& table, const Water& water, double fx, int width, int height);
 
     /// Whether the weights come from a transport table (else: the small-angle model).
     bool from_transport() const { return m_table; }

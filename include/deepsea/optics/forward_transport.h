@@ -23,13 +23,13 @@ namespace deepsea {
 /// from the viewing ray, per channel, and the unscattered fraction exp(-c d). Plain data: the
 /// asset stores it (docs/asset-format.md, `deepsea:forward_psf`).
 struct ForwardPsfTable {
-    std::vector<double> depth;     ///< plane depths along the ray, metres, ascending, > 0
-    std::vector<double> ring_edge; ///< psi ring edges, radians: 0, ..., pi/2 (rings + 1 values)
-    std::vector<Rgb> share;        ///< share[k * rings() + i]: scattered share on ring i, depth k
-    std::vector<Rgb> direct;       ///< direct[k] = exp(-c depth[k]), the unscattered fraction
-    std::vector<Rgb> std_error;    ///< std_error[k]: standard error of depth k's total share
-    int paths = 0;                 ///< Monte Carlo paths traced
-    std::uint64_t seed = 0;        ///< their base seed
+    std::vector<double> depth;      ///< plane depths along the ray, metres, ascending, > 0
+    std::vector<double> ring_edge;  ///< psi ring edges, radians: 0, ..., pi/2 (rings + 1 values)
+    std::vector<Rgb> share;         ///< share[k * rings() + i]: scattered share on ring i, depth k
+    std::vector<Rgb> direct;        ///< direct[k] = exp(-c depth[k]), the unscattered fraction
+    std::vector<Rgb> std_error;     ///< std_error[k]: standard error of depth k's total share
+    int paths = 0;                  ///< Monte Carlo paths traced
+    std::uint64_t seed = 0;         ///< their base seed
 
     int rings() const { return int(ring_edge.size()) - 1; }
     int depths() const { return int(depth.size()); }

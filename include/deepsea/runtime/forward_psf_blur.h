@@ -6,7 +6,8 @@
 /// added coarse to fine, each grid upsampled by two into the next, so a full-resolution row
 /// costs one upsampling whatever the number of scales. Pixels are weighed not by every scale
 /// but by a few functions of distance that span the scales' weights to 1e-6 of their total
-/// (their block sums give each scale's), as few as 3 in clear water.
+/// (their block sums give each scale's), as few as 3 in clear water; 1e-3 for weights fitted
+/// to a transport table (optics/forward_transport.h), whose Monte Carlo error is larger.
 
 #include <map>
 #include <vector>

@@ -118,8 +118,8 @@ TEST(ForwardTransport, ClearWaterAgreesWithTheSmallAngleModel) {
                 double model = 0.0, term = std::exp(-w.c[c] * d);
                 for (int n = 1; n <= 8; ++n) {
                     term *= w.b[c] * d / n;
-                    model += term * mixture_within(spread.sigma, spread.mass[n - 1],
-                                                   t.ring_edge[e]);
+                    model +=
+                        term * mixture_within(spread.sigma, spread.mass[n - 1], t.ring_edge[e]);
                 }
                 // within 0.3 rad to 3 %; all angles to 6 % (the wide angles' longer paths)
                 const double tol = e == t.rings() ? 0.06 : 0.03;
@@ -176,8 +176,8 @@ TEST(ForwardPsf, FittedToATransportTableKeepsItsLight) {
     for (int k = 0; k < t.depths(); ++k) {
         Rgb resampled;
         for (int i = 0; i < t.rings(); ++i) {
-            const double psi = i == 0 ? 0.5 * t.ring_edge[1]
-                                      : std::sqrt(t.ring_edge[i] * t.ring_edge[i + 1]);
+            const double psi =
+                i == 0 ? 0.5 * t.ring_edge[1] : std::sqrt(t.ring_edge[i] * t.ring_edge[i + 1]);
             const double d = t.depth[k] * std::cos(psi);
             int m = 0;
             while (m < t.depths() && t.depth[m] <= d) ++m;
