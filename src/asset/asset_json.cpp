@@ -6,19 +6,19 @@
 #include <nlohmann/json.hpp>
 
 #include "deepsea/core/error.h"
-#include "json_fields.h"
 #include "deepsea/core/hash.h"
 #include "deepsea/optics/schema.h"
 #include "higher_orders_json.h"
+#include "json_fields.h"
 #include "port_json.h"
 
 namespace deepsea {
 
-using nlohmann::json;
 using json_fields::fail;
 using json_fields::get;
 using json_fields::integer;
 using json_fields::num;
+using nlohmann::json;
 
 namespace {
 

@@ -8,11 +8,11 @@
 
 namespace deepsea {
 
-using nlohmann::json;
 using json_fields::fail;
 using json_fields::get;
 using json_fields::integer;
 using json_fields::num;
+using nlohmann::json;
 
 namespace {
 

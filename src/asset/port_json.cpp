@@ -3,16 +3,16 @@
 #include <string>
 
 #include "deepsea/core/error.h"
-#include "json_fields.h"
 #include "deepsea/optics/schema.h"
+#include "json_fields.h"
 
 namespace deepsea {
 
-using nlohmann::json;
 using json_fields::fail;
 using json_fields::get;
 using json_fields::integer;
 using json_fields::num;
+using nlohmann::json;
 
 namespace {
 
