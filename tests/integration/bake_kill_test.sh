@@ -95,7 +95,7 @@ cat >"$work/lib/library.yaml" <<YAML
 cameras: [$cam]
 rigs: [$rig]
 waters: [$src/volumes/waters/jerlov-IB.yaml, $src/volumes/waters/jerlov-3C.yaml]
-bake: {xy_step: 6}
+bake: {xy_step: 12}  # coarse: each bake takes about a second, the kill lands 0.3 s into the second
 YAML
 library() { "$ds" bake-library "$work/lib/library.yaml" --out "$work/lib/$1"; }
 library ref >/dev/null

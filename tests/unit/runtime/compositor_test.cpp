@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <mutex>
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
@@ -27,16 +28,22 @@ struct Fixture {
     Water water;
     testing::PlaneScene scene = testing::plane_scene(cam);
     Asset asset;
-    Layers ref;
 
     explicit Fixture(Water w) : water(std::move(w)) {
         BakeSettings s;
         s.step = 4;  // about the default step of an 800 px image, scaled to 120 px
         asset = bake(cam, rig, water, s);
-        ReferenceOptions opt;
-        opt.open_water_z = asset.lattice().z_max();  // open water ends where the asset does
-        opt.quadrature.rel_tol = 1e-6;
-        ref = render_reference(cam, rig, water, scene.rgb, scene.depth, opt);
+    }
+    /// The exact per-pixel integration, made on first use: each test runs in its own process,
+    /// and only the comparisons with it should pay for it.
+    const Layers& ref() const {
+        std::call_once(ref_once, [this] {
+            ReferenceOptions opt;
+            opt.open_water_z = asset.lattice().z_max();  // open water ends where the asset does
+            opt.quadrature.rel_tol = 1e-6;
+            ref_layers = render_reference(cam, rig, water, scene.rgb, scene.depth, opt);
+        });
+        return ref_layers;
     }
     Layers composite(int threads = 0) const {
         std::unique_ptr<tbb::global_control> limit;
@@ -51,6 +58,10 @@ struct Fixture {
         comp.composite(out, Frame{scene.rgb, scene.depth});
         return out;
     }
+
+private:
+    mutable std::once_flag ref_once;
+    mutable Layers ref_layers;
 };
 
 /// Jerlov IB with Jaffe-McGlamery forward scatter (the paper's).
@@ -97,17 +108,17 @@ Stats compare(const Image& a, const Image& b, const Image& depth, double floor =
 TEST(Compositor, DirectMatchesReference) {
     const Fixture& f = fixture();
     const Layers out = f.composite();
-    const Stats s = compare(out.direct, f.ref.direct, f.scene.depth, 1e-9);
+    const Stats s = compare(out.direct, f.ref().direct, f.scene.depth, 1e-9);
     std::printf("direct vs reference: mean %.2e max %.2e\n", s.mean, s.max);
     EXPECT_LE(s.max, 1e-3);
-    const Stats t = compare(out.transmission, f.ref.transmission, f.scene.depth, 1e-9);
+    const Stats t = compare(out.transmission, f.ref().transmission, f.scene.depth, 1e-9);
     EXPECT_LE(t.max, 1e-5);
 }
 
 TEST(Compositor, BackscatterLookupMatchesReference) {
     const Fixture& f = fixture();
     const Layers out = f.composite();
-    const Stats s = compare(out.backscatter, f.ref.backscatter, f.scene.depth);
+    const Stats s = compare(out.backscatter, f.ref().backscatter, f.scene.depth);
     std::printf("backscatter vs reference: mean %.2e max %.2e\n", s.mean, s.max);
     EXPECT_LE(s.mean, 0.005);
     EXPECT_LE(s.max, 0.02);
@@ -133,10 +144,10 @@ TEST(Compositor, ForwardScatterCloseToExactGather) {
     // The fast blur blends fixed-sigma levels; the reference gathers with each pixel's own
     // Gaussian. Compare away from edges, where the blur reaches across them.
     Image mask = f.scene.depth;
-    const Stats s = compare(out.forward, f.ref.forward, mask, 1e-9);
+    const Stats s = compare(out.forward, f.ref().forward, mask, 1e-9);
     std::printf("forward vs exact gather: mean %.2e max %.2e\n", s.mean, s.max);
     EXPECT_LE(s.mean, 0.03);
-    const Stats fin = compare(out.final, f.ref.final, mask, 1e-9);
+    const Stats fin = compare(out.final, f.ref().final, mask, 1e-9);
     EXPECT_LE(fin.mean, 0.01);
 }
 
@@ -145,11 +156,11 @@ TEST(Compositor, PhaseFunctionForwardScatterCloseToExactBlur) {
     // scale's exactly weighted image at full resolution.
     const Fixture& f = fixture_psf();
     const Layers out = f.composite();
-    const Stats s = compare(out.forward, f.ref.forward, f.scene.depth, 1e-9);
+    const Stats s = compare(out.forward, f.ref().forward, f.scene.depth, 1e-9);
     std::printf("forward vs exact blur: mean %.2e max %.2e\n", s.mean, s.max);
     EXPECT_LE(s.mean, 0.03);
     EXPECT_LE(s.max, 0.15);
-    const Stats fin = compare(out.final, f.ref.final, f.scene.depth, 1e-9);
+    const Stats fin = compare(out.final, f.ref().final, f.scene.depth, 1e-9);
     EXPECT_LE(fin.mean, 0.01);
     // Light from the surfaces reaches the open-water pixels beside them too.
     const int u = f.cam.width - 1, v = f.cam.height - 1;

@@ -56,7 +56,7 @@ TEST(PortBake, RenderedBackscatterAgainstExactIntegrationAlongTheRefractedRays) 
                            "flat 10 cm", "dome decentred 1.4 cm", "flat tilted 6 deg, 5 cm"};
     const Image depth(kCam.width, kCam.height, 1, 2.5f);
     Quadrature q;
-    q.rel_tol = 1e-8;
+    q.rel_tol = 1e-6;  // 4 orders below the 0.25 % bar: the exact side's error is immaterial
     for (int p = 0; p < 6; ++p) {
         const Asset asset = baked(ports[p]);
         ASSERT_EQ(asset.info.port.has_value(), ports[p].has_value());
@@ -114,7 +114,7 @@ TEST(PortBake, DispersionsErrorAgainstEachChannelsOwnRay) {
                 const Vec3& w = ray.direction[c];
                 const double exact =
                     backscatter_integral(asset.info.rig, asset.info.water, ray.origin, w, 0,
-                                         (2.5 - ray.origin.z) / w.z, {1e-8})
+                                         (2.5 - ray.origin.z) / w.z, {1e-6})
                         .value[c];
                 const double e = std::fabs(out.backscatter.at(u, v, c) - exact) / exact;
                 sum[c] += e;
