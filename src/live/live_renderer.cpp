@@ -30,6 +30,7 @@ struct LiveRenderer::State {
     Renderer renderer;
     Layers layers;
     CameraOutput recorded;
+    std::vector<std::uint8_t> codes;  ///< the streamed image's codes, swapped into the output
     std::unique_ptr<CameraStage> stage;
     Camera last;  ///< the last frame's camera
     int sizes = 0;
@@ -52,18 +53,43 @@ LiveRenderer::LiveRenderer(const Asset& asset, LiveSettings settings) {
 
 LiveRenderer::~LiveRenderer() = default;
 
+void LiveRenderer::note_camera() {
+    const Camera& cam = m->renderer.camera();
+    if (cam == m->last) return;
+    m->last = cam;
+    ++m->sizes;
+    m->stage.reset();
+}
+
 void LiveRenderer::render(LiveFrame& out, const ColorView& color, const DepthView& depth,
                           std::uint64_t frame_key) {
     const LiveSettings& s = m->settings;
     const bool all = s.backscatter || s.depth;
     m->renderer.set_frame(frame_key);
-    m->renderer.render(m->layers, color, depth, all ? LayerSet::All : LayerSet::Final);
-    const Camera& cam = m->renderer.camera();
-    if (!(cam == m->last)) {
-        m->last = cam;
-        ++m->sizes;
-        m->stage.reset();
+    if (!all && !s.camera_model && m->exposure != 0.0) {
+        // The image alone at a known exposure: each row encoded as the compositor finishes it,
+        // while it is in cache (no final layer written and read again), into a buffer of our
+        // own that becomes the output once the whole frame is done.
+        const std::size_t row = 3 * std::size_t(color.width);
+        m->codes.resize(row * std::size_t(color.height));
+        const double exposure = m->exposure;
+        m->renderer.render(m->layers, color, depth, [&](int v, const float* rgb) {
+            srgb_encode(rgb, row, exposure, m->codes.data() + row * std::size_t(v));
+        });
+        note_camera();
+        out.width = color.width;
+        out.height = color.height;
+        out.camera = m->renderer.camera();
+        out.image.swap(m->codes);
+        out.exposure = exposure;
+        out.backscatter.clear();
+        out.noise_free.clear();
+        out.depth.clear();
+        return;
     }
+    m->renderer.render(m->layers, color, depth, all ? LayerSet::All : LayerSet::Final);
+    note_camera();
+    const Camera& cam = m->renderer.camera();
     const Image& final = m->layers.final;
     out.width = final.width;
     out.height = final.height;

@@ -66,6 +66,7 @@ public:
     double exposure() const;
 
 private:
+    void note_camera();  ///< counts a new frame camera, drops the camera stage made for the last
     struct State;
     std::unique_ptr<State> m;
 };
