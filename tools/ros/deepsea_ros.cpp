@@ -55,6 +55,8 @@ public:
         m_color_sub = nh.subscribe(kColorTopic, 4, &Node::on_color, this, hints);
         m_depth_sub = nh.subscribe(kDepthTopic, 4, &Node::on_depth, this, hints);
         m_info_sub = nh.subscribe("camera/camera_info", 2, &Node::on_info, this, hints);
+        m_color_name = m_color_sub.getTopic();  // resolved: what errors name
+        m_depth_name = m_depth_sub.getTopic();
         double period = 1.0;
         pnh.param("diagnostics_period", period, 1.0);
         m_timer = nh.createWallTimer(ros::WallDuration(std::max(period, 0.05)),
@@ -87,8 +89,9 @@ private:
     /// one); a malformed one is counted and reported once per change of reason.
     void offer(const std::pair<ImageConstPtr, ImageConstPtr>& p) {
         try {
-            check_same_size(color_view(fields(*p.first, kColorTopic)),
-                            depth_view(fields(*p.second, kDepthTopic), m_options.depth_scale));
+            check_same_size(
+                color_view(fields(*p.first, m_color_name.c_str())),
+                depth_view(fields(*p.second, m_depth_name.c_str()), m_options.depth_scale));
             m_malformed_report.report("");
         } catch (const Error& e) {
             ++m_counts.malformed;
@@ -105,9 +108,12 @@ private:
             const auto start = std::chrono::steady_clock::now();
             const sensor_msgs::Image& c = *pair->color;
             try {
-                m_live.render(out, color_view(fields(c, kColorTopic)),
-                              depth_view(fields(*pair->depth, kDepthTopic), m_options.depth_scale),
-                              c.header.stamp.toNSec());
+                m_live.render(
+                    out, color_view(fields(c, m_color_name.c_str())),
+                    depth_view(fields(*pair->depth, m_depth_name.c_str()), m_options.depth_scale),
+                    c.header.stamp.toNSec());
+                m_sizes = m_live.sizes_seen();
+                m_exposure = m_live.exposure();
                 m_render_report.report("");
             } catch (const AssetError& e) {
                 ++m_counts.mismatched;
@@ -189,8 +195,8 @@ private:
         kv("mismatched", std::to_string(mismatched));
         kv("render_errors", std::to_string(m_counts.errors.load()));
         kv("rendered", std::to_string(rendered));
-        kv("sizes_seen", std::to_string(m_live.sizes_seen()));
-        kv("exposure", std::to_string(m_live.exposure()));
+        kv("sizes_seen", std::to_string(m_sizes.load()));
+        kv("exposure", std::to_string(m_exposure.load()));
         {
             std::lock_guard<std::mutex> lock(m_counts.mutex);
             const double n = double(std::max<std::uint64_t>(rendered, 1));
@@ -204,7 +210,10 @@ private:
     }
 
     Options m_options;
-    LiveRenderer m_live;  // render thread only (sizes_seen, exposure: read for diagnostics)
+    LiveRenderer m_live;  // the render thread's only
+    std::string m_color_name, m_depth_name;
+    std::atomic<int> m_sizes{0};  // the renderer's, for the diagnostics timer
+    std::atomic<double> m_exposure{0.0};
     std::mutex m_pair_mutex;
     StampPairer<ImageConstPtr, ImageConstPtr> m_pairer;
     LatestSlot<Pair> m_slot;
