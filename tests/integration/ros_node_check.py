@@ -1,7 +1,7 @@
 """The ROS side of ros_node_test.sh: publishes frames to deepsea_ros and checks what comes back,
 writes a bag of the frames, and checks deepsea_rosbag's output bag. Modes:
   live IN REF            frames of IN to the node, each output against REF's PNG
-  write_bag IN BAG       IN's frames into BAG
+  write_bag IN BAG [MS]  IN's frames into BAG (depth stamped MS milliseconds after colour)
   read_bag IN REF BAG    BAG's rendered images against REF's PNGs
 """
 import glob
@@ -182,13 +182,14 @@ def live(folder, ref):
     print("live: ok", diag)
 
 
-def write_bag(folder, path):
+def write_bag(folder, path, depth_offset_ms="0"):
     import rosbag
+    off = rospy.Duration.from_sec(float(depth_offset_ms) * 1e-3)
     with rosbag.Bag(path, "w") as bag:
         for i, (rgb, depth) in enumerate(frames(folder)):
             s = rospy.Time(100 + i, 250)
             h, w, _ = rgb.shape
-            bag.write("/camera/depth/image_raw", depth_msg(s, depth), s)
+            bag.write("/camera/depth/image_raw", depth_msg(s + off, depth), s + off)
             bag.write("/camera/camera_info", info_msg(s, w, h), s)
             bag.write("/camera/image_raw", colour_msg(s, rgb, "bgr8"), s)
 

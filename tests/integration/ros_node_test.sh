@@ -53,6 +53,14 @@ done
   | grep -q "rendered 3 of 3 pair(s)"
 "$py" "$src/tests/integration/ros_node_check.py" read_bag "$work/in" "$work/ref" "$work/out.bag"
 [[ -z $(find "$work" -maxdepth 1 -name '*tmp*') ]] || { echo "FAIL: temporary left"; ls "$work"; exit 1; }
+# depth stamped 2 ms after colour: approximate sync within 5 ms pairs every frame (the output
+# stamped as the colour), exact sync none
+"$py" "$src/tests/integration/ros_node_check.py" write_bag "$work/in" "$work/late.bag" 2
+"$bagtool" --asset "$work/a.vdb" --in "$work/late.bag" -o "$work/late_out.bag" --exposure 40 \
+  --depth --sync approximate --slop 0.005 | grep -q "rendered 3 of 3 pair(s)"
+"$py" "$src/tests/integration/ros_node_check.py" read_bag "$work/in" "$work/ref" "$work/late_out.bag"
+"$bagtool" --asset "$work/a.vdb" --in "$work/late.bag" -o "$work/late_exact.bag" --exposure 40 \
+  | grep -q "rendered 0 of 0 pair(s)"
 # a bag without the depth topic: one line naming it, nothing written
 expect_fail "no depth topic" "$bagtool" --asset "$work/a.vdb" --in "$work/in.bag" \
   -o "$work/bad.bag" --depth-topic /nothing
