@@ -7,7 +7,7 @@ include(CMakePackageConfigHelpers)
 
 set(DEEPSEA_LAYERS
   deepsea_core deepsea_colour deepsea_optics deepsea_camera deepsea_asset deepsea_io deepsea_scene
-  deepsea_bake deepsea_runtime deepsea_batch deepsea_reference)
+  deepsea_bake deepsea_runtime deepsea_batch deepsea_reference deepsea_live)
 
 # Position-independent even when static: they may be linked into a shared library or a Python
 # module.
@@ -99,7 +99,7 @@ set(DEEPSEA_PC_DIR ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 file(RELATIVE_PATH DEEPSEA_PC_TO_PREFIX /${DEEPSEA_PC_DIR} /)
 string(REGEX REPLACE "/$" "" DEEPSEA_PC_TO_PREFIX "${DEEPSEA_PC_TO_PREFIX}")
 set(DEEPSEA_PC_LIBS "")
-foreach(_t deepsea_reference deepsea_batch deepsea_runtime deepsea_bake deepsea_scene deepsea_io
+foreach(_t deepsea_live deepsea_reference deepsea_batch deepsea_runtime deepsea_bake deepsea_scene deepsea_io
            deepsea_asset deepsea_camera deepsea_optics deepsea_colour deepsea_core)
   string(APPEND DEEPSEA_PC_LIBS " -l${_t}")
 endforeach()

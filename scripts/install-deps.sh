@@ -10,7 +10,10 @@ pkgs=(build-essential cmake pkg-config ccache
       python3-dev pybind11-dev python3-numpy python3-venv)
 if [[ "${1:-}" == "--tests" ]]; then
   pkgs+=(blender python3-pytest python3-openimageio python3-openvdb mypy clang-format
-        clang-14 libclang-rt-14-dev)  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
+        clang-14 libclang-rt-14-dev  # scripts/sanitize.sh: ASan, UBSan, libFuzzer
+        # ROS 1 (docs/ros.md): deepsea_ros, deepsea_rosbag and their test's master and clients
+        ros-core libroscpp-dev librosbag-dev libsensor-msgs-dev libdiagnostic-msgs-dev
+        python3-rospy python3-rosbag python3-sensor-msgs python3-diagnostic-msgs)
 fi
 missing=()
 for p in "${pkgs[@]}"; do

@@ -11,6 +11,7 @@
 /// Setups (camera, rig, water) come from YAML (io/config.h); images from files (io/image_io.h).
 /// A CameraStage (camera/camera_stage.h) records the radiance as a real camera would; its
 /// auto-exposure controller (camera/auto_exposure.h) sets each frame's exposure in a sequence.
+/// A robot middleware's node renders a stream of image messages with live/ (docs/ros.md).
 
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/bake.h"
@@ -22,6 +23,10 @@
 #include "deepsea/core/image.h"
 #include "deepsea/io/config.h"
 #include "deepsea/io/image_io.h"
+#include "deepsea/live/image_message.h"
+#include "deepsea/live/latest_slot.h"
+#include "deepsea/live/live_renderer.h"
+#include "deepsea/live/stamp_pairer.h"
 #include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/renderer.h"
 #include "deepsea/version.h"

@@ -11,7 +11,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 
 [[ -x $prefix/bin/deepsea ]] || fail "no bin/deepsea"
 libdir=$(dirname "$(find "$prefix" -name deepseaConfig.cmake)")/../..
-for layer in core colour optics camera asset io scene bake runtime batch reference; do
+for layer in core colour optics camera asset io scene bake runtime batch reference live; do
   ls "$libdir"/libdeepsea_$layer.* >/dev/null 2>&1 || fail "no libdeepsea_$layer in $libdir"
 done
 for f in cmake/deepsea/deepseaConfig.cmake cmake/deepsea/deepseaConfigVersion.cmake \
