@@ -15,6 +15,8 @@
 # build-san/sanitizer-logs as well (some tests expect a command to fail, and check its stderr
 # for one line only), and the run fails if any file is there.
 # No Python module: an ASan-instrumented extension cannot be imported by Debian's python3.
+# No ROS node (DEEPSEA_ROS=OFF): Debian's roscpp is not instrumented and keeps its own threads
+# and singletons alive at exit; the node's ROS-free core (live_tests) runs here.
 #   scripts/sanitize.sh [--no-fuzz | --fuzz-only]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,7 +38,7 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 export CCACHE_BASEDIR=$PWD  # a checkout elsewhere hits the same cache
 export CCACHE_NOHASHDIR=true  # (-g would hash the folder in; reports name the file either way)
 CC=${SAN_CC:-clang-14} CXX=${SAN_CXX:-clang++-14} cmake -S . -B $b -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  "${launcher[@]}" -DDEEPSEA_BUILD_TESTS=ON -DDEEPSEA_FUZZ=ON -DDEEPSEA_BUILD_PYTHON=OFF --no-warn-unused-cli >/dev/null
+  "${launcher[@]}" -DDEEPSEA_BUILD_TESTS=ON -DDEEPSEA_FUZZ=ON -DDEEPSEA_BUILD_PYTHON=OFF -DDEEPSEA_ROS=OFF --no-warn-unused-cli >/dev/null
 cmake --build $b -j "$(nproc)"
 
 logs=$root/$b/sanitizer-logs
