@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <mutex>
+#include <stdexcept>
 #include <vector>
 
 namespace deepsea {
@@ -60,6 +61,7 @@ struct PetzoldPhase {
     static constexpr double kTableStep = 0.05 * kDeg;
     int col = 1;
     double mean_cos = 0.0;
+    double legendre2 = 0.0;  ///< integral of p P_2(cos psi) over the sphere
 
     explicit PetzoldPhase(int column) : col(column) {
         const auto raw = [column](double psi) { return petzold_raw(column, psi); };
@@ -71,6 +73,10 @@ struct PetzoldPhase {
         }
         mean_cos = sphere_integral([this](double psi) { return eval(psi); },
                                    [](double psi) { return std::cos(psi); });
+        legendre2 = sphere_integral([this](double psi) { return eval(psi); }, [](double psi) {
+            const double c = std::cos(psi);
+            return 0.5 * (3.0 * c * c - 1.0);
+        });
     }
     double eval(double psi) const {
         if (psi < kTableStart) return norm * petzold_raw(col, psi);
@@ -124,6 +130,14 @@ double Phase::fraction_within(double psi_max) const {
         return is_petzold(kind) ? petzold(kind).eval(psi) : (*this)(std::cos(psi));
     };
     return sphere_integral(p, [psi_max](double psi) { return psi <= psi_max ? 1.0 : 0.0; });
+}
+
+double Phase::legendre_moment(int l) const {
+    if (l < 0 || l > 2) throw std::invalid_argument("Phase::legendre_moment: l must be 0, 1 or 2");
+    if (l == 0) return 1.0;
+    if (kind == PhaseKind::Isotropic) return 0.0;
+    if (kind == PhaseKind::HenyeyGreenstein) return l == 1 ? g : g * g;
+    return l == 1 ? petzold(kind).mean_cos : petzold(kind).legendre2;
 }
 
 const char* to_string(PhaseKind kind) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "deepsea/optics/lamp.h"
 #include "deepsea/optics/schema.h"
@@ -149,6 +150,33 @@ Rgb particle_radiance(const Rig& rig, const Water& water, const Snow& snow, cons
         sum += sphere_irradiance(L, water, g.d1, g.cos_theta) * snow.phase(g.cos_psi);
     }
     return sum * snow.albedo;
+}
+
+Rgb particle_radiance(const Rig& rig, const Water& water, const Snow& snow, const Vec3& X,
+                      const std::vector<LampField>& scattered) {
+    Rgb sum = particle_radiance(rig, water, snow, X);
+    const double d2 = length(X);
+    if (!(d2 > 0.0) || scattered.empty()) return sum;
+    if (scattered.size() != rig.lights.size())
+        throw std::invalid_argument("particle_radiance: one lamp field per lamp");
+    const double k1 = snow.phase.legendre_moment(1), k2 = snow.phase.legendre_moment(2);
+    const Vec3 v = X / d2;
+    for (std::size_t l = 0; l < scattered.size(); ++l) {
+        if (scattered[l].empty()) continue;
+        const Light& L = rig.lights[l];
+        Vec3 ex, ey;
+        lamp_frame(L.direction, ex, ey);
+        const Vec3& a = L.direction;
+        const Vec3 q = X - L.position;
+        double coef[3 * kQuadraticCount];
+        lamp_field_quadratic(LampFieldView<double>(scattered[l]), ex.x, ex.y, ex.z, ey.x, ey.y,
+                             ey.z, a.x, a.y, a.z, dot(q, ex), dot(q, ey), dot(q, a), coef, 1);
+        for (int c = 0; c < 3; ++c) {
+            sum[c] += snow.albedo * L.intensity[c] *
+                      quadratic_in_scatter(coef + c * kQuadraticCount, 1, k1, k2, v.x, v.y, v.z);
+        }
+    }
+    return sum;
 }
 
 }  // namespace deepsea

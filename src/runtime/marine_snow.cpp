@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "deepsea/core/random.h"
 #include "deepsea/optics/schema.h"
@@ -148,9 +149,12 @@ double snow_disc_radius_px(const Camera& cam, const ThinLens& lens, const Vec3& 
     return std::clamp(radius, 0.5, kMaxSnowRadiusPx);
 }
 
-MarineSnow::MarineSnow(SnowSettings settings, const Rig& rig, const Water& water)
-    : m_settings(std::move(settings)), m_rig(rig), m_water(water) {
+MarineSnow::MarineSnow(SnowSettings settings, const Rig& rig, const Water& water,
+                       std::vector<LampField> scattered)
+    : m_settings(std::move(settings)), m_rig(rig), m_water(water), m_scattered(std::move(scattered)) {
     validate(m_settings);
+    if (!m_scattered.empty() && m_scattered.size() != m_rig.lights.size())
+        throw std::invalid_argument("MarineSnow: one lamp field per lamp");
 }
 
 void MarineSnow::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose) {

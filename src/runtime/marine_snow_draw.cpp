@@ -162,7 +162,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             D[q] = float(pt.diameter);
         }
         snow_light(m_rig, m_water, m_settings.snow, cam.fx, cam.fy,
-                   ParticleRows{int(m), x, y, z, inv_d2, D}, er, eg, eb, scratch);
+                   ParticleRows{int(m), x, y, z, inv_d2, D}, er, eg, eb, scratch, m_scattered);
         for (std::size_t q = 0; q < m; ++q) {
             const SnowParticle& pt = particles[b + q];
             const Vec3& X = pt.position;

@@ -40,7 +40,7 @@ struct Renderer::State {
             throw ConfigError(
                 "--snow: marine snow through a port is not built yet (particles are drawn in "
                 "the input's pinhole pixels; docs/ports.md)");
-        if (settings.snow) snow.emplace(*settings.snow, a.info.rig, water);
+        if (settings.snow) snow.emplace(*settings.snow, a.info.rig, water, a.lamp_fields);
         if (settings.port) {
             // Checked and traced now: a port that shows nothing of the frames is refused
             // before any frame is read.

@@ -4,6 +4,8 @@
 #include "deepsea/runtime/snow_light.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 #include "clones.h"
 #include "deepsea/optics/lamp.h"
@@ -105,10 +107,48 @@ void finish(const Water& water, float albedo, float fxfy, const ParticleRows& p,
     }
 }
 
+/// Adds lamp L's scattered light (its field, optics' lamp_field_quadratic at each particle and
+/// quadratic_in_scatter along the camera ray) to (r, g, b); tmp holds 3 kQuadraticCount n.
+DEEPSEA_CLONES
+void scattered_particles(const Light& L, const LampField& field, float k1, float k2,
+                         const ParticleRows& p, float* __restrict tmp, float* __restrict r,
+                         float* __restrict g, float* __restrict b) {
+    const int n = p.n;
+    Vec3 ex, ey;
+    lamp_frame(L.direction, ex, ey);
+    const LampFieldView<float> f(field);
+    const float ox = float(L.position.x), oy = float(L.position.y), oz = float(L.position.z);
+    const float exx = float(ex.x), exy = float(ex.y), exz = float(ex.z);
+    const float eyx = float(ey.x), eyy = float(ey.y), eyz = float(ey.z);
+    const float ax = float(L.direction.x), ay = float(L.direction.y), az = float(L.direction.z);
+    const float ir = float(L.intensity.r), ig = float(L.intensity.g), ib = float(L.intensity.b);
+    const float* __restrict px = p.x;
+    const float* __restrict py = p.y;
+    const float* __restrict pz = p.z;
+    const float* __restrict pinv = p.inv_d2;
+#pragma omp simd
+    for (int q = 0; q < n; ++q) {
+        // into the lamp frame: the equations are optics' (lamp_field.h)
+        const float qx = px[q] - ox, qy = py[q] - oy, qz = pz[q] - oz;
+        lamp_field_quadratic(f, exx, exy, exz, eyx, eyy, eyz, ax, ay, az,
+                             exx * qx + exy * qy + exz * qz, eyx * qx + eyy * qy + eyz * qz,
+                             ax * qx + ay * qy + az * qz, tmp + q, n);
+    }
+    const int stride = kQuadraticCount * n;
+#pragma omp simd
+    for (int q = 0; q < n; ++q) {
+        const float vx = px[q] * pinv[q], vy = py[q] * pinv[q], vz = pz[q] * pinv[q];
+        r[q] += ir * quadratic_in_scatter(tmp + q, n, k1, k2, vx, vy, vz);
+        g[q] += ig * quadratic_in_scatter(tmp + stride + q, n, k1, k2, vx, vy, vz);
+        b[q] += ib * quadratic_in_scatter(tmp + 2 * stride + q, n, k1, k2, vx, vy, vz);
+    }
+}
+
 }  // namespace
 
 void snow_light(const Rig& rig, const Water& water, const Snow& snow, double fx, double fy,
-                const ParticleRows& p, float* er, float* eg, float* eb, const SnowLightScratch& s) {
+                const ParticleRows& p, float* er, float* eg, float* eb, const SnowLightScratch& s,
+                const std::vector<LampField>& scattered) {
     const int n = p.n;
     for (int q = 0; q < n; ++q) er[q] = eg[q] = eb[q] = 0.0f;
     const bool row_phase =
@@ -135,6 +175,18 @@ void snow_light(const Rig& rig, const Water& water, const Snow& snow, double fx,
             er[q] += float(s.r[q] * f);
             eg[q] += float(s.g[q] * f);
             eb[q] += float(s.b[q] * f);
+        }
+    }
+    if (!scattered.empty()) {
+        if (scattered.size() != rig.lights.size())
+            throw std::invalid_argument("snow_light: one lamp field per lamp");
+        const float k1 = float(snow.phase.legendre_moment(1));
+        const float k2 = float(snow.phase.legendre_moment(2));
+        thread_local std::vector<float> tmp;
+        tmp.resize(std::size_t(3) * kQuadraticCount * std::size_t(n));
+        for (std::size_t l = 0; l < scattered.size(); ++l) {
+            if (!scattered[l].empty())
+                scattered_particles(rig.lights[l], scattered[l], k1, k2, p, tmp.data(), er, eg, eb);
         }
     }
     finish(water, float(snow.albedo), float(fx * fy), p, er, eg, eb);

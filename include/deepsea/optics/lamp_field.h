@@ -161,6 +161,29 @@ inline T quadratic_irradiance(const T* q, int stride, T nx, T ny, T nz) {
            T(2) * (q[7 * stride] * nx * ny + q[8 * stride] * nx * nz + q[9 * stride] * ny * nz);
 }
 
+/// Radiance a small particle scatters from the lamp's scattered light, per unit albedo: the
+/// integral of L(d) p(psi) over incident directions d, for one channel's quadratic-form
+/// coefficients q[i * stride] (lamp_field_quadratic's) and the unit vector (vx, vy, vz) from
+/// the camera through the particle (the direction light must come from to be scattered
+/// straight on toward the camera). The form splits into the radiance's bands: l = 0 is
+/// k + tr(Q) / 3 (= pi L_00 Y_00), l = 1 is b . v (= 2 pi / 3 sum L_1m Y_1m(v)), l = 2 is
+/// v^T Q v - tr(Q) / 3 (= pi / 4 sum L_2m Y_2m(v)); dividing out the clamped cosine's A_l and
+/// multiplying by the phase function's Legendre moments k1, k2 (Phase::legendre_moment) gives
+/// sum_l k_l sum_m L_lm Y_lm(v) (Funk-Hecke). Clamped at 0 like the irradiance.
+template <typename T>
+inline T quadratic_in_scatter(const T* q, int stride, T k1, T k2, T vx, T vy, T vz) {
+    const T tr3 = (q[4 * stride] + q[5 * stride] + q[6 * stride]) * T(1.0 / 3.0);
+    const T band0 = q[0] + tr3;
+    const T band1 = q[stride] * vx + q[2 * stride] * vy + q[3 * stride] * vz;
+    const T band2 = q[4 * stride] * vx * vx + q[5 * stride] * vy * vy + q[6 * stride] * vz * vz +
+                    T(2) * (q[7 * stride] * vx * vy + q[8 * stride] * vx * vz +
+                            q[9 * stride] * vy * vz) -
+                    tr3;
+    const T s = band0 * T(1.0 / M_PI) + band1 * (k1 * T(1.5 / M_PI)) +
+                band2 * (k2 * T(4.0 / M_PI));
+    return s > T(0) ? s : T(0);
+}
+
 /// Scattered irradiance (per unit on-axis intensity, per channel) onto a Lambertian surface at
 /// point p with unit normal n, both in the lamp frame, into (er, eg, eb): lamp_field_quadratic
 /// evaluated at n, clamped at 0 (order-2 ringing can dip below 0 facing away from the light).

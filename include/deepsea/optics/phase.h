@@ -30,6 +30,10 @@ struct Phase {
     double mean_cosine() const;
     /// Fraction of scattered power within psi <= psi_max (radians).
     double fraction_within(double psi_max) const;
+    /// Legendre moment k_l = integral of p * P_l(cos psi) over the sphere for l = 0, 1, 2 (k_0 =
+    /// 1, k_1 the mean cosine; Henyey-Greenstein: g^l). By the Funk-Hecke theorem, scattering
+    /// multiplies the l-th spherical-harmonic band of the incident radiance by k_l.
+    double legendre_moment(int l) const;
 };
 
 /// Name as written in configs: "isotropic", "henyey_greenstein", "petzold:clear", ...

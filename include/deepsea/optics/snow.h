@@ -10,6 +10,7 @@
 
 #include "deepsea/core/vec.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/phase.h"
 #include "deepsea/optics/vec3t.h"
@@ -124,6 +125,14 @@ Rgb lamp_irradiance_at(const Light& L, const Water& water, const Vec3& X, Vec3* 
 /// between lamp -> X and X -> camera. Its image, pi D^2 / 4 of projected area, carries this
 /// radiance times transmission(c, |X|).
 Rgb particle_radiance(const Rig& rig, const Water& water, const Snow& snow, const Vec3& X);
+
+/// particle_radiance plus the lamps' scattered light where a multiple-scattering asset's lamp
+/// fields are given (one per lamp, Asset::lamp_fields; an empty field adds nothing): albedo
+/// sum_l I_l quadratic_in_scatter of lamp l's field at X, seen along X / |X|, with the snow's
+/// phase function's Legendre moments. The field holds the light scattered in water that ends
+/// nowhere (no surface behind the particle), like the surfaces' scattered light.
+Rgb particle_radiance(const Rig& rig, const Water& water, const Snow& snow, const Vec3& X,
+                      const std::vector<LampField>& scattered);
 
 /// A camera's pose in a world frame: its centre and the world directions of its axes (OpenCV:
 /// x right, y down, z forward).

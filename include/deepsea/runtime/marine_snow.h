@@ -9,6 +9,7 @@
 
 #include "deepsea/core/image.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/snow.h"
 #include "deepsea/optics/water.h"
@@ -58,7 +59,10 @@ double snow_disc_radius_px(const Camera& camera, const ThinLens& lens, const Vec
 /// Draws marine snow into frames of one rig and water.
 class MarineSnow {
 public:
-    MarineSnow(SnowSettings settings, const Rig& rig, const Water& water);
+    /// With a multiple-scattering asset's lamp fields (one per lamp, Asset::lamp_fields) the
+    /// particles also scatter the lamps' scattered light; without, only the lamps' own.
+    MarineSnow(SnowSettings settings, const Rig& rig, const Water& water,
+               std::vector<LampField> scattered = {});
 
     /// The next frame's key and, where known, its camera pose (camera to world).
     void set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose);
@@ -79,6 +83,7 @@ private:
     SnowSettings m_settings;
     Rig m_rig;
     Water m_water;
+    std::vector<LampField> m_scattered;
     std::uint64_t m_key = 0;
     std::optional<CameraPose> m_pose;
     mutable std::vector<float> m_best;  ///< per pixel, the largest contribution so far

@@ -4,6 +4,9 @@
 /// transmission on structure-of-arrays particles, as optics' particle_radiance does one
 /// particle in double (MarineSnow.FloatLightMatchesParticleRadiance compares them).
 
+#include <vector>
+
+#include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/snow.h"
 #include "deepsea/optics/water.h"
@@ -34,8 +37,11 @@ struct SnowLightScratch {
 /// function), times transmission(c, |X|), times its image's area in pixels, pi D^2 / 4 fx fy
 /// |X| / z^3. Gaussian lamps and isotropic or Henyey-Greenstein phase functions are evaluated
 /// in the rows; tabulated lamp profiles and Petzold phase functions per particle.
+/// With a multiple-scattering asset's lamp fields (one per lamp; empty: none) each particle
+/// also scatters the lamps' scattered light (optics' particle_radiance with fields).
 void snow_light(const Rig& rig, const Water& water, const Snow& snow, double fx, double fy,
                 const ParticleRows& p, float* er, float* eg, float* eb,
-                const SnowLightScratch& scratch);
+                const SnowLightScratch& scratch,
+                const std::vector<LampField>& scattered = {});
 
 }  // namespace deepsea
