@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "deepsea/batch/snow_setup.h"
 #include "deepsea/core/error.h"
 
 namespace deepsea::python {
@@ -152,15 +153,7 @@ std::optional<SnowSettings> snow_of(const py::handle& snow, std::uint64_t seed,
     wrapped["snow"] = snow;
     const Setup s = parse_setup(to_json(wrapped), "<snow=>");
     if (!s.snow) return std::nullopt;  // "off"
-    SnowSettings out;
-    out.snow = *s.snow;
-    out.seed = seed;
-    const CameraModel m = model ? *model : CameraModel{};
-    out.f_number = m.lens.f_number;
-    out.pixel_pitch_um = m.sensor.pixel_pitch_um;
-    out.focus_distance_m = m.lens.focus_distance_m;
-    validate(out);
-    return out;
+    return make_snow_settings(*s.snow, seed, model);
 }
 
 std::optional<CameraPose> pose_of(const py::handle& pose) {

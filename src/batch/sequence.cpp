@@ -91,6 +91,9 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
                          {"albedo", sn.albedo},
                          {"max_distance_m", sn.max_distance_m}};
     }
+    m.poses_hash = poses_hash(jobs);
+    m.poses = int(std::count_if(jobs.begin(), jobs.end(),
+                                [](const FrameJob& j) { return j.pose.has_value(); }));
     m.depth_kind = opt.depth_kind == DepthKind::Range ? "range" : "z";
     m.depth_channel = opt.depth_read.channel;
     m.depth_scale = opt.depth_read.scale;

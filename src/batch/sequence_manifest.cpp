@@ -1,5 +1,6 @@
 #include "deepsea/batch/sequence_manifest.h"
 
+#include <cinttypes>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -9,11 +10,33 @@
 
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/hash.h"
 #include "deepsea/core/input_file.h"
 
 namespace deepsea {
 
 using nlohmann::json;
+
+std::string poses_hash(const std::vector<FrameJob>& jobs) {
+    std::uint64_t h = kFnv1aBasis;
+    bool any = false;
+    for (const FrameJob& job : jobs) {
+        if (!job.pose) {
+            h = fnv1a64(std::string_view("none"), h);
+            continue;
+        }
+        any = true;
+        const CameraPose& p = *job.pose;
+        for (const Vec3& v : {p.origin, p.right, p.down, p.forward}) {
+            const double xyz[3] = {v.x, v.y, v.z};
+            h = fnv1a64(xyz, sizeof xyz, h);
+        }
+    }
+    if (!any) return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%016" PRIx64, h);
+    return std::string("fnv1a64:") + buf;
+}
 
 std::string manifest_to_json(const SequenceManifest& m) {
     json j;
@@ -47,6 +70,8 @@ std::string manifest_to_json(const SequenceManifest& m) {
         j["settings"]["snow"] = {
             {"preset", m.snow}, {"seed", m.snow_seed}, {"focus_distance_m", m.focus_distance_m}};
     for (const auto& [key, v] : m.snow_values) j["settings"]["snow"][key] = v;
+    if (!m.poses_hash.empty())
+        j["settings"]["poses"] = {{"frames", m.poses}, {"hash", m.poses_hash}};
     j["frames"] = {{"total", m.frames_total}, {"done", m.frames_done}};
     if (m.shard) {
         const ShardRecord& s = *m.shard;
@@ -152,6 +177,11 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
             if (key != "preset" && key != "seed" && key != "focus_distance_m")
                 m.snow_values.emplace_back(
                     key, get<double>(j["settings"], path + ": settings", "snow", key.c_str()));
+    }
+    // "poses" came with render --poses in the manifest; absent: none.
+    if (j["settings"].contains("poses")) {
+        m.poses = get<int>(j["settings"], path + ": settings", "poses", "frames");
+        m.poses_hash = get<std::string>(j["settings"], path + ": settings", "poses", "hash");
     }
     m.depth_kind = get<std::string>(j, path, "settings", "depth_kind");
     m.depth_channel = get<std::string>(j, path, "settings", "depth_channel");
@@ -290,6 +320,14 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
         for (const auto& [key, v] : run.snow_values)
             for (const auto& [fkey, fv] : folder.snow_values)
                 if (key == fkey && v != fv) differ("snow." + key, num(fv), num(v));
+    if (folder.poses_hash != run.poses_hash)
+        differ("--poses",
+               folder.poses_hash.empty()
+                   ? "not given"
+                   : std::to_string(folder.poses) + " pose(s) " + folder.poses_hash,
+               run.poses_hash.empty()
+                   ? "not given"
+                   : std::to_string(run.poses) + " pose(s) " + run.poses_hash + " (other poses)");
     if (folder.depth_kind != run.depth_kind)
         differ("--depth-kind", folder.depth_kind, run.depth_kind);
     if (folder.depth_channel != run.depth_channel)

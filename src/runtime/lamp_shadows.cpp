@@ -279,8 +279,7 @@ LampShadows::~LampShadows() = default;
 LampShadows::LampShadows(LampShadows&&) noexcept = default;
 LampShadows& LampShadows::operator=(LampShadows&&) noexcept = default;
 
-void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig,
-                          const ShadowSettings& settings) {
+void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, float thickness) {
     const int W = cam.width, H = cam.height;
     const std::size_t N = std::size_t(W) * H;
     m_width = W;
@@ -302,7 +301,7 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
     }
     m_visibility.resize(rig.lights.size());
     for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
-    const float t = float(settings.thickness);
+    const float t = thickness;
     thread_local std::vector<float> zrow;
 
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {

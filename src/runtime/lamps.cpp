@@ -22,6 +22,7 @@ AnalyticLamps::AnalyticLamps(const Rig& rig, const Water& water, std::vector<Lam
     if (shadows.enabled && !(shadows.thickness > 0.0 && std::isfinite(shadows.thickness))) {
         throw ConfigError("shadows: thickness must be > 0 m and finite");
     }
+    if (shadows.enabled && shadows.step < 1) throw ConfigError("shadows: step must be >= 1 pixel");
     if (!m_scattered.empty() && m_scattered.size() != m_rig.lights.size()) {
         throw AssetError("multiple scattering: " + std::to_string(m_scattered.size()) +
                          " lamp fields for " + std::to_string(m_rig.lights.size()) + " lamps");

@@ -113,4 +113,16 @@ printf '1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 1\n' > "$work/short.txt"
 expect_fail "a short line" render -o "$work/bad" --snow plume --poses "$work/short.txt"
 grep -q "short.txt:2: expected 8 numbers" "$work/err.txt"
 expect_absent "$work/bad"
+# the manifest records the poses: --resume with other poses is refused in one line, with the
+# same ones it goes on
+grep -q '"poses"' "$work/posed/deepsea-sequence.json"
+render --layers "$work/posed" --snow plume --poses "$work/poses.txt" --exposure 100 --resume \
+  | grep -q "skipped 2"
+printf '1.0 0 0 0 0 0 0 1\n2.0 0.5 0 0 0 0 0 1\n' > "$work/other.txt"
+expect_fail "other poses" render --layers "$work/posed" --snow plume --poses "$work/other.txt" \
+  --exposure 100 --resume
+grep -q "cannot resume: --poses was 2 pose(s)" "$work/err.txt"
+test "$(wc -l < "$work/err.txt")" -eq 1
+expect_fail "no poses" render --layers "$work/posed" --snow plume --exposure 100 --resume
+grep -q "cannot resume: --poses was 2 pose(s) .*, now not given" "$work/err.txt"
 echo "render --snow: ok"

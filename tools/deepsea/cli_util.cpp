@@ -12,6 +12,7 @@
 #include <filesystem>
 
 #include "deepsea/bake/lattice_rule.h"
+#include "deepsea/batch/snow_setup.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
 
@@ -341,15 +342,8 @@ std::optional<SnowSettings> snow_settings(const std::string& preset, std::uint64
                                           const std::optional<CameraModel>& model,
                                           const std::optional<Snow>& setup_snow) {
     if (preset == "off" || (preset.empty() && !setup_snow)) return std::nullopt;
-    SnowSettings s;
-    s.snow = preset.empty() ? *setup_snow : snow_preset(preset, "--snow");
-    s.seed = seed;
-    const CameraModel m = model ? *model : CameraModel{};
-    s.f_number = m.lens.f_number;
-    s.pixel_pitch_um = m.sensor.pixel_pitch_um;
-    s.focus_distance_m = m.lens.focus_distance_m;
-    validate(s);
-    return s;
+    return make_snow_settings(preset.empty() ? *setup_snow : snow_preset(preset, "--snow"), seed,
+                              model);
 }
 
 }  // namespace deepsea::cli

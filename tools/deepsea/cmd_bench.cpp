@@ -27,6 +27,7 @@
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/jerlov.h"
 #include "deepsea/runtime/exposure.h"
+#include "deepsea/runtime/lamp_shadows.h"
 #include "deepsea/runtime/renderer.h"
 #include "deepsea/scene/flight.h"
 
@@ -135,6 +136,18 @@ BakeSettings bench_bake(const BenchArgs& a) {
     s.higher_orders.paths = 256;
     s.higher_orders.lamp_samples = 64;
     return s;
+}
+
+/// True if every prefix in `list` names a shadows case (no asset needed: no bake).
+bool only_shadows(const std::string& list) {
+    std::size_t b = 0;
+    while (b <= list.size()) {
+        const std::size_t e = std::min(list.find(',', b), list.size());
+        const std::string p = list.substr(b, e - b);
+        if (p.size() < 7 || p.compare(0, 7, "shadows") != 0) return false;
+        b = e + 1;
+    }
+    return true;
 }
 
 /// The demo camera's view at another resolution (same horizontal field of view).
@@ -250,6 +263,33 @@ std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchAr
         }
         detail("%s: %ld particles drawn per frame on average\n", name.c_str(),
                particles / std::max(a.repeats, 1));
+        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
+    }
+    return cases;
+}
+
+/// Lamp shadows alone (LampShadows::compute: every lamp's visibility image) on the flight's
+/// first frame with the setup's rig: `shadows` as rendered, `shadows-exact` the full-resolution
+/// sweep it is checked against (docs/runtime.md, "Lamp shadows").
+std::vector<Case> time_shadows(const Camera& cam, const Rig& rig, const BenchArgs& a, int threads) {
+    std::vector<Case> cases;
+    FlightParams flight;
+    flight.camera = cam;
+    const Frame frame = render_flight_frame(flight, 0);
+    for (const bool exact : {false, true}) {
+        const std::string name = exact ? "shadows-exact" : "shadows";
+        if (!wanted(a.cases, name)) continue;
+        ShadowSettings s{true};
+        if (exact) s.step = 1;
+        LampShadows shadows;
+        shadows.compute(cam, frame.depth, rig, s);  // the first run allocates
+        std::vector<double> t, cpu;
+        for (int r = 0; r < a.repeats; ++r) {
+            const double t0 = now_ms(), c0 = cpu_ms();
+            shadows.compute(cam, frame.depth, rig, s);
+            t.push_back(now_ms() - t0);
+            cpu.push_back(cpu_ms() - c0);
+        }
         cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
     }
     return cases;
@@ -440,6 +480,8 @@ void run(const BenchArgs& a) {
     std::vector<Case> cases;
     for (const auto& [w, h] : {std::pair{800, 800}, std::pair{1920, 1080}}) {
         const Camera cam = scaled(*setup.camera, w, h);
+        for (Case& c : time_shadows(cam, *setup.rig, a, threads)) cases.push_back(c);
+        if (only_shadows(a.cases)) continue;
         // One bake per size for every case (the forward blur left out of the water with
         // --no-forward).
         Water water = *setup.water;
@@ -512,7 +554,8 @@ void setup_bench(CLI::App& sub) {
         "multiple-scattering asset's all layers with and without its forward-scatter table, "
         "frame by frame in turn, as composite_transport_psf and composite_small_angle), snow "
         "(snow-abyssal, "
-        "snow-nepheloid, snow-plume: marine snow alone), stage, camera "
+        "snow-nepheloid, snow-plume: marine snow alone), shadows (lamp shadows alone; "
+        "shadows-exact: the full-resolution sweep), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
         "also -camera: with the setup's camera stage)");
     sub.add_flag("--json", a->json, "print JSON for scripts");

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "deepsea/batch/frame_jobs.h"
 #include "deepsea/optics/camera.h"
 
 namespace deepsea {
@@ -59,12 +60,21 @@ struct SequenceManifest {
     /// The snow's values by their setup keys (concentration, d_min_mm, ...), so
     /// that a custom snow is compared too; empty in older manifests (not compared).
     std::vector<std::pair<std::string, double>> snow_values;
+    /// The frames' camera poses (render --poses), "fnv1a64:<16 hex>" of every frame's pose in
+    /// frame order (poses_hash), and how many frames have one; empty and 0: none (and in
+    /// manifests from before poses were recorded).
+    std::string poses_hash;
+    int poses = 0;
     std::string depth_kind = "z", depth_channel;
     double depth_scale = 0.001;
     int frames_total = 0;
     int frames_done = 0;               ///< frames whose outputs were complete at the last update
     std::optional<ShardRecord> shard;  ///< a shard's manifest; none: the whole sequence's
 };
+
+/// "fnv1a64:<16 hex>" of the poses of `jobs` in order (each frame's camera centre and axes as
+/// doubles; a frame without one hashes a marker), or empty if no frame has a pose.
+std::string poses_hash(const std::vector<FrameJob>& jobs);
 
 /// The manifest as pretty-printed JSON (doubles round-trip exactly).
 std::string manifest_to_json(const SequenceManifest& m);

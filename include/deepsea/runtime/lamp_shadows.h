@@ -3,6 +3,7 @@
 /// the fraction of the lamp's face that the depth map's surfaces leave visible.
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "deepsea/core/image.h"
@@ -12,19 +13,29 @@
 
 namespace deepsea {
 
+/// The default ShadowSettings::step: within the measured error of docs/model.md at a quarter
+/// of the full sweep's samples.
+inline constexpr int kDefaultShadowStep = 2;
+
 /// Whether and how the lamps' shadows are rendered.
 struct ShadowSettings {
     bool enabled = false;
     /// How far behind a seen surface the solid extends, planar depth, metres (> 0).
     double thickness = kDefaultShadowThickness;
+    /// Pixels between the swept samples along each image axis (>= 1): the sweep runs on every
+    /// step-th pixel's depth and each pixel takes its visibility from the samples around it
+    /// on its own surface (docs/model.md, "Lamp shadows"); 1 sweeps every pixel (the
+    /// reference the default is checked against).
+    int step = kDefaultShadowStep;
 };
 
 /// Visibility of each lamp of a rig from every pixel of a frame, in [0, 1], from its planar
-/// depth alone. Each lamp's epipolar lines are swept from the lamp's side of the image (the
-/// epipole, or the image border toward the lamp) outward, one running horizon per line
-/// (optics/shadow.h's shadow coordinate, with the thickness), so a frame costs a few passes
-/// over its pixels per lamp, whatever the shadows' length. The lines depend on the camera and
-/// the rig only and are kept between frames. The result is the same at any thread count.
+/// depth alone: swept on every step-th pixel (ShadowSettings::step), then brought to every
+/// pixel from the swept samples on its own surface. Each lamp's epipolar lines are swept from the
+/// lamp's side of the image (the epipole, or the image border toward the lamp) outward, one running
+/// horizon per line (optics/shadow.h's shadow coordinate, with the thickness), so a frame costs a
+/// few passes over its pixels per lamp, whatever the shadows' length. The lines depend on the
+/// camera and the rig only and are kept between frames. The result is the same at any thread count.
 class LampShadows {
 public:
     LampShadows();
@@ -48,12 +59,17 @@ public:
     struct Lines;  ///< one lamp's epipolar lines for one camera (lamp_shadows.cpp)
 
 private:
+    /// The sweep on every pixel of `zdepth` into m_visibility (lamp_shadows.cpp).
+    void sweep(const Camera& camera, const Image& zdepth, const Rig& rig, float thickness);
+
     int m_width = 0, m_height = 0;
     std::vector<Image> m_visibility;
     std::vector<Lines> m_lines;     ///< per lamp, for m_camera and m_positions
     Camera m_camera;                ///< the lines' camera
     std::vector<Vec3> m_positions;  ///< the lines' lamp positions
     std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
+    std::unique_ptr<LampShadows> m_coarse;  ///< the sweep on every step-th pixel (step > 1)
+    Image m_coarse_depth;                   ///< its depth: every step-th pixel's
 };
 
 }  // namespace deepsea

@@ -147,6 +147,40 @@ TEST(Manifest, ResumeRefusesEverySettingThatChangesTheFrames) {
     EXPECT_EQ(refusal(folder, run), "");
 }
 
+TEST(Manifest, PosesAreRecordedAndResumeWithOtherPosesIsRefused) {
+    std::vector<FrameJob> jobs(3);
+    EXPECT_EQ(poses_hash(jobs), "");  // no poses: no key, as before poses were recorded
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        CameraPose p;
+        p.origin = {0.1 * double(i), 0.0, -2.0};
+        jobs[i].pose = p;
+    }
+    SequenceManifest folder = example();
+    folder.poses_hash = poses_hash(jobs);
+    folder.poses = 3;
+    EXPECT_EQ(folder.poses_hash.rfind("fnv1a64:", 0), 0u);
+    const SequenceManifest back = manifest_from_json(manifest_to_json(folder), "m.json");
+    EXPECT_EQ(back.poses_hash, folder.poses_hash);
+    EXPECT_EQ(back.poses, 3);
+    EXPECT_EQ(manifest_from_json(manifest_to_json(example()), "m.json").poses_hash, "");
+
+    // the same poses resume; one pose moved by a millimetre, two swapped, or none: refused in
+    // one line naming --poses
+    SequenceManifest run = folder;
+    EXPECT_EQ(refusal(folder, run), "");
+    for (int edit = 0; edit < 3; ++edit) {
+        std::vector<FrameJob> other = jobs;
+        if (edit == 0) other[1].pose->origin.x += 1e-3;
+        if (edit == 1) std::swap(other[0], other[2]);
+        if (edit == 2)
+            for (FrameJob& j : other) j.pose.reset();
+        run.poses_hash = poses_hash(other);
+        const std::string msg = refusal(folder, run);
+        EXPECT_NE(msg.find("--poses was 3 pose(s)"), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos);
+    }
+}
+
 TEST(Manifest, AShardRecordRoundTripsAndIsPartOfWhatResumeKeeps) {
     SequenceManifest m = example();
     EXPECT_EQ(manifest_to_json(m).find("shard"), std::string::npos);  // unsharded: as before

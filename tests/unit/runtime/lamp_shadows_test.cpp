@@ -1,6 +1,7 @@
 // Lamp shadows from the depth map (runtime/lamp_shadows.h) against exact geometry: a box in
 // front of a wall (slab ray casts), the procedural seafloor (its height function's ray casts),
-// a plane (no shadow at all), the penumbra's width, and thread counts.
+// a plane (no shadow at all), the penumbra's width, and thread counts; the default step (the
+// sweep on every other pixel) against the full sweep and the seafloor's ray casts.
 
 #include "deepsea/runtime/lamp_shadows.h"
 
@@ -81,10 +82,11 @@ bool box_shadow(const Camera& cam, const Image& depth, const Vec3& lamp, int u, 
     return kBox.hit(p, lamp - p, 1e-6, 1.0) >= 0.0;
 }
 
+/// The shadows of `rig` in the frame; by default by the full sweep (step 1), the reference.
 LampShadows shadows_of(const Camera& cam, const Image& depth, const Rig& rig,
-                       double thickness = kDefaultShadowThickness) {
+                       double thickness = kDefaultShadowThickness, int step = 1) {
     LampShadows s;
-    s.compute(cam, depth, rig, ShadowSettings{true, thickness});
+    s.compute(cam, depth, rig, ShadowSettings{true, thickness, step});
     return s;
 }
 
@@ -151,7 +153,9 @@ TEST(LampShadows, ShadowOfTheBoxEdgeIsWhereTheLineThroughTheLampSays) {
     const double edge = cam.cx + cam.fx * 0.7 / kWall;  // 202.0
     for (int u = 166; u < cam.width; ++u) {
         const bool shadowed = s.row(0, v)[u] < 0.5f;
-        if (u != 202) EXPECT_EQ(shadowed, u < edge) << "u = " << u;  // 202: on the edge
+        if (u != 202) {  // 202: on the edge
+            EXPECT_EQ(shadowed, u < edge) << "u = " << u;
+        }
     }
 }
 
@@ -246,12 +250,18 @@ namespace {
 /// A frame of the procedural seafloor seen from `pitch_deg`, and every pixel's hard shadow of
 /// the lamp at `lamp` (camera frame) both from the depth map and by a ray cast in the seafloor's
 /// own geometry. Counts the pixels the lamp lights (its side of the true surface).
-MaskCount compare_seafloor(double pitch_deg, const Vec3& lamp, double thickness,
-                           std::uint64_t seed) {
+MaskCount compare_seafloor(double pitch_deg, const Vec3& lamp, double thickness, std::uint64_t seed,
+                           int step = 1) {
     // a close survey: 1 m above a floor of twice and a half the usual relief (nodules up to
-    // 11 cm high), where the lamps' shadows are several pixels long
+    // 11 cm high), where the lamps' shadows are several pixels long; `step` times the pixels
+    // along each axis, so that the samples swept are the same
     FlightParams fp;
-    fp.camera = Camera{240, 180, 200.0, 200.0, 119.5, 89.5};
+    fp.camera = Camera{240 * step,
+                       180 * step,
+                       200.0 * step,
+                       200.0 * step,
+                       119.5 * step + (step - 1) * 0.5,
+                       89.5 * step + (step - 1) * 0.5};
     fp.pitch_deg = pitch_deg;
     fp.altitude = 1.0;
     fp.seed = seed;
@@ -263,7 +273,7 @@ MaskCount compare_seafloor(double pitch_deg, const Vec3& lamp, double thickness,
         return pose.right * r.x + pose.down * r.y + pose.forward * r.z;
     };
     const Vec3 lw = pose.origin + world(lamp);
-    const LampShadows s = shadows_of(fp.camera, frame.depth, one_lamp(lamp, 0.0), thickness);
+    const LampShadows s = shadows_of(fp.camera, frame.depth, one_lamp(lamp, 0.0), thickness, step);
     MaskCount m;
     for (int v = 0; v < fp.camera.height; ++v) {
         for (int u = 0; u < fp.camera.width; ++u) {
@@ -291,21 +301,22 @@ MaskCount compare_seafloor(double pitch_deg, const Vec3& lamp, double thickness,
 
 }  // namespace
 
-TEST(LampShadows, SeafloorShadowsAgreeWithRaysThroughTheHeightField) {
-    // Lamps beside, below and above-and-ahead of the camera, the floor seen straight down and
-    // pitched forward. Hard shadows (radius 0), the default thickness.
+/// The seafloor's masks against its ray casts for lamps beside, below and above-and-ahead of
+/// the camera, the floor seen straight down and pitched forward: hard shadows (radius 0), the
+/// default thickness, swept on every step-th pixel of a frame of step times the pixels.
+void seafloor_masks(int step) {
     const char* env = std::getenv("DEEPSEA_SHADOW_THICKNESS");  // to compare thicknesses
     const double thickness = env ? std::atof(env) : kDefaultShadowThickness;
     MaskCount total;
     for (double pitch : {0.0, 45.0}) {
         for (const Vec3& lamp : {Vec3{-0.6, 0.0, 0.0}, Vec3{0.0, 0.6, 0.0}, Vec3{0.5, -0.3, 0.3}}) {
-            const MaskCount m = compare_seafloor(pitch, lamp, thickness, 1);
+            const MaskCount m = compare_seafloor(pitch, lamp, thickness, 1, step);
             const double agree = 1.0 - double(m.wrong) / double(m.pixels);
             std::printf(
-                "pitch %2.0f, lamp [%g, %g, %g]: %.1f %% of lit-side pixels shadowed; "
+                "step %d, pitch %2.0f, lamp [%g, %g, %g]: %.1f %% of lit-side pixels shadowed; "
                 "masks agree on %.2f %% (of the shadowed %.1f %% found, of those found "
                 "%.1f %% shadowed)\n",
-                pitch, lamp.x, lamp.y, lamp.z, 100.0 * m.shadowed / m.pixels, 100.0 * agree,
+                step, pitch, lamp.x, lamp.y, lamp.z, 100.0 * m.shadowed / m.pixels, 100.0 * agree,
                 100.0 * m.both / std::max(1L, m.shadowed), 100.0 * m.both / std::max(1L, m.found));
             EXPECT_GE(agree, 0.97);
             total.pixels += m.pixels;
@@ -313,6 +324,66 @@ TEST(LampShadows, SeafloorShadowsAgreeWithRaysThroughTheHeightField) {
         }
     }
     EXPECT_GT(total.shadowed, total.pixels / 100);  // scenes with shadows to find
+}
+
+TEST(LampShadows, SeafloorShadowsAgreeWithRaysThroughTheHeightField) { seafloor_masks(1); }
+
+TEST(LampShadows, SeafloorShadowsOnEveryOtherPixelAgreeAtTwiceTheResolution) {
+    // The default step's samples are the full sweep's pixels above: what it loses is what the
+    // frame shows finer than two pixels.
+    seafloor_masks(kDefaultShadowStep);
+}
+
+TEST(LampShadows, EveryOtherPixelAgreesWithTheFullSweep) {
+    // The demo's view of a close survey (the camera pitched 40 degrees, 1 m up, relief 2.5) at
+    // 400x400, the demo's lamps and two more (below the camera; ahead of it, its epipole in
+    // view), the default radius: the default step against the full sweep, pixel by pixel.
+    FlightParams fp;
+    fp.camera = Camera{400, 400, 300.0, 300.0, 199.5, 199.5};
+    fp.pitch_deg = 40.0;
+    fp.altitude = 1.0;
+    fp.relief = 2.5;
+    const Frame frame = render_flight_frame(fp, 0);
+    Rig rig = testing::two_lamps();
+    rig.lights.push_back(one_lamp({0.0, 0.6, 0.0}, kDefaultLampRadius).lights[0]);
+    rig.lights.push_back(one_lamp({0.1, 0.3, 0.4}, kDefaultLampRadius).lights[0]);
+    const LampShadows full = shadows_of(fp.camera, frame.depth, rig);
+    const LampShadows coarse =
+        shadows_of(fp.camera, frame.depth, rig, kDefaultShadowThickness, kDefaultShadowStep);
+    const int W = fp.camera.width, H = fp.camera.height;
+    for (std::size_t l = 0; l < rig.lights.size(); ++l) {
+        long pixels = 0, shadowed = 0, wrong = 0, far = 0;
+        double diff = 0.0;
+        for (int v = 0; v < H; ++v) {
+            for (int u = 0; u < W; ++u) {
+                if (!has_surface(frame.depth.at(u, v))) continue;
+                const float a = full.row(l, v)[u], b = coarse.row(l, v)[u];
+                ++pixels;
+                shadowed += a < 0.5f;
+                diff += std::fabs(double(a) - double(b));
+                if ((a < 0.5f) == (b < 0.5f)) continue;
+                ++wrong;
+                // more than step + 1 px from the full sweep's mask boundary
+                const int reach = kDefaultShadowStep + 1;
+                bool edge = false;
+                for (int dv = -reach; dv <= reach; ++dv)
+                    for (int du = -reach; du <= reach; ++du) {
+                        const int x = std::clamp(u + du, 0, W - 1),
+                                  y = std::clamp(v + dv, 0, H - 1);
+                        edge = edge || (full.row(l, y)[x] < 0.5f) != (a < 0.5f);
+                    }
+                far += !edge;
+            }
+        }
+        const double agree = 1.0 - double(wrong) / double(pixels);
+        std::printf(
+            "lamp %zu: %.1f %% shadowed; masks agree on %.2f %% (%ld px differ, %ld more than "
+            "step + 1 px from a boundary), mean |visibility difference| %.4f\n",
+            l, 100.0 * shadowed / pixels, 100.0 * agree, wrong, far, diff / pixels);
+        EXPECT_GE(agree, 0.98);
+        EXPECT_LT(diff / pixels, 0.02);
+        EXPECT_EQ(far, 0);  // the differences are the boundaries' place, not shadows lost
+    }
 }
 
 TEST(LampShadows, IdenticalAtAnyThreadCount) {
@@ -323,7 +394,8 @@ TEST(LampShadows, IdenticalAtAnyThreadCount) {
     const Frame frame = render_flight_frame(fp, 0);
     Rig rig = testing::two_lamps();
     rig.lights.push_back(one_lamp({0.1, 0.3, 0.4}, 0.05).lights[0]);
-    const LampShadows all = shadows_of(fp.camera, frame.depth, rig);
+    const LampShadows all =
+        shadows_of(fp.camera, frame.depth, rig, kDefaultShadowThickness, kDefaultShadowStep);
     LampShadows one;
     tbb::task_arena(1).execute(
         [&] { one.compute(fp.camera, frame.depth, rig, ShadowSettings{true}); });

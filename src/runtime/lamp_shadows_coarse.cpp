@@ -1,0 +1,104 @@
+// Lamp shadows on every step-th pixel, brought to every pixel (docs/model.md, "Lamp shadows",
+// "Reduced resolution"). The sweep itself is lamp_shadows.cpp's, run on a camera whose pixel
+// (i, j) is the frame's pixel (step i, step j) and on those pixels' depths (a subsample, not an
+// average: every swept depth is one the frame has, so no sample lies between two surfaces).
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "deepsea/core/error.h"
+#include "deepsea/optics/normals.h"
+#include "deepsea/runtime/lamp_shadows.h"
+
+namespace deepsea {
+
+namespace {
+
+/// The camera whose pixel (i, j) sees along the ray of `cam`'s pixel (step i, step j): the
+/// frame's size rounded up so that the last sample is the frame's last pixel or before it.
+Camera coarse_camera(const Camera& cam, int step) {
+    Camera c;
+    c.width = (cam.width - 1) / step + 1;
+    c.height = (cam.height - 1) / step + 1;
+    c.fx = cam.fx / step;
+    c.fy = cam.fy / step;
+    c.cx = cam.cx / step;
+    c.cy = cam.cy / step;
+    return c;
+}
+
+/// Row v of the full-resolution visibility from the coarse rows j0 and j1 (the samples above
+/// and below it, j1 = j0 at the last row; ty: v's fraction of the way from j0 to j1). A pixel
+/// takes the bilinear mean of the four samples around it that lie on its own surface
+/// (same_surface); where none does (a surface narrower than the step, or an edge between
+/// samples), the sample nearest it in depth. Wherever all four samples are fully lit the row
+/// keeps its fill of 1 (most of a frame), as do open-water pixels.
+void upsample_row(int W, int Wc, int step, float ty, const float* z, const float* va,
+                  const float* vb, const float* za, const float* zb, float* out) {
+    std::fill_n(out, W, 1.0f);
+    const float inv = 1.0f / float(step);
+    for (int i0 = 0; i0 < Wc; ++i0) {
+        const int i1 = std::min(i0 + 1, Wc - 1);
+        if (va[i0] >= 1.0f && va[i1] >= 1.0f && vb[i0] >= 1.0f && vb[i1] >= 1.0f) continue;
+        const float vk[4] = {va[i0], va[i1], vb[i0], vb[i1]};
+        const float zk[4] = {za[i0], za[i1], zb[i0], zb[i1]};
+        const int u_end = std::min(W, (i0 + 1) * step);
+        for (int u = i0 * step; u < u_end; ++u) {
+            const float zp = z[u];
+            if (!has_surface(zp)) continue;
+            const float tx = float(u - i0 * step) * inv;
+            const float wk[4] = {(1.0f - tx) * (1.0f - ty), tx * (1.0f - ty), (1.0f - tx) * ty,
+                                 tx * ty};
+            float sum = 0.0f, acc = 0.0f, nearest = 1.0f, best = INFINITY;
+            for (int k = 0; k < 4; ++k) {
+                if (!has_surface(zk[k])) continue;
+                const float dz = std::fabs(zk[k] - zp);
+                if (dz < best) best = dz, nearest = vk[k];
+                if (same_surface(zp, zk[k])) sum += wk[k], acc += wk[k] * vk[k];
+            }
+            out[u] = sum > 0.0f ? acc / sum : nearest;
+        }
+    }
+}
+
+}  // namespace
+
+void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig,
+                          const ShadowSettings& settings) {
+    if (settings.step < 1) throw ConfigError("shadows: step must be >= 1 pixel");
+    const float t = float(settings.thickness);
+    const int s = settings.step;
+    if (s == 1) {
+        sweep(cam, zdepth, rig, t);
+        return;
+    }
+    const Camera cc = coarse_camera(cam, s);
+    const int W = cam.width, H = cam.height, Wc = cc.width, Hc = cc.height;
+    if (!m_coarse) m_coarse = std::make_unique<LampShadows>();
+    if (m_coarse_depth.width != Wc || m_coarse_depth.height != Hc)
+        m_coarse_depth = Image(Wc, Hc, 1);
+    tbb::parallel_for(0, Hc, [&](int j) {
+        const float* src = zdepth.row(j * s);
+        float* dst = m_coarse_depth.row(j);
+        for (int i = 0; i < Wc; ++i) dst[i] = src[i * s];
+    });
+    m_coarse->sweep(cc, m_coarse_depth, rig, t);
+
+    m_width = W;
+    m_height = H;
+    m_visibility.resize(rig.lights.size());
+    for (std::size_t l = 0; l < rig.lights.size(); ++l) {
+        Image& vis = m_visibility[l];
+        if (vis.width != W || vis.height != H || vis.channels != 1) vis = Image(W, H, 1);
+        tbb::parallel_for(0, H, [&](int v) {
+            const int j0 = v / s, j1 = std::min(j0 + 1, Hc - 1);
+            const float ty = float(v - j0 * s) / float(s);
+            upsample_row(W, Wc, s, ty, zdepth.row(v), m_coarse->row(l, j0), m_coarse->row(l, j1),
+                         m_coarse_depth.row(j0), m_coarse_depth.row(j1), vis.row(v));
+        });
+    }
+}
+
+}  // namespace deepsea
