@@ -1,4 +1,4 @@
-"""Marine snow through the module (docs/model.md, "Marine snow"): Renderer(snow=...) adds the
+"""Marine snow through the module (docs/snow-shadows.md, "Marine snow"): Renderer(snow=...) adds the
 snow and snow_id layers and the snow's light to final; frame_key and pose place the particles
 (fixed in the world with a pose); bad values are one-line ConfigErrors."""
 

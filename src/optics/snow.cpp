@@ -21,7 +21,7 @@ void require(bool ok, const std::string& key, const std::string& what, double v)
     if (!ok) throw SchemaError("snow." + key, "must be " + what + ", got " + num(v));
 }
 
-/// The presets (docs/model.md, "Marine snow", where each number comes from).
+/// The presets (docs/snow-shadows.md, "Marine snow", where each number comes from).
 Snow preset(const std::string& name) {
     Snow s;
     s.name = name;

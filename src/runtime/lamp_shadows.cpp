@@ -1,4 +1,4 @@
-// Lamp shadows by sweeping each lamp's epipolar lines (docs/model.md, "Lamp shadows").
+// Lamp shadows by sweeping each lamp's epipolar lines (docs/snow-shadows.md, "Lamp shadows").
 // Compiled with -ffast-math -fopenmp-simd (the per-pixel pass is vectorised): open water is
 // marked with -FLT_MAX, never NaN or inf.
 //

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# deepsea render --snow (docs/model.md, "Marine snow"): the snow and snow_id layers, the
+# deepsea render --snow (docs/snow-shadows.md, "Marine snow"): the snow and snow_id layers, the
 # manifest's settings.snow, --resume refusing other snow settings, a bad preset refused with one
 # line and exit 2 before any work, the setup's snow section.
 set -euo pipefail

@@ -97,7 +97,7 @@ void run(const RenderArgs& a) {
     const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers, a.format};
     std::vector<FrameJob> jobs = frame_jobs(files);
     if (!a.poses.empty()) {
-        // The n-th pose is the n-th frame's, in frame order (docs/model.md, "Marine snow").
+        // The n-th pose is the n-th frame's, in frame order (docs/snow-shadows.md, "Marine snow").
         const std::vector<TimedPose> poses = load_tum_poses(a.poses);
         if (poses.size() != jobs.size())
             throw InputError(a.poses + ": " + std::to_string(poses.size()) + " pose(s) for " +
@@ -215,16 +215,16 @@ void setup_render(CLI::App& sub) {
                     "its own manifest; `deepsea merge-shards` checks and joins the parts");
     sub.add_flag("--shadows", a->shadows,
                  "lamp shadows from the depth map, penumbrae from each lamp's radius "
-                 "(docs/model.md, \"Lamp shadows\"); off by default, as in the paper's model");
+                 "(docs/snow-shadows.md, \"Lamp shadows\"); off by default, as in the paper's model");
     sub.add_option("--snow", a->snow,
-                   "marine snow lit by the lamps (docs/model.md, \"Marine snow\"): a preset, "
+                   "marine snow lit by the lamps (docs/snow-shadows.md, \"Marine snow\"): a preset, "
                    "abyssal, nepheloid or plume, or off; overrides the --camera file's snow "
                    "section (docs/config.md), which applies without it; adds the layers snow "
                    "and snow_id");
     sub.add_option("--poses", a->poses,
                    "TUM trajectory file (timestamp tx ty tz qx qy qz qw a line, camera to "
                    "world; # comments): the n-th pose is the n-th frame's, in frame order, so "
-                   "that marine snow stays fixed in the world (docs/model.md, \"Marine snow\")");
+                   "that marine snow stays fixed in the world (docs/snow-shadows.md, \"Marine snow\")");
     sub.add_option("--snow-seed", a->snow_seed,
                    "seed of the marine snow's particles (same seed, same particles)")
         ->default_str("1");

@@ -1,6 +1,6 @@
 #pragma once
 /// \file Camera poses of an RGB-D sequence from a TUM-format trajectory file (`render
-/// --poses`, docs/model.md "Marine snow"): marine snow stays fixed in the world as the camera
+/// --poses`, docs/snow-shadows.md "Marine snow"): marine snow stays fixed in the world as the camera
 /// moves.
 
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-/// \file Lamp shadows from a depth map (docs/model.md, "Lamp shadows"): the per-point terms,
+/// \file Lamp shadows from a depth map (docs/snow-shadows.md, "Lamp shadows"): the per-point terms,
 /// written once for the runtime's sweep (float) and the tests (double).
 ///
 /// Everything happens in the epipolar plane of a surface point P: the plane through the
@@ -30,7 +30,7 @@ inline constexpr double kMaxLampRadius = 0.5;
 /// camera's viewing direction (planar depth), metres, by default: a segment from a point to
 /// the lamp that passes behind a seen surface by less than this is blocked. Seafloor rocks,
 /// nodules and ripples are solid to well beyond this below their seen face; objects in open
-/// water thinner than it cast shadows too long (docs/model.md, "Lamp shadows").
+/// water thinner than it cast shadows too long (docs/snow-shadows.md, "Lamp shadows").
 inline constexpr double kDefaultShadowThickness = 0.5;
 
 /// -cot(psi) of the point P (camera frame, metres) seen from the lamp at L = |L| a (a the unit

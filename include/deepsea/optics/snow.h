@@ -1,5 +1,5 @@
 #pragma once
-/// \file Marine snow (docs/model.md, "Marine snow"): the particles' size spectrum and number
+/// \file Marine snow (docs/snow-shadows.md, "Marine snow"): the particles' size spectrum and number
 /// concentration, the presets, how a particle lit by the rig's lamps looks from the camera, and
 /// the thin-lens circle of confusion that blurs it. Pure functions on plain structs; the
 /// runtime's MarineSnow (runtime/marine_snow.h) places and draws the particles.

@@ -1,5 +1,5 @@
 #pragma once
-/// \file Lamp shadows from the depth map (docs/model.md, "Lamp shadows"): per lamp and pixel,
+/// \file Lamp shadows from the depth map (docs/snow-shadows.md, "Lamp shadows"): per lamp and pixel,
 /// the fraction of the lamp's face that the depth map's surfaces leave visible.
 
 #include <cstddef>
@@ -24,7 +24,7 @@ struct ShadowSettings {
     double thickness = kDefaultShadowThickness;
     /// Pixels between the swept samples along each image axis (>= 1): the sweep runs on every
     /// step-th pixel's depth and each pixel takes its visibility from the samples around it
-    /// on its own surface (docs/model.md, "Lamp shadows"); 1 sweeps every pixel (the
+    /// on its own surface (docs/snow-shadows.md, "Lamp shadows"); 1 sweeps every pixel (the
     /// reference the default is checked against).
     int step = kDefaultShadowStep;
 };

@@ -28,7 +28,7 @@ struct Layers {
     /// (the ray leaves the input's view, or passes behind a foreground edge and finds nothing):
     /// those pixels are rendered as open water. docs/ports.md.
     Image mask;
-    /// With marine snow only (else empty; docs/model.md, "Marine snow"): the snow's radiance
+    /// With marine snow only (else empty; docs/snow-shadows.md, "Marine snow"): the snow's radiance
     /// (RGB, also in final) and, 1 channel, the id of the particle that adds most light to each
     /// pixel (integers 1, 2, ... within the frame; 0: no particle). Ground truth for
     /// segmentation.
