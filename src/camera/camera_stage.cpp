@@ -38,8 +38,8 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
 /// allocation.
 struct Scratch {
     AlignedBytes all;
-    float *row, *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *shown,
-        *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
+    float *row, *radiance, *zeros, *gain, *normal, *mean, *raw, *linear, *image, *tmp, *scale,
+        *shown, *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
     std::int32_t *index, *flag;
 
     /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
@@ -47,7 +47,7 @@ struct Scratch {
         constexpr std::size_t n = camera_rows::kChunk;
         const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
                           r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
-        all = AlignedBytes(r + 14 * f + 2 * i);
+        all = AlignedBytes(r + 15 * f + 2 * i);
         std::size_t at = 0;
         const auto take = [&](std::size_t bytes) {
             const std::size_t here = at;
@@ -55,8 +55,9 @@ struct Scratch {
             return here;
         };
         row = all.at<float>(take(r));
-        for (float** p : {&radiance, &zeros, &gain, &mean, &raw, &linear, &image, &tmp, &scale,
-                          &shown, &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
+        for (float** p :
+             {&radiance, &zeros, &gain, &normal, &mean, &raw, &linear, &image, &tmp, &scale, &shown,
+              &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
             *p = all.at<float>(take(f));
         index = all.at<std::int32_t>(take(i));
         flag = all.at<std::int32_t>(take(i));
@@ -69,8 +70,9 @@ struct Scratch {
     }
     camera_rows::RowBuffers rows(const float* rad, const float* response, const float* dsnu,
                                  const std::int32_t* record) const {
-        return {rad,   response,   dsnu,          record,          mean,        flag, raw, linear,
-                index, exact_mean, exact_uniform, exact_electrons, exact_offset};
+        return {
+            rad,    response, dsnu,       record,        normal,          mean,        flag, raw,
+            linear, index,    exact_mean, exact_uniform, exact_electrons, exact_offset};
     }
 };
 
@@ -135,7 +137,7 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics,
     }
     m_x2 = x2;
     // The pixels' fixed response: falloff x channel response (per millisecond) x PRNU, and
-    // the DSNU, each drawn once from the seed (Gaussian, Giles' erfinv).
+    // the DSNU, each drawn once from the seed (normal deviates, normal_row).
     const Sensor& s = m_model.sensor;
     float resp[3];
     for (int c = 0; c < 3; ++c) resp[c] = float(electrons_per_radiance(c, 1.0));
