@@ -355,6 +355,22 @@ __attribute__((target("avx2"))) void lookup_avx2(const float* lut, int n, const 
     }
     for (; i < n; ++i) out[i] = lut[3 * std::int32_t(dn[i]) + chan[i]];
 }
+__attribute__((target("avx2"))) void lookup_codes_avx2(const std::int32_t* lut, int n,
+                                                       const float* dn, std::uint8_t* out) {
+    const std::int32_t* chan = kChannels.c;
+    int i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256i d = _mm256_cvttps_epi32(_mm256_load_ps(dn + i));
+        const __m256i at =
+            _mm256_add_epi32(_mm256_add_epi32(d, _mm256_slli_epi32(d, 1)),
+                             _mm256_load_si256(reinterpret_cast<const __m256i*>(chan + i)));
+        const __m256i code = _mm256_i32gather_epi32(lut, at, 4);
+        const __m128i words =
+            _mm_packus_epi32(_mm256_castsi256_si128(code), _mm256_extracti128_si256(code, 1));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(words, words));
+    }
+    for (; i < n; ++i) out[i] = std::uint8_t(lut[3 * std::int32_t(dn[i]) + chan[i]]);
+}
 const bool kHaveAvx2 = __builtin_cpu_supports("avx2");
 #endif
 
@@ -369,6 +385,14 @@ void lookup_row(const float* lut, int n, const float* dn, float* out) {
         out[i + 1] = lut[3 * std::int32_t(dn[i + 1]) + 1];
         out[i + 2] = lut[3 * std::int32_t(dn[i + 2]) + 2];
     }
+}
+
+void lookup_codes_row(const std::int32_t* lut, int n, const float* dn, std::uint8_t* out) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (kHaveAvx2) return lookup_codes_avx2(lut, n, dn, out);
+#endif
+    for (int i = 0; i < n; i += 3)
+        for (int c = 0; c < 3; ++c) out[i + c] = std::uint8_t(lut[3 * std::int32_t(dn[i + c]) + c]);
 }
 
 }  // namespace deepsea::camera_rows

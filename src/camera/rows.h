@@ -122,4 +122,8 @@ void process_row(const ProcessParams& p, int n, const float* scale, const float*
 /// `lut` of 3 x levels (entry 3 dn + c: channel c's display value of dn).
 void lookup_row(const float* lut, int n, const float* dn, float* out);
 
+/// lookup_row for a table of 8-bit codes (each in an int32: entry 3 dn + c, 0 to 255): the image
+/// as codes without display values in between.
+void lookup_codes_row(const std::int32_t* lut, int n, const float* dn, std::uint8_t* out);
+
 }  // namespace deepsea::camera_rows
