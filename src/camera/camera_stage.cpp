@@ -38,8 +38,8 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
 /// allocation.
 struct Scratch {
     AlignedBytes all;
-    float *row, *radiance, *zeros, *gain, *mean, *raw, *linear, *image, *tmp, *scale, *shown,
-        *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
+    float *row, *radiance, *zeros, *gain, *normal, *mean, *raw, *linear, *image, *tmp, *scale,
+        *shown, *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
     std::int32_t *index, *flag;
 
     /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
@@ -47,7 +47,7 @@ struct Scratch {
         constexpr std::size_t n = camera_rows::kChunk;
         const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
                           r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
-        all = AlignedBytes(r + 14 * f + 2 * i);
+        all = AlignedBytes(r + 15 * f + 2 * i);
         std::size_t at = 0;
         const auto take = [&](std::size_t bytes) {
             const std::size_t here = at;
@@ -55,8 +55,9 @@ struct Scratch {
             return here;
         };
         row = all.at<float>(take(r));
-        for (float** p : {&radiance, &zeros, &gain, &mean, &raw, &linear, &image, &tmp, &scale,
-                          &shown, &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
+        for (float** p :
+             {&radiance, &zeros, &gain, &normal, &mean, &raw, &linear, &image, &tmp, &scale, &shown,
+              &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
             *p = all.at<float>(take(f));
         index = all.at<std::int32_t>(take(i));
         flag = all.at<std::int32_t>(take(i));
@@ -69,8 +70,9 @@ struct Scratch {
     }
     camera_rows::RowBuffers rows(const float* rad, const float* response, const float* dsnu,
                                  const std::int32_t* record) const {
-        return {rad,   response,   dsnu,          record,          mean,        flag, raw, linear,
-                index, exact_mean, exact_uniform, exact_electrons, exact_offset};
+        return {
+            rad,    response, dsnu,       record,        normal,          mean,        flag, raw,
+            linear, index,    exact_mean, exact_uniform, exact_electrons, exact_offset};
     }
 };
 
@@ -135,7 +137,7 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics,
     }
     m_x2 = x2;
     // The pixels' fixed response: falloff x channel response (per millisecond) x PRNU, and
-    // the DSNU, each drawn once from the seed (Gaussian, Giles' erfinv).
+    // the DSNU, each drawn once from the seed (normal deviates, normal_row).
     const Sensor& s = m_model.sensor;
     float resp[3];
     for (int c = 0; c < 3; ++c) resp[c] = float(electrons_per_radiance(c, 1.0));
@@ -250,6 +252,14 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     // bits: 48 KB, built from 4096 pixels' processing, a fraction of a frame's).
     const bool table = !proc.matrix && s.bits <= 12 && !mosaic;
     std::vector<float> lut;
+    std::vector<std::int32_t> code_lut;  // with codes8: the table's values as 8-bit codes
+    const auto make_tables = [&] {
+        lut = display_table(pp, scale, int(sp.max_dn) + 1);
+        if (!layers.codes8) return;
+        std::vector<std::uint8_t> codes(lut.size());
+        quantise8(lut.data(), lut.size(), codes.data());
+        code_lut.assign(codes.begin(), codes.end());
+    };
     // With a mosaic, which values each chunk's pixels record: 1 or 0 per value, for even and
     // odd rows (chunks start at even pixels).
     const std::size_t record_row = line_bytes<std::int32_t>(camera_rows::kChunk) / 4;
@@ -274,7 +284,7 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     out.exposure = exposure;
     out.white_balance = wb;
     std::vector<double> row_sums(grey ? 3 * std::size_t(h) : 0);
-    if (table && !two_pass) lut = display_table(pp, scale, int(sp.max_dn) + 1);
+    if (table && !two_pass) make_tables();
 
     const int n = 3 * w;
     const std::size_t stride = camera_rows::row_stride(w);
@@ -291,8 +301,10 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     // The recorded image of row v's values c0 .. c0 + len: display values, or their codes.
     const auto show = [&](Scratch& t, int v, int c0, int len, const float* dn) {
         if (!layers.codes8) return display(t, len, dn, out.image.row(v) + c0, true);
+        std::uint8_t* codes = out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0;
+        if (table) return camera_rows::lookup_codes_row(code_lut.data(), len, dn, codes);
         display(t, len, dn, t.shown, true);
-        quantise8(t.shown, len, out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0);
+        quantise8(t.shown, len, codes);
     };
     const Vignetting& vig = m_model.lens.vignetting;
     constexpr int kChunk = camera_rows::kChunk;
@@ -359,7 +371,7 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
         out.white_balance = grey_world_gains(means);
         for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
     }
-    if (table) lut = display_table(pp, scale, int(sp.max_dn) + 1);
+    if (table) make_tables();
     parallel_for(
         std::size_t(h),
         [&](std::size_t v0, std::size_t v1) {

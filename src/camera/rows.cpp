@@ -41,13 +41,14 @@ struct Reciprocals {
 };
 const Reciprocals kInv;
 
-/// The exact path's numbers for m gathered values: both normals in full (Giles' two
-/// branches), the Poisson's uniform, the Gaussian shot electrons.
+/// The exact path's numbers for m gathered values: the read noise's normal, the Poisson's
+/// uniform (from the shot stream's bits), the Gaussian shot electrons.
 DEEPSEA_CAMERA_CLONES
 void gather_exact(const SensorParams& p, std::uint32_t base, int m, const RowBuffers& b) {
     const std::int32_t* __restrict index = b.index;
     const float* __restrict mean = b.mean;
     const float* __restrict offset = b.dsnu;
+    const float* __restrict normal = b.normal;
     float* __restrict cm = b.exact_mean;
     float* __restrict cu = b.exact_uniform;
     float* __restrict ce = b.exact_electrons;
@@ -60,7 +61,7 @@ void gather_exact(const SensorParams& p, std::uint32_t base, int m, const RowBuf
         const std::uint32_t c = base + std::uint32_t(i);
         const float mu = mean[i];
         const std::uint32_t shot = noise_bits(shot_key, c);
-        const float z_shot = normal_from_bits<float>(shot);
+        const float z_shot = normal[i];  // the deviate the Gaussian path used
         const float z_read = normal_from_bits<float>(noise_bits(read_key, c));
         const bool poisson = mu < poisson_below;
         cm[j] = poisson ? mu : 0.0f;
@@ -108,8 +109,8 @@ void invert_exact(int m, const float* mean, const float* uniform, float* electro
 }
 
 /// The exact path for the flagged values: the Poisson below kGaussianShotNoiseFrom electrons,
-/// near the full well the shot noise clipped before the read noise adds, and the normal's
-/// tails. Gathered, computed in vector loops, scattered back.
+/// and near the full well the shot noise clipped before the read noise adds. Gathered, computed in
+/// vector loops, scattered back.
 void exact_path(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b) {
     int m = 0, i = 0;
     for (; i + 8 <= n; i += 8) {  // 8 flags at a time: most are 0
@@ -155,17 +156,16 @@ namespace {
 /// The Gaussian (fast) path of sensor_row for every value; flags the ones for the exact path and
 /// returns their count. kLinear: store the linear DN too; kMosaic: flag only recorded values.
 template <bool kLinear, bool kMosaic>
-[[gnu::always_inline]] inline int noisy_values(const SensorParams& p, std::uint32_t base, int n,
-                                               const RowBuffers& b) {
+[[gnu::always_inline]] inline int noisy_values(const SensorParams& p, int n, const RowBuffers& b) {
     const float t = p.exposure_time_ms, dark = p.dark_electrons, fw = p.full_well, K = p.gain;
     const float black = p.black, max_dn = p.max_dn, read_var = p.read_noise * p.read_noise;
-    const NoiseKey shot_key = p.shot_key;
     const float poisson_below = p.poisson_below;
     // Locals, so that the loop does not reload them after every store.
     const float* __restrict radiance = b.radiance;
     const float* __restrict response = b.response;
     const float* __restrict dsnu = b.dsnu;
     const std::int32_t* __restrict record = b.record;
+    const float* __restrict normal = b.normal;
     float* __restrict mean_out = b.mean;
     std::int32_t* __restrict flag = b.flag;
     float* __restrict raw = b.raw;
@@ -180,15 +180,13 @@ template <bool kLinear, bool kMosaic>
         // (mean 0, no read noise) the value takes the exact path below.
         const float variance = mean + read_var, r = 1.0f / std::sqrt(variance);
         const float sigma = variance * r;
-        const float x = erfinv_argument<float>(noise_bits(shot_key, base + std::uint32_t(i)));
-        const float w = erfinv_w(x);
-        const float z = normal_central(x, w);  // the 0.34 % with w >= 5: the exact path
+        const float z = normal[i];
         const float skew = mean * (r * r) * (1.0f / 6.0f) * (z * z - 1.0f);
         const float dn = K * (mean + sigma * z + skew + dsnu[i]) + black;
         raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), max_dn);
         if constexpr (kLinear) linear[i] = dn;
         mean_out[i] = mean;
-        std::int32_t slow = mean < poisson_below || mean + kClipReach * sigma >= fw || w >= 5.0f;
+        std::int32_t slow = mean < poisson_below || mean + kClipReach * sigma >= fw;
         if constexpr (kMosaic) slow &= record[i];
         flag[i] = slow;
         exact += slow;
@@ -225,11 +223,11 @@ void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
         }
     } else {
         // Four loops (linear kept or not, mosaic or not): the plain one carries no mask.
+        normal_row(p.shot_key, base, n, b.normal, b.index);
         const bool lin = p.keep_linear, mos = b.record != nullptr;
-        const int exact = lin ? (mos ? noisy_values<true, true>(p, base, n, b)
-                                     : noisy_values<true, false>(p, base, n, b))
-                              : (mos ? noisy_values<false, true>(p, base, n, b)
-                                     : noisy_values<false, false>(p, base, n, b));
+        const int exact =
+            lin ? (mos ? noisy_values<true, true>(p, n, b) : noisy_values<true, false>(p, n, b))
+                : (mos ? noisy_values<false, true>(p, n, b) : noisy_values<false, false>(p, n, b));
         if (exact) exact_path(p, base, n, b);
     }
     if (!b.record) return;
@@ -240,19 +238,22 @@ void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
 DEEPSEA_CAMERA_CLONES
 void fixed_pattern_row(NoiseKey prnu_key, NoiseKey dsnu_key, std::uint32_t base, int n, float prnu,
                        float dsnu, float* response, float* dsnu_out) {
-    float* __restrict r = response;
-    float* __restrict d = dsnu_out;
-    if (prnu > 0.0f) {
+    alignas(64) float z[kChunk];
+    alignas(64) std::int32_t index[kChunk];
+    for (int c0 = 0; c0 < n; c0 += kChunk) {  // chunks from the row's start, as sensor_row's
+        const int len = c0 + kChunk < n ? kChunk : n - c0;
+        float* __restrict r = response + c0;
+        if (prnu > 0.0f) {
+            normal_row(prnu_key, base + std::uint32_t(c0), len, z, index);
 #pragma omp simd
-        for (int i = 0; i < n; ++i) {
-            const float z = normal_from_bits<float>(noise_bits(prnu_key, base + std::uint32_t(i)));
-            r[i] = max_of(0.0f, r[i] * (1.0f + prnu * z));
+            for (int i = 0; i < len; ++i) r[i] = max_of(0.0f, r[i] * (1.0f + prnu * z[i]));
         }
-    }
-    if (!d) return;
+        if (!dsnu_out) continue;
+        float* __restrict d = dsnu_out + c0;
+        normal_row(dsnu_key, base + std::uint32_t(c0), len, z, index);
 #pragma omp simd
-    for (int i = 0; i < n; ++i)
-        d[i] = dsnu * normal_from_bits<float>(noise_bits(dsnu_key, base + std::uint32_t(i)));
+        for (int i = 0; i < len; ++i) d[i] = dsnu * z[i];
+    }
 }
 
 DEEPSEA_CAMERA_CLONES
@@ -354,6 +355,22 @@ __attribute__((target("avx2"))) void lookup_avx2(const float* lut, int n, const 
     }
     for (; i < n; ++i) out[i] = lut[3 * std::int32_t(dn[i]) + chan[i]];
 }
+__attribute__((target("avx2"))) void lookup_codes_avx2(const std::int32_t* lut, int n,
+                                                       const float* dn, std::uint8_t* out) {
+    const std::int32_t* chan = kChannels.c;
+    int i = 0;
+    for (; i + 8 <= n; i += 8) {
+        const __m256i d = _mm256_cvttps_epi32(_mm256_load_ps(dn + i));
+        const __m256i at =
+            _mm256_add_epi32(_mm256_add_epi32(d, _mm256_slli_epi32(d, 1)),
+                             _mm256_load_si256(reinterpret_cast<const __m256i*>(chan + i)));
+        const __m256i code = _mm256_i32gather_epi32(lut, at, 4);
+        const __m128i words =
+            _mm_packus_epi32(_mm256_castsi256_si128(code), _mm256_extracti128_si256(code, 1));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(words, words));
+    }
+    for (; i < n; ++i) out[i] = std::uint8_t(lut[3 * std::int32_t(dn[i]) + chan[i]]);
+}
 const bool kHaveAvx2 = __builtin_cpu_supports("avx2");
 #endif
 
@@ -368,6 +385,14 @@ void lookup_row(const float* lut, int n, const float* dn, float* out) {
         out[i + 1] = lut[3 * std::int32_t(dn[i + 1]) + 1];
         out[i + 2] = lut[3 * std::int32_t(dn[i + 2]) + 2];
     }
+}
+
+void lookup_codes_row(const std::int32_t* lut, int n, const float* dn, std::uint8_t* out) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (kHaveAvx2) return lookup_codes_avx2(lut, n, dn, out);
+#endif
+    for (int i = 0; i < n; i += 3)
+        for (int c = 0; c < 3; ++c) out[i + c] = std::uint8_t(lut[3 * std::int32_t(dn[i + c]) + c]);
 }
 
 }  // namespace deepsea::camera_rows

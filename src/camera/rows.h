@@ -69,6 +69,7 @@ struct RowBuffers {
     /// With a Bayer mosaic, 1 where the value's channel is the one its pixel records (else
     /// null): the others take no exact path and read out 0.
     const std::int32_t* record;
+    float* normal;       ///< scratch: the shot stream's normal deviates (normal_row)
     float* mean;         ///< scratch: Poisson mean (photo + dark electrons)
     std::int32_t* flag;  ///< scratch: 1 where the value takes the exact path
     float* raw;          ///< out: DN as read out (clipped, quantised)
@@ -77,6 +78,12 @@ struct RowBuffers {
     std::int32_t* index;
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
 };
+
+/// n standard normal deviates of a stream from noise counter `base` on:
+/// z[i] = normal_from_bits<float>(noise_bits(key, base + i)) (noise.h), vectorised with AVX2 and
+/// FMA where the processor has them (there the table's polynomial is fused: the last bit may
+/// differ from the generic code's). `index`: scratch for n ints. normal_row.cpp.
+void normal_row(NoiseKey key, std::uint32_t base, int n, float* z, std::int32_t* index);
 
 /// n values from noise counter `base` on (a chunk of a row): radiance to DN (docs/noise.md).
 void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b);
@@ -114,5 +121,9 @@ void process_row(const ProcessParams& p, int n, const float* scale, const float*
 /// n whole DN values in [0, levels) (interleaved R, G, B) to display values through a table
 /// `lut` of 3 x levels (entry 3 dn + c: channel c's display value of dn).
 void lookup_row(const float* lut, int n, const float* dn, float* out);
+
+/// lookup_row for a table of 8-bit codes (each in an int32: entry 3 dn + c, 0 to 255): the image
+/// as codes without display values in between.
+void lookup_codes_row(const std::int32_t* lut, int n, const float* dn, std::uint8_t* out);
 
 }  // namespace deepsea::camera_rows

@@ -156,24 +156,6 @@ TEST(Emva1288, ShotNoiseAboveTheThresholdKeepsThePoissonsThreeMoments) {
     }
 }
 
-TEST(Emva1288, NormalFromBitsInvertsTheErrorFunction) {
-    double s1 = 0.0, s2 = 0.0;
-    long n = 0;
-    for (std::uint32_t i = 0; i < (1u << 24); i += 97) {
-        const double x = (2.0 * i + 1.0) / 16777216.0 - 1.0;
-        const double z = normal_from_bits<double>(i << 8);
-        const float zf = normal_from_bits<float>(i << 8);
-        ASSERT_NEAR(std::erf(z / std::sqrt(2.0)), x, 1e-6 * std::max(1.0, std::fabs(z))) << i;
-        ASSERT_NEAR(zf, z, 2e-5 * std::max(1.0, std::fabs(z))) << i;
-        s1 += z;
-        s2 += z * z;
-        ++n;
-    }
-    EXPECT_NEAR(s1 / n, 0.0, 1e-3);
-    EXPECT_NEAR(s2 / n, 1.0, 2e-3);
-    EXPECT_NEAR(normal_from_bits<double>(0xffffffffu), 5.42, 0.01);  // the tail's end
-}
-
 TEST(Emva1288, PoissonByInversionMatchesItsDistribution) {
     EXPECT_EQ(poisson_by_inversion(2.0, 0.1), 0);  // P(0) = 0.135
     EXPECT_EQ(poisson_by_inversion(2.0, 0.2), 1);  // P(<=1) = 0.406
