@@ -82,7 +82,7 @@ TABLE = {
 CI_BAKE = "--paths 4096 --no-preview"
 CI = {
     "ci-clear-plane": ("clear", "two-spots", "16x12", 64.5, 3.0, 512),
-    "ci-turbid-plane": ("turbid", "two-spots", "16x12", 64.5, 2.0, 256),
+    "ci-turbid-plane": ("turbid", "two-spots", "16x12", 64.5, 2.0, 512),
 }
 
 
