@@ -27,8 +27,8 @@ Sum baker_sum(const Camera& cam, const Transport& tr, double z, bool wall, int p
             const Vec3 r = cam.ray(u, v);
             const std::vector<double> t{0.0, z * length(r), 30.0 * length(r)};
             const std::uint64_t stream = std::uint64_t(v * cam.width + u);
-            const Estimate e = higher_orders_cumulative(tr, normalize(r), t,
-                                                        MonteCarlo{paths, 3, wall}, stream);
+            const Estimate e =
+                higher_orders_cumulative(tr, normalize(r), t, MonteCarlo{paths, 3, wall}, stream);
             s.value += e.value[1];
             s.var += e.std_error[1] * e.std_error[1];
         }
@@ -58,11 +58,11 @@ TEST(Wall, OrdersTwoAndUpInFrontOfAnAbsorbingWallAreThePathTracersWaterLight) {
         const double ref = testing::bin_sum(pt.layers.backscatter, 0, 0, c, 4);
         const double ref_var = testing::bin_sum(pt.std_error.backscatter, 0, 0, c, 4, true);
         const double se = std::sqrt(ref_var + walled.var[c]);
-        std::printf("channel %d: path tracer %.5g, walled %.5g (%+.1f %%, %.1f SE), "
-                    "without walls %.5g (%+.1f %%)\n",
-                    c, ref, walled.value[c], 100.0 * (walled.value[c] / ref - 1.0),
-                    (walled.value[c] - ref) / se, open.value[c],
-                    100.0 * (open.value[c] / ref - 1.0));
+        std::printf(
+            "channel %d: path tracer %.5g, walled %.5g (%+.1f %%, %.1f SE), "
+            "without walls %.5g (%+.1f %%)\n",
+            c, ref, walled.value[c], 100.0 * (walled.value[c] / ref - 1.0),
+            (walled.value[c] - ref) / se, open.value[c], 100.0 * (open.value[c] / ref - 1.0));
         EXPECT_LT(std::abs(walled.value[c] - ref), 4.0 * se + 0.01 * ref);
         // Can fail: water without walls keeps the light from beyond the plane.
         const double se_open = std::sqrt(ref_var + open.var[c]);
