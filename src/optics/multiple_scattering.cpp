@@ -116,7 +116,8 @@ PhaseSample Transport::any_direction(const Vec3& X, Rng& rng) const {
 }
 
 Rgb Transport::scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const {
-    std::vector<std::pair<double, Rgb>> parts;
+    thread_local std::vector<std::pair<double, Rgb>> parts;  // reused: no allocation per path
+    parts.clear();
     scattered_contributions(X, d, rng, parts);
     Rgb sum;
     for (const auto& p : parts) sum += p.second;
@@ -178,7 +179,7 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
     std::vector<double> Z(nk);
     for (std::size_t k = 0; k < nk; ++k) Z[k] = origin.z + dir.z * t[k];
     std::vector<Rgb> s1(nk), s2(nk), path(nk);
-    std::vector<std::pair<double, Rgb>> parts;
+    thread_local std::vector<std::pair<double, Rgb>> parts;
     for (int i = 0; i < mc.paths; ++i) {
         throw_if_stopped(stop);
         const double u = (i + rng.uniform()) / mc.paths;
