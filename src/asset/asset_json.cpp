@@ -94,6 +94,8 @@ json settings_json(const BakeInfo& info) {
             info.higher_orders.stride_auto ? json("angular") : json(info.higher_orders.stride);
         s["seed"] = info.higher_orders.seed;
         s["lamp_samples"] = info.higher_orders.lamp_samples;
+        // the wall model: assets baked before it are another request, re-baked by bake-library
+        if (info.higher_orders.wall) s["wall"] = "absorbing";
     }
     if (info.z_max_auto) {
         s["z_max"] = "auto";

@@ -55,6 +55,7 @@ json higher_orders_json(const HigherOrderSettings& h) {
               {"lamp_samples", h.lamp_samples},
               {"lamp_rel_std_error", h.lamp_rel_std_error}};
     if (h.spacing_rad > 0.0) m["spacing_rad"] = h.spacing_rad;
+    if (h.wall) m["wall"] = "absorbing";
     const HigherOrderCheck& c = h.check;
     if (c.done) {
         m["check"] = {
@@ -69,6 +70,10 @@ HigherOrderSettings parse_higher_orders(const json& m) {
     h.paths = integer(m, "paths", kWhere);
     h.stride = integer(m, "stride", kWhere);
     h.stride_auto = flag(m, "stride_auto");
+    if (m.contains("wall")) {
+        if (m["wall"] != "absorbing") fail(kWhere + ".wall", "not \"absorbing\"");
+        h.wall = true;
+    }
     const json& seed = get(m, "seed", kWhere);
     if (!seed.is_number_unsigned()) fail(kWhere + ".seed", "not an unsigned integer");
     h.seed = seed.get<std::uint64_t>();

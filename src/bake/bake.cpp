@@ -180,6 +180,7 @@ BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const 
         info.higher_orders = s.higher_orders;
         info.higher_orders.stride_auto = s.higher_orders.stride == 0;
         info.higher_orders.stride = mc_stride(cam, rig, water, s, r.step);
+        info.higher_orders.wall = true;
     }
     info.check.done = s.check;  // the request; bake() fills in what it measured
     info.baker_version = kBakerVersion;

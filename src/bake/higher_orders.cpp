@@ -74,7 +74,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
     std::vector<Rgb>& coarse = ms.values;
     coarse.resize(ci.size() * cj.size() * nk);
     std::vector<double> rel_error(ci.size() * cj.size()), fraction(ci.size() * cj.size());
-    const MonteCarlo mc{s.paths, s.seed};
+    const MonteCarlo mc{s.paths, s.seed, s.wall};
     parallel_for(
         ci.size() * cj.size(),
         [&](std::size_t begin, std::size_t end) {

@@ -107,7 +107,7 @@ HigherOrderCheck check_higher_orders(const Asset& asset, const MsColumns& ms, co
     ks.erase(std::unique(ks.begin(), ks.end()), ks.end());
 
     const Transport transport(info.rig, info.water);
-    const MonteCarlo mc{check.paths, info.higher_orders.seed};
+    const MonteCarlo mc{check.paths, info.higher_orders.seed, info.higher_orders.wall};
     std::vector<double> err(pixels.size()), noise(pixels.size());
     parallel_for(
         pixels.size(),

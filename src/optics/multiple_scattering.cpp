@@ -22,7 +22,8 @@ Transport::Transport(const Rig& rig, const Water& water)
     m_theta_p = std::clamp(std::acos(m_sampler.sample_cos(0.5, w)), 1e-3, M_PI);
 }
 
-Rgb Transport::segment_from_lamp(const Light& L, const Vec3& X, const Vec3& d, double u) const {
+Rgb Transport::segment_from_lamp(const Light& L, const Vec3& X, const Vec3& d, double u,
+                                 double* z_at) const {
     // Equiangular parameter: r = delta + h tan(theta), dr = d1^2 / h dtheta, which cancels the
     // lamp's 1/d1^2. The scattering angle at the point is psi = pi/2 + theta exactly, so the
     // phase function is a function of theta alone: theta is drawn half the time uniformly,
@@ -44,6 +45,7 @@ Rgb Transport::segment_from_lamp(const Light& L, const Vec3& X, const Vec3& d, d
         (mass > 0.0 ? 0.5 * m_sampler.angle_density(0.5 * M_PI + theta) / mass : 0.0);
     const double r = delta + h * std::tan(theta);
     if (!(r > 0.0) || !(pdf_theta > 0.0)) return {};
+    if (z_at) *z_at = X.z + d.z * r;
     double d1 = 0.0;
     const Rgb s = lamp_in_scatter(L, m_water, X + d * r, -d, &d1);
     return s * exp(m_water.c * -r) * (d1 * d1 / (h * pdf_theta));
@@ -114,17 +116,32 @@ PhaseSample Transport::any_direction(const Vec3& X, Rng& rng) const {
 }
 
 Rgb Transport::scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const {
-    Rgb sum, weight(1.0);
+    thread_local std::vector<std::pair<double, Rgb>> parts;  // reused: no allocation per path
+    parts.clear();
+    scattered_contributions(X, d, rng, parts);
+    Rgb sum;
+    for (const auto& p : parts) sum += p.second;
+    return sum;
+}
+
+void Transport::scattered_contributions(Vec3 X, Vec3 d, Rng& rng,
+                                        std::vector<std::pair<double, Rgb>>& out) const {
+    Rgb weight(1.0);
     const Vec3 start = X;
+    double z_max = X.z;  // the deepest the path has been
     for (;;) {
         // Light scattered once on this segment (next event, every lamp).
-        for (const Light& L : m_rig.lights)
-            sum += weight * segment_from_lamp(L, X, d, rng.uniform());
+        for (const Light& L : m_rig.lights) {
+            double z = X.z;
+            const Rgb s = segment_from_lamp(L, X, d, rng.uniform(), &z);
+            if (s.max() > 0.0) out.emplace_back(std::max(z_max, z), weight * s);
+        }
         // Then follow the path: a free flight with the smallest attenuation, per-channel weight
         // b exp(-c r) / (c_min exp(-c_min r)), and a new direction from the phase function.
         const double r = -std::log(1.0 - rng.uniform()) / m_c_min;
         X = X + d * r;
         if (length(X - start) > m_far) break;
+        z_max = std::max(z_max, X.z);
         weight = weight * m_water.b * exp((m_water.c - Rgb(m_c_min)) * -r) * (1.0 / m_c_min);
         const PhaseSample ps = next_direction(X, d, rng);
         d = ps.direction;
@@ -135,7 +152,6 @@ Rgb Transport::scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const {
             weight = weight * (kRoulette / m);
         }
     }
-    return sum;
 }
 
 Estimate higher_orders_cumulative(const Transport& tr, const Vec3& dir,
@@ -159,7 +175,11 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
     const double T = t.back();
     const double a = 0.5 * w.c.min();
     const double norm = a * T > 1e-9 ? -std::expm1(-a * T) : 0.0;
-    std::vector<Rgb> s1(nk), s2(nk);
+    // With a wall, sample k < nk - 1 holds the light whose path stayed at z <= Z[k].
+    std::vector<double> Z(nk);
+    for (std::size_t k = 0; k < nk; ++k) Z[k] = origin.z + dir.z * t[k];
+    std::vector<Rgb> s1(nk), s2(nk), path(nk);
+    thread_local std::vector<std::pair<double, Rgb>> parts;
     for (int i = 0; i < mc.paths; ++i) {
         throw_if_stopped(stop);
         const double u = (i + rng.uniform()) / mc.paths;
@@ -173,22 +193,34 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
         }
         const Vec3 X = origin + dir * s;
         const PhaseSample ps = tr.next_direction(X, dir, rng);
-        const Rgb f =
-            w.b * exp(w.c * -s) * (ps.weight / pdf) * tr.scattered_radiance(X, ps.direction, rng);
-        const std::size_t k = std::size_t(std::lower_bound(t.begin(), t.end(), s) - t.begin());
-        if (k >= nk) continue;
-        s1[k] += f;
-        s2[k] += f * f;
+        const Rgb f = w.b * exp(w.c * -s) * (ps.weight / pdf);
+        parts.clear();
+        tr.scattered_contributions(X, ps.direction, rng, parts);
+        const std::size_t k0 = std::size_t(std::lower_bound(t.begin(), t.end(), s) - t.begin());
+        if (k0 >= nk) continue;
+        // This path's cumulative value at every sample from k0 on; its square for the errors.
+        std::fill(path.begin() + std::ptrdiff_t(k0), path.end(), Rgb());
+        for (const auto& [z, light] : parts) {
+            std::size_t k = k0;
+            if (mc.wall) {
+                k = std::size_t(std::lower_bound(Z.begin(), Z.end(), z) - Z.begin());
+                k = std::clamp(k, k0, nk - 1);
+            }
+            path[k] += f * light;
+        }
+        Rgb run;
+        for (std::size_t k = k0; k < nk; ++k) {
+            run += path[k];
+            s1[k] += run;
+            s2[k] += run * run;
+        }
     }
-    Rgb a1, a2;
     const double n = mc.paths;
     for (std::size_t k = 0; k < nk; ++k) {
-        a1 += s1[k];
-        a2 += s2[k];
-        out.value[k] = a1 / n;
+        out.value[k] = s1[k] / n;
         for (int c = 0; c < 3; ++c) {
-            const double mean = a1[c] / n;
-            out.std_error[k][c] = std::sqrt(std::max(0.0, a2[c] / n - mean * mean) / n);
+            const double mean = s1[k][c] / n;
+            out.std_error[k][c] = std::sqrt(std::max(0.0, s2[k][c] / n - mean * mean) / n);
         }
     }
     return out;

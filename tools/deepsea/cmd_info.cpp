@@ -90,6 +90,11 @@ void run(const InfoArgs& a) {
                 "angular rule)\n",
                 h.stride, h.stride * l.step);
         }
+        std::printf("           %s\n",
+                    h.wall ? "in front of a surface: orders >= 2 with an absorbing wall at its "
+                             "depth (open water: without walls)"
+                           : "in front of a surface: water without walls (baked before the "
+                             "wall model)");
         if (h.check.done) {
             std::printf(
                 "           check of orders >= 2: mean %.2f %%, max %.2f %% of the total "

@@ -63,6 +63,9 @@ struct HigherOrderSettings {
     /// Angle between computed columns on the optical axis, radians (stride * step / min(fx,
     /// fy)); 0: baked before the angular rule (an automatic stride was 64 px / step).
     double spacing_rad = 0;
+    /// true: each depth sample but the last holds the water light in front of an absorbing
+    /// wall there (MonteCarlo::wall); false: water without walls (baked before the wall model)
+    bool wall = false;
     HigherOrderCheck check;  ///< the bake's check of the interpolation
 };
 

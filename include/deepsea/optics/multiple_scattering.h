@@ -10,6 +10,7 @@
 /// bias. Deterministic: results depend only on the seeds.
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "deepsea/core/parallel.h"
@@ -25,6 +26,10 @@ namespace deepsea {
 struct MonteCarlo {
     int paths = 4096;        ///< paths per ray
     std::uint64_t seed = 1;  ///< base seed; each ray has its own stream
+    /// higher_orders_cumulative: the value at each depth sample but the last is the water light
+    /// in front of an absorbing wall there (the plane z = that sample's planar depth), not in
+    /// water without walls (docs/model.md, "Water light in front of a surface").
+    bool wall = false;
 };
 
 /// The water and lamps, with what every path needs precomputed.
@@ -36,6 +41,11 @@ public:
     /// travelling along -d) that has scattered at least once: the unscattered lamp light, which
     /// the analytic terms give exactly, is left out. W/(m^2 sr) for lamps in W/sr.
     Rgb scattered_radiance(Vec3 X, Vec3 d, Rng& rng) const;
+    /// The same path's contributions, appended to `out` as (z, light) with z the largest
+    /// camera-frame z the path reached before the light joined it (X's included): in front of
+    /// an absorbing wall z = Z (lamps in front of it) that light is there exactly when z <= Z.
+    void scattered_contributions(Vec3 X, Vec3 d, Rng& rng,
+                                 std::vector<std::pair<double, Rgb>>& out) const;
 
     /// The next backward direction at a scattering vertex X reached along the backward
     /// direction `from`, with weight p(from . d) / pdf(d). pdf mixes the phase function about
@@ -63,7 +73,9 @@ private:
     Vec3 sample_mixture(const Vec3& X, const Vec3* from, Rng& rng) const;
     /// Light scattered once on the ray X + r d (r > 0) toward -d, from lamp L, one equiangular
     /// sample: integral of exp(-c r) beta I_L exp(-c d1) / d1^2 dr.
-    Rgb segment_from_lamp(const Light& L, const Vec3& X, const Vec3& d, double u) const;
+    /// `z_at` (may be null) receives the camera-frame z of the point the sample scattered at.
+    Rgb segment_from_lamp(const Light& L, const Vec3& X, const Vec3& d, double u,
+                          double* z_at = nullptr) const;
 
     Rig m_rig;
     Water m_water;
@@ -81,7 +93,10 @@ struct Estimate {
 
 /// Radiance reaching the viewer at the origin along unit direction dir from light that
 /// scattered two or more times, collected from path length 0 to t[k] (t ascending, t[0] >= 0):
-/// add backscatter_cumulative for all orders. `stream` picks the ray's random stream.
+/// add backscatter_cumulative for all orders. With mc.wall, every sample but the last is that
+/// light in front of an absorbing wall at the sample's planar depth (paths that reach beyond it
+/// add nothing there); the last stays water without walls (open water). `stream` picks the
+/// ray's random stream.
 /// Polls `stop` (may be null) before every path: Cancelled once it is set.
 Estimate higher_orders_cumulative(const Transport& transport, const Vec3& dir,
                                   const std::vector<double>& t, const MonteCarlo& mc,

@@ -327,6 +327,17 @@ TEST_F(BakeFile, MultipleScatteringRoundTripAndDamage) {
     EXPECT_EQ(hb.check.max_rel, ha.check.max_rel);
     EXPECT_EQ(hb.check.max_u, ha.check.max_u);
     EXPECT_EQ(hb.check.columns, ha.check.columns);
+    // The wall model (docs/model.md, "Water light in front of a surface") is recorded and read
+    // back; an asset from before it (key absent) reads as water without walls.
+    EXPECT_TRUE(ha.wall);
+    EXPECT_TRUE(hb.wall);
+    {
+        BakeInfo before = a.info;
+        before.higher_orders.wall = false;
+        EXPECT_EQ(bake_info_to_json(before).find("\"wall\""), std::string::npos);
+        EXPECT_FALSE(bake_info_from_json(bake_info_to_json(before)).higher_orders.wall);
+        EXPECT_NE(input_hash(before), a.info.input_hash);  // bake-library re-bakes it
+    }
     // An asset from before the angular rule and its check (keys absent) still reads: spacing
     // unknown (0), not checked.
     {
