@@ -18,14 +18,17 @@ namespace {
 
 /// What the vectorised march found for a ray.
 enum FastState : int {
-    kActive = 0,   ///< bracketed, refining
-    kSurface = 1,  ///< the crossing at s, on one surface (as the scalar march's continuous hit)
-    kScalar = 2,   ///< anything else: the scalar march (march_port_ray) decides
-    kOpen = 3,     ///< in front of the surface over its whole view, to its vanishing point
-    kUnseen = 4,   ///< in front over its whole view, which ends before the vanishing point
+    kActive = 0,    ///< bracketed, refining
+    kSurface = 1,   ///< the crossing at s, on one surface (as the scalar march's continuous hit)
+    kScalar = 2,    ///< anything else: the scalar march (march_port_ray) decides
+    kOpen = 3,      ///< in front of the surface over its whole view, to its vanishing point
+    kUnseen = 4,    ///< in front over its whole view, which ends before the vanishing point
+    kMarching = 5,  ///< in front of the surface so far, stepping toward the vanishing point
 };
 
-/// The Illinois steps tried across the row before a ray is left to the scalar march.
+/// The steps of at most a pixel, and the Illinois steps after them, tried across the row before
+/// a ray is left to the scalar march.
+constexpr int kFastMarchSteps = 8;
 constexpr int kFastSteps = 4;
 
 /// port_detail::taps_at's value where its four pixels are one surface (the same arithmetic on
@@ -49,24 +52,41 @@ inline float probe4(const float* __restrict inv, int W, int H, float u, float v,
 }
 
 struct MarchScratch {
-    std::vector<float> as, ah, bs, bh, s;
-    std::vector<int> side, state;
+    std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s;
+    std::vector<int> steps, side, state;
     void fit(int n) {
-        for (auto* v : {&as, &ah, &bs, &bh, &s}) v->resize(n);
-        side.resize(n);
-        state.resize(n);
+        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s}) v->resize(n);
+        for (auto* v : {&steps, &side, &state}) v->resize(n);
     }
 };
 
-/// The march of optics' march_port_ray for the rays of one row whose projection moves at most a
-/// pixel over their view (one step) and whose probes all lie between four pixels of one surface:
-/// the same probes and Illinois steps, lane by lane, for kFastSteps steps. Every other ray is
+/// True where some ray of the row is still in `which`.
+bool any_in(int n, const int* state, int which) {
+    for (int u = 0; u < n; ++u)
+        if (state[u] == which) return true;
+    return false;
+}
+
+/// The march of optics' march_port_ray for the rays of one row that take at most
+/// kFastMarchSteps steps and whose probes all lie between four pixels of one surface: the same
+/// probes, steps and Illinois steps (kFastSteps of them), lane by lane. Every other ray is
 /// marked kScalar.
 DEEPSEA_CLONES
 void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv, int W, int H,
-                float s_near, float* __restrict as, float* __restrict ah, float* __restrict bs,
-                float* __restrict bh, int* __restrict side, float* __restrict s_out,
-                int* __restrict state) {
+                float s_near, MarchScratch& f) {
+    float* __restrict lo_ = f.lo.data();
+    float* __restrict hi_ = f.hi.data();
+    float* __restrict step_ = f.step.data();
+    float* __restrict ps = f.ps.data();
+    float* __restrict ph = f.ph.data();
+    float* __restrict as = f.as.data();
+    float* __restrict ah = f.ah.data();
+    float* __restrict bs = f.bs.data();
+    float* __restrict bh = f.bh.data();
+    float* __restrict s_out = f.s.data();
+    int* __restrict steps_ = f.steps.data();
+    int* __restrict side = f.side.data();
+    int* __restrict state = f.state.data();
     const float inf = std::numeric_limits<float>::infinity();
     const float still = float(kPortStillPx);
 #pragma omp simd
@@ -76,28 +96,58 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv, 
         hi = m.s_hi[u] < hi ? m.s_hi[u] : hi;
         const float lo = m.s_lo[u];
         const float moved = (hi - lo) * m.rate[u];
-        float one_hi, one_lo;
+        float one;
         const float zh =
-            probe4(inv, W, H, m.u_inf[u] + m.du[u] * hi, m.v_inf[u] + m.dv[u] * hi, one_hi);
-        const float zl =
-            probe4(inv, W, H, m.u_inf[u] + m.du[u] * lo, m.v_inf[u] + m.dv[u] * lo, one_lo);
-        const float hh = hi - zh, hl = lo - zl;
-        // one step (the projection moves at most a pixel), both probes on one surface, in
-        // front at hi: behind at lo is a crossing, in front at lo none (the flags as float
-        // factors: GCC vectorises their product, not a chain of boolean ands)
+            probe4(inv, W, H, m.u_inf[u] + m.du[u] * hi, m.v_inf[u] + m.dv[u] * hi, one);
+        const float hh = hi - zh;
+        // steps of at most a pixel of the projection: ceil(moved), at least 1
+        float steps = std::ceil(moved);
+        steps = steps > 1.0f ? steps : 1.0f;
+        steps = steps < float(kFastMarchSteps) ? steps : float(kFastMarchSteps + 1);
+        // (the flags as float factors: GCC vectorises their product, not a chain of ands)
         const float simple = (m.s_origin[u] > 0.0f ? 1.0f : 0.0f) * (lo <= hi ? 1.0f : 0.0f) *
-                             (moved < still ? 0.0f : 1.0f) * (moved <= 1.0f ? 1.0f : 0.0f) *
-                             one_hi * one_lo * (hh > 0.0f ? 1.0f : 0.0f);
-        const int none = lo == 0.0f ? kOpen : kUnseen;
-        state[u] = simple == 0.0f ? kScalar : hl < 0.0f ? kActive : hl > 0.0f ? none : kScalar;
-        as[u] = hi;
-        ah[u] = hh;
-        bs[u] = lo;
-        bh[u] = hl;
+                             (moved < still ? 0.0f : 1.0f) *
+                             (steps <= float(kFastMarchSteps) ? 1.0f : 0.0f) * one *
+                             (hh > 0.0f ? 1.0f : 0.0f);
+        state[u] = simple == 0.0f ? kScalar : kMarching;
+        lo_[u] = lo;
+        hi_[u] = hi;
+        steps_[u] = int(steps);
+        step_[u] = (hi - lo) / steps;
+        ps[u] = hi;
+        ph[u] = hh;
         side[u] = 0;
     }
+    // Toward the vanishing point, a step at a time: the first probe behind the surface brackets
+    // the crossing with the one before it (in front).
+    for (int i = 1; i <= kFastMarchSteps && any_in(n, state, kMarching); ++i) {
+#pragma omp simd
+        for (int u = 0; u < n; ++u) {
+            const int st = state[u];
+            const bool last = i == steps_[u];
+            const bool marching = (st == kMarching) & (i <= steps_[u]);
+            const float s = last ? lo_[u] : hi_[u] - step_[u] * float(i);
+            float one;
+            const float iz =
+                probe4(inv, W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, one);
+            const float h = s - iz;
+            const bool cross = h <= 0.0f;
+            as[u] = marching ? ps[u] : as[u];
+            ah[u] = marching ? ph[u] : ah[u];
+            bs[u] = marching ? s : bs[u];
+            bh[u] = marching ? h : bh[u];
+            ps[u] = marching ? s : ps[u];
+            ph[u] = marching ? h : ph[u];
+            const int none = lo_[u] == 0.0f ? kOpen : kUnseen;
+            state[u] = !marching     ? st
+                       : one == 0.0f ? kScalar
+                       : cross       ? (h < 0.0f ? kActive : kScalar)
+                       : last        ? none
+                                     : kMarching;
+        }
+    }
     const float tol = kPortHitToleranceFloat, span = 4 * std::numeric_limits<float>::epsilon();
-    for (int step = 0; step < kFastSteps; ++step) {
+    for (int step = 0; step < kFastSteps && any_in(n, state, kActive); ++step) {
 #pragma omp simd
         for (int u = 0; u < n; ++u) {
             float a_s = as[u], a_h = ah[u], b_s = bs[u], b_h = bh[u];
@@ -145,8 +195,7 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
     if (fast) {
         fast_march(W, rays.march_row(v), inv_depth.data.data(), inv_depth.width, inv_depth.height,
-                   s_near, f.as.data(), f.ah.data(), f.bs.data(), f.bh.data(), f.side.data(),
-                   f.s.data(), f.state.data());
+                   s_near, f);
     }
     for (int u = 0; u < W; ++u) {
         PortCrossing<float> h;
@@ -162,7 +211,8 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
         } else if (st == kOpen) {
             h.kind = PortHitKind::OpenWater;
         } else if (st != kUnseen) {
-            // (kActive too: not settled in kFastSteps; the scalar march starts again)
+            // (kActive and kMarching too: not settled in the fast steps; the scalar march
+            // starts again)
             h = march_port_ray(inv_depth, rays.march(u, v), s_near);
         }
         o.mask[u] = h.kind != PortHitKind::Unseen ? 1.0f : 0.0f;
