@@ -254,9 +254,7 @@ py::dict reference(const py::object& setup, const py::object& rgb, const py::obj
     validate(opt.quadrature);
     Setup full = full_setup(setup, camera, rig, water);
     require_complete(full, "deepsea.reference");
-    refuse_port(full, "deepsea.reference",
-                "the exact reference through a port is not built (its surfaces need the port's "
-                "hits; the bake's check integrates the refracted rays exactly)");
+    opt.port = full.port;  // through a port: water-side layers and the mask, as Renderer's
     ArrayIn c = inspect_color(rgb, "rgb");
     set_color_encoding(c, encoding, "rgb");
     const ArrayIn d = inspect_depth(depth, "depth");

@@ -148,6 +148,14 @@ Rgb port_radiance_factor(const Port& port, const PortRay& ray) {
     return f;
 }
 
+double port_water_fx(const Port& port, const Camera& camera) {
+    const PortRay a = trace_port(port, camera, camera.cx - 0.5, camera.cy);
+    const PortRay b = trace_port(port, camera, camera.cx + 0.5, camera.cy);
+    const auto angle = [](const Vec3& x, const Vec3& y) { return length(cross(x, y)); };
+    const double water = a.valid() && b.valid() ? angle(a.direction[1], b.direction[1]) : 0.0;
+    return water > 0.0 ? camera.fx * angle(a.air, b.air) / water : camera.fx;
+}
+
 void validate(const Port& port) {
     const std::string key = std::string("camera.port.") + port.name() + ".";
     if (port.kind == PortKind::Flat) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "deepsea/core/error.h"
 #include "deepsea/optics/normals.h"
 
 namespace deepsea {
@@ -71,6 +72,22 @@ bool sees_input(const Camera& input, const RayProjection& ray) {
     if (!ray.forward) return false;
     const PortMarch<double> m = port_march(input, ray);
     return std::max(m.s_lo, 0.0) <= std::min({m.s_hi, ray.s_origin, 1.0 / kPortViewNear});
+}
+
+void check_port_sees_input(const Port& port, const Camera& camera) {
+    const auto sees = [&](int u, int v) {
+        const PortRay r = trace_port(port, camera, u, v);
+        return r.valid() && sees_input(camera, project_ray(camera, r.origin, r.direction[1]));
+    };
+    // the centre first: nearly every port sees the input there
+    if (sees(camera.width / 2, camera.height / 2)) return;
+    for (int v = 0; v < camera.height; ++v)
+        for (int u = 0; u < camera.width; ++u)
+            if (sees(u, v)) return;
+    throw ConfigError(
+        "camera.port: no pixel's water-side ray sees the input's view (the RGB-D frame, a "
+        "pinhole view from the camera centre with the same intrinsics): the image would hold "
+        "nothing of the frame; check the port's normal, centre and indices");
 }
 
 PortHit find_port_hit(const Camera& input, const Image& inv, const RayProjection& ray,

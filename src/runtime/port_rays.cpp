@@ -5,7 +5,6 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -19,9 +18,8 @@ PortRays::PortRays(const Port& port, const Camera& camera)
       m_camera(camera),
       m_rays(std::size_t(camera.width) * camera.height),
       m_factor(camera.width, camera.height, 3) {
-    std::atomic<long> seeing{0};
+    check_port_sees_input(port, camera);
     tbb::parallel_for(0, camera.height, [&](int v) {
-        long row_seeing = 0;
         for (int u = 0; u < camera.width; ++u) {
             const PortRay r = trace_port(port, camera, u, v);
             Ray& f = m_rays[std::size_t(v) * camera.width + u];
@@ -42,25 +40,22 @@ PortRays::PortRays(const Port& port, const Camera& camera)
                  float(m.s_lo),
                  float(m.s_hi),
                  float(m.rate)};
-            if (r.valid() && sees_input(camera, p)) ++row_seeing;
             const Rgb k = port_radiance_factor(port, r);
             for (int c = 0; c < 3; ++c) m_factor.at(u, v, c) = float(k[c]);
         }
-        seeing += row_seeing;
     });
-    if (seeing.load() == 0) {
-        throw ConfigError(
-            "camera.port: no pixel's water-side ray sees the input's view (the RGB-D frame, a "
-            "pinhole view from the camera centre with the same intrinsics): the image would hold "
-            "nothing of the frame; check the port's normal, centre and indices");
-    }
-    // fx times the ratio of the in-air to the water-side angle between two rays a pixel apart
-    // at the image centre (1 for a centred dome, to rounding).
-    const PortRay a = trace_port(port, camera, camera.cx - 0.5, camera.cy);
-    const PortRay b = trace_port(port, camera, camera.cx + 0.5, camera.cy);
-    const auto angle = [](const Vec3& x, const Vec3& y) { return length(cross(x, y)); };
-    const double water = a.valid() && b.valid() ? angle(a.direction[1], b.direction[1]) : 0.0;
-    m_water_fx = water > 0.0 ? camera.fx * angle(a.air, b.air) / water : camera.fx;
+    m_water_fx = port_water_fx(port, camera);
+    const std::size_t n = m_rays.size();
+    m_march_soa.resize(8 * n);
+    tbb::parallel_for(0, camera.height, [&](int v) {
+        for (int u = 0; u < camera.width; ++u) {
+            const PortMarch<float> m = march(u, v);
+            const float fields[8] = {m.u_inf,    m.v_inf, m.du,   m.dv,
+                                     m.s_origin, m.s_lo,  m.s_hi, m.rate};
+            const std::size_t i = std::size_t(v) * camera.width + u;
+            for (int f = 0; f < 8; ++f) m_march_soa[f * n + i] = fields[f];
+        }
+    });
 }
 
 RayProjection PortRays::projection(int u, int v) const {

@@ -1,18 +1,220 @@
+// The march's common case vectorised across a row: compiled with -fopenmp-simd,
+// -ffp-contract=off and -fno-trapping-math (see CMakeLists.txt), not fast-math, so that its
+// lanes do the scalar march's float arithmetic exactly and give the same hits.
+
 #include "port_warp.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
+#include "clones.h"
 #include "float4.h"
 
 namespace deepsea {
+
+namespace {
+
+/// What the vectorised march found for a ray.
+enum FastState : int {
+    kActive = 0,    ///< bracketed, refining
+    kSurface = 1,   ///< the crossing at s, on one surface (as the scalar march's continuous hit)
+    kScalar = 2,    ///< anything else: the scalar march (march_port_ray) decides
+    kOpen = 3,      ///< in front of the surface over its whole view, to its vanishing point
+    kUnseen = 4,    ///< in front over its whole view, which ends before the vanishing point
+    kMarching = 5,  ///< in front of the surface so far, stepping toward the vanishing point
+};
+
+/// The steps of at most a pixel, and the Illinois steps after them, tried across the row before
+/// a ray is left to the scalar march.
+constexpr int kFastMarchSteps = 8;
+constexpr int kFastSteps = 4;
+
+/// port_detail::taps_at's value where its four pixels are one surface (the same arithmetic on
+/// the same clamped position; W, H >= 2); `one` is 0 where taps_at would take the nearest pixel
+/// or open water. NaN positions read pixel 0 (the ray is then left to the scalar march).
+inline float probe4(const float* __restrict inv, int W, int H, float u, float v, float& one) {
+    u = u > 0.0f ? u : 0.0f;
+    u = u < float(W - 1) ? u : float(W - 1);
+    v = v > 0.0f ? v : 0.0f;
+    v = v < float(H - 1) ? v : float(H - 1);
+    const int x0 = std::min(int(u), W - 2), y0 = std::min(int(v), H - 2);
+    const int i = y0 * W + x0;
+    const float s0 = inv[i], s1 = inv[i + 1], s2 = inv[i + W], s3 = inv[i + W + 1];
+    const float lo = std::min(std::min(s0, s1), std::min(s2, s3));
+    const float hi = std::max(std::max(s0, s1), std::max(s2, s3));
+    const float close = hi - lo <= float(kDepthDiscontinuity) * lo ? 1.0f : 0.0f;
+    one = lo > 0.0f ? close : 0.0f;
+    const float fu = u - float(x0), fv = v - float(y0);
+    const float w0 = (1 - fu) * (1 - fv), w1 = fu * (1 - fv), w2 = (1 - fu) * fv, w3 = fu * fv;
+    return ((w0 * s0 + w1 * s1) + w2 * s2) + w3 * s3;
+}
+
+struct MarchScratch {
+    std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s;
+    std::vector<int> steps, side, state;
+    void fit(int n) {
+        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s}) v->resize(n);
+        for (auto* v : {&steps, &side, &state}) v->resize(n);
+    }
+};
+
+/// True where some ray of the row is still in `which`.
+bool any_in(int n, const int* state, int which) {
+    for (int u = 0; u < n; ++u)
+        if (state[u] == which) return true;
+    return false;
+}
+
+/// The march of optics' march_port_ray for the rays of one row that take at most
+/// kFastMarchSteps steps and whose probes all lie between four pixels of one surface: the same
+/// probes, steps and Illinois steps (kFastSteps of them), lane by lane. Every other ray is
+/// marked kScalar.
+DEEPSEA_CLONES
+void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv, int W, int H,
+                float s_near, MarchScratch& f) {
+    float* __restrict lo_ = f.lo.data();
+    float* __restrict hi_ = f.hi.data();
+    float* __restrict step_ = f.step.data();
+    float* __restrict ps = f.ps.data();
+    float* __restrict ph = f.ph.data();
+    float* __restrict as = f.as.data();
+    float* __restrict ah = f.ah.data();
+    float* __restrict bs = f.bs.data();
+    float* __restrict bh = f.bh.data();
+    float* __restrict s_out = f.s.data();
+    int* __restrict steps_ = f.steps.data();
+    int* __restrict side = f.side.data();
+    int* __restrict state = f.state.data();
+    const float inf = std::numeric_limits<float>::infinity();
+    const float still = float(kPortStillPx);
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        float hi = m.s_origin[u] < s_near ? m.s_origin[u] : s_near;  // (std::min's order)
+        hi = hi < inf ? hi : 1e3f;
+        hi = m.s_hi[u] < hi ? m.s_hi[u] : hi;
+        const float lo = m.s_lo[u];
+        const float moved = (hi - lo) * m.rate[u];
+        float one;
+        const float zh =
+            probe4(inv, W, H, m.u_inf[u] + m.du[u] * hi, m.v_inf[u] + m.dv[u] * hi, one);
+        const float hh = hi - zh;
+        // steps of at most a pixel of the projection: ceil(moved), at least 1
+        float steps = std::ceil(moved);
+        steps = steps > 1.0f ? steps : 1.0f;
+        steps = steps < float(kFastMarchSteps) ? steps : float(kFastMarchSteps + 1);
+        // (the flags as float factors: GCC vectorises their product, not a chain of ands)
+        const float simple = (m.s_origin[u] > 0.0f ? 1.0f : 0.0f) * (lo <= hi ? 1.0f : 0.0f) *
+                             (moved < still ? 0.0f : 1.0f) *
+                             (steps <= float(kFastMarchSteps) ? 1.0f : 0.0f) * one *
+                             (hh > 0.0f ? 1.0f : 0.0f);
+        state[u] = simple == 0.0f ? kScalar : kMarching;
+        lo_[u] = lo;
+        hi_[u] = hi;
+        steps_[u] = int(steps);
+        step_[u] = (hi - lo) / steps;
+        ps[u] = hi;
+        ph[u] = hh;
+        side[u] = 0;
+    }
+    // Toward the vanishing point, a step at a time: the first probe behind the surface brackets
+    // the crossing with the one before it (in front).
+    for (int i = 1; i <= kFastMarchSteps && any_in(n, state, kMarching); ++i) {
+#pragma omp simd
+        for (int u = 0; u < n; ++u) {
+            const int st = state[u];
+            const bool last = i == steps_[u];
+            const bool marching = (st == kMarching) & (i <= steps_[u]);
+            const float s = last ? lo_[u] : hi_[u] - step_[u] * float(i);
+            float one;
+            const float iz =
+                probe4(inv, W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, one);
+            const float h = s - iz;
+            const bool cross = h <= 0.0f;
+            as[u] = marching ? ps[u] : as[u];
+            ah[u] = marching ? ph[u] : ah[u];
+            bs[u] = marching ? s : bs[u];
+            bh[u] = marching ? h : bh[u];
+            ps[u] = marching ? s : ps[u];
+            ph[u] = marching ? h : ph[u];
+            const int none = lo_[u] == 0.0f ? kOpen : kUnseen;
+            state[u] = !marching     ? st
+                       : one == 0.0f ? kScalar
+                       : cross       ? (h < 0.0f ? kActive : kScalar)
+                       : last        ? none
+                                     : kMarching;
+        }
+    }
+    const float tol = kPortHitToleranceFloat, span = 4 * std::numeric_limits<float>::epsilon();
+    for (int step = 0; step < kFastSteps && any_in(n, state, kActive); ++step) {
+#pragma omp simd
+        for (int u = 0; u < n; ++u) {
+            float a_s = as[u], a_h = ah[u], b_s = bs[u], b_h = bh[u];
+            float s = (a_s * b_h - b_s * a_h) / (b_h - a_h);
+            s = s < a_s && s > b_s ? s : 0.5f * (a_s + b_s);
+            float one;
+            const float iz =
+                probe4(inv, W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, one);
+            const float h = s - iz;
+            // Illinois: the side that stays twice running has its h halved
+            const int sd = side[u];
+            const bool front = h > 0.0f;
+            const float a_s2 = front ? s : a_s, b_s2 = front ? b_s : s;
+            const float a_h2 = front ? h : (sd == -1 ? a_h * 0.5f : a_h);
+            const float b_h2 = front ? (sd == 1 ? b_h * 0.5f : b_h) : h;
+            const bool on = std::fabs(h) <= tol * (s + iz);
+            const bool collapsed =
+                ((a_s2 - b_s2) * m.rate[u] <= tol) | (a_s2 - b_s2 <= span * a_s2);
+            const int st = state[u];
+            const bool active = st == kActive;
+            as[u] = active ? a_s2 : a_s;
+            ah[u] = active ? a_h2 : a_h;
+            bs[u] = active ? b_s2 : b_s;
+            bh[u] = active ? b_h2 : b_h;
+            side[u] = active ? (front ? 1 : -1) : sd;
+            s_out[u] = active ? s : s_out[u];
+            state[u] = !active       ? st
+                       : one == 0.0f ? kScalar
+                       : on          ? kSurface
+                       : collapsed   ? kScalar
+                                     : kActive;
+        }
+    }
+}
+
+}  // namespace
 
 void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& surface,
               double z_near, const PortRow& o) {
     const int W = rays.camera().width;
     const float s_near = float(1.001 / z_near);
     const float* in = surface.data.data();
+    thread_local MarchScratch f;
+    f.fit(W);
+    const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
+    if (fast) {
+        fast_march(W, rays.march_row(v), inv_depth.data.data(), inv_depth.width, inv_depth.height,
+                   s_near, f);
+    }
     for (int u = 0; u < W; ++u) {
-        const PortCrossing<float> h = march_port_ray(inv_depth, rays.march(u, v), s_near);
+        PortCrossing<float> h;
+        const int st = fast ? f.state[u] : kScalar;
+        if (st == kSurface) {
+            const PortMarch<float> m = rays.march(u, v);
+            h.kind = PortHitKind::Surface;
+            h.s = f.s[u];
+            h.u = m.u_inf + m.du * h.s;
+            h.v = m.v_inf + m.dv * h.s;
+            h.taps.count =
+                port_detail::taps_at<float, true>(inv_depth, h.u, h.v, h.taps.inv_z, &h.taps);
+        } else if (st == kOpen) {
+            h.kind = PortHitKind::OpenWater;
+        } else if (st != kUnseen) {
+            // (kActive and kMarching too: not settled in the fast steps; the scalar march
+            // starts again)
+            h = march_port_ray(inv_depth, rays.march(u, v), s_near);
+        }
         o.mask[u] = h.kind != PortHitKind::Unseen ? 1.0f : 0.0f;
         if (h.kind != PortHitKind::Surface) {
             o.x[u] = o.y[u] = o.z[u] = o.t[u] = 0.0f;

@@ -167,16 +167,18 @@ const char* const kCompositeCases[] = {"composite", "composite_final_only", "com
                                        "composite_final_only-shadows"};
 
 /// Composites one generated frame repeatedly, for each layer set (all layers, then only the
-/// image), without and with lamp shadows, then all layers through a flat port: one bake and one
-/// frame per camera, a fresh compositor and peak window per case.
+/// image), without and with lamp shadows, then all layers through a flat port (an asset baked
+/// through it, and the pinhole asset): one frame per camera, a fresh compositor and peak window
+/// per case.
 std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const BenchArgs& a,
                                   int threads) {
     FlightParams flight;
     flight.camera = cam;
     Frame frame = render_flight_frame(flight, 0);
     std::vector<Case> cases;
-    const auto time = [&](const std::string& name, const RenderSettings& settings, LayerSet set) {
-        Renderer renderer(asset, settings);
+    const auto time = [&](const std::string& name, const RenderSettings& settings, LayerSet set,
+                          const Asset* other = nullptr) {
+        Renderer renderer(other ? *other : asset, settings);
         // From here on only what the runtime holds: the asset, one frame, the compositor (made
         // by the first frame, which also allocates).
         reset_peak_rss();
@@ -221,15 +223,23 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
         cases.push_back(
             summarize("composite_small_angle", cam.width, cam.height, threads, t[1], cpu[1]));
     }
+    RenderSettings port_settings{cam};
+    port_settings.port = Port{};
+    port_settings.port->flat.distance = 0.03;
+    port_settings.port->flat.glass_thickness = 0.012;
     if (wanted(a.cases, "composite_flat_port")) {
         // Through a flat port (3 cm from the camera centre, 1.2 cm of acrylic, seawater): every
-        // pixel's water-side ray marched through the frame's depth (docs/ports.md).
-        RenderSettings settings{cam};
-        settings.port = Port{};
-        settings.port->flat.distance = 0.03;
-        settings.port->flat.glass_thickness = 0.012;
-        time("composite_flat_port", settings, LayerSet::All);
+        // pixel's water-side ray marched through the frame's depth (docs/ports.md), the asset
+        // baked through the port (its columns the water-side rays, looked up as a pinhole
+        // frame's).
+        BakeSettings through = bench_bake(a);
+        through.port = port_settings.port;
+        const Asset port_asset = bake(cam, asset.info.rig, asset.info.water, through);
+        time("composite_flat_port", port_settings, LayerSet::All, &port_asset);
     }
+    // The same with the pinhole asset, looked up through the port (port_backscatter.h).
+    if (wanted(a.cases, "composite_flat_port_pinhole"))
+        time("composite_flat_port_pinhole", port_settings, LayerSet::All);
     return cases;
 }
 
@@ -487,7 +497,9 @@ void run(const BenchArgs& a) {
         Water water = *setup.water;
         if (a.no_forward) water.forward.enabled = false;
         const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
-        if (wanted(a.cases, "composite_flat_port") || wanted(a.cases, "composite_small_angle") ||
+        if (wanted(a.cases, "composite_flat_port") ||
+            wanted(a.cases, "composite_flat_port_pinhole") ||
+            wanted(a.cases, "composite_small_angle") ||
             std::any_of(std::begin(kCompositeCases), std::end(kCompositeCases),
                         [&](const char* n) { return wanted(a.cases, n); })) {
             for (Case& c : time_compositor(asset, cam, a, threads)) cases.push_back(c);
@@ -552,7 +564,9 @@ void setup_bench(CLI::App& sub) {
         "comma-separated prefixes of the cases to run: composite (composite, "
         "composite_final_only, each also -shadows: with lamp shadows; composite_small_angle: a "
         "multiple-scattering asset's all layers with and without its forward-scatter table, "
-        "frame by frame in turn, as composite_transport_psf and composite_small_angle), snow "
+        "frame by frame in turn, as composite_transport_psf and composite_small_angle; "
+        "composite_flat_port: all layers through a flat port, the asset baked through it, and "
+        "composite_flat_port_pinhole: the pinhole asset through it), snow "
         "(snow-abyssal, "
         "snow-nepheloid, snow-plume: marine snow alone), shadows (lamp shadows alone; "
         "shadows-exact: the full-resolution sweep), stage, camera "

@@ -10,6 +10,7 @@
 #include "deepsea/core/atomic_file.h"
 #include "deepsea/core/error.h"
 #include "deepsea/io/image_io.h"
+#include "deepsea/optics/port_hit.h"
 #include "deepsea/reference/path_tracer.h"
 #include "deepsea/reference/reference.h"
 #include "deepsea/runtime/exposure.h"
@@ -127,9 +128,12 @@ void run(const ReferenceArgs& a) {
     if (!a.layers.empty()) require_writable_image(a.layers, /*exr_only=*/true);
     Setup setup = a.setup.load();
     require_complete(setup, "deepsea reference");
-    refuse_port(setup, "deepsea reference",
-                "the exact reference through a port is not built (its surfaces need the port's "
-                "hits; the bake's check integrates the refracted rays exactly)");
+    if (multiple) {
+        refuse_port(setup, "deepsea reference --scattering multiple",
+                    "the path tracer through a port is not built (the single-scattering "
+                    "reference traces the port's rays)");
+    }
+    if (setup.port) check_port_sees_input(*setup.port, *setup.camera);  // before any reading
     const Image rgb = read_color(a.rgb);
     Image depth = read_depth(a.depth_path, a.depth.read_options());
     require_same_size(rgb, depth, a.rgb + " and " + a.depth_path);
@@ -140,13 +144,20 @@ void run(const ReferenceArgs& a) {
         return;
     }
 
+    // Through a port: the layers are water-side radiance (with the mask), as render's; -o is
+    // the radiance that reaches the camera, the final layer times the port's radiance factor.
+    opt.port = setup.port;
     const Layers layers =
         render_reference(*setup.camera, *setup.rig, *setup.water, rgb, depth, opt, {a.threads});
     if (!a.layers.empty()) {
         write_layers(a.layers, layers);
         say("wrote %s\n", a.layers.c_str());
     }
-    if (!a.output.empty()) write_exposed(a.output, exposure, layers.final);
+    if (!a.output.empty()) {
+        write_exposed(a.output, exposure,
+                      setup.port ? radiance_at_camera(layers.final, *setup.port, *setup.camera)
+                                 : layers.final);
+    }
 }
 
 }  // namespace

@@ -147,6 +147,12 @@ PortRay trace_port(const Port& port, const Camera& camera, double u, double v);
 /// through both surfaces; reflections inside the glass left out). 0 for an invalid ray.
 Rgb port_radiance_factor(const Port& port, const PortRay& ray);
 
+/// Pixels per radian of the water-side rays at the image centre, along x: fx times the ratio of
+/// the in-air to the water-side angle between the (green) rays of image points (cx -+ 0.5, cy).
+/// fx for a centred dome (to rounding), about n_water / n_air times fx behind a flat port; fx
+/// where either ray fails. The forward blur's angular scale through the port (runtime, reference).
+double port_water_fx(const Port& port, const Camera& camera);
+
 /// Ranges of the port alone (docs/config.md): normal finite and non-zero, distance in
 /// [0, kMaxPortLength], radius and glass thickness in (0, kMaxPortLength], dome centre finite
 /// and inside the inner surface (|centre| < radius: the camera inside the dome), indices > 0

@@ -14,6 +14,7 @@
 #include "deepsea/core/vec.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/normals.h"
+#include "deepsea/optics/port.h"
 
 namespace deepsea {
 
@@ -44,6 +45,12 @@ inline constexpr double kPortViewNear = 0.1;
 /// projects inside the input image (pixel edges -0.5 .. width - 0.5): the input can show
 /// something of what it meets.
 bool sees_input(const Camera& input, const RayProjection& ray);
+
+/// ConfigError naming camera.port unless some pixel's water-side ray (trace_port, the green
+/// channel's) sees the input (sees_input; the input a pinhole view from the camera centre with
+/// the camera's intrinsics): through such a port the image would hold nothing of the frame. The
+/// port must have passed validate and check_port_view. Stops at the first pixel that sees.
+void check_port_sees_input(const Port& port, const Camera& camera);
 
 /// What the march needs of one ray, all of it fixed per ray (PortRays keeps it in float): the
 /// projection, and the stretch of s in which it lies inside the input image (pixel edges -0.5 ..

@@ -46,6 +46,16 @@ public:
         return {
             float(u) + r.u_inf, float(v) + r.v_inf, r.du, r.dv, r.s_origin, r.s_lo, r.s_hi, r.rate};
     }
+    /// Row v's march constants in float, one array per field (what march() gives each pixel),
+    /// for the compositor's vectorised rows.
+    struct MarchRow {
+        const float *u_inf, *v_inf, *du, *dv, *s_origin, *s_lo, *s_hi, *rate;
+    };
+    MarchRow march_row(int v) const {
+        const std::size_t n = m_rays.size();
+        const float* f = m_march_soa.data() + std::size_t(v) * m_camera.width;
+        return {f, f + n, f + 2 * n, f + 3 * n, f + 4 * n, f + 5 * n, f + 6 * n, f + 7 * n};
+    }
     /// Where pixel (u, v)'s ray meets the frame's surface, given its inverse planar depth
     /// (optics' inverse_depth) and nearest surface depth z_near (+inf: no surface): the float
     /// march of the compositor's rows (march_port_ray), its hit in double.
@@ -61,6 +71,7 @@ private:
     Port m_port;
     Camera m_camera;
     std::vector<Ray> m_rays;
+    std::vector<float> m_march_soa;  ///< march()'s 8 fields, each a width x height plane
     double m_water_fx = 0.0;
     Image m_factor;
 };

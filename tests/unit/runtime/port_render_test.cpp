@@ -9,12 +9,14 @@
 #include <cstdlib>
 #include <functional>
 #include <limits>
+#include <vector>
 
 #include "deepsea/bake/bake.h"
 #include "deepsea/core/error.h"
 #include "deepsea/runtime/port_rays.h"
 #include "deepsea/runtime/renderer.h"
 #include "port_fixtures.h"
+#include "port_warp.h"
 #include "runtime_fixtures.h"
 
 namespace deepsea {
@@ -191,6 +193,49 @@ TEST(PortRender, FloatMarchAgreesWithTheDoubleMarch) {
             EXPECT_EQ(differ, 0);
             EXPECT_LT(px, 1e-3);
             EXPECT_LT(rel_z, depth_bar[i]);
+        }
+    }
+}
+
+TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
+    // port_row settles most rays in a march vectorised across the row (docs/ports.md, "Speed")
+    // and leaves the rest to the scalar march: its hit points must be the scalar march's
+    // (PortRays::hit, what the tests above measure) bit for bit, with the same mask, on smooth
+    // scenes and on one with depth edges and open water.
+    const Camera cam = test_camera();
+    const Port ports[] = {flat_port({0, 0, 1}, 0.03, 0.012),
+                          flat_port({0.06, -0.04, 1}, 0.05, 0.02),
+                          dome_port({0.004, -0.003, 0.002}, 0.05, 0.008)};
+    const Image depths[] = {depth_of(cam, plane({0.4, -0.2, 1}, 2.5)),
+                            depth_of(cam, sphere({0.1, -0.05, 1.6}, 0.45)),
+                            testing::plane_scene(cam).depth};
+    const Image surface(cam.width, cam.height, kPortSurfaceChannels);
+    std::vector<float> x(cam.width), y(cam.width), z(cam.width), t(cam.width), nx(cam.width),
+        ny(cam.width), nz(cam.width), J(3 * cam.width), mask(cam.width);
+    for (const Port& port : ports) {
+        const PortRays rays(port, cam);
+        for (const Image& depth : depths) {
+            Image planar = depth;
+            for (float& d : planar.data) d = has_surface(d) ? d : 0.0f;
+            const Image inv = inverse_depth(planar);
+            const double z_near = nearest_surface(planar);
+            long differ = 0, surfaces = 0;
+            for (int v = 0; v < cam.height; ++v) {
+                port_row(rays, v, inv, surface, z_near,
+                         {x.data(), y.data(), z.data(), t.data(), nx.data(), ny.data(), nz.data(),
+                          J.data(), mask.data()});
+                for (int u = 0; u < cam.width; ++u) {
+                    const PortHit h = rays.hit(u, v, inv, z_near);
+                    const bool surface_hit = h.kind == PortHitKind::Surface;
+                    surfaces += surface_hit;
+                    const bool same = mask[u] == (h.seen() ? 1.0f : 0.0f) &&
+                                      z[u] == (surface_hit ? float(h.z) : 0.0f) &&
+                                      t[u] == (surface_hit ? float(h.t) : 0.0f);
+                    differ += !same;
+                }
+            }
+            EXPECT_EQ(differ, 0) << port.name();
+            EXPECT_GT(surfaces, 4000) << port.name();
         }
     }
 }
