@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "cli_util.h"
+#include "bench.h"
 #include "commands.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/batch/sequence.h"
@@ -37,273 +38,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct BenchArgs {
-    int repeats = 21;
-    int threads = 0;
-    bool json = false;
-    bool no_forward = false;
-    std::string scattering = "single";
-    std::string cases = "composite,stage,camera,sequence";
-    std::string config = default_demo_config();
-};
+using namespace bench;  // NOLINT: the cases and their clocks (bench.h)
 
-struct Case {
-    std::string name;
-    int width = 0, height = 0, threads = 0, runs = 0;
-    double median_ms = 0, min_ms = 0, max_ms = 0, peak_rss_mb = 0;
-    double median_cpu_ms = 0;              ///< the process's CPU time (all threads) per run
-    double fps = 0, cpu_ms_per_frame = 0;  ///< sequence cases only (0: not printed)
-};
-
-/// True if `name` starts with one of the comma-separated prefixes in `list`.
-bool wanted(const std::string& list, const std::string& name) {
-    std::size_t b = 0;
-    while (b <= list.size()) {
-        const std::size_t e = std::min(list.find(',', b), list.size());
-        const std::string p = list.substr(b, e - b);
-        if (!p.empty() && name.compare(0, p.size(), p) == 0) return true;
-        b = e + 1;
-    }
-    return false;
-}
-
-/// A /proc/self/status field in kB (0 if unavailable).
-double status_kb(const char* format) {
-    std::FILE* f = std::fopen("/proc/self/status", "r");
-    double kb = 0.0;
-    if (f) {
-        char line[256];
-        while (std::fgets(line, sizeof line, f)) {
-            if (std::sscanf(line, format, &kb) == 1) break;
-        }
-        std::fclose(f);
-    }
-    return kb;
-}
-
-/// Peak resident memory (VmHWM) since the last reset_peak_rss(), in MB.
-double peak_rss_mb() {
-    double kb = status_kb("VmHWM: %lf kB");
-    if (kb == 0.0) {
-        rusage ru{};
-        getrusage(RUSAGE_SELF, &ru);
-        kb = double(ru.ru_maxrss);
-    }
-    return kb / 1024.0;
-}
-
-/// Starts a new peak-memory window (Linux: clear_refs 5), after returning freed memory to the
-/// system, so that a case's peak is its own and not the bake's or the scene generator's.
-void reset_peak_rss() {
-    malloc_trim(0);
-    if (std::FILE* f = std::fopen("/proc/self/clear_refs", "w")) {
-        std::fputs("5", f);
-        std::fclose(f);
-    }
-}
-
-double now_ms() {
-    using namespace std::chrono;
-    return duration<double, std::milli>(steady_clock::now().time_since_epoch()).count();
-}
-
-/// CPU time of the whole process (every thread), ms: unlike wall time, barely changed by other
-/// processes competing for the cores.
-double cpu_ms() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-Case summarize(std::string name, int w, int h, int threads, std::vector<double> t,
-               std::vector<double> cpu) {
-    std::sort(t.begin(), t.end());
-    std::sort(cpu.begin(), cpu.end());
-    Case c{std::move(name), w, h, threads, int(t.size())};
-    c.median_ms = t[t.size() / 2];
-    c.min_ms = t.front();
-    c.max_ms = t.back();
-    c.peak_rss_mb = peak_rss_mb();
-    c.median_cpu_ms = cpu[cpu.size() / 2];
-    return c;
-}
-
-/// The asset the cases composite with. Multiple scattering is baked with few Monte Carlo
-/// samples: the runtime's work per pixel does not depend on them, only the bake's time.
-BakeSettings bench_bake(const BenchArgs& a) {
-    BakeSettings s;
-    s.scattering = parse_scattering(a.scattering);
-    s.higher_orders.paths = 256;
-    s.higher_orders.lamp_samples = 64;
-    return s;
-}
-
-/// True if every prefix in `list` names a shadows case (no asset needed: no bake).
-bool only_shadows(const std::string& list) {
-    std::size_t b = 0;
-    while (b <= list.size()) {
-        const std::size_t e = std::min(list.find(',', b), list.size());
-        const std::string p = list.substr(b, e - b);
-        if (p.size() < 7 || p.compare(0, 7, "shadows") != 0) return false;
-        b = e + 1;
-    }
-    return true;
-}
-
-/// The demo camera's view at another resolution (same horizontal field of view).
-Camera scaled(const Camera& base, int w, int h) {
-    Camera c = base;
-    c.width = w;
-    c.height = h;
-    c.fx = c.fy = base.fx * double(w) / base.width;
-    c.cx = (w - 1) / 2.0;
-    c.cy = (h - 1) / 2.0;
-    return c;
-}
-
-/// The compositor's cases: each layer set (all layers, then only the image), without and with
-/// lamp shadows.
-const char* const kCompositeCases[] = {"composite", "composite_final_only", "composite-shadows",
-                                       "composite_final_only-shadows"};
-
-/// Composites one generated frame repeatedly, for each layer set (all layers, then only the
-/// image), without and with lamp shadows, then all layers through a flat port (an asset baked
-/// through it, and the pinhole asset): one frame per camera, a fresh compositor and peak window
-/// per case.
-std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const BenchArgs& a,
-                                  int threads) {
-    FlightParams flight;
-    flight.camera = cam;
-    Frame frame = render_flight_frame(flight, 0);
-    std::vector<Case> cases;
-    const auto time = [&](const std::string& name, const RenderSettings& settings, LayerSet set,
-                          const Asset* other = nullptr) {
-        Renderer renderer(other ? *other : asset, settings);
-        // From here on only what the runtime holds: the asset, one frame, the compositor (made
-        // by the first frame, which also allocates).
-        reset_peak_rss();
-        Layers layers;
-        renderer.render(layers, frame, set);
-        std::vector<double> t, cpu;
-        for (int r = 0; r < a.repeats; ++r) {
-            const double t0 = now_ms(), c0 = cpu_ms();
-            renderer.render(layers, frame, set);
-            t.push_back(now_ms() - t0);
-            cpu.push_back(cpu_ms() - c0);
-        }
-        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
-    };
-    for (int k = 0; k < 4; ++k) {
-        if (!wanted(a.cases, kCompositeCases[k])) continue;
-        RenderSettings settings{cam};
-        settings.shadows = k >= 2;
-        time(kCompositeCases[k], settings, k % 2 == 0 ? LayerSet::All : LayerSet::Final);
-    }
-    if (asset.forward_psf && wanted(a.cases, "composite_small_angle")) {
-        // All layers with the asset's forward scatter from transport and, frame by frame in
-        // turn, with the small-angle point spread that assets without the table get: paired
-        // timings, so that the machine's drift does not fall on one of the two.
-        Asset small_angle = asset;
-        small_angle.forward_psf.reset();
-        Renderer table(asset, RenderSettings{cam}), small(small_angle, RenderSettings{cam});
-        Layers lt, ls;
-        table.render(lt, frame, LayerSet::All);
-        small.render(ls, frame, LayerSet::All);
-        std::vector<double> t[2], cpu[2];
-        for (int r = 0; r < a.repeats; ++r) {
-            for (int k = 0; k < 2; ++k) {
-                const double t0 = now_ms(), c0 = cpu_ms();
-                (k == 0 ? table : small).render(k == 0 ? lt : ls, frame, LayerSet::All);
-                t[k].push_back(now_ms() - t0);
-                cpu[k].push_back(cpu_ms() - c0);
-            }
-        }
-        cases.push_back(
-            summarize("composite_transport_psf", cam.width, cam.height, threads, t[0], cpu[0]));
-        cases.push_back(
-            summarize("composite_small_angle", cam.width, cam.height, threads, t[1], cpu[1]));
-    }
-    RenderSettings port_settings{cam};
-    port_settings.port = Port{};
-    port_settings.port->flat.distance = 0.03;
-    port_settings.port->flat.glass_thickness = 0.012;
-    if (wanted(a.cases, "composite_flat_port")) {
-        // Through a flat port (3 cm from the camera centre, 1.2 cm of acrylic, seawater): every
-        // pixel's water-side ray marched through the frame's depth (docs/ports.md), the asset
-        // baked through the port (its columns the water-side rays, looked up as a pinhole
-        // frame's).
-        BakeSettings through = bench_bake(a);
-        through.port = port_settings.port;
-        const Asset port_asset = bake(cam, asset.info.rig, asset.info.water, through);
-        time("composite_flat_port", port_settings, LayerSet::All, &port_asset);
-    }
-    // The same with the pinhole asset, looked up through the port (port_backscatter.h).
-    if (wanted(a.cases, "composite_flat_port_pinhole"))
-        time("composite_flat_port_pinhole", port_settings, LayerSet::All);
-    return cases;
-}
-
-/// Marine snow alone (MarineSnow::draw: placing, lighting and drawing the particles into the
-/// image) at each preset's density, on the flight's first frame, the camera moving along the
-/// flight from one run to the next (particles fixed in the world).
-std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchArgs& a,
-                            int threads) {
-    std::vector<Case> cases;
-    FlightParams flight;
-    flight.camera = cam;
-    const Frame frame = render_flight_frame(flight, 0);
-    for (const std::string& preset : snow_preset_names()) {
-        const std::string name = "snow-" + preset;
-        if (!wanted(a.cases, name)) continue;
-        SnowSettings s;
-        s.snow = snow_preset(preset);
-        MarineSnow snow(s, asset.info.rig, asset.info.water);
-        Image final(cam.width, cam.height, 3);
-        std::vector<double> t, cpu;
-        long particles = 0;
-        for (int r = 0; r <= a.repeats; ++r) {
-            const FlightPose p = flight_pose(flight, r);
-            snow.set_frame(std::uint64_t(r), CameraPose{p.origin, p.right, p.down, p.forward});
-            const double t0 = now_ms(), c0 = cpu_ms();
-            snow.draw(cam, frame.depth, final, nullptr, nullptr);
-            if (r == 0) continue;  // the first run allocates
-            t.push_back(now_ms() - t0);
-            cpu.push_back(cpu_ms() - c0);
-            particles += snow.drawn();
-        }
-        detail("%s: %ld particles drawn per frame on average\n", name.c_str(),
-               particles / std::max(a.repeats, 1));
-        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
-    }
-    return cases;
-}
-
-/// Lamp shadows alone (LampShadows::compute: every lamp's visibility image) on the flight's
-/// first frame with the setup's rig: `shadows` as rendered, `shadows-exact` the full-resolution
-/// sweep it is checked against (docs/runtime.md, "Lamp shadows").
-std::vector<Case> time_shadows(const Camera& cam, const Rig& rig, const BenchArgs& a, int threads) {
-    std::vector<Case> cases;
-    FlightParams flight;
-    flight.camera = cam;
-    const Frame frame = render_flight_frame(flight, 0);
-    for (const bool exact : {false, true}) {
-        const std::string name = exact ? "shadows-exact" : "shadows";
-        if (!wanted(a.cases, name)) continue;
-        ShadowSettings s{true};
-        if (exact) s.step = 1;
-        LampShadows shadows;
-        shadows.compute(cam, frame.depth, rig, s);  // the first run allocates
-        std::vector<double> t, cpu;
-        for (int r = 0; r < a.repeats; ++r) {
-            const double t0 = now_ms(), c0 = cpu_ms();
-            shadows.compute(cam, frame.depth, rig, s);
-            t.push_back(now_ms() - t0);
-            cpu.push_back(cpu_ms() - c0);
-        }
-        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
-    }
-    return cases;
-}
 
 /// A temporary folder for generated files, removed with everything in it at the end.
 struct TempFolder {
@@ -334,7 +70,9 @@ std::vector<Case> time_stages(const Asset& asset, const Camera& cam, const Bench
     const std::string png = (tmp.dir / "f.png").string(), exr = (tmp.dir / "f_depth.exr").string();
     write_color(png, frame.rgb);
     write_depth_exr(exr, frame.depth);
-    Renderer renderer(asset, {cam});
+    RenderSettings settings;
+    settings.camera = cam;
+    Renderer renderer(asset, settings);
     Layers layers;
     renderer.render(layers, frame, LayerSet::Final);
     const double factor = exposure_factor(Exposure{}, layers.final);
@@ -376,7 +114,9 @@ std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const Bench
     FlightParams flight;
     flight.camera = cam;
     Frame frame = render_flight_frame(flight, 0);
-    Renderer renderer(asset, {cam});
+    RenderSettings settings;
+    settings.camera = cam;
+    Renderer renderer(asset, settings);
     Layers layers;
     renderer.render(layers, frame, LayerSet::Final);
     const double white = 1.0 / exposure_factor(Exposure{}, layers.final);
@@ -497,11 +237,7 @@ void run(const BenchArgs& a) {
         Water water = *setup.water;
         if (a.no_forward) water.forward.enabled = false;
         const Asset asset = bake(cam, *setup.rig, water, bench_bake(a));
-        if (wanted(a.cases, "composite_flat_port") ||
-            wanted(a.cases, "composite_flat_port_pinhole") ||
-            wanted(a.cases, "composite_small_angle") ||
-            std::any_of(std::begin(kCompositeCases), std::end(kCompositeCases),
-                        [&](const char* n) { return wanted(a.cases, n); })) {
+        if (wants_compositor(a.cases)) {
             for (Case& c : time_compositor(asset, cam, a, threads)) cases.push_back(c);
         }
         if (wanted(a.cases, "stage")) {
@@ -552,6 +288,7 @@ void run(const BenchArgs& a) {
 
 void setup_bench(CLI::App& sub) {
     auto a = std::make_shared<BenchArgs>();
+    a->config = default_demo_config();
     sub.add_option("--repeats", a->repeats, "timed runs per case (median reported)");
     add_threads(sub, a->threads);
     sub.add_option("--config", a->config, "setup YAML (camera, rig, water)");
