@@ -88,7 +88,7 @@ def test_bake_releases_the_gil():
 
 
 def test_bake_through_a_port_records_it_and_renders_only_through_it():
-    # docs/ports.md, "Baking through a port": the columns follow the water-side rays, the asset
+    # docs/port-bake.md, "Baking through a port": the columns follow the water-side rays, the asset
     # records the port, and a renderer without it (or with another) is refused in one line.
     port = {"flat": {"normal": [0, 0, 1], "distance": 0.03, "glass_thickness": 0.012}}
     camera = dict(CAMERA, port=port)

@@ -76,7 +76,7 @@ expect_fail shadows-through-a-port render --rgb "$work/in/frame_0001.png" \
 grep -q "lamp shadows through a port are not built yet" "$work/err.txt"
 expect_absent "$work/sh.png"
 
-# 4. An asset baked through the flat port (docs/ports.md, "Baking through a port"): info prints
+# 4. An asset baked through the flat port (docs/port-bake.md, "Baking through a port"): info prints
 # the port and the check along the refracted rays; it renders through that port only.
 "$ds" bake --camera "$work/flat.yaml" --rig "$src/volumes/rigs/authors-testset.yaml" \
   --water jerlov:IB --xy-step 16 --depth-samples 16 -o "$work/p.vdb" >/dev/null

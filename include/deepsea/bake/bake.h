@@ -64,7 +64,7 @@ struct BakeSettings {
     int max_refinements = 3;
     /// A check that still misses the bar throws AccuracyError instead of returning the asset.
     bool strict = false;
-    /// The housing's port (docs/ports.md, "Baking through a port"): each column is its pixel's
+    /// The housing's port (docs/port-bake.md, "Baking through a port"): each column is its pixel's
     /// water-side ray, recorded in the asset (BakeInfo::port). Unset: pinhole rays.
     std::optional<Port> port;
 };

@@ -1,6 +1,6 @@
 #pragma once
 /// \file The ray a lattice column (and the accuracy check's test pixel) integrates along
-/// (docs/ports.md, "Baking through a port"): the pinhole ray from the camera centre, or through
+/// (docs/port-bake.md, "Baking through a port"): the pinhole ray from the camera centre, or through
 /// a port the pixel's water-side ray (the green channel's), from the port's outer surface. Its
 /// samples are indexed by the planar depth z of the point on the ray, so that the runtime looks
 /// a port asset up with the hit's planar depth exactly as a pinhole one.

@@ -20,7 +20,7 @@ struct ReferenceOptions {
     /// Open-water rays end at this planar depth in metres (e.g. an asset's z_max to compare
     /// with it). 0: integrate until the transmission along the ray is negligible (1e-9).
     double open_water_z = 0.0;
-    /// The housing's port (docs/ports.md, "The exact reference through a port"): every pixel
+    /// The housing's port (docs/port-bake.md, "The exact reference through a port"): every pixel
     /// along its water-side ray (trace_port, the green channel's), its surface where that ray
     /// meets the depth map (find_port_hit, the runtime's hit definition in double). The layers
     /// stay water-side radiance, as the renderer's, with the mask; radiance_at_camera gives

@@ -1,4 +1,4 @@
-// Baking through a port (docs/ports.md, "Baking through a port"): an asset baked along the
+// Baking through a port (docs/port-bake.md, "Baking through a port"): an asset baked along the
 // water-side rays, rendered through the same port, against exact integration along the
 // refracted rays; a centred dome's lattice against no port's; a port that differs refused.
 

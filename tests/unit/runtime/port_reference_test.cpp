@@ -1,4 +1,4 @@
-// The exact reference through a port (docs/ports.md, "The exact reference through a port"):
+// The exact reference through a port (docs/port-bake.md, "The exact reference through a port"):
 // against the runtime's render of the same frame through the same port, an asset baked through
 // it; and a dome centred on the camera against no port, up to the radiance factor.
 
