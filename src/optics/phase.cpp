@@ -73,10 +73,11 @@ struct PetzoldPhase {
         }
         mean_cos = sphere_integral([this](double psi) { return eval(psi); },
                                    [](double psi) { return std::cos(psi); });
-        legendre2 = sphere_integral([this](double psi) { return eval(psi); }, [](double psi) {
-            const double c = std::cos(psi);
-            return 0.5 * (3.0 * c * c - 1.0);
-        });
+        legendre2 = sphere_integral([this](double psi) { return eval(psi); },
+                                    [](double psi) {
+                                        const double c = std::cos(psi);
+                                        return 0.5 * (3.0 * c * c - 1.0);
+                                    });
     }
     double eval(double psi) const {
         if (psi < kTableStart) return norm * petzold_raw(col, psi);

@@ -1,7 +1,7 @@
-// Lamp shadows on every step-th pixel, brought to every pixel (docs/snow-shadows.md, "Lamp shadows",
-// "Reduced resolution"). The sweep itself is lamp_shadows.cpp's, run on a camera whose pixel
-// (i, j) is the frame's pixel (step i, step j) and on those pixels' depths (a subsample, not an
-// average: every swept depth is one the frame has, so no sample lies between two surfaces).
+// Lamp shadows on every step-th pixel, brought to every pixel (docs/snow-shadows.md, "Lamp
+// shadows", "Reduced resolution"). The sweep itself is lamp_shadows.cpp's, run on a camera whose
+// pixel (i, j) is the frame's pixel (step i, step j) and on those pixels' depths (a subsample, not
+// an average: every swept depth is one the frame has, so no sample lies between two surfaces).
 
 #include <tbb/parallel_for.h>
 

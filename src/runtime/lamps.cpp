@@ -13,6 +13,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/optics/lamp.h"
 #include "deepsea/optics/normals.h"
+#include "lamp_field_rows.h"
 
 namespace deepsea {
 
@@ -120,21 +121,7 @@ void add_scattered_coefficients(const Light& L, const LampField& field, int K,
                                 const float* __restrict x, const float* __restrict y,
                                 const float* __restrict z, float* __restrict tmp,
                                 float* __restrict C) {
-    Vec3 ex, ey;
-    lamp_frame(L.direction, ex, ey);
-    const LampFieldView<float> f(field);
-    const float ox = float(L.position.x), oy = float(L.position.y), oz = float(L.position.z);
-    const float exx = float(ex.x), exy = float(ex.y), exz = float(ex.z);
-    const float eyx = float(ey.x), eyy = float(ey.y), eyz = float(ey.z);
-    const float ax = float(L.direction.x), ay = float(L.direction.y), az = float(L.direction.z);
-#pragma omp simd
-    for (int k = 0; k < K; ++k) {
-        // into the lamp frame: the equation is optics' (lamp_field.h)
-        const float qx = x[k] - ox, qy = y[k] - oy, qz = z[k] - oz;
-        lamp_field_quadratic(f, exx, exy, exz, eyx, eyy, eyz, ax, ay, az,
-                             exx * qx + exy * qy + exz * qz, eyx * qx + eyy * qy + eyz * qz,
-                             ax * qx + ay * qy + az * qz, tmp + k, K);
-    }
+    lamp_field_rows(L, field, K, x, y, z, tmp);
     for (int c = 0; c < 3; ++c) {
         const float I = float(L.intensity[c]);
         float* __restrict dst = C + c * kQuadraticCount * K;

@@ -151,7 +151,10 @@ double snow_disc_radius_px(const Camera& cam, const ThinLens& lens, const Vec3& 
 
 MarineSnow::MarineSnow(SnowSettings settings, const Rig& rig, const Water& water,
                        std::vector<LampField> scattered)
-    : m_settings(std::move(settings)), m_rig(rig), m_water(water), m_scattered(std::move(scattered)) {
+    : m_settings(std::move(settings)),
+      m_rig(rig),
+      m_water(water),
+      m_scattered(std::move(scattered)) {
     validate(m_settings);
     if (!m_scattered.empty() && m_scattered.size() != m_rig.lights.size())
         throw std::invalid_argument("MarineSnow: one lamp field per lamp");

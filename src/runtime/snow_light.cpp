@@ -10,6 +10,7 @@
 #include "clones.h"
 #include "deepsea/optics/lamp.h"
 #include "deepsea/optics/phase.h"
+#include "lamp_field_rows.h"
 
 namespace deepsea {
 
@@ -114,26 +115,12 @@ void scattered_particles(const Light& L, const LampField& field, float k1, float
                          const ParticleRows& p, float* __restrict tmp, float* __restrict r,
                          float* __restrict g, float* __restrict b) {
     const int n = p.n;
-    Vec3 ex, ey;
-    lamp_frame(L.direction, ex, ey);
-    const LampFieldView<float> f(field);
-    const float ox = float(L.position.x), oy = float(L.position.y), oz = float(L.position.z);
-    const float exx = float(ex.x), exy = float(ex.y), exz = float(ex.z);
-    const float eyx = float(ey.x), eyy = float(ey.y), eyz = float(ey.z);
-    const float ax = float(L.direction.x), ay = float(L.direction.y), az = float(L.direction.z);
     const float ir = float(L.intensity.r), ig = float(L.intensity.g), ib = float(L.intensity.b);
     const float* __restrict px = p.x;
     const float* __restrict py = p.y;
     const float* __restrict pz = p.z;
     const float* __restrict pinv = p.inv_d2;
-#pragma omp simd
-    for (int q = 0; q < n; ++q) {
-        // into the lamp frame: the equations are optics' (lamp_field.h)
-        const float qx = px[q] - ox, qy = py[q] - oy, qz = pz[q] - oz;
-        lamp_field_quadratic(f, exx, exy, exz, eyx, eyy, eyz, ax, ay, az,
-                             exx * qx + exy * qy + exz * qz, eyx * qx + eyy * qy + eyz * qz,
-                             ax * qx + ay * qy + az * qz, tmp + q, n);
-    }
+    lamp_field_rows(L, field, n, px, py, pz, tmp);
     const int stride = kQuadraticCount * n;
 #pragma omp simd
     for (int q = 0; q < n; ++q) {

@@ -62,8 +62,7 @@ bool wants_compositor(const std::string& list);
 std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const BenchArgs& a,
                                   int threads);
 /// Marine snow alone at each preset's density.
-std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchArgs& a,
-                            int threads);
+std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchArgs& a, int threads);
 /// Lamp shadows alone.
 std::vector<Case> time_shadows(const Camera& cam, const Rig& rig, const BenchArgs& a, int threads);
 

@@ -16,6 +16,7 @@
 #include <optional>
 #include <utility>
 
+#include "bench.h"
 #include "cli_util.h"
 #include "commands.h"
 #include "deepsea/bake/bake.h"
@@ -28,7 +29,6 @@
 #include "deepsea/runtime/lamp_shadows.h"
 #include "deepsea/runtime/renderer.h"
 #include "deepsea/scene/flight.h"
-#include "bench.h"
 
 namespace deepsea::cli::bench {
 
@@ -38,7 +38,6 @@ namespace {
 /// lamp shadows.
 const char* const kCompositeCases[] = {"composite", "composite_final_only", "composite-shadows",
                                        "composite_final_only-shadows"};
-
 
 }  // namespace
 

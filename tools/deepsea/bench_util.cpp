@@ -121,9 +121,9 @@ Camera scaled(const Camera& base, int w, int h) {
 }
 
 bool wants_compositor(const std::string& list) {
-    for (const char* n : {"composite", "composite_final_only", "composite-shadows",
-                          "composite_final_only-shadows", "composite_flat_port",
-                          "composite_flat_port_pinhole", "composite_small_angle"}) {
+    for (const char* n :
+         {"composite", "composite_final_only", "composite-shadows", "composite_final_only-shadows",
+          "composite_flat_port", "composite_flat_port_pinhole", "composite_small_angle"}) {
         if (wanted(list, n)) return true;
     }
     return false;

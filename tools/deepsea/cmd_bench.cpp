@@ -18,8 +18,8 @@
 #include <optional>
 #include <utility>
 
-#include "cli_util.h"
 #include "bench.h"
+#include "cli_util.h"
 #include "commands.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/batch/sequence.h"
@@ -39,7 +39,6 @@ namespace {
 namespace fs = std::filesystem;
 
 using namespace bench;  // NOLINT: the cases and their clocks (bench.h)
-
 
 /// A temporary folder for generated files, removed with everything in it at the end.
 struct TempFolder {

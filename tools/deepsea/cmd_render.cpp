@@ -213,18 +213,21 @@ void setup_render(CLI::App& sub) {
     a->shard.add_to(sub,
                     "render only part i of n of a sequence (0-based; contiguous frames), with "
                     "its own manifest; `deepsea merge-shards` checks and joins the parts");
-    sub.add_flag("--shadows", a->shadows,
-                 "lamp shadows from the depth map, penumbrae from each lamp's radius "
-                 "(docs/snow-shadows.md, \"Lamp shadows\"); off by default, as in the paper's model");
-    sub.add_option("--snow", a->snow,
-                   "marine snow lit by the lamps (docs/snow-shadows.md, \"Marine snow\"): a preset, "
-                   "abyssal, nepheloid or plume, or off; overrides the --camera file's snow "
-                   "section (docs/config.md), which applies without it; adds the layers snow "
-                   "and snow_id");
-    sub.add_option("--poses", a->poses,
-                   "TUM trajectory file (timestamp tx ty tz qx qy qz qw a line, camera to "
-                   "world; # comments): the n-th pose is the n-th frame's, in frame order, so "
-                   "that marine snow stays fixed in the world (docs/snow-shadows.md, \"Marine snow\")");
+    sub.add_flag(
+        "--shadows", a->shadows,
+        "lamp shadows from the depth map, penumbrae from each lamp's radius "
+        "(docs/snow-shadows.md, \"Lamp shadows\"); off by default, as in the paper's model");
+    sub.add_option(
+        "--snow", a->snow,
+        "marine snow lit by the lamps (docs/snow-shadows.md, \"Marine snow\"): a preset, "
+        "abyssal, nepheloid or plume, or off; overrides the --camera file's snow "
+        "section (docs/config.md), which applies without it; adds the layers snow "
+        "and snow_id");
+    sub.add_option(
+        "--poses", a->poses,
+        "TUM trajectory file (timestamp tx ty tz qx qy qz qw a line, camera to "
+        "world; # comments): the n-th pose is the n-th frame's, in frame order, so "
+        "that marine snow stays fixed in the world (docs/snow-shadows.md, \"Marine snow\")");
     sub.add_option("--snow-seed", a->snow_seed,
                    "seed of the marine snow's particles (same seed, same particles)")
         ->default_str("1");

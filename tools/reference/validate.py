@@ -18,12 +18,13 @@ the smallest power-of-two bin with half resolved, named in the bin column). Debi
 import argparse
 import math
 import os
-import subprocess
 import sys
 import time
 
 import numpy as np
-import OpenImageIO as oiio
+
+# the EXR reader and writer, the command runner and the bins are compare_baked.py's
+from compare_baked import bins, read_layer, run, write_exr
 
 
 def spot(name, pos, aim, rgb, sigma):
@@ -93,32 +94,6 @@ def wall_rows():
             rows[f"{w}-{z:g}m"] = (w, "two-spots", "16x12", 64.5, z, 2048)
             rows[f"{w}-{z:g}m-open"] = (w, "two-spots", "16x12", 64.5, ("open", z), 2048)
     return rows
-
-
-def write_exr(path, array):
-    h, w, c = array.shape
-    out = oiio.ImageOutput.create(path)
-    out.open(path, oiio.ImageSpec(w, h, c, oiio.FLOAT))
-    out.write_image(np.ascontiguousarray(array, dtype=np.float32))
-    out.close()
-
-
-def read_layer(path, layer):
-    buf = oiio.ImageBuf(path)
-    names = buf.spec().channelnames
-    idx = [names.index(f"{layer}.{c}") for c in "RGB"]
-    return buf.get_pixels(oiio.FLOAT)[:, :, idx].astype(np.float64)
-
-
-def run(cmd):
-    t0 = time.time()
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    return time.time() - t0
-
-
-def bins(img, b):
-    h, w = img.shape[:2]
-    return img[: h // b * b, : w // b * b].reshape(h // b, b, w // b, b, 3).sum(axis=(1, 3))
 
 
 def render_row(a, name, row):

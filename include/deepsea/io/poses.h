@@ -1,7 +1,7 @@
 #pragma once
 /// \file Camera poses of an RGB-D sequence from a TUM-format trajectory file (`render
-/// --poses`, docs/snow-shadows.md "Marine snow"): marine snow stays fixed in the world as the camera
-/// moves.
+/// --poses`, docs/snow-shadows.md "Marine snow"): marine snow stays fixed in the world as the
+/// camera moves.
 
 #include <string>
 #include <vector>

@@ -175,12 +175,10 @@ inline T quadratic_in_scatter(const T* q, int stride, T k1, T k2, T vx, T vy, T 
     const T tr3 = (q[4 * stride] + q[5 * stride] + q[6 * stride]) * T(1.0 / 3.0);
     const T band0 = q[0] + tr3;
     const T band1 = q[stride] * vx + q[2 * stride] * vy + q[3 * stride] * vz;
-    const T band2 = q[4 * stride] * vx * vx + q[5 * stride] * vy * vy + q[6 * stride] * vz * vz +
-                    T(2) * (q[7 * stride] * vx * vy + q[8 * stride] * vx * vz +
-                            q[9 * stride] * vy * vz) -
-                    tr3;
-    const T s = band0 * T(1.0 / M_PI) + band1 * (k1 * T(1.5 / M_PI)) +
-                band2 * (k2 * T(4.0 / M_PI));
+    const T band2 =
+        q[4 * stride] * vx * vx + q[5 * stride] * vy * vy + q[6 * stride] * vz * vz +
+        T(2) * (q[7 * stride] * vx * vy + q[8 * stride] * vx * vz + q[9 * stride] * vy * vz) - tr3;
+    const T s = band0 * T(1.0 / M_PI) + band1 * (k1 * T(1.5 / M_PI)) + band2 * (k2 * T(4.0 / M_PI));
     return s > T(0) ? s : T(0);
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-/// \file Lamp shadows from the depth map (docs/snow-shadows.md, "Lamp shadows"): per lamp and pixel,
-/// the fraction of the lamp's face that the depth map's surfaces leave visible.
+/// \file Lamp shadows from the depth map (docs/snow-shadows.md, "Lamp shadows"): per lamp and
+/// pixel, the fraction of the lamp's face that the depth map's surfaces leave visible.
 
 #include <cstddef>
 #include <memory>

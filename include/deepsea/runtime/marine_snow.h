@@ -1,6 +1,6 @@
 #pragma once
-/// \file Marine snow drawn into a frame (docs/snow-shadows.md, "Marine snow"): particles placed in the
-/// view up to the frame's surfaces, lit by the rig's lamps (optics/snow.h), drawn as discs of
+/// \file Marine snow drawn into a frame (docs/snow-shadows.md, "Marine snow"): particles placed in
+/// the view up to the frame's surfaces, lit by the rig's lamps (optics/snow.h), drawn as discs of
 /// their projected size widened by the lens's circle of confusion.
 
 #include <cstdint>

@@ -27,16 +27,16 @@ struct RenderSettings {
     Camera camera;
     /// Forward scatter, where the asset's water has it.
     bool forward = true;
-    /// Lamp shadows from the depth map (docs/snow-shadows.md, "Lamp shadows"): off by default, as in
-    /// the paper's model; thickness in metres of planar depth.
+    /// Lamp shadows from the depth map (docs/snow-shadows.md, "Lamp shadows"): off by default, as
+    /// in the paper's model; thickness in metres of planar depth.
     bool shadows = false;
     double shadow_thickness = kDefaultShadowThickness;
     /// The housing's port (docs/ports.md): each pixel sees along its water-side ray, and the
     /// layers gain `mask`. Unset: the pinhole looks into the water. An asset baked through a
     /// port needs the same port (same_rays); a pinhole asset takes any.
     std::optional<Port> port;
-    /// Marine snow (docs/snow-shadows.md, "Marine snow"): unset, none. With it, final holds the snow
-    /// and LayerSet::All fills the layers snow and snow_id. Not through a port (refused).
+    /// Marine snow (docs/snow-shadows.md, "Marine snow"): unset, none. With it, final holds the
+    /// snow and LayerSet::All fills the layers snow and snow_id. Not through a port (refused).
     std::optional<SnowSettings> snow;
 };
 

@@ -41,7 +41,6 @@ struct SnowLightScratch {
 /// also scatters the lamps' scattered light (optics' particle_radiance with fields).
 void snow_light(const Rig& rig, const Water& water, const Snow& snow, double fx, double fy,
                 const ParticleRows& p, float* er, float* eg, float* eb,
-                const SnowLightScratch& scratch,
-                const std::vector<LampField>& scattered = {});
+                const SnowLightScratch& scratch, const std::vector<LampField>& scattered = {});
 
 }  // namespace deepsea

@@ -18,8 +18,8 @@ namespace {
 
 /// integral over the sphere of L(d) p(d . v) dd, in a frame about v: psi on a grid fine near 0
 /// (Petzold's forward peak), phi with 64 points (exact for L's order-2 dependence on phi).
-double direct(const Phase& phase, const double* L, const Vec3& er, const Vec3& ephi,
-              const Vec3& a, const Vec3& v) {
+double direct(const Phase& phase, const double* L, const Vec3& er, const Vec3& ephi, const Vec3& a,
+              const Vec3& v) {
     Vec3 e1 = normalize(std::fabs(v.x) < 0.9 ? cross(v, Vec3{1, 0, 0}) : cross(v, Vec3{0, 1, 0}));
     const Vec3 e2 = cross(v, e1);
     std::vector<double> psi;
@@ -29,7 +29,8 @@ double direct(const Phase& phase, const double* L, const Vec3& er, const Vec3& e
         double sum = 0;
         for (int k = 0; k < 64; ++k) {
             const double phi = 2 * M_PI * (k + 0.5) / 64;
-            const Vec3 d = v * std::cos(s) + (e1 * std::cos(phi) + e2 * std::sin(phi)) * std::sin(s);
+            const Vec3 d =
+                v * std::cos(s) + (e1 * std::cos(phi) + e2 * std::sin(phi)) * std::sin(s);
             double Y[kShCount];
             sh_basis(dot(d, er), dot(d, ephi), dot(d, a), Y);
             double l = 0;
@@ -77,8 +78,7 @@ TEST(ParticleInScatter, FunkHeckeShortcutMatchesIntegrationOverTheSphere) {
     f.r_max = 10.0;
     double L[3][kShCount];
     for (int c = 0; c < 3; ++c)
-        for (int m = 0; m < kShCount; ++m)
-            L[c][m] = m == 0 ? 2.0 + c : 0.6 * (rng.uniform() - 0.5);
+        for (int m = 0; m < kShCount; ++m) L[c][m] = m == 0 ? 2.0 + c : 0.6 * (rng.uniform() - 0.5);
     for (int node = 0; node < 4; ++node)
         for (int m = 0; m < kShCount; ++m)
             for (int c = 0; c < 3; ++c) f.sh.push_back(float(L[c][m]));
@@ -87,19 +87,19 @@ TEST(ParticleInScatter, FunkHeckeShortcutMatchesIntegrationOverTheSphere) {
     const Vec3 er{px / rho, py / rho, 0}, ephi{-py / rho, px / rho, 0}, a{0, 0, 1};
     double q[3 * kQuadraticCount];
     lamp_field_quadratic(view, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, px, py, pz, q, 1);
-    for (const Phase phase : {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.7},
-                              Phase{PhaseKind::HenyeyGreenstein, -0.4},
-                              Phase{PhaseKind::PetzoldCoastal, 0.0}}) {
+    for (const Phase phase :
+         {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.7},
+          Phase{PhaseKind::HenyeyGreenstein, -0.4}, Phase{PhaseKind::PetzoldCoastal, 0.0}}) {
         const double k1 = phase.legendre_moment(1), k2 = phase.legendre_moment(2);
-        for (const Vec3 v : {Vec3{0, 0, 1}, normalize(Vec3{0.5, -0.3, 0.8}),
-                             normalize(Vec3{-0.7, 0.6, -0.2})}) {
+        for (const Vec3 v :
+             {Vec3{0, 0, 1}, normalize(Vec3{0.5, -0.3, 0.8}), normalize(Vec3{-0.7, 0.6, -0.2})}) {
             for (int c = 0; c < 3; ++c) {
                 const double got =
                     quadratic_in_scatter(q + c * kQuadraticCount, 1, k1, k2, v.x, v.y, v.z);
                 const double want = direct(phase, L[c], er, ephi, a, v);
                 EXPECT_NEAR(got, want, 2e-4 * want)
-                    << "phase " << int(phase.kind) << " channel " << c << " v " << v.x << ","
-                    << v.y << "," << v.z;
+                    << "phase " << int(phase.kind) << " channel " << c << " v " << v.x << "," << v.y
+                    << "," << v.z;
             }
         }
     }

@@ -85,11 +85,13 @@ TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
         inv.push_back(float(1.0 / length(p)));
         D.push_back(float(1e-3 * (0.5 + 2.0 * rng.uniform())));
     }
-    for (const Phase phase : {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.6},
-                              Phase{PhaseKind::PetzoldTurbid, 0.0}}) {
+    for (const Phase phase :
+         {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.6},
+          Phase{PhaseKind::PetzoldTurbid, 0.0}}) {
         Snow snow = snow_preset("plume");
         snow.phase = phase;
-        std::vector<float> e(3 * std::size_t(n)), e0(3 * std::size_t(n)), scratch(5 * std::size_t(n));
+        std::vector<float> e(3 * std::size_t(n)), e0(3 * std::size_t(n)),
+            scratch(5 * std::size_t(n));
         float* s = scratch.data();
         const SnowLightScratch sc{s, s + n, s + 2 * n, s + 3 * n, s + 4 * n};
         const ParticleRows rows{n, x.data(), y.data(), z.data(), inv.data(), D.data()};
@@ -102,7 +104,8 @@ TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
             const Vec3& p = X[std::size_t(q)];
             const double d2 = length(p), Dq = double(D[std::size_t(q)]);
             const double area = M_PI / 4 * Dq * Dq * cam.fx * cam.fy * d2 / std::pow(p.z, 3);
-            const Rgb L = particle_radiance(r, wat, snow, p, scattered) * transmission(wat.c, d2) * area;
+            const Rgb L =
+                particle_radiance(r, wat, snow, p, scattered) * transmission(wat.c, d2) * area;
             const double want[3] = {L.r, L.g, L.b};
             const double scale = std::max({want[0], want[1], want[2]});
             for (int c = 0; c < 3; ++c) {
@@ -121,11 +124,11 @@ TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
     // One field per lamp, or none.
     std::vector<float> e(3 * 4), sc(5 * 4);
     const ParticleRows rows{1, x.data(), y.data(), z.data(), inv.data(), D.data()};
-    EXPECT_THROW(snow_light(r, wat, snow_preset("plume"), 1, 1, rows, e.data(), e.data() + 1,
-                            e.data() + 2, {sc.data(), sc.data() + 1, sc.data() + 2, sc.data() + 3,
-                                           sc.data() + 4},
-                            std::vector<LampField>(1)),
-                 std::invalid_argument);
+    EXPECT_THROW(
+        snow_light(r, wat, snow_preset("plume"), 1, 1, rows, e.data(), e.data() + 1, e.data() + 2,
+                   {sc.data(), sc.data() + 1, sc.data() + 2, sc.data() + 3, sc.data() + 4},
+                   std::vector<LampField>(1)),
+        std::invalid_argument);
 }
 
 TEST(SnowScatteredLight, DrawnFrameGainsTheScatteredLight) {
