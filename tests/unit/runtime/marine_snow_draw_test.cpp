@@ -12,43 +12,11 @@
 #include "deepsea/optics/transmission.h"
 #include "deepsea/runtime/marine_snow.h"
 #include "deepsea/runtime/snow_light.h"
+#include "snow_fixtures.h"
 
 namespace deepsea {
 
 namespace {
-
-Camera camera() {
-    Camera c;
-    c.width = 240;
-    c.height = 180;
-    c.fx = c.fy = 200.0;
-    c.cx = 119.5;
-    c.cy = 89.5;
-    return c;
-}
-
-Rig lamps(bool table) {
-    Rig rig;
-    Light a;
-    a.position = {0.4, -0.1, 0.0};
-    a.direction = normalize(Vec3{-0.25, 0.05, 1.0});
-    a.intensity = {2.0, 1.5, 1.0};
-    a.rid.sigma_deg = 30.0;
-    a.rid.cutoff_deg = 40.0;
-    rig.lights.push_back(a);
-    Light b = a;
-    b.position = {-0.4, 0.1, 0.05};
-    b.direction = normalize(Vec3{0.2, 0.1, 1.0});
-    b.intensity = {1.0, 1.2, 1.4};
-    b.rid.cutoff_deg = 180.0;
-    if (table) {
-        b.rid.kind = Rid::Kind::Table;
-        b.rid.angle_deg = {0, 10, 25, 50, 70};
-        b.rid.value = {1.0, 0.9, 0.6, 0.1, 0.0};
-    }
-    rig.lights.push_back(b);
-    return rig;
-}
 
 Water water() {
     Water w;
@@ -60,7 +28,7 @@ Water water() {
 }  // namespace
 
 TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
-    const Camera cam = camera();
+    const Camera cam = testing::snow_camera();
     const Water wat = water();
     Rng rng(11);
     const int n = 301;  // not a multiple of any vector width
@@ -80,7 +48,7 @@ TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
         for (const Phase phase :
              {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.6},
               Phase{PhaseKind::PetzoldClear, 0.0}}) {
-            const Rig rig = lamps(table);
+            const Rig rig = testing::snow_lamps(table);
             Snow snow = snow_preset("nepheloid");
             snow.albedo = 0.4;
             snow.phase = phase;
@@ -109,11 +77,11 @@ TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
 }
 
 TEST(MarineSnowDraw, SubPixelParticleIsSharedBilinearly) {
-    const Camera cam = camera();
+    const Camera cam = testing::snow_camera();
     SnowSettings s;
     s.snow = snow_preset("abyssal");
     s.snow.concentration = 0.3;  // about 7 particles in view
-    MarineSnow snow(s, lamps(false), water());
+    MarineSnow snow(s, testing::snow_lamps(false), water());
     const ThinLens lens{cam.fx, s.pixel_pitch_um, s.f_number, s.focus_distance_m};
     const Image depth(cam.width, cam.height, 1);
     int checked = 0;
@@ -152,12 +120,12 @@ TEST(MarineSnowDraw, SubPixelParticleIsSharedBilinearly) {
 }
 
 TEST(MarineSnowDraw, SameImageAtAnyThreadCount) {
-    const Camera cam = camera();
+    const Camera cam = testing::snow_camera();
     SnowSettings s;
     s.snow = snow_preset("plume");
     s.focus_distance_m = 1.5;
     s.f_number = 1.4;  // large soft discs near the lens, overlapping across bands
-    MarineSnow snow(s, lamps(true), water());
+    MarineSnow snow(s, testing::snow_lamps(true), water());
     // A slanted floor: some particles and parts of discs behind it.
     Image depth(cam.width, cam.height, 1);
     for (int v = 0; v < cam.height; ++v)

@@ -12,36 +12,11 @@
 #include "deepsea/optics/transmission.h"
 #include "deepsea/runtime/marine_snow.h"
 #include "deepsea/runtime/snow_light.h"
+#include "snow_fixtures.h"
 
 namespace deepsea {
 
 namespace {
-
-Camera camera() {
-    Camera c;
-    c.width = 200;
-    c.height = 150;
-    c.fx = c.fy = 170.0;
-    c.cx = 99.5;
-    c.cy = 74.5;
-    return c;
-}
-
-Rig rig() {
-    Rig r;
-    Light a;
-    a.position = {0.4, -0.1, 0.0};
-    a.direction = normalize(Vec3{-0.25, 0.05, 1.0});
-    a.intensity = {2.0, 1.5, 1.0};
-    a.rid.sigma_deg = 30.0;
-    r.lights.push_back(a);
-    Light b = a;
-    b.position = {-0.4, 0.1, 0.05};
-    b.direction = normalize(Vec3{0.2, 0.1, 1.0});
-    b.intensity = {1.0, 1.2, 1.4};
-    r.lights.push_back(b);
-    return r;
-}
 
 Water water() {
     Water w;
@@ -67,9 +42,9 @@ std::vector<LampField> fields(const Rig& r, const Water& w) {
 }  // namespace
 
 TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
-    const Camera cam = camera();
+    const Camera cam = testing::snow_camera();
     const Water wat = water();
-    const Rig r = rig();
+    const Rig r = testing::snow_lamps(false);
     const std::vector<LampField> scattered = fields(r, wat);
     Rng rng(3);
     const int n = 203;
@@ -132,9 +107,9 @@ TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
 }
 
 TEST(SnowScatteredLight, DrawnFrameGainsTheScatteredLight) {
-    const Camera cam = camera();
+    const Camera cam = testing::snow_camera();
     const Water wat = water();
-    const Rig r = rig();
+    const Rig r = testing::snow_lamps(false);
     SnowSettings st;
     st.snow = snow_preset("nepheloid");
     const Image depth(cam.width, cam.height, 1, 3.0f);
