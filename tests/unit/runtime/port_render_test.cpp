@@ -219,9 +219,11 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
             for (float& d : planar.data) d = has_surface(d) ? d : 0.0f;
             const Image inv = inverse_depth(planar);
             const double z_near = nearest_surface(planar);
+            Image nearest, rows;
+            window_nearest(inv, nearest, rows);
             long differ = 0, surfaces = 0;
             for (int v = 0; v < cam.height; ++v) {
-                port_row(rays, v, inv, surface, z_near,
+                port_row(rays, v, inv, nearest, surface, z_near,
                          {x.data(), y.data(), z.data(), t.data(), nx.data(), ny.data(), nz.data(),
                           J.data(), mask.data()});
                 for (int u = 0; u < cam.width; ++u) {
