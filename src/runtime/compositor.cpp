@@ -214,6 +214,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             float* inv = m_inv_depth.row(v);
             for (int u = 0; u < W; ++u) inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
         });
+        window_nearest(m_inv_depth, m_nearest, m_nearest_rows);
         if (forward && (m_hit_z.width != W || m_hit_z.height != H)) m_hit_z = Image(W, H, 1);
         if (all && (dst.mask.width != W || dst.mask.height != H)) dst.mask = Image(W, H, 1);
     } else {
@@ -227,7 +228,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         s.fit(W);
         const float* J;
         if (port) {
-            port_row(*m_port, v, m_inv_depth, m_in_surface, z_near,
+            port_row(*m_port, v, m_inv_depth, m_nearest, m_in_surface, z_near,
                      {s.x.data(), s.y.data(), s.z.data(), s.t.data(), s.nx.data(), s.ny.data(),
                       s.nz.data(), s.j.data(), s.mask.data()});
             J = s.j.data();

@@ -46,14 +46,15 @@ PortRays::PortRays(const Port& port, const Camera& camera)
     });
     m_water_fx = port_water_fx(port, camera);
     const std::size_t n = m_rays.size();
-    m_march_soa.resize(8 * n);
+    m_march_soa.resize(14 * n);
     tbb::parallel_for(0, camera.height, [&](int v) {
         for (int u = 0; u < camera.width; ++u) {
             const PortMarch<float> m = march(u, v);
-            const float fields[8] = {m.u_inf,    m.v_inf, m.du,   m.dv,
-                                     m.s_origin, m.s_lo,  m.s_hi, m.rate};
+            const Ray& r = ray(u, v);
+            const float fields[14] = {m.u_inf, m.v_inf, m.du, m.dv, m.s_origin, m.s_lo, m.s_hi,
+                                      m.rate,  r.ox,    r.oy, r.oz, r.dx,       r.dy,   r.dz};
             const std::size_t i = std::size_t(v) * camera.width + u;
-            for (int f = 0; f < 8; ++f) m_march_soa[f * n + i] = fields[f];
+            for (int f = 0; f < 14; ++f) m_march_soa[f * n + i] = fields[f];
         }
     });
 }
@@ -72,7 +73,19 @@ RayProjection PortRays::projection(int u, int v) const {
 
 PortHit PortRays::hit(int u, int v, const Image& inv_depth, double z_near) const {
     const Ray& r = ray(u, v);
-    const PortCrossing<float> c = march_port_ray(inv_depth, march(u, v), float(1.001 / z_near));
+    const PortMarch<float> m = march(u, v);
+    float s_near = float(1.001 / z_near);
+    const int W = inv_depth.width, H = inv_depth.height, B = kPortStartBlock;
+    if (const int w = port_start_window(m, s_near, W, H); w >= 0) {
+        // the window's nearest surface, pixel by pixel (window_nearest's, by blocks)
+        const int bw = (W + B - 1) / B, bx = w % bw, by = w / bw;
+        float nearest = 0.0f;
+        for (int y = std::max(B * (by - 1), 0); y < std::min(B * (by + 2), H); ++y)
+            for (int x = std::max(B * (bx - 1), 0); x < std::min(B * (bx + 2), W); ++x)
+                nearest = std::max(nearest, inv_depth.at(x, y));
+        s_near = port_start_s(s_near, nearest);
+    }
+    const PortCrossing<float> c = march_port_ray(inv_depth, m, s_near);
     PortHit h;
     h.kind = c.kind;
     if (c.kind != PortHitKind::Surface) return h;
@@ -102,6 +115,37 @@ double nearest_surface(const Image& depth) {
             return z;
         },
         [](double a, double b) { return std::min(a, b); });
+}
+
+}  // namespace deepsea
+
+namespace deepsea {
+
+void window_nearest(const Image& inv, Image& out, Image& scratch) {
+    const int W = inv.width, H = inv.height, B = kPortStartBlock;
+    const int bw = (W + B - 1) / B, bh = (H + B - 1) / B;
+    if (out.width != bw || out.height != bh || out.channels != 1) out = Image(bw, bh, 1);
+    if (scratch.width != bw || scratch.height != bh || scratch.channels != 1)
+        scratch = Image(bw, bh, 1);
+    // Each block's largest inverse depth, then the largest of the 3 x 3 blocks around each.
+    tbb::parallel_for(0, bh, [&](int by) {
+        float* o = scratch.row(by);
+        std::fill_n(o, bw, 0.0f);
+        for (int y = B * by; y < std::min(B * (by + 1), H); ++y) {
+            const float* in = inv.row(y);
+            for (int x = 0; x < W; ++x) o[x / B] = std::max(o[x / B], in[x]);
+        }
+    });
+    for (int by = 0; by < bh; ++by) {
+        float* o = out.row(by);
+        for (int bx = 0; bx < bw; ++bx) {
+            float m = 0.0f;
+            for (int y = std::max(by - 1, 0); y <= std::min(by + 1, bh - 1); ++y)
+                for (int x = std::max(bx - 1, 0); x <= std::min(bx + 1, bw - 1); ++x)
+                    m = std::max(m, scratch.at(x, y));
+            o[bx] = m;
+        }
+    }
 }
 
 }  // namespace deepsea

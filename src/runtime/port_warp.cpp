@@ -29,7 +29,7 @@ enum FastState : int {
 /// The steps of at most a pixel, and the Illinois steps after them, tried across the row before
 /// a ray is left to the scalar march.
 constexpr int kFastMarchSteps = 8;
-constexpr int kFastSteps = 4;
+constexpr int kFastSteps = 1;
 
 /// port_detail::taps_at's value where its four pixels are one surface (the same arithmetic on
 /// the same clamped position; W, H >= 2); `one` is 0 where taps_at would take the nearest pixel
@@ -52,10 +52,11 @@ inline float probe4(const float* __restrict inv, int W, int H, float u, float v,
 }
 
 struct MarchScratch {
-    std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s;
+    std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s, start, w;
     std::vector<int> steps, side, state;
     void fit(int n) {
-        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s}) v->resize(n);
+        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s, &start}) v->resize(n);
+        w.resize(4 * std::size_t(n));
         for (auto* v : {&steps, &side, &state}) v->resize(n);
     }
 };
@@ -70,10 +71,12 @@ bool any_in(int n, const int* state, int which) {
 /// The march of optics' march_port_ray for the rays of one row that take at most
 /// kFastMarchSteps steps and whose probes all lie between four pixels of one surface: the same
 /// probes, steps and Illinois steps (kFastSteps of them), lane by lane. Every other ray is
-/// marked kScalar.
+/// marked kScalar. Each ray's march starts at port_start_s where port_start_window allows
+/// (`nearest`: window_nearest of inv), at s_near otherwise; the start is kept in f.start for
+/// the scalar march.
 DEEPSEA_CLONES
-void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv, int W, int H,
-                float s_near, MarchScratch& f) {
+void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
+                const float* __restrict nearest, int W, int H, float s_near, MarchScratch& f) {
     float* __restrict lo_ = f.lo.data();
     float* __restrict hi_ = f.hi.data();
     float* __restrict step_ = f.step.data();
@@ -87,11 +90,23 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv, 
     int* __restrict steps_ = f.steps.data();
     int* __restrict side = f.side.data();
     int* __restrict state = f.state.data();
+    float* __restrict start = f.start.data();
     const float inf = std::numeric_limits<float>::infinity();
     const float still = float(kPortStillPx);
+    // (the windows in a loop of their own: with the read of `nearest` in the same loop GCC
+    // branches on the window and does not vectorise the masked read)
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
-        float hi = m.s_origin[u] < s_near ? m.s_origin[u] : s_near;  // (std::min's order)
+        steps_[u] = port_start_window(m.u_inf[u], m.v_inf[u], m.du[u], m.dv[u], m.s_lo[u],
+                                      m.s_hi[u], s_near, W, H);
+    }
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const int window = steps_[u];
+        const float window_near = nearest[window >= 0 ? window : 0];
+        const float near_s = window >= 0 ? port_start_s(s_near, window_near) : s_near;
+        start[u] = near_s;
+        float hi = m.s_origin[u] < near_s ? m.s_origin[u] : near_s;  // (std::min's order)
         hi = hi < inf ? hi : 1e3f;
         hi = m.s_hi[u] < hi ? m.s_hi[u] : hi;
         const float lo = m.s_lo[u];
@@ -183,10 +198,76 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv, 
     }
 }
 
+/// The hits that fast_march settled on one surface (kSurface): the point, the path from the
+/// port, and the normal and colour from the four input pixels around the hit, with the scalar
+/// code's arithmetic (port_row's; taps_at's weights). Other lanes get zeros. Lane by lane the
+/// taps' positions and weights, then per pixel two 4-float loads a tap (the interleaved
+/// normal and colour; gathering each float costs more), then the normals' lengths.
+DEEPSEA_CLONES
+void surface_hits(int n, const PortRays::MarchRow m, const float* __restrict in, int W, int H,
+                  MarchScratch& f, const PortRow& o) {
+    const float* __restrict s_hit = f.s.data();
+    const int* __restrict state = f.state.data();
+    int* __restrict at = f.steps.data();  // (spent by now)
+    float* __restrict w = f.w.data();
+    float* __restrict x = o.x, * __restrict y = o.y, * __restrict z = o.z, * __restrict t = o.t;
+    float* __restrict nx = o.nx, * __restrict ny = o.ny, * __restrict nz = o.nz;
+    float* __restrict J = o.J, * __restrict mask = o.mask;
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const bool hit = state[u] == kSurface;
+        const float s_u = s_hit[u];
+        const float s = hit ? s_u : 1.0f;  // (any finite s: the taps stay in the image)
+        float pu = m.u_inf[u] + m.du[u] * s, pv = m.v_inf[u] + m.dv[u] * s;
+        pu = pu > 0.0f ? pu : 0.0f;
+        pu = pu < float(W - 1) ? pu : float(W - 1);
+        pv = pv > 0.0f ? pv : 0.0f;
+        pv = pv < float(H - 1) ? pv : float(H - 1);
+        const int x0 = std::min(int(pu), W - 2), y0 = std::min(int(pv), H - 2);
+        const float fu = pu - float(x0), fv = pv - float(y0);
+        at[u] = (y0 * W + x0) * kPortSurfaceChannels;
+        w[4 * u] = hit ? (1 - fu) * (1 - fv) : 0.0f;
+        w[4 * u + 1] = hit ? fu * (1 - fv) : 0.0f;
+        w[4 * u + 2] = hit ? (1 - fu) * fv : 0.0f;
+        w[4 * u + 3] = hit ? fu * fv : 0.0f;
+        // the point at the hit's planar depth on the ray (its z is the hit's z exactly)
+        const float zh = 1.0f / s, th = (zh - m.oz[u]) / m.dz[u];
+        x[u] = hit ? m.ox[u] + th * m.dx[u] : 0.0f;
+        y[u] = hit ? m.oy[u] + th * m.dy[u] : 0.0f;
+        z[u] = hit ? zh : 0.0f;
+        t[u] = hit ? th : 0.0f;
+        mask[u] = hit | (state[u] == kOpen) ? 1.0f : 0.0f;
+    }
+    const std::size_t row = std::size_t(W) * kPortSurfaceChannels, C = kPortSurfaceChannels;
+    for (int u = 0; u < n; ++u) {
+        const float* p = in + at[u];
+        const Float4 w0 = splat(w[4 * u]), w1 = splat(w[4 * u + 1]), w2 = splat(w[4 * u + 2]),
+                     w3 = splat(w[4 * u + 3]);
+        const Float4 N =
+            ((w0 * load4(p) + w1 * load4(p + C)) + w2 * load4(p + row)) + w3 * load4(p + row + C);
+        const Float4 j = ((w0 * load4(p + 4) + w1 * load4(p + C + 4)) + w2 * load4(p + row + 4)) +
+                         w3 * load4(p + row + C + 4);
+        nx[u] = N[0];
+        ny[u] = N[1];
+        nz[u] = N[2];
+        J[3 * u] = j[0];
+        J[3 * u + 1] = j[1];
+        J[3 * u + 2] = j[2];
+    }
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const float len = std::sqrt(nx[u] * nx[u] + ny[u] * ny[u] + nz[u] * nz[u]);
+        const float inv = len > 0.0f ? 1.0f / len : 0.0f;
+        nx[u] *= inv;
+        ny[u] *= inv;
+        nz[u] *= inv;
+    }
+}
+
 }  // namespace
 
-void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& surface,
-              double z_near, const PortRow& o) {
+void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
+              const Image& surface, double z_near, const PortRow& o) {
     const int W = rays.camera().width;
     const float s_near = float(1.001 / z_near);
     const float* in = surface.data.data();
@@ -194,27 +275,24 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     f.fit(W);
     const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
     if (fast) {
-        fast_march(W, rays.march_row(v), inv_depth.data.data(), inv_depth.width, inv_depth.height,
-                   s_near, f);
+        fast_march(W, rays.march_row(v), inv_depth.data.data(), nearest.data.data(),
+                   inv_depth.width, inv_depth.height, s_near, f);
+        surface_hits(W, rays.march_row(v), in, inv_depth.width, inv_depth.height, f, o);
     }
+    // The rest, one by one (rare: depth edges, open water, long marches)
     for (int u = 0; u < W; ++u) {
-        PortCrossing<float> h;
         const int st = fast ? f.state[u] : kScalar;
-        if (st == kSurface) {
-            const PortMarch<float> m = rays.march(u, v);
-            h.kind = PortHitKind::Surface;
-            h.s = f.s[u];
-            h.u = m.u_inf + m.du * h.s;
-            h.v = m.v_inf + m.dv * h.s;
-            h.taps.count =
-                port_detail::taps_at<float, true>(inv_depth, h.u, h.v, h.taps.inv_z, &h.taps);
-        } else if (st == kOpen) {
-            h.kind = PortHitKind::OpenWater;
-        } else if (st != kUnseen) {
-            // (kActive and kMarching too: not settled in the fast steps; the scalar march
-            // starts again)
-            h = march_port_ray(inv_depth, rays.march(u, v), s_near);
+        if (st == kSurface || st == kOpen || st == kUnseen) continue;  // (done above)
+        // (kActive and kMarching too: not settled in the fast steps; the scalar march starts
+        // again)
+        const PortMarch<float> m = rays.march(u, v);
+        float start = s_near;
+        if (fast) {
+            start = f.start[u];
+        } else if (const int w = port_start_window(m, s_near, W, inv_depth.height); w >= 0) {
+            start = port_start_s(s_near, nearest.data[w]);
         }
+        const PortCrossing<float> h = march_port_ray(inv_depth, m, start);
         o.mask[u] = h.kind != PortHitKind::Unseen ? 1.0f : 0.0f;
         if (h.kind != PortHitKind::Surface) {
             o.x[u] = o.y[u] = o.z[u] = o.t[u] = 0.0f;

@@ -10,7 +10,8 @@ namespace deepsea {
 /// pixel, (nx, ny, nz, 0, r, g, b, 0), so that a tap is two 4-float loads.
 inline constexpr int kPortSurfaceChannels = 8;
 
-/// One output row's surface through the port (inv_depth: the frame's inverse_depth): for each pixel
+/// One output row's surface through the port (inv_depth: the frame's inverse_depth; nearest: its
+/// window_nearest, where each ray's march may start): for each pixel
 /// u of row v, where its water-side ray meets the frame (optics' march_port_ray, in float): the hit
 /// point P (camera frame; 0 for open water and unseen), the water-side path t from the port to it
 /// (0 without a hit), the normal and the colour there (interleaved RGB; both 0 without a hit) from
@@ -21,7 +22,7 @@ inline constexpr int kPortSurfaceChannels = 8;
 struct PortRow {
     float *x, *y, *z, *t, *nx, *ny, *nz, *J, *mask;
 };
-void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& surface,
-              double z_near, const PortRow& out);
+void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
+              const Image& surface, double z_near, const PortRow& out);
 
 }  // namespace deepsea

@@ -178,6 +178,55 @@ inline constexpr float kPortHitToleranceFloat = 1e-6f;
 /// under it, without a march.
 inline constexpr double kPortStillPx = 0.01;
 
+/// The input is cut into blocks of kPortStartBlock x kPortStartBlock pixels (the last ones
+/// cut short by the image's edge); a ray's window is the 3 x 3 blocks around one block.
+inline constexpr int kPortStartBlock = 8;
+
+/// Where the march of `ray` may start instead of s_near: every input pixel that the march from
+/// min(s_near, s_hi) down to s_lo reads (the bilinear and nearest taps of its projection, and the
+/// probes a thousandth of a pixel beyond it) lies in the window of 3 x 3 blocks around one block,
+/// whose index (by bw + bx, bw = ceil(W / kPortStartBlock) blocks a row) this returns. Then no
+/// surface the march reads is nearer than the window's nearest one, max_inv (its largest inverse
+/// depth, 0 where it shows only open water): the ray is in front of the surface for every
+/// s > max_inv, and port_start_s gives the march's start. -1 where the projection is too long
+/// for one window (or the ray has no stretch in view): the march starts at s_near.
+template <class T>
+inline int port_start_window(T u_inf, T v_inf, T du, T dv, T s_lo, T s_hi, T s_near, int W, int H) {
+    const T e = s_hi < s_near ? s_hi : s_near;
+    T u0 = u_inf + du * s_lo, u1 = u_inf + du * e;
+    T v0 = v_inf + dv * s_lo, v1 = v_inf + dv * e;
+    const T wm = T(W - 1), hm = T(H - 1);
+    u0 = u0 > 0 ? (u0 < wm ? u0 : wm) : T(0);
+    u1 = u1 > 0 ? (u1 < wm ? u1 : wm) : T(0);
+    v0 = v0 > 0 ? (v0 < hm ? v0 : hm) : T(0);
+    v1 = v1 > 0 ? (v1 < hm ? v1 : hm) : T(0);
+    const T ulo = u0 < u1 ? u0 : u1, uhi = u0 < u1 ? u1 : u0;
+    const T vlo = v0 < v1 ? v0 : v1, vhi = v0 < v1 ? v1 : v0;
+    const T B = T(kPortStartBlock);
+    // (floor, not a plain conversion, which GCC does not vectorise; the positions are >= 0)
+    const T bx = std::floor(T(0.5) * (ulo + uhi) / B), by = std::floor(T(0.5) * (vlo + vhi) / B);
+    // (taps reach floor(x) + 1 on each side: a margin of one pixel below, two above; & not &&:
+    // no branches, so that the compositor's rows vectorise it)
+    const bool fits = (s_lo <= e) & (e < T(1e30)) & (ulo - 1 >= B * (bx - 1)) &
+                      (uhi + 3 <= B * (bx + 2)) & (vlo - 1 >= B * (by - 1)) &
+                      (vhi + 3 <= B * (by + 2));
+    const int bw = (W + kPortStartBlock - 1) / kPortStartBlock;
+    return fits ? int(by) * bw + int(bx) : -1;
+}
+template <class T>
+inline int port_start_window(const PortMarch<T>& ray, T s_near, int W, int H) {
+    return port_start_window(ray.u_inf, ray.v_inf, ray.du, ray.dv, ray.s_lo, ray.s_hi, s_near, W,
+                             H);
+}
+
+/// The march's start from the window's nearest surface max_inv (port_start_window): a thousandth
+/// in front of it, never beyond s_near.
+template <class T>
+inline T port_start_s(T s_near, T max_inv) {
+    const T s = max_inv * T(1.001);
+    return s < s_near ? s : s_near;
+}
+
 /// The first crossing of a ray with the surface of `inv` (the input's inverse planar depth,
 /// inverse_depth), searched at inverse depths s <= s_near (1.001 / z_near, z_near the frame's
 /// nearest surface: nothing is hit before it; 0 when the frame has no surface). Marches the

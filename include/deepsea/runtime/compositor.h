@@ -73,7 +73,8 @@ private:
     const PortRays* m_port = nullptr;
     Image m_in_surface;  ///< the frame's normal and linear colour per input pixel (port_warp.h)
     Image m_inv_depth;   ///< the frame's inverse depth (optics' inverse_depth)
-    Image m_hit_z;       ///< planar depth of each output pixel's hit (forward scatter's pass)
+    Image m_nearest, m_nearest_rows;  ///< its window_nearest (port_rays.h), the rows' maxima
+    Image m_hit_z;  ///< planar depth of each output pixel's hit (forward scatter's pass)
 };
 
 }  // namespace deepsea

@@ -47,18 +47,22 @@ public:
             float(u) + r.u_inf, float(v) + r.v_inf, r.du, r.dv, r.s_origin, r.s_lo, r.s_hi, r.rate};
     }
     /// Row v's march constants in float, one array per field (what march() gives each pixel),
-    /// for the compositor's vectorised rows.
+    /// and its rays' origins and directions (ray()'s), for the compositor's vectorised rows.
     struct MarchRow {
         const float *u_inf, *v_inf, *du, *dv, *s_origin, *s_lo, *s_hi, *rate;
+        const float *ox, *oy, *oz, *dx, *dy, *dz;
     };
     MarchRow march_row(int v) const {
         const std::size_t n = m_rays.size();
         const float* f = m_march_soa.data() + std::size_t(v) * m_camera.width;
-        return {f, f + n, f + 2 * n, f + 3 * n, f + 4 * n, f + 5 * n, f + 6 * n, f + 7 * n};
+        return {f,         f + n,     f + 2 * n, f + 3 * n,  f + 4 * n,  f + 5 * n,  f + 6 * n,
+                f + 7 * n, f + 8 * n, f + 9 * n, f + 10 * n, f + 11 * n, f + 12 * n, f + 13 * n};
     }
     /// Where pixel (u, v)'s ray meets the frame's surface, given its inverse planar depth
     /// (optics' inverse_depth) and nearest surface depth z_near (+inf: no surface): the float
-    /// march of the compositor's rows (march_port_ray), its hit in double.
+    /// march of the compositor's rows (march_port_ray, from port_start_s where
+    /// port_start_window allows, the window's nearest surface read here pixel by pixel), its
+    /// hit in double.
     PortHit hit(int u, int v, const Image& inv_depth, double z_near) const;
     /// Pixels per radian of the water-side rays at the image centre, along x: fx without a port,
     /// about n_water / n_air times fx behind a flat one. The forward blur's angular scale.
@@ -71,12 +75,18 @@ private:
     Port m_port;
     Camera m_camera;
     std::vector<Ray> m_rays;
-    std::vector<float> m_march_soa;  ///< march()'s 8 fields, each a width x height plane
+    std::vector<float> m_march_soa;  ///< march()'s 8 fields and the ray's 6, width x height planes
     double m_water_fx = 0.0;
     Image m_factor;
 };
 
 /// The nearest surface depth of a planar depth image (+inf where it has none).
 double nearest_surface(const Image& depth);
+
+/// The nearest surface of each window of optics' port_start_window: the largest value of the
+/// inverse depth image `inv` over the 3 x 3 blocks of kPortStartBlock pixels around each block,
+/// into `out` (resized: one value a block; `scratch` holds each block's own). Where a ray's
+/// march may start (port_start_s).
+void window_nearest(const Image& inv, Image& out, Image& scratch);
 
 }  // namespace deepsea

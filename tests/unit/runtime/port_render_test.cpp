@@ -219,9 +219,11 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
             for (float& d : planar.data) d = has_surface(d) ? d : 0.0f;
             const Image inv = inverse_depth(planar);
             const double z_near = nearest_surface(planar);
+            Image nearest, rows;
+            window_nearest(inv, nearest, rows);
             long differ = 0, surfaces = 0;
             for (int v = 0; v < cam.height; ++v) {
-                port_row(rays, v, inv, surface, z_near,
+                port_row(rays, v, inv, nearest, surface, z_near,
                          {x.data(), y.data(), z.data(), t.data(), nx.data(), ny.data(), nz.data(),
                           J.data(), mask.data()});
                 for (int u = 0; u < cam.width; ++u) {
@@ -275,6 +277,65 @@ TEST(PortRender, FlatPortShrinksThePlanesFootprintByThePredictedFactor) {
         "a 80 px wide patch of the input: %d px in the output (predicted %.2f; 1 / n: "
         "%.2f)\n",
         inside, 2 * cam.fx * t_edge, 80.0 * n);
+}
+
+}  // namespace deepsea
+
+namespace deepsea {
+
+TEST(PortRender, MarchStartsOnlyWhereNothingNearerIsRead) {
+    // A ray's march starts at its window's nearest surface (optics' port_start_window,
+    // docs/ports.md "Speed"): every input pixel its march can read must lie in that window, and
+    // window_nearest must be the window's largest inverse depth. Checked on every pixel's ray of
+    // three ports, the march's stretch of s sampled at 64 points (and its ends), each probe's
+    // four taps (floor and floor + 1 of the clamped position, a thousandth of a pixel either
+    // way); window_nearest against the maximum taken pixel by pixel on a random image.
+    const Camera cam = test_camera();
+    const int W = cam.width, H = cam.height, B = kPortStartBlock, bw = (W + B - 1) / B;
+    Image inv(W, H, 1);
+    std::srand(7);
+    for (float& s : inv.data) s = std::rand() % 5 == 0 ? 0.0f : float(std::rand()) / RAND_MAX;
+    Image nearest, rows;
+    window_nearest(inv, nearest, rows);
+    long windows = 0;
+    for (int by = 0; by < nearest.height; ++by)
+        for (int bx = 0; bx < nearest.width; ++bx) {
+            float m = 0.0f;
+            for (int y = std::max(B * (by - 1), 0); y < std::min(B * (by + 2), H); ++y)
+                for (int x = std::max(B * (bx - 1), 0); x < std::min(B * (bx + 2), W); ++x)
+                    m = std::max(m, inv.at(x, y));
+            EXPECT_EQ(nearest.at(bx, by), m) << bx << ", " << by;
+        }
+    const Port ports[] = {flat_port({0, 0, 1}, 0.03, 0.012),
+                          flat_port({0.06, -0.04, 1}, 0.05, 0.02),
+                          dome_port({0.004, -0.003, 0.002}, 0.05, 0.008)};
+    const float s_near = float(1.001 / 0.4);  // the frame's nearest surface 0.4 m away
+    long outside = 0;
+    for (const Port& port : ports) {
+        const PortRays rays(port, cam);
+        for (int v = 0; v < H; ++v)
+            for (int u = 0; u < W; ++u) {
+                const PortMarch<float> m = rays.march(u, v);
+                const int w = port_start_window(m, s_near, W, H);
+                if (w < 0) continue;
+                ++windows;
+                const int bx = w % bw, by = w / bw;
+                const float hi = std::min(s_near, m.s_hi);
+                for (int i = 0; i <= 64; ++i) {
+                    const float s = m.s_lo + (hi - m.s_lo) * float(i) / 64;
+                    for (const float e : {-1e-3f, 0.0f, 1e-3f}) {
+                        const float pu = std::clamp(m.u_inf + m.du * s + e, 0.0f, float(W - 1));
+                        const float pv = std::clamp(m.v_inf + m.dv * s + e, 0.0f, float(H - 1));
+                        const int x0 = int(pu), y0 = int(pv);
+                        outside += x0 < B * (bx - 1) || std::min(x0 + 1, W - 1) >= B * (bx + 2) ||
+                                   y0 < B * (by - 1) || std::min(y0 + 1, H - 1) >= B * (by + 2);
+                    }
+                }
+            }
+    }
+    EXPECT_EQ(outside, 0);
+    EXPECT_GT(windows, 3 * W * H / 2);  // most rays start in their window
+    std::printf("%ld of %d rays start at their window's nearest surface\n", windows, 3 * W * H);
 }
 
 }  // namespace deepsea
