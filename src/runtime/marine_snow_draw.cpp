@@ -105,9 +105,14 @@ inline float sweep(const Splat& s, int x, int y) {
     return std::max(0.0f, G(along) - G(along - s.len));
 }
 
-/// The columns [first, second] row y of a streak may touch (first > second: none): the part
-/// of the segment within rh of the row, widened by rh.
-inline std::pair<int, int> streak_columns(const Splat& s, int y) {
+/// The part of a streak's segment within rh of row y: parameters [t0, t1] along it and the
+/// columns [ca, cb] it may touch (widened by rh); none when t0 > t1.
+struct RowSpan {
+    float t0, t1;
+    int ca, cb;
+};
+
+inline RowSpan row_span(const Splat& s, int y) {
     float t0 = 0.0f, t1 = s.len;
     const float ry = float(y) - s.ay;
     if (std::fabs(s.dy) > 1e-6f) {
@@ -115,12 +120,13 @@ inline std::pair<int, int> streak_columns(const Splat& s, int y) {
         if (ta > tb) std::swap(ta, tb);
         t0 = std::max(t0, ta);
         t1 = std::min(t1, tb);
-        if (t0 > t1) return {1, 0};
+        if (t0 > t1) return {1.0f, 0.0f, 1, 0};
     } else if (std::fabs(ry) > s.rh) {
-        return {1, 0};
+        return {1.0f, 0.0f, 1, 0};
     }
     const float xa = s.ax + t0 * s.dx, xb = s.ax + t1 * s.dx;
-    return {int(std::floor(std::min(xa, xb) - s.rh)), int(std::ceil(std::max(xa, xb) + s.rh))};
+    return {t0, t1, int(std::floor(std::min(xa, xb) - s.rh)),
+            int(std::ceil(std::max(xa, xb) + s.rh))};
 }
 
 /// The frame's outputs, shared by the bands (each writes only its rows).
@@ -179,11 +185,15 @@ struct Target {
             // the id compares a particle's whole light there).
             float row[kRowBuffer];
             for (int y = y0; y <= y1; ++y) {
-                const auto [ca, cb] = streak_columns(s, y);
+                const RowSpan r = row_span(s, y);
+                const int ca = r.ca, cb = r.cb;
                 if (ca > cb || cb - ca >= kRowBuffer) continue;
                 std::fill(row, row + (cb - ca + 1), 0.0f);
                 const float step = s.len / float(s.n);
-                for (int k = 0; k < s.n; ++k) {
+                // The samples within a pixel of the row (a step's margin for rounding).
+                const int k0 = std::max(0, int(std::floor(r.t0 / step - 0.5f)) - 1);
+                const int k1 = std::min(s.n - 1, int(std::ceil(r.t1 / step - 0.5f)) + 1);
+                for (int k = k0; k <= k1; ++k) {
                     const float t = (float(k) + 0.5f) * step;
                     const float sv = s.ay + t * s.dy, fy = sv - std::floor(sv);
                     const int ky = int(std::floor(sv));
@@ -202,8 +212,8 @@ struct Target {
         }
         if (s.len > 0.0f) {
             for (int y = y0; y <= y1; ++y) {
-                const auto [ca, cb] = streak_columns(s, y);
-                for (int x = std::max(ca, x0); x <= std::min(cb, x1); ++x) {
+                const RowSpan r = row_span(s, y);
+                for (int x = std::max(r.ca, x0); x <= std::min(r.cb, x1); ++x) {
                     const float c = sweep(s, x, y) * s.inv_cover;
                     if (c > 0.0f) add(s, x, y, c);
                 }
@@ -325,8 +335,8 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                 // Normalised over the streak: its light is the still disc's, spread.
                 float total = 0.0f;
                 for (int yy = w.va; yy <= w.vb; ++yy) {
-                    const auto [ca, cb] = streak_columns(s, yy);
-                    for (int xx = ca; xx <= cb; ++xx) total += sweep(s, xx, yy);
+                    const RowSpan r = row_span(s, yy);
+                    for (int xx = r.ca; xx <= r.cb; ++xx) total += sweep(s, xx, yy);
                 }
                 if (!(total > 0.0f)) continue;
                 s.inv_cover = 1.0f / total;

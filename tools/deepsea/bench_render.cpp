@@ -125,8 +125,8 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
 /// Marine snow alone (MarineSnow::draw: placing, lighting and drawing the particles into the
 /// image) at each preset's density, on the flight's first frame, the camera moving along the
 /// flight from one run to the next (particles fixed in the world); `snow-streaks` the nepheloid
-/// preset drawn as motion streaks, the flight's 0.25 m a frame taken at 30 frames/s with a
-/// 10 ms exposure (7.5 cm in it).
+/// preset drawn as motion streaks, the camera moving at 1 m/s (the flight's 0.25 m a frame
+/// taken 0.25 s apart) with a 10 ms exposure: 1 cm in it.
 std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchArgs& a,
                             int threads) {
     std::vector<Case> cases;
@@ -151,9 +151,9 @@ std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchAr
             return CameraPose{p.origin, p.right, p.down, p.forward};
         };
         for (int r = 0; r <= a.repeats; ++r) {
-            const double fps = 30.0;
+            const double dt = flight.speed / 1.0;  // seconds a frame at 1 m/s
             snow.set_frame(std::uint64_t(r), pose(r),
-                           shutter_poses(pose(r), r / fps, pose(r + 1), (r + 1) / fps, 0.010));
+                           shutter_poses(pose(r), r * dt, pose(r + 1), (r + 1) * dt, 0.010));
             const double t0 = now_ms(), c0 = cpu_ms();
             snow.draw(cam, frame.depth, final, nullptr, nullptr);
             if (r == 0) continue;  // the first run allocates
