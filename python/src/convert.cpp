@@ -184,6 +184,21 @@ std::optional<CameraPose> pose_of(const py::handle& pose) {
     return p;
 }
 
+std::optional<Shutter> shutter_of(const py::handle& shutter) {
+    if (shutter.is_none()) return std::nullopt;
+    if (!py::isinstance<py::sequence>(shutter) || py::isinstance<py::str>(shutter) ||
+        py::len(shutter) != 2)
+        throw ConfigError("shutter: expected a pair (open, close) of camera-to-world matrices");
+    const py::sequence s = py::reinterpret_borrow<py::sequence>(shutter);
+    try {
+        return Shutter{*pose_of(s[0]), *pose_of(s[1])};
+    } catch (const ConfigError& e) {
+        throw ConfigError(std::string("shutter: ") + e.what());
+    } catch (const std::bad_optional_access&) {
+        throw ConfigError("shutter: a pose is None");
+    }
+}
+
 LayerOutput parse_layers(const py::handle& layers) {
     std::string list;
     if (py::isinstance<py::str>(layers)) {

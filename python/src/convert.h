@@ -63,6 +63,10 @@ std::optional<SnowSettings> snow_of(const py::handle& snow, std::uint64_t seed,
 /// centre). ConfigError naming pose= otherwise.
 std::optional<CameraPose> pose_of(const py::handle& pose);
 
+/// The shutter's poses for marine snow's motion streaks: None, or a pair (open, close) of
+/// camera-to-world matrices as pose_of takes them; ConfigError naming `shutter` otherwise.
+std::optional<Shutter> shutter_of(const py::handle& shutter);
+
 LayerOutput parse_layers(const py::handle& layers);
 
 /// Layers as a dict of arrays (moved out: no copy; their buffers return to `pool`, if given,

@@ -90,11 +90,12 @@ public:
 
     py::dict render(const py::object& rgb, const py::object& depth, const py::object& encoding,
                     const std::string& depth_kind, double depth_scale, const py::object& layers,
-                    const py::object& frame_key = py::int_(0),
-                    const py::object& pose = py::none()) {
+                    const py::object& frame_key = py::int_(0), const py::object& pose = py::none(),
+                    const py::object& shutter = py::none()) {
         const auto t0 = Clock::now();
         const std::uint64_t key = frame_key_of(frame_key);
         const std::optional<CameraPose> camera_pose = pose_of(pose);
+        const std::optional<Shutter> camera_shutter = shutter_of(shutter);
         const DepthKind kind = parse_depth_kind(depth_kind);
         check_depth_scale(depth_scale);
         const LayerOutput wanted = parse_layers(layers);
@@ -112,7 +113,7 @@ public:
         {
             py::gil_scoped_release nogil;
             std::lock_guard<std::mutex> lock(m_mutex);
-            m_renderer->set_frame(key, camera_pose);
+            m_renderer->set_frame(key, camera_pose, camera_shutter);
             if (!color_as_is) {
                 fill_color(c, m_rgb, m_threads);
                 color = ColorView{m_rgb.data.data(), m_rgb.width, m_rgb.height, SampleType::F32,
@@ -376,7 +377,7 @@ PYBIND11_MODULE(_deepsea, m) {
         .def("render", &PyRenderer::render, py::arg("rgb"), py::arg("depth"), py::kw_only(),
              py::arg("encoding") = py::none(), py::arg("depth_kind") = "z",
              py::arg("depth_scale") = 0.001, py::arg("layers") = "all", py::arg("frame_key") = 0,
-             py::arg("pose") = py::none(),
+             py::arg("pose") = py::none(), py::arg("shutter") = py::none(),
              "Renders one frame. rgb: (H, W, 3) colour ((H, W, 4): alpha dropped; (H, W): "
              "grey); uint8/uint16 are sRGB codes unless encoding='linear'; float32/float64 need "
              "encoding='srgb' or 'linear'. depth: (H, W) float metres, planar ('z') or along the "
@@ -385,7 +386,9 @@ PYBIND11_MODULE(_deepsea, m) {
              "list). Returns a dict of float32 arrays, those layers only (with snow: also "
              "'snow' and 'snow_id'). frame_key (int, or a str hashed as render hashes a file's "
              "name) and pose (a 4x4 camera-to-world matrix, OpenCV axes) place the snow: with a "
-             "pose it is fixed in the world, without one drawn afresh for each frame_key.")
+             "pose it is fixed in the world, without one drawn afresh for each frame_key. shutter: "
+             "(open, close), the camera-to-world matrices when the shutter opens and closes: "
+             "with the snow's streaks on and a pose, each particle is drawn as a motion streak.")
         .def_property_readonly("camera", &PyRenderer::camera,
                                "the frames' camera (after the first frame: the one in use)")
         .def_property_readonly("asset", [](const PyRenderer& r) { return r.asset(); })

@@ -79,3 +79,28 @@ def test_bad_pose(asset, bad, words):
     with pytest.raises(deepsea.ConfigError) as e:
         r.render(rgb, depth, pose=bad)
     assert words in str(e.value) and e.value.args[0].startswith("pose:")
+
+
+def test_motion_streaks(asset):
+    """shutter=(open, close) with the snow's streaks on: the particles drawn as streaks, their
+    light kept (the snow layer's sum as the still one's, apart from light at the image's edges);
+    off without the switch or a pose; a bad shutter names it."""
+    rgb, depth = tilted_plane(z0=6.0)
+    snow = {"preset": "abyssal", "streaks": True}
+    r = deepsea.Renderer(asset, snow=snow)
+    shutter = (pose(-0.02), pose(0.02))  # 4 cm sideways while the shutter is open
+    still = r.render(rgb, depth, pose=pose(), layers="snow")["snow"]
+    streaks = r.render(rgb, depth, pose=pose(), shutter=shutter, layers="snow")["snow"]
+    assert not np.array_equal(still, streaks)
+    assert (streaks > 0).sum() > (still > 0).sum()  # spread over more pixels
+    np.testing.assert_allclose(streaks.sum(), still.sum(), rtol=0.05)
+    # off: streaks not switched on, or no pose
+    off = deepsea.Renderer(asset, snow="abyssal")
+    assert np.array_equal(off.render(rgb, depth, pose=pose(), shutter=shutter, layers="snow")["snow"],
+                          still)
+    assert np.array_equal(r.render(rgb, depth, frame_key=4, shutter=shutter, layers="snow")["snow"],
+                          r.render(rgb, depth, frame_key=4, layers="snow")["snow"])
+    for bad in ((pose(),), "up", (pose(), np.eye(3))):
+        with pytest.raises(deepsea.ConfigError) as e:
+            r.render(rgb, depth, pose=pose(), shutter=bad)
+        assert e.value.args[0].startswith("shutter:") and "\n" not in str(e.value)

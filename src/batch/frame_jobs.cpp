@@ -156,7 +156,7 @@ Pairing pair_by(const std::vector<std::string>& rgb, const std::vector<std::stri
         if (it == by_key.end()) {
             p.lone_rgb.push_back(c);
         } else {
-            p.jobs.push_back({c, it->second, "", "", std::nullopt});
+            p.jobs.push_back({c, it->second, "", "", std::nullopt, std::nullopt});
         }
     }
     for (const auto& [k, d] : by_key) {
@@ -299,7 +299,7 @@ std::vector<FrameJob> frame_jobs(const FrameFiles& f) {
         if (!f.output.empty() && !f.layers.empty() && same_file(f.output, f.layers)) {
             throw ConfigError(f.output + ": -o and --layers name the same file");
         }
-        std::vector<FrameJob> one{{f.rgb, f.depth, f.output, f.layers, std::nullopt}};
+        std::vector<FrameJob> one{{f.rgb, f.depth, f.output, f.layers, std::nullopt, std::nullopt}};
         check_outputs_are_not_inputs(one);
         return one;
     }

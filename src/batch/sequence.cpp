@@ -89,7 +89,9 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
                          {"d_max_mm", sn.d_max_mm},
                          {"slope", sn.slope},
                          {"albedo", sn.albedo},
-                         {"max_distance_m", sn.max_distance_m}};
+                         {"max_distance_m", sn.max_distance_m},
+                         {"streaks", opt.snow->streaks ? 1.0 : 0.0},
+                         {"streak_exposure_ms", opt.snow->exposure_time_s * 1e3}};
     }
     m.poses_hash = poses_hash(jobs);
     m.poses = int(std::count_if(jobs.begin(), jobs.end(),
@@ -128,7 +130,7 @@ double exposure_on(Renderer& renderer, const FrameJob& job, const SequenceOption
     Slot probe(opt.bits, opt.layer_output);
     try {
         read_frame(job, opt.depth_read, frame);
-        renderer.set_frame(frame_key(job), job.pose);
+        renderer.set_frame(frame_key(job), job.pose, job.shutter);
         renderer.render(layers, frame, probe.writer.layer_set(job), opt.depth_kind);
         return exposure_factor(opt.exposure, layers.final);
     } catch (...) {
@@ -281,7 +283,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         // is encoded row by row as the compositor finishes it, and no
                         // float image is kept.
                         Layers& out = job.layers.empty() ? shared : s->layers;
-                        renderer.set_frame(frame_key(job), job.pose);
+                        renderer.set_frame(frame_key(job), job.pose, job.shutter);
                         if (camera) {
                             renderer.render(out, s->frame, s->writer.layer_set(job),
                                             opt.depth_kind);

@@ -26,10 +26,16 @@ std::string poses_hash(const std::vector<FrameJob>& jobs) {
             continue;
         }
         any = true;
-        const CameraPose& p = *job.pose;
-        for (const Vec3& v : {p.origin, p.right, p.down, p.forward}) {
-            const double xyz[3] = {v.x, v.y, v.z};
-            h = fnv1a64(xyz, sizeof xyz, h);
+        const auto add = [&](const CameraPose& p) {
+            for (const Vec3& v : {p.origin, p.right, p.down, p.forward}) {
+                const double xyz[3] = {v.x, v.y, v.z};
+                h = fnv1a64(xyz, sizeof xyz, h);
+            }
+        };
+        add(*job.pose);
+        if (job.shutter) {  // motion streaks: the shutter's poses too
+            add(job.shutter->open);
+            add(job.shutter->close);
         }
     }
     if (!any) return "";

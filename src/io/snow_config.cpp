@@ -47,6 +47,10 @@ std::optional<Snow> parse_snow(const yaml::Document& doc, const Field& f) {
     value("albedo", s.albedo);
     value("max_distance_m", s.max_distance_m);
     if (changed) s.name = "custom";  // a preset's values changed: no longer the preset
+    // How it is drawn, not what it is: the preset's name stays.
+    if (const Field* x = m.opt("streaks")) s.streaks = doc.boolean(*x);
+    if (const Field* x = m.opt("exposure_time_ms")) s.exposure_time_ms = doc.number(*x);
+    if (const Field* x = m.opt("frame_rate_hz")) s.frame_rate_hz = doc.number(*x);
     validate(s);
     return s;
 }
@@ -66,6 +70,10 @@ void write_snow(std::ostream& o, const Snow& s) {
       << "  slope: " << num(s.slope) << "\n"
       << "  albedo: " << num(s.albedo) << "\n"
       << "  max_distance_m: " << num(s.max_distance_m) << "\n";
+    if (s.streaks) o << "  streaks: true\n";
+    if (s.exposure_time_ms != Snow{}.exposure_time_ms)
+        o << "  exposure_time_ms: " << num(s.exposure_time_ms) << "\n";
+    if (s.frame_rate_hz != 0.0) o << "  frame_rate_hz: " << num(s.frame_rate_hz) << "\n";
 }
 
 }  // namespace deepsea

@@ -79,6 +79,10 @@ void validate(const Snow& s) {
             "in (0.1, 100] metres", s.max_distance_m);
     if (s.phase.kind == PhaseKind::HenyeyGreenstein)
         require(std::fabs(s.phase.g) < 1.0, "phase.g", "in (-1, 1)", s.phase.g);
+    require(s.exposure_time_ms > 0.0 && s.exposure_time_ms <= 1e4, "exposure_time_ms",
+            "in (0, 10000] ms", s.exposure_time_ms);
+    require(s.frame_rate_hz == 0.0 || (s.frame_rate_hz > 0.0 && s.frame_rate_hz <= 1e4),
+            "frame_rate_hz", "in (0, 10000] frames per second", s.frame_rate_hz);
 }
 
 SnowSizes::SnowSizes(const Snow& s)

@@ -55,11 +55,6 @@ bool may_meet(const View& v, const Vec3& c, double r) {
     return true;
 }
 
-Vec3 to_camera(const CameraPose& p, const Vec3& world) {
-    const Vec3 d = world - p.origin;
-    return {dot(d, p.right), dot(d, p.down), dot(d, p.forward)};
-}
-
 }  // namespace
 
 void validate(const SnowSettings& s) {
@@ -70,6 +65,12 @@ void validate(const SnowSettings& s) {
             "must be > 0 and at most 10000 metres, got " + std::to_string(s.focus_distance_m));
     if (!(s.f_number > 0.0)) throw SchemaError("camera.lens.f_number", "must be > 0");
     if (!(s.pixel_pitch_um > 0.0)) throw SchemaError("camera.sensor.pixel_pitch_um", "must be > 0");
+    if (!(s.exposure_time_s > 0.0) || !(s.exposure_time_s <= 10.0))
+        throw SchemaError("snow.exposure_time_ms", "must be > 0 and at most 10000 ms, got " +
+                                                       std::to_string(s.exposure_time_s * 1e3));
+    if (!(s.frame_rate_hz >= 0.0) || !(s.frame_rate_hz <= 1e4))
+        throw SchemaError("snow.frame_rate_hz",
+                          "must be in (0, 10000] frames per second (0: not given)");
 }
 
 std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& cam,
@@ -160,9 +161,11 @@ MarineSnow::MarineSnow(SnowSettings settings, const Rig& rig, const Water& water
         throw std::invalid_argument("MarineSnow: one lamp field per lamp");
 }
 
-void MarineSnow::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose) {
+void MarineSnow::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose,
+                           std::optional<Shutter> shutter) {
     m_key = frame_key;
     m_pose = pose;
+    m_shutter = shutter;
 }
 
 }  // namespace deepsea

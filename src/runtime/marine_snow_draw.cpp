@@ -1,6 +1,7 @@
 // MarineSnow::draw: the particles of a frame lit in float rows (snow_light.h), tested against
 // the surface and drawn into the image by bands of rows in parallel, each band taking its
-// particles in id order, so that the image and the ids are the same at any thread count.
+// particles in id order, so that the image and the ids are the same at any thread count. With
+// motion streaks each disc is swept along the particle's image motion over the exposure.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -19,6 +20,12 @@ namespace {
 constexpr std::size_t kBlock = 1024;
 /// Rows per band of the drawing pass.
 constexpr int kBandRows = 16;
+/// A streak's end whose particle lies nearer than this planar depth (metres) when the shutter
+/// opens or closes is taken at the frame's own position instead (it would project off to
+/// infinity).
+constexpr double kStreakNearM = 0.01;
+/// Columns a sub-pixel streak's row may touch at most: kMaxSnowStreakPx and its reach.
+constexpr int kRowBuffer = int(kMaxSnowStreakPx) + 8;
 
 /// A particle as drawn: pixel centre, disc radius (0.5: a bilinear splat into four pixels),
 /// planar depth, the light it brings (radiance times its image's area in pixels, per channel)
@@ -30,6 +37,11 @@ struct Splat {
     int va, vb;        ///< rows touched
     int iu, iv;        ///< the centre's pixel
     std::uint32_t id;  ///< 0: not drawn
+    /// A streak (len > 0): the disc swept from (ax, ay) along the unit (dx, dy) for len
+    /// pixels, reaching rh pixels from the segment; a sub-pixel particle's as n bilinear
+    /// splats at the midpoints of n equal steps.
+    float ax, ay, dx, dy, len, rh;
+    int n;
 };
 
 bool open_water(float z) { return !(z > 0.0f) || !std::isfinite(z); }
@@ -48,6 +60,12 @@ struct Window {
 };
 
 inline Window window(const Splat& s) {
+    if (s.len > 0.0f) {
+        const float bx = s.ax + s.len * s.dx, by = s.ay + s.len * s.dy;
+        return {
+            int(std::floor(std::min(s.ax, bx) - s.rh)), int(std::ceil(std::max(s.ax, bx) + s.rh)),
+            int(std::floor(std::min(s.ay, by) - s.rh)), int(std::ceil(std::max(s.ay, by) + s.rh))};
+    }
     if (s.radius <= 0.5f) {
         const int x0 = int(std::floor(s.u)), y0 = int(std::floor(s.v));
         return {x0, x0 + 1, y0, y0 + 1};
@@ -55,6 +73,60 @@ inline Window window(const Splat& s) {
     const float R = s.radius;
     return {int(std::floor(s.u - R - 0.5f)), int(std::ceil(s.u + R + 0.5f)),
             int(std::floor(s.v - R - 0.5f)), int(std::ceil(s.v + R + 0.5f))};
+}
+
+/// Integral over s in [0, x] (x >= 0) of the still disc's coverage (coverage(): radius R, linear
+/// over the last pixel) along a line at distance h from its centre; ri2 = (R - 1/2)^2 - h^2,
+/// ro = R + 1/2, so = sqrt(ro^2 - h^2) > 0.
+inline float cover_integral(float x, float h2, float ri2, float ro, float so) {
+    const float si = ri2 > 0.0f ? std::sqrt(ri2) : 0.0f;
+    x = std::min(x, so);
+    if (x <= si) return x;
+    // Beyond si the coverage is ro - sqrt(h^2 + s^2): its integral from si to x.
+    const float r = std::sqrt(h2 + x * x), r_in = std::sqrt(h2 + si * si);
+    const float log_term = h2 > 1e-12f ? h2 * std::log((x + r) / (si + r_in)) : 0.0f;
+    return si + ro * (x - si) - 0.5f * (x * r - si * r_in + log_term);
+}
+
+/// Weight of pixel (x, y) under a streak of a disc wider than a pixel: the still disc's coverage
+/// of the pixel's centre integrated along the segment, that is the exposure time it covers it
+/// (in pixels of travel).
+inline float sweep(const Splat& s, int x, int y) {
+    const float px = float(x) - s.ax, py = float(y) - s.ay;
+    const float along = px * s.dx + py * s.dy, across = px * s.dy - py * s.dx;
+    const float h2 = across * across, ro = s.radius + 0.5f, so2 = ro * ro - h2;
+    if (!(so2 > 0.0f)) return 0.0f;
+    const float ri = s.radius - 0.5f, ri2 = ri * ri - h2, so = std::sqrt(so2);
+    // The coverage is even in s: the integral over [along - len, along] of it.
+    const auto G = [&](float t) {
+        const float g = cover_integral(std::fabs(t), h2, ri2, ro, so);
+        return t < 0.0f ? -g : g;
+    };
+    return std::max(0.0f, G(along) - G(along - s.len));
+}
+
+/// The part of a streak's segment within rh of row y: parameters [t0, t1] along it and the
+/// columns [ca, cb] it may touch (widened by rh); none when t0 > t1.
+struct RowSpan {
+    float t0, t1;
+    int ca, cb;
+};
+
+inline RowSpan row_span(const Splat& s, int y) {
+    float t0 = 0.0f, t1 = s.len;
+    const float ry = float(y) - s.ay;
+    if (std::fabs(s.dy) > 1e-6f) {
+        float ta = (ry - s.rh) / s.dy, tb = (ry + s.rh) / s.dy;
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        if (t0 > t1) return {1.0f, 0.0f, 1, 0};
+    } else if (std::fabs(ry) > s.rh) {
+        return {1.0f, 0.0f, 1, 0};
+    }
+    const float xa = s.ax + t0 * s.dx, xb = s.ax + t1 * s.dx;
+    return {t0, t1, int(std::floor(std::min(xa, xb) - s.rh)),
+            int(std::ceil(std::max(xa, xb) + s.rh))};
 }
 
 /// The frame's outputs, shared by the bands (each writes only its rows).
@@ -108,6 +180,46 @@ struct Target {
         y0 = std::max(y0, std::max(w.va, 0));
         y1 = std::min(y1, std::min(w.vb, H - 1));
         const int x0 = std::max(w.ua, 0), x1 = std::min(w.ub, W - 1);
+        if (s.len > 0.0f && s.radius <= 0.5f) {
+            // Sub-pixel: the bilinear splats of the samples, summed per pixel first (so that
+            // the id compares a particle's whole light there).
+            float row[kRowBuffer];
+            for (int y = y0; y <= y1; ++y) {
+                const RowSpan r = row_span(s, y);
+                const int ca = r.ca, cb = r.cb;
+                if (ca > cb || cb - ca >= kRowBuffer) continue;
+                std::fill(row, row + (cb - ca + 1), 0.0f);
+                const float step = s.len / float(s.n);
+                // The samples within a pixel of the row (a step's margin for rounding).
+                const int k0 = std::max(0, int(std::floor(r.t0 / step - 0.5f)) - 1);
+                const int k1 = std::min(s.n - 1, int(std::ceil(r.t1 / step - 0.5f)) + 1);
+                for (int k = k0; k <= k1; ++k) {
+                    const float t = (float(k) + 0.5f) * step;
+                    const float sv = s.ay + t * s.dy, fy = sv - std::floor(sv);
+                    const int ky = int(std::floor(sv));
+                    if (ky != y && ky + 1 != y) continue;
+                    const float wy = ky == y ? 1.0f - fy : fy;
+                    const float su = s.ax + t * s.dx, fx = su - std::floor(su);
+                    const int kx = int(std::floor(su)) - ca;
+                    if (kx < 0 || kx + 1 > cb - ca) continue;  // rounding at the row's ends
+                    row[kx] += wy * (1.0f - fx);
+                    row[kx + 1] += wy * fx;
+                }
+                for (int x = std::max(ca, x0); x <= std::min(cb, x1); ++x)
+                    if (row[x - ca] > 0.0f) add(s, x, y, row[x - ca] * s.inv_cover);
+            }
+            return;
+        }
+        if (s.len > 0.0f) {
+            for (int y = y0; y <= y1; ++y) {
+                const RowSpan r = row_span(s, y);
+                for (int x = std::max(r.ca, x0); x <= std::min(r.cb, x1); ++x) {
+                    const float c = sweep(s, x, y) * s.inv_cover;
+                    if (c > 0.0f) add(s, x, y, c);
+                }
+            }
+            return;
+        }
         if (s.radius <= 0.5f) {
             // A particle smaller than a pixel: its light shared bilinearly by four pixels.
             const float fu = s.u - float(w.ua), fv = s.v - float(w.va);
@@ -128,6 +240,38 @@ struct Target {
     }
 };
 
+/// Sets splat s's streak for the particle at camera-frame X (pose `pose`), seen at pixel
+/// (u, v): from where it is seen when the shutter opens to where it is seen when it closes.
+void set_streak(Splat& s, const Camera& cam, const CameraPose& pose, const Shutter& shutter,
+                const Vec3& X, double u, double v) {
+    const Vec3 world = to_world(pose, X);
+    const auto seen = [&](const CameraPose& p, double& pu, double& pv) {
+        const Vec3 Y = to_camera(p, world);
+        pu = u;
+        pv = v;
+        if (!(Y.z >= kStreakNearM)) return;
+        pu = cam.fx * Y.x / Y.z + cam.cx;
+        pv = cam.fy * Y.y / Y.z + cam.cy;
+    };
+    double ou, ov, cu, cv;
+    seen(shutter.open, ou, ov);
+    seen(shutter.close, cu, cv);
+    const double ex = cu - ou, ey = cv - ov, len = std::hypot(ex, ey);
+    if (!(len >= kMinSnowStreakPx)) return;  // drawn as the still disc
+    const double kept = std::min(len, kMaxSnowStreakPx);
+    // Shortened about its middle where over the cap.
+    const double shift = 0.5 * (len - kept) / len;
+    s.ax = float(ou + ex * shift);
+    s.ay = float(ov + ey * shift);
+    s.dx = float(ex / len);
+    s.dy = float(ey / len);
+    s.len = float(kept);
+    // A sub-pixel particle: bilinear splats at most half a pixel apart, each reaching a
+    // pixel; a wider disc: its coverage swept, reaching R + 1/2.
+    s.n = int(std::ceil(2.0 * kept));
+    s.rh = s.radius <= 0.5f ? 1.0f : s.radius + 0.5f;
+}
+
 }  // namespace
 
 void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Image* snow,
@@ -137,6 +281,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                         m_settings.focus_distance_m};
     const int W = cam.width, H = cam.height;
     const std::size_t n = particles.size();
+    const bool streaks = m_settings.streaks && m_pose && m_shutter;
     if (ids) m_best.assign(std::size_t(W) * H, 0.0f);
     std::vector<Splat> splats(n);
     // Rows: x, y, z, 1/|X|, D, the three energies and five of scratch.
@@ -178,11 +323,24 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             s.energy[0] = er[q];
             s.energy[1] = eg[q];
             s.energy[2] = eb[q];
+            s.len = 0.0f;
+            if (streaks) set_streak(s, cam, *m_pose, *m_shutter, X, u, v);
             const Window w = window(s);
             s.va = w.va;
             s.vb = w.vb;
             s.inv_cover = 1.0f;
-            if (s.radius > 0.5f) {
+            if (s.len > 0.0f && s.radius <= 0.5f) {
+                s.inv_cover = 1.0f / float(s.n);  // each sample's bilinear weights sum to 1
+            } else if (s.len > 0.0f) {
+                // Normalised over the streak: its light is the still disc's, spread.
+                float total = 0.0f;
+                for (int yy = w.va; yy <= w.vb; ++yy) {
+                    const RowSpan r = row_span(s, yy);
+                    for (int xx = r.ca; xx <= r.cb; ++xx) total += sweep(s, xx, yy);
+                }
+                if (!(total > 0.0f)) continue;
+                s.inv_cover = 1.0f / total;
+            } else if (s.radius > 0.5f) {
                 // Normalised over the disc: the particle's light is spread, not multiplied.
                 float total = 0.0f;
                 for (int yy = w.va; yy <= w.vb; ++yy)

@@ -170,8 +170,9 @@ void Renderer::render(Layers& dst, Frame& frame, const FinalRows& rows, DepthKin
     m->prepare(frame, kind).composite(dst, frame, rows);
 }
 
-void Renderer::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose) {
-    if (m->snow) m->snow->set_frame(frame_key, pose);
+void Renderer::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose,
+                         std::optional<Shutter> shutter) {
+    if (m->snow) m->snow->set_frame(frame_key, pose, shutter);
 }
 
 int Renderer::snow_drawn() const { return m->snow ? m->snow->drawn() : 0; }

@@ -125,4 +125,40 @@ grep -q "cannot resume: --poses was 2 pose(s)" "$work/err.txt"
 test "$(wc -l < "$work/err.txt")" -eq 1
 expect_fail "no poses" render --layers "$work/posed" --snow plume --exposure 100 --resume
 grep -q "cannot resume: --poses was 2 pose(s) .*, now not given" "$work/err.txt"
+
+# 6. Frames named by their timestamps (TUM RGB-D): each takes the pose at its time from a
+# trajectory with more poses than frames; a frame beyond 0.02 s of every pose is refused in one
+# line naming the frame and the poses file, nothing written. With --snow-streaks the snow is
+# drawn as motion streaks (recorded in the manifest); without snow the flag is refused.
+mkdir -p "$work/tum"
+cp "$work/in/frame_0001.png" "$work/tum/1305031102.175304.png"
+cp "$work/in/frame_0001_depth.exr" "$work/tum/1305031102.175304_depth.exr"
+cp "$work/in/frame_0002.png" "$work/tum/1305031102.208637.png"
+cp "$work/in/frame_0002_depth.exr" "$work/tum/1305031102.208637_depth.exr"
+tum() { "$ds" render --asset "$work/a.vdb" --rgb "$work/tum/*.png" --depth "$work/tum/*_depth.exr" "$@"; }
+for t in 17 18 19 20 21 22; do echo "1305031102.$t 0.$t 0 0 0 0 0 1"; done > "$work/gt.txt"
+tum --layers "$work/tum_still" --snow plume --poses "$work/gt.txt" --exposure 100 | grep -q "rendered 2"
+tum --layers "$work/tum_streaks" --snow plume --snow-streaks --poses "$work/gt.txt" --exposure 100 \
+  | grep -q "rendered 2"
+/usr/bin/python3 - "$work/tum_still" "$work/tum_streaks" <<'PY'
+import json, os, sys
+import numpy as np
+import OpenImageIO as oiio
+still, streaks = sys.argv[1:]
+name = "1305031102.208637.exr"
+a, b = (oiio.ImageInput.open(os.path.join(f, name)).read_image("float") for f in (still, streaks))
+assert not np.array_equal(a, b), "streaks changed nothing"
+s = json.load(open(os.path.join(streaks, "deepsea-sequence.json")))["settings"]["snow"]
+assert s["streaks"] == 1 and s["streak_exposure_ms"] == 10, s
+s = json.load(open(os.path.join(still, "deepsea-sequence.json")))["settings"]["snow"]
+assert s["streaks"] == 0, s
+PY
+head -2 "$work/gt.txt" > "$work/gt_short.txt"
+expect_fail "a frame past the trajectory" tum -o "$work/bad" --snow plume --poses "$work/gt_short.txt"
+grep -q "gt_short.txt: no pose within 0.020000 s of frame .*1305031102.208637.png" "$work/err.txt"
+test "$(wc -l < "$work/err.txt")" -eq 1
+expect_absent "$work/bad"
+expect_fail "streaks without snow" render -o "$work/bad" --snow-streaks
+grep -q -- "--snow-streaks" "$work/err.txt"
+expect_absent "$work/bad"
 echo "render --snow: ok"

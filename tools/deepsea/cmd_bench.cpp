@@ -187,7 +187,8 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
                 if (!fs::exists(rgb)) fs::copy_file(tmp.dir / ("f" + g + ".png"), rgb);
                 if (!fs::exists(depth)) fs::copy_file(tmp.dir / ("f" + g + "_depth.exr"), depth);
                 jobs.push_back({rgb.string(), depth.string(),
-                                (tmp.dir / "out" / (k + ext)).string(), "", std::nullopt});
+                                (tmp.dir / "out" / (k + ext)).string(), "", std::nullopt,
+                                std::nullopt});
             }
             SequenceOptions opt;
             opt.forward = !a.no_forward;
@@ -304,7 +305,8 @@ void setup_bench(CLI::App& sub) {
         "composite_flat_port: all layers through a flat port, the asset baked through it, and "
         "composite_flat_port_pinhole: the pinhole asset through it), snow "
         "(snow-abyssal, "
-        "snow-nepheloid, snow-plume: marine snow alone), shadows (lamp shadows alone; "
+        "snow-nepheloid, snow-plume: marine snow alone; snow-streaks: nepheloid as "
+        "motion streaks, 1 m/s, 10 ms), shadows (lamp shadows alone; "
         "shadows-exact: the full-resolution sweep), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
         "also -camera: with the setup's camera stage)");

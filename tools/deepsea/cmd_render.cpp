@@ -6,6 +6,7 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "deepsea/asset/asset_file.h"
+#include "deepsea/batch/frame_poses.h"
 #include "deepsea/batch/layer_files.h"
 #include "deepsea/batch/output_folders.h"
 #include "deepsea/batch/sequence.h"
@@ -23,7 +24,7 @@ struct RenderArgs {
     DepthFlags depth;
     std::string asset, rgb, depth_path, output, layers, exposure, camera, poses;
     std::string layer_set = "all", format;
-    bool resume = false, no_forward = false, half = false, shadows = false;
+    bool resume = false, no_forward = false, half = false, shadows = false, streaks = false;
     std::string snow;  ///< empty: not given (the --camera file's snow section, else none)
     std::uint64_t snow_seed = 1;
     int bits = 8;
@@ -85,6 +86,10 @@ void run(const RenderArgs& a) {
                           " records the frames with a camera (lens, sensor, processing), whose "
                           "exposure is camera.sensor's exposure_time_ms and gain");
     opt.snow = snow_settings(a.snow, a.snow_seed, opt.camera_model, setup_snow);
+    if (a.streaks) {
+        if (!opt.snow) throw ConfigError("--snow-streaks: no marine snow to streak; give --snow");
+        opt.snow->streaks = true;
+    }
     if (opt.snow && opt.port)
         throw ConfigError(
             "--snow: marine snow through a port is not built yet (particles are "
@@ -96,15 +101,9 @@ void run(const RenderArgs& a) {
     // and before any folder is made.
     const FrameFiles files{a.rgb, a.depth_path, a.output, a.layers, a.format};
     std::vector<FrameJob> jobs = frame_jobs(files);
-    if (!a.poses.empty()) {
-        // The n-th pose is the n-th frame's, in frame order (docs/snow-shadows.md, "Marine snow").
-        const std::vector<TimedPose> poses = load_tum_poses(a.poses);
-        if (poses.size() != jobs.size())
-            throw InputError(a.poses + ": " + std::to_string(poses.size()) + " pose(s) for " +
-                             std::to_string(jobs.size()) +
-                             " frame(s); give one pose a frame, in frame order");
-        for (std::size_t i = 0; i < jobs.size(); ++i) jobs[i].pose = poses[i].pose;
-    }
+    // By timestamp where the frames are named by their time, else the n-th pose to the n-th
+    // frame; with streaks, each frame's shutter (docs/snow-shadows.md, "Motion streaks").
+    if (!a.poses.empty()) assign_poses(jobs, load_tum_poses(a.poses), a.poses, opt.snow);
     if (const auto shard = a.shard.resolve(false)) jobs = shard_jobs(jobs, files, *shard, opt);
     if (a.bits == 16 && !jobs.empty() && image_format(jobs.front().output) == "jpg")
         throw ConfigError("--bits 16: JPEG holds 8 bits per sample; write PNG or TIFF for 16");
@@ -223,11 +222,16 @@ void setup_render(CLI::App& sub) {
         "abyssal, nepheloid or plume, or off; overrides the --camera file's snow "
         "section (docs/config.md), which applies without it; adds the layers snow "
         "and snow_id");
-    sub.add_option(
-        "--poses", a->poses,
-        "TUM trajectory file (timestamp tx ty tz qx qy qz qw a line, camera to "
-        "world; # comments): the n-th pose is the n-th frame's, in frame order, so "
-        "that marine snow stays fixed in the world (docs/snow-shadows.md, \"Marine snow\")");
+    sub.add_option("--poses", a->poses,
+                   "TUM trajectory file (timestamp tx ty tz qx qy qz qw a line, camera to "
+                   "world; # comments), so that marine snow stays fixed in the world: frames named "
+                   "by their timestamps (1305031102.175304.png) take the pose at their time, "
+                   "others the n-th pose the n-th frame; snow.streaks draws motion streaks "
+                   "(docs/snow-shadows.md, \"Marine snow\", \"Motion streaks\")");
+    sub.add_flag("--snow-streaks", a->streaks,
+                 "marine snow drawn as motion streaks from the --poses and the exposure time "
+                 "(as the snow section's streaks: true; docs/snow-shadows.md, \"Motion "
+                 "streaks\")");
     sub.add_option("--snow-seed", a->snow_seed,
                    "seed of the marine snow's particles (same seed, same particles)")
         ->default_str("1");

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "deepsea/optics/snow.h"
+#include "deepsea/optics/camera_motion.h"
 
 namespace deepsea {
 
@@ -19,6 +19,9 @@ struct FrameJob {
     std::string layers;  ///< multi-layer EXR
     /// The camera's pose (camera to world), where known: marine snow stays fixed in the world.
     std::optional<CameraPose> pose;
+    /// The camera's poses when the shutter opens and closes, for marine snow's motion streaks
+    /// (frame_poses.h); unset: none.
+    std::optional<Shutter> shutter;
 };
 
 /// The frame's key for a camera's noise (camera_stage.h): FNV-1a (core/hash.h) of the colour

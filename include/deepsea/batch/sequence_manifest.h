@@ -73,7 +73,8 @@ struct SequenceManifest {
 };
 
 /// "fnv1a64:<16 hex>" of the poses of `jobs` in order (each frame's camera centre and axes as
-/// doubles; a frame without one hashes a marker), or empty if no frame has a pose.
+/// doubles, then its shutter's poses where it has them; a frame without one hashes a marker),
+/// or empty if no frame has a pose.
 std::string poses_hash(const std::vector<FrameJob>& jobs);
 
 /// The manifest as pretty-printed JSON (doubles round-trip exactly).

@@ -47,7 +47,8 @@ inline const std::vector<std::string> kPhaseHg = {"g"};
 inline const std::vector<std::string> kForwardScatter = {"G", "k"};
 /// `preset` only in YAML: what is written is the values.
 inline const std::vector<std::string> kSnow = {
-    "preset", "concentration", "d_min_mm", "d_max_mm", "slope", "albedo", "max_distance_m"};
+    "preset", "concentration",  "d_min_mm", "d_max_mm",         "slope",
+    "albedo", "max_distance_m", "streaks",  "exposure_time_ms", "frame_rate_hz"};
 }  // namespace schema
 
 /// The nearest a lamp may be to the camera centre, metres. The single-scattering backscatter

@@ -35,6 +35,16 @@ struct Snow {
     /// whichever is nearer: beyond it a particle is a small part of the water's own scattering
     /// (the backscatter layer), which already holds it.
     double max_distance_m = 4.0;
+    /// How the snow is drawn rather than what it is (docs/snow-shadows.md, "Motion streaks"):
+    /// each particle swept along its image motion while the shutter is open, where the frames
+    /// have camera poses. Off by default.
+    bool streaks = false;
+    /// The shutter's open time for the streaks, milliseconds, in (0, 10000]; a camera stage's
+    /// own exposure time replaces it.
+    double exposure_time_ms = 10.0;
+    /// Frames per second, (0, 10000], for the streaks' frame interval where the poses'
+    /// timestamps do not increase; 0: not given.
+    double frame_rate_hz = 0.0;
 };
 
 /// The default distance a camera's lens is focused at (metres, camera.lens.focus_distance_m):

@@ -9,6 +9,7 @@
 
 #include "deepsea/core/image.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/camera_motion.h"
 #include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/snow.h"
@@ -20,6 +21,12 @@ namespace deepsea {
 /// radius (its light kept), so that a frame's work stays bounded.
 inline constexpr double kMaxSnowRadiusPx = 32.0;
 
+/// The longest motion streak drawn, pixels: a longer one is shortened to this about its middle
+/// (its light kept), so that a frame's work stays bounded. A streak shorter than
+/// kMinSnowStreakPx is drawn as the still disc.
+inline constexpr double kMaxSnowStreakPx = 64.0;
+inline constexpr double kMinSnowStreakPx = 1.0;
+
 /// How marine snow is drawn: which snow, the random numbers' seed and the lens (its focal
 /// length in pixels is the frame camera's fx).
 struct SnowSettings {
@@ -28,6 +35,15 @@ struct SnowSettings {
     double f_number = 2.8;
     double pixel_pitch_um = 3.45;
     double focus_distance_m = kDefaultFocusDistance;
+    /// Motion streaks (docs/snow-shadows.md, "Motion streaks"): each disc swept along its
+    /// image motion while the shutter is open; drawn only for frames given a pose and a
+    /// shutter (MarineSnow::set_frame).
+    bool streaks = false;
+    /// The shutter's open time, seconds (the camera stage's exposure time, else the snow's
+    /// exposure_time_ms), > 0; how the batch room finds each frame's shutter.
+    double exposure_time_s = 0.01;
+    /// Frames per second where the poses' timestamps give no frame interval (0: none given).
+    double frame_rate_hz = 0.0;
 };
 
 /// Checks the snow and the lens values; SchemaError naming the key (snow.*,
@@ -64,8 +80,11 @@ public:
     MarineSnow(SnowSettings settings, const Rig& rig, const Water& water,
                std::vector<LampField> scattered = {});
 
-    /// The next frame's key and, where known, its camera pose (camera to world).
-    void set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose);
+    /// The next frame's key and, where known, its camera pose (camera to world) and its
+    /// shutter's poses: with streaks on, a pose and a shutter, each particle is drawn swept
+    /// from where it is seen when the shutter opens to where it is seen when it closes.
+    void set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose,
+                   std::optional<Shutter> shutter = {});
 
     /// Adds the snow seen by `camera` in front of the planar depth map `zdepth` to `final`
     /// (RGB radiance); where `snow` and `ids` are given (same size, zeroed by the caller), the
@@ -86,6 +105,7 @@ private:
     std::vector<LampField> m_scattered;
     std::uint64_t m_key = 0;
     std::optional<CameraPose> m_pose;
+    std::optional<Shutter> m_shutter;
     mutable std::vector<float> m_best;  ///< per pixel, the largest contribution so far
     mutable std::vector<float> m_rows;  ///< the particles as float rows (snow_light.h)
     mutable int m_drawn = 0;

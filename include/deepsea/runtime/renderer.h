@@ -78,8 +78,11 @@ public:
 
     /// The next frames' key and, where known, camera pose (camera to world), for marine snow:
     /// with a pose its particles stay fixed in the world; without one they are drawn afresh
-    /// for each key. Without a call: key 0, no pose.
-    void set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose = {});
+    /// for each key. With the snow's streaks on, a pose and the frame's shutter poses
+    /// (camera_motion.h), each particle is drawn as a motion streak. Without a call: key 0, no
+    /// pose.
+    void set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose = {},
+                   std::optional<Shutter> shutter = {});
     /// Marine snow particles drawn in the last frame (0 without snow).
     int snow_drawn() const;
 

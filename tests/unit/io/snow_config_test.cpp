@@ -51,6 +51,15 @@ TEST(SnowConfig, PresetOffAndValues) {
     EXPECT_EQ(c.snow->concentration, 300.0);
     EXPECT_EQ(c.snow->d_max_mm, 2.0);
     EXPECT_EQ(c.snow->albedo, Snow{}.albedo);
+
+    // Motion streaks: how the snow is drawn, so the preset keeps its name; off by default.
+    EXPECT_FALSE(a.snow->streaks);
+    const deepsea::Setup d =
+        parse("snow: {preset: plume, streaks: true, exposure_time_ms: 20, frame_rate_hz: 15}\n");
+    EXPECT_EQ(d.snow->name, "plume");
+    EXPECT_TRUE(d.snow->streaks);
+    EXPECT_EQ(d.snow->exposure_time_ms, 20.0);
+    EXPECT_EQ(d.snow->frame_rate_hz, 15.0);
 }
 
 TEST(SnowConfig, BadValuesNameFileLineAndKey) {
@@ -65,6 +74,9 @@ TEST(SnowConfig, BadValuesNameFileLineAndKey) {
         {"snow:\n  preset: abyssal\n  max_distance_m: 0.05\n", "s.yaml:3: snow.max_distance_m: "},
         {"snow:\n  albedo: 0.5\n", "s.yaml:1: snow.concentration: "},  // no preset: required
         {"snow:\n  preset: abyssal\n  density: 3\n", "s.yaml:3: snow.density: "},
+        {"snow:\n  preset: abyssal\n  exposure_time_ms: 0\n", "s.yaml:3: snow.exposure_time_ms: "},
+        {"snow:\n  preset: abyssal\n  frame_rate_hz: -30\n", "s.yaml:3: snow.frame_rate_hz: "},
+        {"snow:\n  preset: abyssal\n  streaks: maybe\n", "s.yaml:3: snow.streaks: "},
     };
     for (const auto& c : cases) {
         const std::string m = error(c.text);
@@ -78,7 +90,8 @@ TEST(SnowConfig, RoundTripThroughYaml) {
     for (const std::string text :
          {"snow: abyssal\n", "snow: {preset: nepheloid, albedo: 0.3}\n",
           "snow: {concentration: 123.456, d_min_mm: 0.3, d_max_mm: 7, slope: 2.5, albedo: 0.9, "
-          "max_distance_m: 6}\n"}) {
+          "max_distance_m: 6}\n",
+          "snow: {preset: plume, streaks: true, exposure_time_ms: 4.5, frame_rate_hz: 12.5}\n"}) {
         const deepsea::Setup a = parse(text);
         const deepsea::Setup b = parse_setup(setup_to_yaml(a), "round.yaml");
         ASSERT_TRUE(b.snow) << text;
@@ -89,6 +102,9 @@ TEST(SnowConfig, RoundTripThroughYaml) {
         EXPECT_EQ(b.snow->slope, a.snow->slope);
         EXPECT_EQ(b.snow->albedo, a.snow->albedo);
         EXPECT_EQ(b.snow->max_distance_m, a.snow->max_distance_m);
+        EXPECT_EQ(b.snow->streaks, a.snow->streaks);
+        EXPECT_EQ(b.snow->exposure_time_ms, a.snow->exposure_time_ms);
+        EXPECT_EQ(b.snow->frame_rate_hz, a.snow->frame_rate_hz);
     }
 }
 
