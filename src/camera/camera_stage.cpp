@@ -78,6 +78,14 @@ struct Scratch {
     }
 };
 
+/// Adds a chunk's pixels (len values, whole pixels) to the histogram of their brightest raw DN
+/// (whole numbers in [0, last]), found in a vector loop into the exact path's index scratch (free
+/// by now).
+void count_brightest(Scratch& t, int len, std::int32_t last, std::uint32_t* hist) {
+    camera_rows::brightest_row(len / 3, t.raw, t.index);
+    for (int p = 0; p < len / 3; ++p) ++hist[std::min(t.index[p], last)];
+}
+
 /// n floats from src to dst.
 void copy(const float* src, float* dst, int n) { std::memcpy(dst, src, sizeof(float) * n); }
 
@@ -337,7 +345,7 @@ struct CameraStage::Recording {
         const std::uint32_t base = noise_counter(w, 0, v, 0);
         const float y2 = float(st.m_camera.ray_y(v) * st.m_camera.ray_y(v));
         const Vignetting& vig = st.m_model.lens.vignetting;
-        const float last = sp.max_dn;
+        const std::int32_t last = std::int32_t(sp.max_dn);
         double sum[3] = {0.0, 0.0, 0.0};
         for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
             const int len = std::min(camera_rows::kChunk, n - c0);
@@ -350,11 +358,7 @@ struct CameraStage::Recording {
                        mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr));
             if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v) + c0, len);
             if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
-            // Raw DN are whole numbers in [0, max DN]: the brightest is its own bin.
-            for (int i = 0; hist && i < len; i += 3) {
-                const float b = std::max(t.raw[i], std::max(t.raw[i + 1], t.raw[i + 2]));
-                ++hist[std::size_t(b > 0.0f ? (b < last ? b : last) : 0.0f)];
-            }
+            if (hist) count_brightest(t, len, last, hist);
             if (layers.noise_free) {  // its DN, in t.gain
                 camera_rows::gain_row(vig, st.m_x2.get() + c0 / 3, y2, resp, len / 3, t.gain);
                 if (st.m_port_factor) {
