@@ -43,12 +43,30 @@ void CameraFrames::skipped(const FrameJob& job) {
     if (controller()) m_next = m_read.at(journal_name(job)).next;
 }
 
-void CameraFrames::record(const Camera& camera, const FrameJob& job, const Image& radiance,
-                          CameraLayerSet layers, CameraOutput& out, ExposureRecord& line) {
+const CameraStage& CameraFrames::stage(const Camera& camera) {
     if (!m_stage || !(m_stage->camera() == camera))
         m_stage = std::make_unique<CameraStage>(m_model, camera, m_port);
-    if (controller()) layers.raw = true;  // the meter reads the raw DN
-    m_stage->apply(out, radiance, frame_key(job), m_next, layers);
+    return *m_stage;
+}
+
+bool CameraFrames::records_rows(const Camera& camera) { return stage(camera).records_rows(); }
+
+void CameraFrames::record(const Camera& camera, const FrameJob& job, const Image& radiance,
+                          CameraLayerSet layers, CameraOutput& out, ExposureRecord& line) {
+    if (controller()) layers.meter = true;  // the meter's histogram of the raw DN
+    stage(camera).apply(out, radiance, frame_key(job), m_next, layers);
+    step(job, out, line);
+}
+
+void CameraFrames::record_rows(const Camera& camera, const FrameJob& job,
+                               const std::function<void(const CameraStage::RadianceRows&)>& render,
+                               CameraLayerSet layers, CameraOutput& out, ExposureRecord& line) {
+    if (controller()) layers.meter = true;
+    stage(camera).apply_rows(out, render, frame_key(job), m_next, layers);
+    step(job, out, line);
+}
+
+void CameraFrames::step(const FrameJob& job, const CameraOutput& out, ExposureRecord& line) {
     line.rgb = journal_name(job);
     line.used = out.exposure;
     if (controller()) m_next = next_exposure(m_model, out);

@@ -3,6 +3,7 @@
 // camera (remade when their size changes), the auto-exposure controller's state from frame to
 // frame, and its journals (exposure_journal.h) for --resume.
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -35,10 +36,22 @@ public:
     /// frame's journal line goes to `line`. In frame order.
     void record(const Camera& camera, const FrameJob& job, const Image& radiance,
                 CameraLayerSet layers, CameraOutput& out, ExposureRecord& line);
+    /// Whether frames over `camera` can be recorded row by row (CameraStage::records_rows).
+    bool records_rows(const Camera& camera);
+    /// record() with the radiance handed over row by row by `render` (CameraStage::apply_rows):
+    /// no radiance frame. The same bits. In frame order.
+    void record_rows(const Camera& camera, const FrameJob& job,
+                     const std::function<void(const CameraStage::RadianceRows&)>& render,
+                     CameraLayerSet layers, CameraOutput& out, ExposureRecord& line);
     /// After the frame's outputs are written: appends its line to the journals (controller on).
     void written(const ExposureRecord& line) const;
 
 private:
+    /// The stage over `camera`, made again when the camera changes.
+    const CameraStage& stage(const Camera& camera);
+    /// After a frame is recorded: its journal line, and the controller's step.
+    void step(const FrameJob& job, const CameraOutput& out, ExposureRecord& line);
+
     CameraModel m_model;
     std::optional<Port> m_port;
     std::vector<std::string> m_journals;

@@ -285,10 +285,24 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                         Layers& out = job.layers.empty() ? shared : s->layers;
                         renderer.set_frame(frame_key(job), job.pose, job.shutter);
                         if (camera) {
-                            renderer.render(out, s->frame, s->writer.layer_set(job),
-                                            opt.depth_kind);
-                            camera->record(renderer.camera(), job, out.final,
-                                           s->writer.camera_set(job), s->recorded, s->line);
+                            // The image alone: each row recorded as the compositor finishes
+                            // it (no radiance frame), where the stage needs no whole frame.
+                            const Camera cam =
+                                frame_camera(asset.info.camera, opt.camera, s->frame.depth.width,
+                                             s->frame.depth.height);
+                            if (job.layers.empty() && camera->records_rows(cam)) {
+                                camera->record_rows(
+                                    cam, job,
+                                    [&](const CameraStage::RadianceRows& rows) {
+                                        renderer.render(out, s->frame, rows, opt.depth_kind);
+                                    },
+                                    s->writer.camera_set(job), s->recorded, s->line);
+                            } else {
+                                renderer.render(out, s->frame, s->writer.layer_set(job),
+                                                opt.depth_kind);
+                                camera->record(renderer.camera(), job, out.final,
+                                               s->writer.camera_set(job), s->recorded, s->line);
+                            }
                             s->meta = camera_metadata(s->recorded, frame_key(job));
                             result.camera_exposure = s->recorded.exposure;
                         } else if (s->writer.streams(job, exposure)) {

@@ -37,43 +37,32 @@ ExposureLimits exposure_limits(const AutoExposure& ae, const Sensor& sensor) {
     return l;
 }
 
-ExposureReading meter_exposure(const AutoExposure& ae, const Sensor& sensor, const Image& raw,
-                               double gain) {
-    if (raw.empty() || raw.channels != 3)
-        throw InputError(
-            "auto exposure: it meters the raw layer (3 channels of DN); apply the camera stage "
-            "with CameraLayerSet::raw");
+ExposureReading meter_exposure(const AutoExposure& ae, const Sensor& sensor,
+                               const std::vector<std::uint32_t>& brightest, double gain) {
     const double black = black_level(sensor), top = max_dn(sensor), range = top - black;
-    const std::size_t pixels = std::size_t(raw.width) * raw.height;
-    const float* v = raw.data.data();
-    // Per pixel its brightest channel, in row order.
-    const auto brightest = [&](std::size_t i) {
-        return std::max(v[3 * i], std::max(v[3 * i + 1], v[3 * i + 2]));
-    };
+    const int bins = int(top) + 1;
+    if (int(brightest.size()) != bins)
+        throw InputError("auto exposure: the histogram has " + std::to_string(brightest.size()) +
+                         " bins, the sensor's raw DN " + std::to_string(bins));
+    std::uint64_t pixels = 0;
+    for (const std::uint32_t count : brightest) pixels += count;
+    if (pixels == 0) throw InputError("auto exposure: the histogram counts no pixels");
     double dn = 0.0;
     if (ae.metering == Metering::Percentile) {
-        // Raw DN are whole numbers in [0, 2^bits - 1]: a histogram gives the exact rank.
-        const int bins = int(top) + 1;
-        std::vector<std::uint32_t> hist(std::size_t(bins), 0);
-        // Whole numbers convert exactly (no lround, a library call per pixel); out-of-range and
-        // NaN values (not from the stage) land in the end bins.
-        const float last = float(bins - 1);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const float b = brightest(i);
-            ++hist[std::size_t(b > 0.0f ? (b < last ? b + 0.5f : last) : 0.0f)];
-        }
+        // The histogram of whole DN gives the exact nearest rank.
         const double want = std::ceil(ae.percentile / 100.0 * double(pixels));
         const std::uint64_t rank = std::uint64_t(std::clamp(want, 1.0, double(pixels)));
         std::uint64_t seen = 0;
         int b = 0;
         for (; b < bins - 1; ++b) {
-            seen += hist[std::size_t(b)];
+            seen += brightest[std::size_t(b)];
             if (seen >= rank) break;
         }
         dn = double(b);
     } else {
+        // Whole numbers: the sum is exact (below 2^53), in any order.
         double sum = 0.0;
-        for (std::size_t i = 0; i < pixels; ++i) sum += brightest(i);
+        for (int b = 0; b < bins; ++b) sum += double(b) * double(brightest[std::size_t(b)]);
         dn = sum / double(pixels);
     }
     ExposureReading r;
@@ -83,7 +72,30 @@ ExposureReading meter_exposure(const AutoExposure& ae, const Sensor& sensor, con
     return r;
 }
 
+ExposureReading meter_exposure(const AutoExposure& ae, const Sensor& sensor, const Image& raw,
+                               double gain) {
+    if (raw.empty() || raw.channels != 3)
+        throw InputError(
+            "auto exposure: it meters the raw layer (3 channels of DN); apply the camera stage "
+            "with CameraLayerSet::raw or CameraLayerSet::meter");
+    const std::size_t pixels = std::size_t(raw.width) * raw.height;
+    const float* v = raw.data.data();
+    const int bins = int(max_dn(sensor)) + 1;
+    std::vector<std::uint32_t> hist(std::size_t(bins), 0);
+    // Per pixel its brightest channel. Whole numbers convert exactly (no lround, a library call
+    // per pixel); out-of-range and NaN values (not from the stage) land in the end bins.
+    const float last = float(bins - 1);
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const float b = std::max(v[3 * i], std::max(v[3 * i + 1], v[3 * i + 2]));
+        ++hist[std::size_t(b > 0.0f ? (b < last ? b + 0.5f : last) : 0.0f)];
+    }
+    return meter_exposure(ae, sensor, hist, gain);
+}
+
 ExposureReading meter_exposure(const CameraModel& model, const CameraOutput& frame) {
+    if (!frame.brightest.empty())
+        return meter_exposure(model.auto_exposure, model.sensor, frame.brightest,
+                              frame.exposure.system_gain);
     return meter_exposure(model.auto_exposure, model.sensor, frame.raw, frame.exposure.system_gain);
 }
 

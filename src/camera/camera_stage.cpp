@@ -1,5 +1,7 @@
 #include "deepsea/camera/camera_stage.h"
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -75,6 +77,14 @@ struct Scratch {
             linear, index,    exact_mean, exact_uniform, exact_electrons, exact_offset};
     }
 };
+
+/// Adds a chunk's pixels (len values, whole pixels) to the histogram of their brightest raw DN
+/// (whole numbers in [0, last]), found in a vector loop into the exact path's index scratch (free
+/// by now).
+void count_brightest(Scratch& t, int len, std::int32_t last, std::uint32_t* hist) {
+    camera_rows::brightest_row(len / 3, t.raw, t.index);
+    for (int p = 0; p < len / 3; ++p) ++hist[std::min(t.index[p], last)];
+}
 
 /// n floats from src to dst.
 void copy(const float* src, float* dst, int n) { std::memcpy(dst, src, sizeof(float) * n); }
@@ -199,6 +209,225 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     apply(out, radiance, frame_key, default_exposure(), layers, par);
 }
 
+/// One frame's recording: its settings, tables and layers, shared by the row tasks. The first
+/// pass records rows (sense_row, any order); finish() adds up what the rows counted and, for
+/// grey world or a mosaic, makes the image in a second pass over the kept raw DN.
+struct CameraStage::Recording {
+    const CameraStage& st;
+    CameraOutput& out;
+    CameraLayerSet layers;
+    int w, h, n;
+    std::size_t stride;
+    BayerPattern bayer;
+    bool grey, mosaic, two_pass, keep_raw, table;
+    camera_rows::SensorParams sp;
+    camera_rows::ProcessParams pp;
+    float resp[3], scale[3];  // resp: the noise-free image's response, no PRNU
+    double range;
+    std::vector<float> lut;
+    std::vector<std::int32_t> code_lut;  // with codes8: the table's values as 8-bit codes
+    std::size_t record_row;
+    AlignedBytes record;
+    std::vector<double> row_sums;
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> hists;  // with layers.meter
+
+    Recording(const CameraStage& stage, CameraOutput& o, std::uint64_t frame_key,
+              const FrameExposure& exposure, CameraLayerSet set)
+        : st(stage), out(o), layers(set), w(stage.m_camera.width), h(stage.m_camera.height) {
+        check_exposure(exposure);
+        const Sensor& s = st.m_model.sensor;
+        const Processing& proc = st.m_model.processing;
+        n = 3 * w;
+        stride = camera_rows::row_stride(w);
+        bayer = s.bayer;
+        grey = proc.white_balance == WhiteBalance::GreyWorld;
+        mosaic = bayer != BayerPattern::None;
+        // Grey world and the demosaic need the whole frame's raw DN: a second pass makes the
+        // image.
+        two_pass = grey || mosaic;
+        keep_raw = layers.raw || two_pass;
+
+        sp.exposure_time_ms = float(exposure.exposure_time_ms);
+        sp.dark_electrons = float(dark_electrons(s, exposure.exposure_time_ms));
+        sp.full_well = float(s.full_well);
+        sp.gain = float(exposure.system_gain);
+        sp.black = float(black_level(s));
+        sp.max_dn = float(max_dn(s));
+        sp.read_noise = float(s.dark_noise);
+        sp.poisson_below = float(poisson_below(s.dark_noise));
+        sp.noise = s.noise;
+        sp.keep_linear = layers.linear_dn;
+        sp.shot_key = temporal_key(s.seed, frame_key, NoiseStream::Shot);
+        sp.read_key = temporal_key(s.seed, frame_key, NoiseStream::Read);
+        for (int c = 0; c < 3; ++c) resp[c] = float(st.electrons_per_radiance(c, 1.0));
+
+        pp.black = sp.black;
+        const Rgb wb = proc.white_balance == WhiteBalance::Gains ? proc.gains : Rgb(1.0);
+        range = max_dn(s) - black_level(s);
+        for (int c = 0; c < 3; ++c) scale[c] = float(wb[c] / range);
+        if (proc.matrix) {
+            pp.matrix = true;
+            for (int i = 0; i < 9; ++i) pp.m[i] = float((*proc.matrix)[i]);
+        }
+        pp.curve = proc.curve;
+        pp.inv_gamma = float(1.0 / proc.gamma);
+        // Without a matrix a channel's display value is a function of its raw DN alone, and raw
+        // DN are whole numbers: one table per frame replaces the curve's arithmetic per value
+        // (up to 12 bits: 48 KB, built from 4096 pixels' processing, a fraction of a frame's).
+        table = !proc.matrix && s.bits <= 12 && !mosaic;
+        // With a mosaic, which values each chunk's pixels record: 1 or 0 per value, for even
+        // and odd rows (chunks start at even pixels).
+        record_row = line_bytes<std::int32_t>(camera_rows::kChunk) / 4;
+        record = AlignedBytes(mosaic ? 2 * 4 * record_row : 0);
+        for (int odd = 0; odd < 2 && mosaic; ++odd)
+            for (int i = 0; i < camera_rows::kChunk; ++i)
+                record.at<std::int32_t>(0)[odd * record_row + i] =
+                    bayer_channel(bayer, i / 3, odd) == i % 3;
+
+        out.width = w;
+        out.height = h;
+        if (layers.codes8) {
+            out.image = Image();
+            out.codes8.resize(3 * std::size_t(w) * std::size_t(h));
+        } else {
+            ensure(out.image, w, h);
+            out.codes8.clear();
+        }
+        keep_raw ? ensure(out.raw, w, h) : void(out.raw = Image());
+        layers.linear_dn ? ensure(out.linear_dn, w, h) : void(out.linear_dn = Image());
+        layers.noise_free ? ensure(out.noise_free, w, h) : void(out.noise_free = Image());
+        out.brightest.clear();
+        out.exposure = exposure;
+        out.white_balance = wb;
+        row_sums.assign(grey ? 3 * std::size_t(h) : 0, 0.0);
+        if (table && !two_pass) make_tables();
+    }
+
+    void make_tables() {
+        lut = display_table(pp, scale, int(sp.max_dn) + 1);
+        if (!layers.codes8) return;
+        std::vector<std::uint8_t> codes(lut.size());
+        quantise8(lut.data(), lut.size(), codes.data());
+        code_lut.assign(codes.begin(), codes.end());
+    }
+
+    /// Display values of `len` DN into dst, both passes: whole DN (`whole`) through this frame's
+    /// table where there is one, else (and always for the noise-free DN) the processing kernel.
+    void display(Scratch& t, int len, const float* dn, float* dst, bool whole) const {
+        if (whole && table) {
+            camera_rows::lookup_row(lut.data(), len, dn, dst);
+            return;
+        }
+        camera_rows::process_row(pp, len, t.scale, dn, t.tmp, t.image);
+        copy(t.image, dst, len);
+    }
+
+    /// The recorded image of row v's values c0 .. c0 + len: display values, or their codes.
+    void show(Scratch& t, int v, int c0, int len, const float* dn) const {
+        if (!layers.codes8) return display(t, len, dn, out.image.row(v) + c0, true);
+        std::uint8_t* codes = out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0;
+        if (table) return camera_rows::lookup_codes_row(code_lut.data(), len, dn, codes);
+        display(t, len, dn, t.shown, true);
+        quantise8(t.shown, len, codes);
+    }
+
+    /// This task's histogram of the brightest raw DN (layers.meter), zeros at first.
+    std::uint32_t* histogram() {
+        if (!layers.meter) return nullptr;
+        std::vector<std::uint32_t>& hist = hists.local();
+        if (hist.empty()) hist.assign(std::size_t(sp.max_dn) + 1, 0);
+        return hist.data();
+    }
+
+    /// The first pass over row v: its radiance `rad` (3 x width values; `aligned`: 64-byte
+    /// aligned, its chunks read in place, else each copied into the scratch first).
+    void sense_row(Scratch& t, int v, const float* rad_row, bool aligned, std::uint32_t* hist) {
+        const std::uint32_t base = noise_counter(w, 0, v, 0);
+        const float y2 = float(st.m_camera.ray_y(v) * st.m_camera.ray_y(v));
+        const Vignetting& vig = st.m_model.lens.vignetting;
+        const std::int32_t last = std::int32_t(sp.max_dn);
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
+            const int len = std::min(camera_rows::kChunk, n - c0);
+            const std::size_t at = stride * v + c0;
+            const float* rad = aligned ? rad_row + c0 : t.radiance;
+            if (!aligned) copy(rad_row + c0, t.radiance, len);
+            camera_rows::sensor_row(
+                sp, base + std::uint32_t(c0), len,
+                t.rows(rad, st.m_response.get() + at, st.m_dsnu ? st.m_dsnu.get() + at : t.zeros,
+                       mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr));
+            if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v) + c0, len);
+            if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
+            if (hist) count_brightest(t, len, last, hist);
+            if (layers.noise_free) {  // its DN, in t.gain
+                camera_rows::gain_row(vig, st.m_x2.get() + c0 / 3, y2, resp, len / 3, t.gain);
+                if (st.m_port_factor) {
+                    const float* f = st.m_port_factor.get() + at;
+                    for (int i = 0; i < len; ++i) t.gain[i] *= f[i];
+                }
+                camera_rows::noise_free_row(sp, len, rad, t.gain, t.gain);
+            }
+            if (two_pass) {
+                for (int i = 0; i < len && grey; i += 3)  // recorded values only
+                    for (int c = 0; c < 3; ++c)
+                        if (!mosaic || bayer_channel(bayer, (c0 + i) / 3, v) == c)
+                            sum[c] += t.raw[i + c] - sp.black;
+                if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
+                continue;
+            }
+            show(t, v, c0, len, t.raw);
+            if (layers.noise_free) display(t, len, t.gain, out.noise_free.row(v) + c0, false);
+        }
+        if (grey)
+            for (int c = 0; c < 3; ++c) row_sums[3 * std::size_t(v) + c] = sum[c];
+    }
+
+    /// After every row's first pass: the meter's histogram, then grey world's mean per channel
+    /// over its recorded values (rows summed in order: the same at any thread count) and the
+    /// processing pass over the kept DN, demosaiced first.
+    void finish(const Parallel& par) {
+        if (layers.meter) {
+            out.brightest.assign(std::size_t(sp.max_dn) + 1, 0);
+            for (const std::vector<std::uint32_t>& hist : hists)
+                for (std::size_t b = 0; b < hist.size(); ++b) out.brightest[b] += hist[b];
+        }
+        if (!two_pass) return;
+        if (grey) {
+            Rgb sums, counts, means;
+            for (int v = 0; v < h; ++v)
+                for (int c = 0; c < 3; ++c) sums[c] += row_sums[3 * std::size_t(v) + c];
+            for (int v = 0; v < h; ++v)
+                for (int u = 0; u < 2 && u < w; ++u)  // (w - u + 1) / 2 pixels of u's parity
+                    for (int c = 0; c < 3; ++c)
+                        if (!mosaic || bayer_channel(bayer, u, v) == c)
+                            counts[c] += (w - u + 1) / 2;
+            for (int c = 0; c < 3; ++c) means[c] = sums[c] / counts[c];
+            out.white_balance = grey_world_gains(means);
+            for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
+        }
+        if (table) make_tables();
+        parallel_for(
+            std::size_t(h),
+            [&](std::size_t v0, std::size_t v1) {
+                Scratch t(w, mosaic);
+                t.scales(scale);
+                for (int v = int(v0); v < int(v1); ++v) {
+                    if (mosaic) demosaic_row(out.raw, bayer, v, t.row);
+                    for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
+                        const int len = std::min(camera_rows::kChunk, n - c0);
+                        copy(mosaic ? t.row + c0 : out.raw.row(v) + c0, t.raw, len);
+                        show(t, v, c0, len, t.raw);
+                        if (layers.noise_free) {
+                            copy(out.noise_free.row(v) + c0, t.raw, len);
+                            display(t, len, t.raw, out.noise_free.row(v) + c0, false);
+                        }
+                    }
+                }
+            },
+            par.or_grain(16));
+    }
+};
+
 void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t frame_key,
                         const FrameExposure& exposure, CameraLayerSet layers,
                         const Parallel& par) const {
@@ -210,187 +439,56 @@ void CameraStage::apply(CameraOutput& out, const Image& radiance, std::uint64_t 
     if (radiance.channels != 3)
         throw InputError("camera stage: the radiance image has " +
                          std::to_string(radiance.channels) + " channels, not 3 (R, G, B)");
-    const Sensor& s = m_model.sensor;
-    const Processing& proc = m_model.processing;
-    const bool grey = proc.white_balance == WhiteBalance::GreyWorld;
-    const BayerPattern bayer = s.bayer;
-    const bool mosaic = bayer != BayerPattern::None;
-    // Grey world and the demosaic need the whole frame's raw DN: a second pass makes the image.
-    const bool two_pass = grey || mosaic;
-    const bool keep_raw = layers.raw || two_pass;
-
-    camera_rows::SensorParams sp;
-    sp.exposure_time_ms = float(exposure.exposure_time_ms);
-    sp.dark_electrons = float(dark_electrons(s, exposure.exposure_time_ms));
-    sp.full_well = float(s.full_well);
-    sp.gain = float(exposure.system_gain);
-    sp.black = float(black_level(s));
-    sp.max_dn = float(max_dn(s));
-    sp.read_noise = float(s.dark_noise);
-    sp.poisson_below = float(poisson_below(s.dark_noise));
-    sp.noise = s.noise;
-    sp.keep_linear = layers.linear_dn;
-    sp.shot_key = temporal_key(s.seed, frame_key, NoiseStream::Shot);
-    sp.read_key = temporal_key(s.seed, frame_key, NoiseStream::Read);
-    float resp[3];  // the noise-free image's response: no PRNU
-    for (int c = 0; c < 3; ++c) resp[c] = float(electrons_per_radiance(c, 1.0));
-
-    camera_rows::ProcessParams pp;
-    pp.black = sp.black;
-    const Rgb wb = proc.white_balance == WhiteBalance::Gains ? proc.gains : Rgb(1.0);
-    const double range = max_dn(s) - black_level(s);
-    float scale[3];
-    for (int c = 0; c < 3; ++c) scale[c] = float(wb[c] / range);
-    if (proc.matrix) {
-        pp.matrix = true;
-        for (int i = 0; i < 9; ++i) pp.m[i] = float((*proc.matrix)[i]);
-    }
-    pp.curve = proc.curve;
-    pp.inv_gamma = float(1.0 / proc.gamma);
-    // Without a matrix a channel's display value is a function of its raw DN alone, and raw DN
-    // are whole numbers: one table per frame replaces the curve's arithmetic per value (up to 12
-    // bits: 48 KB, built from 4096 pixels' processing, a fraction of a frame's).
-    const bool table = !proc.matrix && s.bits <= 12 && !mosaic;
-    std::vector<float> lut;
-    std::vector<std::int32_t> code_lut;  // with codes8: the table's values as 8-bit codes
-    const auto make_tables = [&] {
-        lut = display_table(pp, scale, int(sp.max_dn) + 1);
-        if (!layers.codes8) return;
-        std::vector<std::uint8_t> codes(lut.size());
-        quantise8(lut.data(), lut.size(), codes.data());
-        code_lut.assign(codes.begin(), codes.end());
-    };
-    // With a mosaic, which values each chunk's pixels record: 1 or 0 per value, for even and
-    // odd rows (chunks start at even pixels).
-    const std::size_t record_row = line_bytes<std::int32_t>(camera_rows::kChunk) / 4;
-    AlignedBytes record(mosaic ? 2 * 4 * record_row : 0);
-    for (int odd = 0; odd < 2 && mosaic; ++odd)
-        for (int i = 0; i < camera_rows::kChunk; ++i)
-            record.at<std::int32_t>(0)[odd * record_row + i] =
-                bayer_channel(bayer, i / 3, odd) == i % 3;
-
-    out.width = w;
-    out.height = h;
-    if (layers.codes8) {
-        out.image = Image();
-        out.codes8.resize(3 * std::size_t(w) * std::size_t(h));
-    } else {
-        ensure(out.image, w, h);
-        out.codes8.clear();
-    }
-    keep_raw ? ensure(out.raw, w, h) : void(out.raw = Image());
-    layers.linear_dn ? ensure(out.linear_dn, w, h) : void(out.linear_dn = Image());
-    layers.noise_free ? ensure(out.noise_free, w, h) : void(out.noise_free = Image());
-    out.exposure = exposure;
-    out.white_balance = wb;
-    std::vector<double> row_sums(grey ? 3 * std::size_t(h) : 0);
-    if (table && !two_pass) make_tables();
-
-    const int n = 3 * w;
-    const std::size_t stride = camera_rows::row_stride(w);
-    // Display values of `len` DN into dst, both passes: whole DN (`whole`) through this frame's
-    // table where there is one, else (and always for the noise-free DN) the processing kernel.
-    const auto display = [&](Scratch& t, int len, const float* dn, float* dst, bool whole) {
-        if (whole && table) {
-            camera_rows::lookup_row(lut.data(), len, dn, dst);
-            return;
-        }
-        camera_rows::process_row(pp, len, t.scale, dn, t.tmp, t.image);
-        copy(t.image, dst, len);
-    };
-    // The recorded image of row v's values c0 .. c0 + len: display values, or their codes.
-    const auto show = [&](Scratch& t, int v, int c0, int len, const float* dn) {
-        if (!layers.codes8) return display(t, len, dn, out.image.row(v) + c0, true);
-        std::uint8_t* codes = out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0;
-        if (table) return camera_rows::lookup_codes_row(code_lut.data(), len, dn, codes);
-        display(t, len, dn, t.shown, true);
-        quantise8(t.shown, len, codes);
-    };
-    const Vignetting& vig = m_model.lens.vignetting;
-    constexpr int kChunk = camera_rows::kChunk;
+    Recording f(*this, out, frame_key, exposure, layers);
     parallel_for(
         std::size_t(h),
         [&](std::size_t v0, std::size_t v1) {
             Scratch t(w, !m_map.empty());
-            t.scales(scale);
+            t.scales(f.scale);
+            std::uint32_t* hist = f.histogram();
             for (int v = int(v0); v < int(v1); ++v) {
-                if (!m_map.empty()) m_map.resample_row(radiance, v, t.row);
-                const std::uint32_t base = noise_counter(w, 0, v, 0);
-                const float y2 = float(m_camera.ray_y(v) * m_camera.ray_y(v));
-                double sum[3] = {0.0, 0.0, 0.0};
-                for (int c0 = 0; c0 < n; c0 += kChunk) {
-                    const int len = std::min(kChunk, n - c0);
-                    const std::size_t at = stride * v + c0;
-                    const float* rad = m_map.empty() ? t.radiance : t.row + c0;
-                    if (m_map.empty()) copy(radiance.row(v) + c0, t.radiance, len);
-                    camera_rows::sensor_row(
-                        sp, base + std::uint32_t(c0), len,
-                        t.rows(
-                            rad, m_response.get() + at, m_dsnu ? m_dsnu.get() + at : t.zeros,
-                            mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr));
-                    if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v) + c0, len);
-                    if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
-                    if (layers.noise_free) {  // its DN, in t.gain
-                        camera_rows::gain_row(vig, m_x2.get() + c0 / 3, y2, resp, len / 3, t.gain);
-                        if (m_port_factor) {
-                            const float* f = m_port_factor.get() + at;
-                            for (int i = 0; i < len; ++i) t.gain[i] *= f[i];
-                        }
-                        camera_rows::noise_free_row(sp, len, rad, t.gain, t.gain);
-                    }
-                    if (two_pass) {
-                        for (int i = 0; i < len && grey; i += 3)  // recorded values only
-                            for (int c = 0; c < 3; ++c)
-                                if (!mosaic || bayer_channel(bayer, (c0 + i) / 3, v) == c)
-                                    sum[c] += t.raw[i + c] - sp.black;
-                        if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
-                        continue;
-                    }
-                    show(t, v, c0, len, t.raw);
-                    if (layers.noise_free)
-                        display(t, len, t.gain, out.noise_free.row(v) + c0, false);
+                if (m_map.empty()) {
+                    f.sense_row(t, v, radiance.row(v), false, hist);
+                } else {
+                    m_map.resample_row(radiance, v, t.row);
+                    f.sense_row(t, v, t.row, true, hist);
                 }
-                if (grey)
-                    for (int c = 0; c < 3; ++c) row_sums[3 * std::size_t(v) + c] = sum[c];
             }
         },
         par.or_grain(16));
-    if (!two_pass) return;
+    f.finish(par);
+}
 
-    // Grey world: the frame's mean per channel over its recorded values (rows summed in order:
-    // the same at any thread count). Then the processing pass over the kept DN, demosaiced first.
-    if (grey) {
-        Rgb sums, counts, means;
-        for (int v = 0; v < h; ++v)
-            for (int c = 0; c < 3; ++c) sums[c] += row_sums[3 * std::size_t(v) + c];
-        for (int v = 0; v < h; ++v)
-            for (int u = 0; u < 2 && u < w; ++u)  // (w - u + 1) / 2 pixels of u's parity
-                for (int c = 0; c < 3; ++c)
-                    if (!mosaic || bayer_channel(bayer, u, v) == c) counts[c] += (w - u + 1) / 2;
-        for (int c = 0; c < 3; ++c) means[c] = sums[c] / counts[c];
-        out.white_balance = grey_world_gains(means);
-        for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
-    }
-    if (table) make_tables();
-    parallel_for(
-        std::size_t(h),
-        [&](std::size_t v0, std::size_t v1) {
-            Scratch t(w, mosaic);
-            t.scales(scale);
-            for (int v = int(v0); v < int(v1); ++v) {
-                if (mosaic) demosaic_row(out.raw, bayer, v, t.row);
-                for (int c0 = 0; c0 < n; c0 += kChunk) {
-                    const int len = std::min(kChunk, n - c0);
-                    copy(mosaic ? t.row + c0 : out.raw.row(v) + c0, t.raw, len);
-                    show(t, v, c0, len, t.raw);
-                    if (layers.noise_free) {
-                        copy(out.noise_free.row(v) + c0, t.raw, len);
-                        display(t, len, t.raw, out.noise_free.row(v) + c0, false);
-                    }
-                }
-            }
-        },
-        par.or_grain(16));
+bool CameraStage::records_rows() const {
+    return m_map.empty() && m_model.processing.white_balance != WhiteBalance::GreyWorld &&
+           m_model.sensor.bayer == BayerPattern::None;
+}
+
+void CameraStage::apply_rows(CameraOutput& out,
+                             const std::function<void(const RadianceRows&)>& render,
+                             std::uint64_t frame_key, const FrameExposure& exposure,
+                             CameraLayerSet layers) const {
+    if (!records_rows())
+        throw InputError(
+            "camera stage: a lens distortion, grey world or a Bayer mosaic needs the whole "
+            "radiance frame (apply, not apply_rows)");
+    Recording f(*this, out, frame_key, exposure, layers);
+    // Each thread its scratch, made on its first row (the rows come from the renderer's tasks).
+    tbb::enumerable_thread_specific<std::unique_ptr<Scratch>> scratch;
+    const int h = m_camera.height;
+    render([&](int v, const float* rgb) {
+        if (v < 0 || v >= h)
+            throw InputError("camera stage: row " + std::to_string(v) +
+                             " handed over, the camera (" + describe(m_camera) + ") has " +
+                             std::to_string(h));
+        std::unique_ptr<Scratch>& t = scratch.local();
+        if (!t) {
+            t = std::make_unique<Scratch>(m_camera.width, false);
+            t->scales(f.scale);
+        }
+        f.sense_row(*t, v, rgb, false, f.histogram());
+    });
+    f.finish(Parallel());
 }
 
 }  // namespace deepsea

@@ -317,6 +317,13 @@ template <bool kMatrix>
 }  // namespace
 
 DEEPSEA_CAMERA_CLONES
+void brightest_row(int pixels, const float* raw, std::int32_t* brightest) {
+#pragma omp simd
+    for (int i = 0; i < pixels; ++i)
+        brightest[i] = std::int32_t(max_of(raw[3 * i], max_of(raw[3 * i + 1], raw[3 * i + 2])));
+}
+
+DEEPSEA_CAMERA_CLONES
 void process_row(const ProcessParams& p, int n, const float* scale, const float* dn, float* tmp,
                  float* out) {
     if (p.matrix)

@@ -104,6 +104,9 @@ void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp
 void fixed_pattern_row(NoiseKey prnu_key, NoiseKey dsnu_key, std::uint32_t base, int n, float prnu,
                        float dsnu, float* response, float* dsnu_out);
 
+/// Each of `pixels` pixels' brightest raw DN (interleaved R, G, B: whole numbers >= 0) as an int.
+void brightest_row(int pixels, const float* raw, std::int32_t* brightest);
+
 /// What the processing kernel needs (per-channel scales come as a row, `scale`).
 struct ProcessParams {
     float black = 0;

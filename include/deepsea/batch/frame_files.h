@@ -54,9 +54,9 @@ public:
     /// 8-bit codes where its file stores them (an 8-bit PNG, a JPEG).
     CameraLayerSet camera_set(const FrameJob& job) const;
     /// With a camera stage: the layer file from `layers` and `recorded`'s layers, the image
-    /// from `recorded.codes8` or `recorded.image` (display values, write_display), with
-    /// `meta`, atomically.
-    void write(const FrameJob& job, const Layers& layers, const CameraOutput& recorded,
+    /// from `recorded.codes8` (lent to the encoder, not copied; given back) or `recorded.image`
+    /// (display values, write_display), with `meta`, atomically.
+    void write(const FrameJob& job, const Layers& layers, CameraOutput& recorded,
                const ImageMetadata& meta) const;
 
 private:

@@ -7,11 +7,14 @@
 ///
 ///     deepsea::FrameExposure e = deepsea::first_exposure(model);
 ///     deepsea::CameraLayerSet layers;
-///     layers.raw = true;                                // the meter reads the raw DN
+///     layers.meter = true;                              // the meter's histogram
 ///     for (std::uint64_t k = 0; k < frames; ++k) {
 ///         stage.apply(out, radiance[k], k, e, layers);   // out.exposure == e: record it
 ///         e = deepsea::next_exposure(model, out);        // frame k + 1's settings
 ///     }
+
+#include <cstdint>
+#include <vector>
 
 #include "deepsea/camera/camera_stage.h"
 #include "deepsea/camera/model.h"
@@ -46,13 +49,18 @@ struct ExposureReading {
     bool saturated = false;
 };
 
-/// Meters raw DN (CameraOutput::raw: 3 channels of whole DN) recorded with system gain K: per
-/// pixel the brightest of its R, G and B, then the nearest-rank percentile (a histogram of the
-/// whole DN) or the mean (summed in row order). Deterministic; InputError for an empty or
-/// non-RGB image.
+/// Meters a frame recorded with system gain K from the histogram of its pixels' brightest raw DN
+/// (CameraOutput::brightest: entry d counts the pixels whose brightest of R, G and B reads d):
+/// the nearest-rank percentile or the mean, both exact. Deterministic; InputError for a
+/// histogram of another size than the sensor's DN range or one that counts no pixels.
+ExposureReading meter_exposure(const AutoExposure& ae, const Sensor& sensor,
+                               const std::vector<std::uint32_t>& brightest, double system_gain);
+/// The same from raw DN (CameraOutput::raw: 3 channels of whole DN), their histogram made first.
+/// InputError for an empty or non-RGB image.
 ExposureReading meter_exposure(const AutoExposure& ae, const Sensor& sensor, const Image& raw,
                                double system_gain);
-/// The same for a frame the stage recorded (its raw layer, its exposure's gain).
+/// The same for a frame the stage recorded (its `brightest` histogram, else its raw layer; its
+/// exposure's gain).
 ExposureReading meter_exposure(const CameraModel& model, const CameraOutput& frame);
 
 /// The settings for an exposure product X = t K (ms DN per electron; the signal in DN is
@@ -70,9 +78,9 @@ FrameExposure first_exposure(const CameraModel& model);
 /// with X = current's t K; then split_exposure. Deterministic (plain double arithmetic).
 FrameExposure next_exposure(const AutoExposure& ae, const ExposureLimits& limits,
                             const FrameExposure& current, const ExposureReading& reading);
-/// The next frame's settings after `frame` (meter_exposure of its raw layer, then the step
-/// from frame.exposure). The controller off: the sensor's settings. InputError without a raw
-/// layer.
+/// The next frame's settings after `frame` (meter_exposure of its histogram or raw layer, then
+/// the step from frame.exposure). The controller off: the sensor's settings. InputError
+/// without either.
 FrameExposure next_exposure(const CameraModel& model, const CameraOutput& frame);
 
 /// Frames until the metered level is within `tolerance` (|ln(m / T')|) of the target after the

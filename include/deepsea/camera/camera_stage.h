@@ -10,6 +10,7 @@
 /// any order, at any thread count, with the same bits.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -38,6 +39,8 @@ struct CameraLayerSet {
     /// CameraOutput::image (left empty): what a PNG or JPEG writer stores, made in the stage
     /// while each row is in cache (no float image written and read again).
     bool codes8 = false;
+    /// CameraOutput::brightest, what auto exposure meters, without keeping the raw layer.
+    bool meter = false;
 
     static CameraLayerSet all() { return {true, true, true}; }
 };
@@ -62,6 +65,10 @@ struct CameraOutput {
     /// K min(mean electrons, full well) + black level, clipped to the DN range, not quantised,
     /// processed as the image (same white-balance gains). The target a denoiser learns.
     Image noise_free;
+    /// With CameraLayerSet::meter: entry d counts the pixels whose brightest channel reads out d
+    /// raw DN (0 to 2^bits - 1), counted row by row as they are recorded (integer sums: the
+    /// same at any thread count). What meter_exposure reads instead of `raw`.
+    std::vector<std::uint32_t> brightest;
     FrameExposure exposure;            ///< the settings this frame was recorded with
     Rgb white_balance{1.0, 1.0, 1.0};  ///< the gains applied (grey world's, per frame)
 };
@@ -104,7 +111,23 @@ public:
                const FrameExposure& exposure, CameraLayerSet layers = {},
                const Parallel& par = {}) const;
 
+    /// Radiance rows as a renderer hands them over (runtime's FinalRows): row v's 3 x width
+    /// values, valid during the call; from several threads, each row once, in any order.
+    using RadianceRows = std::function<void(int v, const float* rgb)>;
+    /// Whether apply_rows can record this stage's frames: no lens distortion, grey world or
+    /// Bayer mosaic (each needs the whole frame's radiance or raw DN before any row is done).
+    bool records_rows() const;
+    /// apply() with the radiance handed over row by row, so that no radiance frame is written
+    /// and read again: calls `render` once with the rows' receiver, which records each row
+    /// into `out` as it comes. The same bits as apply() on the whole frame. InputError when
+    /// !records_rows() or when `render` hands over a row outside the camera's.
+    void apply_rows(CameraOutput& out, const std::function<void(const RadianceRows&)>& render,
+                    std::uint64_t frame_key, const FrameExposure& exposure,
+                    CameraLayerSet layers = {}) const;
+
 private:
+    struct Recording;  // one frame's settings and tables (camera_stage.cpp)
+
     CameraModel m_model;
     Camera m_camera;
     DistortionMap m_map;
