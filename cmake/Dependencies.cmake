@@ -8,11 +8,13 @@ find_package(yaml-cpp CONFIG REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(nlohmann_json CONFIG REQUIRED)
 find_package(OpenSSL REQUIRED COMPONENTS Crypto)  # SHA-256 of asset files (libssl-dev)
-# io's fast paths (docs/runtime.md): PNG decoding (libspng-dev), PNG deflate (libdeflate-dev),
+# io's fast paths (docs/runtime.md): PNG decoding (libspng-dev), PNG inflate and CRCs
+# (libdeflate-dev), PNG deflate (libisal-dev: ISA-L's igzip),
 # JPEG encoding (libjpeg62-turbo-dev).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(SPNG REQUIRED IMPORTED_TARGET spng)
 pkg_check_modules(DEFLATE REQUIRED IMPORTED_TARGET libdeflate)
+pkg_check_modules(ISAL REQUIRED IMPORTED_TARGET libisal)
 pkg_check_modules(JPEG REQUIRED IMPORTED_TARGET libjpeg)
 
 # Debian's OpenImageIO config names /usr/include/opencv4 even when OpenCV is not installed.

@@ -105,7 +105,7 @@ foreach(_t deepsea_live deepsea_reference deepsea_batch deepsea_runtime deepsea_
 endforeach()
 if(DEEPSEA_STATIC)
   # OpenVDB has no .pc file on Debian: named directly; its headers call Imath (half) inline.
-  set(DEEPSEA_PC_REQUIRES "tbb OpenEXR yaml-cpp Imath libcrypto spng libdeflate libjpeg")
+  set(DEEPSEA_PC_REQUIRES "tbb OpenEXR yaml-cpp Imath libcrypto spng libdeflate libisal libjpeg")
   string(APPEND DEEPSEA_PC_LIBS " -lopenvdb")
   # The static io, inside the user's program, finds the OpenImageIO module through this run
   # path (src/io/CMakeLists.txt does the same for the CMake package).

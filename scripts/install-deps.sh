@@ -4,7 +4,7 @@ set -euo pipefail
 pkgs=(build-essential cmake pkg-config ccache
       libopenvdb-dev libboost-iostreams-dev libblosc-dev libtbb-dev
       libopenexr-dev libopenimageio-dev openimageio-tools
-      libspng-dev libdeflate-dev libjpeg62-turbo-dev
+      libspng-dev libdeflate-dev libisal-dev libjpeg62-turbo-dev
       libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev libssl-dev
       libgtest-dev libbenchmark-dev
       python3-dev pybind11-dev python3-numpy python3-venv)
