@@ -22,59 +22,9 @@
 
 #include "clones.h"
 #include "deepsea/optics/normals.h"
+#include "lamp_shadows_lines.h"
 
 namespace deepsea {
-
-namespace {
-
-/// One family of lines in image coordinates (a, b): (u, v), or (v, u) where `swap`.
-struct Family {
-    bool swap = false;
-    bool radial = false;
-    int sigma = 1;          ///< radial: the half (a - ea has this sign) the fan covers
-    int dir = 1;            ///< the sweep's step along a
-    double ea = 0, eb = 0;  ///< radial: the epipole
-    double m = 1;           ///< radial: slope of line i is i / m
-    double slope = 0;       ///< parallel: b = i + slope * a
-    long i_min = 0, i_max = -1;
-};
-
-constexpr double kFarEpipole = 1e6;  // px from the image: lines taken as parallel beyond
-
-long round_index(double x) { return long(std::floor(x + 0.5)); }
-
-}  // namespace
-
-struct LampShadows::Lines {
-    std::vector<Family> families;
-    int width = 0, height = 0;
-
-    /// The family and line that pixel (u, v) belongs to.
-    void locate(int u, int v, int& family, long& line) const {
-        const Family& f0 = families[0];
-        if (!f0.radial) {
-            const double a = f0.swap ? v : u, b = f0.swap ? u : v;
-            family = 0;
-            line = round_index(b - f0.slope * a);
-            return;
-        }
-        const double dx = u - (f0.swap ? f0.eb : f0.ea), dy = v - (f0.swap ? f0.ea : f0.eb);
-        double qa, qb;
-        if (dx >= std::fabs(dy)) {
-            family = 0, qa = dx, qb = dy;
-        } else if (-dx >= std::fabs(dy)) {
-            family = 1, qa = dx, qb = dy;
-        } else if (dy > 0) {
-            family = 2, qa = dy, qb = dx;
-        } else {
-            family = 3, qa = dy, qb = dx;
-        }
-        line = qa == 0.0 ? 0 : round_index(families[family].m * qb / qa);
-    }
-    double line_b(const Family& f, long i, double a) const {
-        return f.radial ? f.eb + (double(i) / f.m) * (a - f.ea) : double(i) + f.slope * a;
-    }
-};
 
 namespace {
 
@@ -353,6 +303,12 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
                        vis.data.data(),
                        W,
                        R};
+        if (!f0.radial) {
+            // parallel lines: eight at a time in vector lanes (lamp_shadows_lanes.cpp)
+            sweep_parallel_lines(f0, SweepArrays{sw.gf, sw.gh, sw.gb, sw.k, sw.d1, sw.z, sw.rx,
+                                                 sw.ry, sw.out, W, H, R});
+            continue;
+        }
         for (std::size_t fi = 0; fi < lines.families.size(); ++fi) {
             const Family& f = lines.families[fi];
             if (f.i_max < f.i_min) continue;
@@ -383,16 +339,7 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
                         q = long(qv) * W + qu;
                         if (sw.gf[q] == -FLT_MAX) q = -1;
                     }
-                    if (inside && !f.radial) {
-                        // parallel lines: the sample is the line's own pixel, but where the
-                        // line runs exactly between two rows (the row below is then its own)
-                        const int r = double(r0) - b == 0.5 ? r0 - 1 : r0;
-                        if (r >= 0 && r < B) {
-                            const int u = f.swap ? r : a, v = f.swap ? a : r;
-                            const long p = long(v) * W + u;
-                            if (sw.gf[p] != -FLT_MAX) sw.out[p] = sw.visible(p, u, v, h);
-                        }
-                    } else if (inside) {
+                    if (inside) {
                         const int bf = int(std::floor(b));
                         for (int r = bf; r <= bf + 1; ++r) {
                             if (r < 0 || r >= B) continue;
