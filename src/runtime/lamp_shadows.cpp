@@ -222,6 +222,30 @@ struct Sweep {
     }
 };
 
+/// The camera with its x and y axes exchanged: pixel (u, v) of the transposed image is pixel
+/// (v, u) of `cam`'s.
+Camera transposed(const Camera& cam) {
+    Camera c;
+    c.width = cam.height;
+    c.height = cam.width;
+    c.fx = cam.fy;
+    c.fy = cam.fx;
+    c.cx = cam.cy;
+    c.cy = cam.cx;
+    return c;
+}
+
+/// dst (h x w) = src (w x h) transposed, in tiles.
+void transpose(const float* src, int w, int h, float* dst) {
+    constexpr int kTile = 32;
+    tbb::parallel_for(0, (h + kTile - 1) / kTile, [&](int tv) {
+        for (int u0 = 0; u0 < w; u0 += kTile)
+            for (int v = tv * kTile; v < std::min(h, (tv + 1) * kTile); ++v)
+                for (int u = u0; u < std::min(w, u0 + kTile); ++u)
+                    dst[std::size_t(u) * h + v] = src[std::size_t(v) * w + u];
+    });
+}
+
 }  // namespace
 
 LampShadows::LampShadows() = default;
@@ -236,12 +260,25 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
     m_height = H;
     std::vector<Vec3> positions;
     for (const Light& l : rig.lights) positions.push_back(l.position);
+    const Camera camt = transposed(cam);
     if (!(m_camera == cam) || positions.size() != m_positions.size() ||
         !std::equal(
             positions.begin(), positions.end(), m_positions.begin(),
             [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; })) {
         m_lines.clear();
-        for (const Vec3& p : positions) m_lines.push_back(make_lines(cam, p));
+        m_lines_t.clear();
+        for (const Vec3& p : positions) {
+            m_lines.push_back(make_lines(cam, p));
+            // Parallel lines along image rows are swept in the transposed image, where they
+            // are columns: the lanes' eight lines then lie side by side in memory.
+            const Family& f = m_lines.back().families[0];
+            Lines t;
+            if (!f.radial && !f.swap) {
+                t = make_lines(camt, Vec3{p.y, p.x, p.z});
+                if (t.families[0].radial || !t.families[0].swap) t = Lines{};
+            }
+            m_lines_t.push_back(std::move(t));
+        }
         m_camera = cam;
         m_positions = positions;
         m_rx.resize(W);
@@ -251,17 +288,36 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
     }
     m_visibility.resize(rig.lights.size());
     for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
-    const float t = thickness;
-    thread_local std::vector<float> zrow;
-
+    bool have_t = false;  // m_depth_t holds this frame's depth, transposed
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         const Vec3& L = rig.lights[l].position;
-        const double dl = length(L);
-        const Vec3 a = L * (1.0 / dl);
         const float R = float(rig.lights[l].radius);
         Image& vis = m_visibility[l];
         if (vis.width != W || vis.height != H || vis.channels != 1) vis = Image(W, H, 1);
-        const Lines& lines = m_lines[l];
+        if (m_lines_t[l].families.empty()) {
+            lamp_pass(cam, zdepth, L, R, m_lines[l], m_rx.data(), m_ry.data(), thickness, vis);
+            continue;
+        }
+        if (!have_t) {
+            if (m_depth_t.width != H || m_depth_t.height != W) m_depth_t = Image(H, W, 1);
+            transpose(zdepth.data.data(), W, H, m_depth_t.data.data());
+            have_t = true;
+        }
+        if (m_vis_t.width != H || m_vis_t.height != W) m_vis_t = Image(H, W, 1);
+        lamp_pass(camt, m_depth_t, Vec3{L.y, L.x, L.z}, R, m_lines_t[l], m_ry.data(),
+                  m_rx.data(), thickness, m_vis_t);
+        transpose(m_vis_t.data.data(), H, W, vis.data.data());
+    }
+}
+
+void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& L, float R,
+                            const Lines& lines, const float* rx, const float* ry, float t,
+                            Image& vis) {
+    const int W = cam.width, H = cam.height;
+    thread_local std::vector<float> zrow;
+    {
+        const double dl = length(L);
+        const Vec3 a = L * (1.0 / dl);
         const Family& f0 = lines.families[0];
         const float ex = float(f0.swap ? f0.eb : f0.ea), ey = float(f0.swap ? f0.ea : f0.eb);
         const float outward = float(f0.dir * f0.sigma);  // radial: 1 away from the epipole
@@ -286,28 +342,19 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
             const float* raw = zdepth.row(v);
             for (int u = 0; u < W; ++u) zrow[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
             const std::size_t o = std::size_t(v) * W;
-            shadow_row(W, v, zrow.data(), m_rx.data(), m_ry[v], prm, m_gf.data() + o,
-                       m_gh.data() + o, m_gb.data() + o, m_k.data() + o, m_d1.data() + o);
+            shadow_row(W, v, zrow.data(), rx, ry[v], prm, m_gf.data() + o, m_gh.data() + o,
+                       m_gb.data() + o, m_k.data() + o, m_d1.data() + o);
             std::fill_n(vis.row(v), W, 1.0f);
         });
 
         // open water keeps the fill's 1 (the sweep writes surfaces only)
-        const Sweep sw{m_gf.data(),
-                       m_gh.data(),
-                       m_gb.data(),
-                       m_k.data(),
-                       m_d1.data(),
-                       zdepth.data.data(),
-                       m_rx.data(),
-                       m_ry.data(),
-                       vis.data.data(),
-                       W,
-                       R};
+        const Sweep sw{m_gf.data(), m_gh.data(), m_gb.data(),     m_k.data(), m_d1.data(),
+                       zdepth.data.data(), rx,   ry,  vis.data.data(), W,          R};
         if (!f0.radial) {
             // parallel lines: eight at a time in vector lanes (lamp_shadows_lanes.cpp)
             sweep_parallel_lines(f0, SweepArrays{sw.gf, sw.gh, sw.gb, sw.k, sw.d1, sw.z, sw.rx,
                                                  sw.ry, sw.out, W, H, R});
-            continue;
+            return;
         }
         for (std::size_t fi = 0; fi < lines.families.size(); ++fi) {
             const Family& f = lines.families[fi];

@@ -75,58 +75,93 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
         const int a = first + c * step;
         Samples& q = buf[c & 1];
         const Samples& prev = buf[(c & 1) ^ 1];
-        bool other = false;  // whether any lane evaluates a pixel other than its sample
-#pragma omp simd reduction(| : other)
-        for (int j = 0; j < kLanes; ++j) {
-            const double b = double(line0 + j) + slope * a;
-            const bool in = (j < lanes) & (b >= -1.0) & (b <= double(B));
-            const int r0 = int(std::floor(b + 0.5));
-            // the pixel evaluated is the line's own, the sample's, but where the line runs
-            // exactly between two rows (the row below is then its own)
-            const int r = double(r0) - b == 0.5 ? r0 - 1 : r0;
-            const bool okq = in & (r0 >= 0) & (r0 < B), okp = in & (r >= 0) & (r < B);
-            const int u = okq ? (swap ? r0 : a) : 0, v = okq ? (swap ? a : r0) : 0;
-            qu[j] = u;
-            qv[j] = v;
-            qi[j] = v * W + u;
-            qok[j] = okq;
-            pi[j] = (swap ? a : r) * W + (swap ? r : a);
-            pok[j] = okp;
-            other |= (okp != okq) | (okp & (r != r0));
-        }
+        // Line i's sample in this column is in row i + off, that row's own pixel, but where
+        // the lines run exactly between two rows (the row below is then their own); a line
+        // is inside the image for i in [i_lo, i_hi].
+        const double base = slope * a;
+        const int off = int(std::floor(base + 0.5));
+        const int between = double(off) - base == 0.5 ? 1 : 0;
+        const int i_lo = int(std::ceil(-1.0 - base)), i_hi = int(std::floor(double(B) - base));
+        const int r_first = line0 + off;
+        if (swap && lanes == kLanes && between == 0 && line0 >= i_lo &&
+            line0 + kLanes - 1 <= i_hi && r_first >= 0 && r_first + kLanes <= B) {
+            // (nearly always) the eight samples side by side in row a: plain vector loads
+            const int o0 = a * W + r_first;
+            const float ya = ry[a];
+            const float* rxa = rx + r_first;
 #pragma omp simd
-        for (int j = 0; j < kLanes; ++j) {
-            const int o = qi[j];
-            const float g = gf[o], z = zz[o];
-            const bool ok = (qok[j] != 0) & (g != -FLT_MAX);
-            q.valid[j] = ok ? 1.0f : 0.0f;
-            q.z[j] = ok ? z : 1.0f;
-            q.gf[j] = ok ? g : 0.0f;
-            q.gh[j] = ok ? gh[o] : 0.0f;
-            q.gb[j] = ok ? gb[o] : 0.0f;
-            q.d1[j] = ok ? d1[o] : 0.0f;
-            q.x[j] = ok ? rx[qu[j]] * z : 0.0f;
-            q.y[j] = ok ? ry[qv[j]] * z : 0.0f;
-            p.valid[j] = q.valid[j];
-            p.gf[j] = q.gf[j];
-            p.z[j] = q.z[j];
-            p.k[j] = ok ? kk[o] : 0.0f;
-            p.x[j] = q.x[j];
-            p.y[j] = q.y[j];
-        }
-        for (int j = 0; other && j < kLanes; ++j) {
-            if (pok[j] && qok[j] && pi[j] == qi[j]) continue;
-            const int o = pi[j];
-            const float g = pok[j] ? gf[o] : -FLT_MAX;
-            const bool ok = g != -FLT_MAX;
-            const float z = ok ? zz[o] : 1.0f;
-            const int u = o % W, v = o / W;
-            p.valid[j] = ok ? 1.0f : 0.0f;
-            p.gf[j] = ok ? g : 0.0f;
-            p.z[j] = z;
-            p.k[j] = ok ? kk[o] : 0.0f;
-            p.x[j] = ok ? rx[u] * z : 0.0f;
-            p.y[j] = ok ? ry[v] * z : 0.0f;
+            for (int j = 0; j < kLanes; ++j) {
+                const int o = o0 + j;
+                const float g = gf[o], z = zz[o];
+                const bool ok = g != -FLT_MAX;
+                q.valid[j] = ok ? 1.0f : 0.0f;
+                q.z[j] = ok ? z : 1.0f;
+                q.gf[j] = ok ? g : 0.0f;
+                q.gh[j] = ok ? gh[o] : 0.0f;
+                q.gb[j] = ok ? gb[o] : 0.0f;
+                q.d1[j] = ok ? d1[o] : 0.0f;
+                q.x[j] = ok ? rxa[j] * z : 0.0f;
+                q.y[j] = ok ? ya * z : 0.0f;
+                p.valid[j] = q.valid[j];
+                p.gf[j] = q.gf[j];
+                p.z[j] = q.z[j];
+                p.k[j] = ok ? kk[o] : 0.0f;
+                p.x[j] = q.x[j];
+                p.y[j] = q.y[j];
+                pi[j] = o;
+                pok[j] = 1;
+            }
+        } else {
+            bool other = false;  // whether any lane evaluates a pixel other than its sample
+#pragma omp simd reduction(| : other)
+            for (int j = 0; j < kLanes; ++j) {
+                const int i = line0 + j;
+                const bool in = (j < lanes) & (i >= i_lo) & (i <= i_hi);
+                const int r0 = i + off, r = r0 - between;
+                const bool okq = in & (r0 >= 0) & (r0 < B), okp = in & (r >= 0) & (r < B);
+                const int u = okq ? (swap ? r0 : a) : 0, v = okq ? (swap ? a : r0) : 0;
+                qu[j] = u;
+                qv[j] = v;
+                qi[j] = v * W + u;
+                qok[j] = okq;
+                pi[j] = (swap ? a : r) * W + (swap ? r : a);
+                pok[j] = okp;
+                other |= (okp != okq) | (okp & (r != r0));
+            }
+#pragma omp simd
+            for (int j = 0; j < kLanes; ++j) {
+                const int o = qi[j];
+                const float g = gf[o], z = zz[o];
+                const bool ok = (qok[j] != 0) & (g != -FLT_MAX);
+                q.valid[j] = ok ? 1.0f : 0.0f;
+                q.z[j] = ok ? z : 1.0f;
+                q.gf[j] = ok ? g : 0.0f;
+                q.gh[j] = ok ? gh[o] : 0.0f;
+                q.gb[j] = ok ? gb[o] : 0.0f;
+                q.d1[j] = ok ? d1[o] : 0.0f;
+                q.x[j] = ok ? rx[qu[j]] * z : 0.0f;
+                q.y[j] = ok ? ry[qv[j]] * z : 0.0f;
+                p.valid[j] = q.valid[j];
+                p.gf[j] = q.gf[j];
+                p.z[j] = q.z[j];
+                p.k[j] = ok ? kk[o] : 0.0f;
+                p.x[j] = q.x[j];
+                p.y[j] = q.y[j];
+            }
+            for (int j = 0; other && j < kLanes; ++j) {
+                if (pok[j] && qok[j] && pi[j] == qi[j]) continue;
+                const int o = pi[j];
+                const float g = pok[j] ? gf[o] : -FLT_MAX;
+                const bool ok = g != -FLT_MAX;
+                const float z = ok ? zz[o] : 1.0f;
+                const int u = o % W, v = o / W;
+                p.valid[j] = ok ? 1.0f : 0.0f;
+                p.gf[j] = ok ? g : 0.0f;
+                p.z[j] = z;
+                p.k[j] = ok ? kk[o] : 0.0f;
+                p.x[j] = ok ? rx[u] * z : 0.0f;
+                p.y[j] = ok ? ry[v] * z : 0.0f;
+            }
         }
         // P's visibility under the horizon (Sweep::visible); the disc's fraction after
         if (R > 0.0f) {
@@ -150,9 +185,13 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                 arg[j] = lit | (gp > eg[j]) ? 1.0f : -1.0f;
             }
         }
-        for (int j = 0; j < kLanes; ++j) {
-            if (!pok[j] || !(p.valid[j] > 0.0f)) continue;
-            s.out[pi[j]] = arg[j] >= 1.0f ? 1.0f : disc_visible_fraction(arg[j]);
+        // (the image is filled with 1: only shadowed pixels are written)
+        float least = 1.0f;  // (arg is 1 where no pixel is evaluated)
+#pragma omp simd reduction(min : least)
+        for (int j = 0; j < kLanes; ++j) least = arg[j] < least ? arg[j] : least;
+        for (int j = 0; least < 1.0f && j < kLanes; ++j) {
+            if (!pok[j] || !(p.valid[j] > 0.0f) || arg[j] >= 1.0f) continue;
+            s.out[pi[j]] = disc_visible_fraction(arg[j]);
         }
         // the last column's sample joins the horizon, its edge toward this one (Sweep::take)
         const float kp = float(c - 1);
