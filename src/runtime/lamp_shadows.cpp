@@ -89,63 +89,20 @@ LampShadows::Lines make_lines(const Camera& cam, const Vec3& L) {
     return lines;
 }
 
-/// Per pixel of row v for the lamp at L (unit a, distance dl): the shadow coordinate of the
-/// surface (gf), and, as an occluder, of its pixel's far edge along the sweep (gh) and of that
-/// edge `thickness` deeper (gb), -FLT_MAX for open water; the penumbra's scale k and the lamp
-/// distance d1. The edge is half a pixel further along the sweep, whose direction at (u, v) is
-/// (u - ex, v - ey) times `outward` (radial lines) or (ex, ey) (parallel lines), scaled so
-/// that its larger component is 1/2: where a pixel's surface ends is unknown, and between two
-/// pixels is the least biased guess (without it every shadow edge lay half a pixel short).
-/// What shadow_row needs of the lamp and the sweep (see there).
-struct RowParams {
-    float fx, fy, ex, ey, outward, ax, ay, az, dl, lx, ly, lz, t;
-    bool radial;
-};
-
+/// Per pixel of row v: sample_terms (lamp_shadows_lines.h) along the row.
 DEEPSEA_CLONES
 void shadow_row(int n, int v, const float* __restrict z, const float* __restrict rx, float ry,
                 const RowParams& prm, float* __restrict gf, float* __restrict gh,
                 float* __restrict gb, float* __restrict k, float* __restrict d1) {
-    // (copies: loop invariants the vectoriser can see as such)
-    const float fx = prm.fx, fy = prm.fy, ex = prm.ex, ey = prm.ey;
-    const float ax = prm.ax, ay = prm.ay, az = prm.az, dl = prm.dl, lx = prm.lx, ly = prm.ly,
-                lz = prm.lz, t = prm.t;
     // the sweep's direction at (u, v): (au u + bu, sv) (a select on `radial` in the loop kept
     // GCC from vectorising it)
     const float au = prm.radial ? prm.outward : 0.0f;
-    const float bu = prm.radial ? -prm.outward * ex : ex;
-    const float sv = prm.radial ? prm.outward * (float(v) - ey) : ey;
+    const float bu = prm.radial ? -prm.outward * prm.ex : prm.ex;
+    const float sv = prm.radial ? prm.outward * (float(v) - prm.ey) : prm.ey;
+    const RowParams p = prm;  // (a copy: loop invariants the vectoriser can see as such)
 #pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        // (masks as floats, as kernels.cpp's)
-        const float zr = z[u], rxu = rx[u];
-        const float surf = zr > 0.0f ? 1.0f : 0.0f, none = (surf - 1.0f) * FLT_MAX;
-        const float zs = zr > 0.0f ? zr : 1.0f;
-        const float px = rxu * zs, py = ry * zs;
-        const float cx = py * az - zs * ay, cy = zs * ax - px * az, cz = px * ay - py * ax;
-        const float c2r = cx * cx + cy * cy + cz * cz;
-        const float c2 = c2r > 1e-30f ? c2r : 1e-30f;  // (no std::max: its reference stays scalar)
-        const float pa = px * ax + py * ay + zs * az;
-        const float dx = lx - px, dy = ly - py, dz = lz - zs;
-        const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
-        gf[u] = surf * ((dl - pa) / std::sqrt(c2)) + none;
-        k[u] = c2 / d;
-        d1[u] = d;
-        // the pixel's far edge
-        const float su = au * float(u) + bu;
-        const float mu = std::fabs(su) > std::fabs(sv) ? std::fabs(su) : std::fabs(sv);
-        const float m = mu > 1e-20f ? mu : 1e-20f;
-        const float qx = (rxu + 0.5f * su / (m * fx)) * zs, qy = (ry + 0.5f * sv / (m * fy)) * zs;
-        const float ex2 = qy * az - zs * ay, ey2 = zs * ax - qx * az, ez2 = qx * ay - qy * ax;
-        const float e2r = ex2 * ex2 + ey2 * ey2 + ez2 * ez2;
-        const float e2 = e2r > 1e-30f ? e2r : 1e-30f;
-        const float qa = qx * ax + qy * ay + zs * az;
-        const float inv = 1.0f / std::sqrt(e2);
-        // deeper by t along the viewing ray: Q (z + t) / z, so Q x a and Q . a scale alike
-        const float s = (zs + t) / zs;
-        gh[u] = surf * ((dl - qa) * inv) + none;
-        gb[u] = surf * ((dl - s * qa) * inv / s) + none;
-    }
+    for (int u = 0; u < n; ++u)
+        sample_terms(z[u], rx[u], ry, au * float(u) + bu, sv, p, gf[u], gh[u], gb[u], k[u], d1[u]);
 }
 
 /// An occluder's edge: its shadow coordinate g, position and distance to the lamp s_l.
@@ -303,10 +260,8 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
             transpose(zdepth.data.data(), W, H, m_depth_t.data.data());
             have_t = true;
         }
-        if (m_vis_t.width != H || m_vis_t.height != W) m_vis_t = Image(H, W, 1);
-        lamp_pass(camt, m_depth_t, Vec3{L.y, L.x, L.z}, R, m_lines_t[l], m_ry.data(),
-                  m_rx.data(), thickness, m_vis_t);
-        transpose(m_vis_t.data.data(), H, W, vis.data.data());
+        lamp_pass(camt, m_depth_t, Vec3{L.y, L.x, L.z}, R, m_lines_t[l], m_ry.data(), m_rx.data(),
+                  thickness, vis);
     }
 }
 
@@ -337,6 +292,16 @@ void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& 
                             float(L.z),
                             t,
                             f0.radial};
+        if (!f0.radial) {
+            // parallel lines: eight at a time in vector lanes, each sample's terms computed
+            // there (lamp_shadows_lanes.cpp)
+            // (vis is the frame's, this image's transpose where their sizes differ)
+            tbb::parallel_for(0, vis.height,
+                              [&](int v) { std::fill_n(vis.row(v), vis.width, 1.0f); });
+            sweep_parallel_lines(f0, SweepArrays{zdepth.data.data(), rx, ry, vis.data.data(), W, H,
+                                                 R, prm, vis.width != W});
+            return;
+        }
         tbb::parallel_for(0, H, [&](int v) {
             zrow.resize(W);
             const float* raw = zdepth.row(v);
@@ -348,14 +313,17 @@ void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& 
         });
 
         // open water keeps the fill's 1 (the sweep writes surfaces only)
-        const Sweep sw{m_gf.data(), m_gh.data(), m_gb.data(),     m_k.data(), m_d1.data(),
-                       zdepth.data.data(), rx,   ry,  vis.data.data(), W,          R};
-        if (!f0.radial) {
-            // parallel lines: eight at a time in vector lanes (lamp_shadows_lanes.cpp)
-            sweep_parallel_lines(f0, SweepArrays{sw.gf, sw.gh, sw.gb, sw.k, sw.d1, sw.z, sw.rx,
-                                                 sw.ry, sw.out, W, H, R});
-            return;
-        }
+        const Sweep sw{m_gf.data(),
+                       m_gh.data(),
+                       m_gb.data(),
+                       m_k.data(),
+                       m_d1.data(),
+                       zdepth.data.data(),
+                       rx,
+                       ry,
+                       vis.data.data(),
+                       W,
+                       R};
         for (std::size_t fi = 0; fi < lines.families.size(); ++fi) {
             const Family& f = lines.families[fi];
             if (f.i_max < f.i_min) continue;

@@ -23,7 +23,8 @@ namespace deepsea {
 
 namespace {
 
-constexpr int kLanes = 8;
+constexpr int kLanes = 16;
+constexpr int kAhead = 8;  ///< steps between a prefetch and its use
 
 /// The penumbra's argument at P (shadow coordinate gp, scale k, position p) of the edge at
 /// (eg, e, es = its distance to the lamp): lamp_shadows.cpp's penumbra_at without its
@@ -40,7 +41,7 @@ inline float penumbra_lane(float gp, float k, float px, float py, float pz, floa
 
 /// A sample per lane: valid (1, else 0), depth, shadow coordinates, lamp distance, position.
 struct Samples {
-    alignas(32) float valid[kLanes], z[kLanes], gf[kLanes], gh[kLanes], gb[kLanes], k[kLanes],
+    alignas(64) float valid[kLanes], z[kLanes], gf[kLanes], gh[kLanes], gb[kLanes], k[kLanes],
         d1[kLanes], x[kLanes], y[kLanes];
 };
 
@@ -53,13 +54,15 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
     const double slope = f.slope;
     const bool swap = f.swap;
     const int W = s.W, line0 = int(i0), lanes = int(i_end - i0);
-    const float *gf = s.gf, *gh = s.gh, *gb = s.gb, *kk = s.k, *d1 = s.d1, *zz = s.z, *rx = s.rx,
-                *ry = s.ry;
+    const float *zz = s.z, *rx = s.rx, *ry = s.ry;
+    const RowParams prm = s.prm;
+    const float su = prm.ex, sv = prm.ey;  // the sweep's direction (parallel lines)
+    const float zfar = float(kFarDepth);
     // each lane's horizon (lamp_shadows.cpp's Horizon: e, e2, lo, whether q and q2 exist, the
     // depth of e's sample and the step it was swept at)
-    alignas(32) float eg[kLanes], ex[kLanes], ey[kLanes], ez[kLanes], es[kLanes];
-    alignas(32) float fg[kLanes], fx[kLanes], fy[kLanes], fz[kLanes], fs[kLanes];
-    alignas(32) float lo[kLanes], hq[kLanes], hq2[kLanes], kq[kLanes], arg[kLanes];
+    alignas(64) float eg[kLanes], ex[kLanes], ey[kLanes], ez[kLanes], es[kLanes];
+    alignas(64) float fg[kLanes], fx[kLanes], fy[kLanes], fz[kLanes], fs[kLanes];
+    alignas(64) float lo[kLanes], hq[kLanes], hq2[kLanes], kq[kLanes], arg[kLanes];
     for (int j = 0; j < kLanes; ++j) {
         eg[j] = fg[j] = -FLT_MAX;
         ex[j] = ey[j] = ez[j] = es[j] = fx[j] = fy[j] = fz[j] = fs[j] = 0.0f;
@@ -70,7 +73,7 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
     Samples buf[2] = {}, p{};
     // per lane: the sample's pixel index and column, row (0 where none: a safe address; the
     // sample is then marked invalid), and the pixel evaluated where it is another (see below)
-    alignas(32) int qi[kLanes], qu[kLanes], qv[kLanes], qok[kLanes], pi[kLanes], pok[kLanes];
+    alignas(64) int qi[kLanes], qu[kLanes], qv[kLanes], qok[kLanes], pi[kLanes], pok[kLanes];
     for (int c = 0; c < A; ++c) {
         const int a = first + c * step;
         Samples& q = buf[c & 1];
@@ -87,25 +90,30 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
             line0 + kLanes - 1 <= i_hi && r_first >= 0 && r_first + kLanes <= B) {
             // (nearly always) the eight samples side by side in row a: plain vector loads
             const int o0 = a * W + r_first;
+            // the depth a few steps ahead (the lanes read 32 bytes a row, rows apart)
+            if (c + kAhead < A) __builtin_prefetch(zz + o0 + kAhead * step * W);
             const float ya = ry[a];
             const float* rxa = rx + r_first;
 #pragma omp simd
             for (int j = 0; j < kLanes; ++j) {
                 const int o = o0 + j;
-                const float g = gf[o], z = zz[o];
-                const bool ok = g != -FLT_MAX;
+                const float zraw = zz[o];
+                const bool ok = (zraw > 0.0f) & (zraw < zfar);
+                const float z = ok ? zraw : 0.0f;
+                float g, h, b, k, d;
+                sample_terms(z, rxa[j], ya, su, sv, prm, g, h, b, k, d);
                 q.valid[j] = ok ? 1.0f : 0.0f;
                 q.z[j] = ok ? z : 1.0f;
                 q.gf[j] = ok ? g : 0.0f;
-                q.gh[j] = ok ? gh[o] : 0.0f;
-                q.gb[j] = ok ? gb[o] : 0.0f;
-                q.d1[j] = ok ? d1[o] : 0.0f;
+                q.gh[j] = ok ? h : 0.0f;
+                q.gb[j] = ok ? b : 0.0f;
+                q.d1[j] = ok ? d : 0.0f;
                 q.x[j] = ok ? rxa[j] * z : 0.0f;
                 q.y[j] = ok ? ya * z : 0.0f;
                 p.valid[j] = q.valid[j];
                 p.gf[j] = q.gf[j];
                 p.z[j] = q.z[j];
-                p.k[j] = ok ? kk[o] : 0.0f;
+                p.k[j] = ok ? k : 0.0f;
                 p.x[j] = q.x[j];
                 p.y[j] = q.y[j];
                 pi[j] = o;
@@ -131,34 +139,39 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
 #pragma omp simd
             for (int j = 0; j < kLanes; ++j) {
                 const int o = qi[j];
-                const float g = gf[o], z = zz[o];
-                const bool ok = (qok[j] != 0) & (g != -FLT_MAX);
+                const float zraw = zz[o], xr = rx[qu[j]], yr = ry[qv[j]];
+                const bool ok = (qok[j] != 0) & (zraw > 0.0f) & (zraw < zfar);
+                const float z = ok ? zraw : 0.0f;
+                float g, h, b, k, d;
+                sample_terms(z, xr, yr, su, sv, prm, g, h, b, k, d);
                 q.valid[j] = ok ? 1.0f : 0.0f;
                 q.z[j] = ok ? z : 1.0f;
                 q.gf[j] = ok ? g : 0.0f;
-                q.gh[j] = ok ? gh[o] : 0.0f;
-                q.gb[j] = ok ? gb[o] : 0.0f;
-                q.d1[j] = ok ? d1[o] : 0.0f;
-                q.x[j] = ok ? rx[qu[j]] * z : 0.0f;
-                q.y[j] = ok ? ry[qv[j]] * z : 0.0f;
+                q.gh[j] = ok ? h : 0.0f;
+                q.gb[j] = ok ? b : 0.0f;
+                q.d1[j] = ok ? d : 0.0f;
+                q.x[j] = ok ? xr * z : 0.0f;
+                q.y[j] = ok ? yr * z : 0.0f;
                 p.valid[j] = q.valid[j];
                 p.gf[j] = q.gf[j];
                 p.z[j] = q.z[j];
-                p.k[j] = ok ? kk[o] : 0.0f;
+                p.k[j] = ok ? k : 0.0f;
                 p.x[j] = q.x[j];
                 p.y[j] = q.y[j];
             }
             for (int j = 0; other && j < kLanes; ++j) {
                 if (pok[j] && qok[j] && pi[j] == qi[j]) continue;
-                const int o = pi[j];
-                const float g = pok[j] ? gf[o] : -FLT_MAX;
-                const bool ok = g != -FLT_MAX;
-                const float z = ok ? zz[o] : 1.0f;
+                const int o = pok[j] ? pi[j] : 0;
+                const float zraw = pok[j] ? zz[o] : 0.0f;
+                const bool ok = has_surface(zraw);
+                const float z = ok ? zraw : 0.0f;
                 const int u = o % W, v = o / W;
+                float g, h, b, k, d;
+                sample_terms(z, rx[u], ry[v], su, sv, prm, g, h, b, k, d);
                 p.valid[j] = ok ? 1.0f : 0.0f;
                 p.gf[j] = ok ? g : 0.0f;
-                p.z[j] = z;
-                p.k[j] = ok ? kk[o] : 0.0f;
+                p.z[j] = ok ? z : 1.0f;
+                p.k[j] = ok ? k : 0.0f;
                 p.x[j] = ok ? rx[u] * z : 0.0f;
                 p.y[j] = ok ? ry[v] * z : 0.0f;
             }
@@ -191,7 +204,8 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
         for (int j = 0; j < kLanes; ++j) least = arg[j] < least ? arg[j] : least;
         for (int j = 0; least < 1.0f && j < kLanes; ++j) {
             if (!pok[j] || !(p.valid[j] > 0.0f) || arg[j] >= 1.0f) continue;
-            s.out[pi[j]] = disc_visible_fraction(arg[j]);
+            const int o = s.out_transposed ? (pi[j] % W) * s.H + pi[j] / W : pi[j];
+            s.out[o] = disc_visible_fraction(arg[j]);
         }
         // the last column's sample joins the horizon, its edge toward this one (Sweep::take)
         const float kp = float(c - 1);
