@@ -304,7 +304,9 @@ void setup_bench(CLI::App& sub) {
         "composite_flat_port: all layers through a flat port, the asset baked through it, and "
         "composite_flat_port_pinhole: the pinhole asset through it), snow "
         "(snow-abyssal, "
-        "snow-nepheloid, snow-plume: marine snow alone), shadows (lamp shadows alone; "
+        "snow-nepheloid, snow-plume: marine snow alone; snow-shadows: the nepheloid preset and "
+        "lamp "
+        "shadows together), shadows (lamp shadows alone; "
         "shadows-exact: the full-resolution sweep), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
         "also -camera: with the setup's camera stage)");
