@@ -16,6 +16,9 @@ namespace deepsea {
 /// The default ShadowSettings::step: within the measured error of docs/model.md at a quarter
 /// of the full sweep's samples.
 inline constexpr int kDefaultShadowStep = 2;
+/// The largest step render --shadow-step takes: beyond it shadows narrower than the step, most
+/// of a seafloor's, are lost.
+inline constexpr int kMaxShadowStep = 8;
 
 /// Whether and how the lamps' shadows are rendered.
 struct ShadowSettings {
