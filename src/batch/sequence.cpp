@@ -79,6 +79,7 @@ SequenceManifest manifest_of(const Asset& asset, const std::vector<FrameJob>& jo
     m.half = m.layers && opt.layer_output.half;
     m.forward = opt.forward;
     m.shadows = opt.shadows;
+    m.shadow_step = opt.shadow_step;
     if (opt.snow) {
         m.snow = opt.snow->snow.name;
         m.snow_seed = opt.snow->seed;
@@ -209,6 +210,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     settings.camera = opt.camera;
     settings.forward = opt.forward;
     settings.shadows = opt.shadows;
+    settings.shadow_step = opt.shadow_step;
     settings.port = opt.port;
     settings.snow = opt.snow;
     Renderer renderer(asset, settings);

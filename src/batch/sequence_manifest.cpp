@@ -12,6 +12,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/core/hash.h"
 #include "deepsea/core/input_file.h"
+#include "deepsea/runtime/lamp_shadows.h"
 
 namespace deepsea {
 
@@ -72,6 +73,7 @@ std::string manifest_to_json(const SequenceManifest& m) {
                      {"depth_scale", m.depth_scale}};
     // Written only when on: a sequence without shadows has the manifest it had before them.
     if (m.shadows) j["settings"]["shadows"] = true;
+    if (m.shadows) j["settings"]["shadow_step"] = m.shadow_step;
     if (m.snow != "off")
         j["settings"]["snow"] = {
             {"preset", m.snow}, {"seed", m.snow_seed}, {"focus_distance_m", m.focus_distance_m}};
@@ -173,6 +175,10 @@ SequenceManifest manifest_from_json(const std::string& text, const std::string& 
     // "shadows" came with lamp shadows; absent: off.
     m.shadows =
         j["settings"].contains("shadows") ? get<bool>(j, path, "settings", "shadows") : false;
+    // "shadow_step" came with render --shadow-step; absent: the default step.
+    m.shadow_step = j["settings"].contains("shadow_step")
+                        ? get<int>(j, path, "settings", "shadow_step")
+                        : kDefaultShadowStep;
     // "snow" came with marine snow; absent: off.
     if (j["settings"].contains("snow")) {
         m.snow = get<std::string>(j["settings"], path + ": settings", "snow", "preset");
@@ -317,6 +323,9 @@ void check_resumable(const SequenceManifest& folder, const SequenceManifest& run
         differ("forward scatter", folder.forward ? "on" : "off", run.forward ? "on" : "off");
     if (folder.shadows != run.shadows)
         differ("--shadows", folder.shadows ? "on" : "off", run.shadows ? "on" : "off");
+    if (folder.shadows && run.shadows && folder.shadow_step != run.shadow_step)
+        differ("--shadow-step", std::to_string(folder.shadow_step),
+               std::to_string(run.shadow_step));
     if (folder.snow != run.snow) differ("--snow", folder.snow, run.snow);
     if (folder.snow != "off" && folder.snow_seed != run.snow_seed)
         differ("--snow-seed", std::to_string(folder.snow_seed), std::to_string(run.snow_seed));

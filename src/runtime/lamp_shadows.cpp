@@ -22,59 +22,9 @@
 
 #include "clones.h"
 #include "deepsea/optics/normals.h"
+#include "lamp_shadows_lines.h"
 
 namespace deepsea {
-
-namespace {
-
-/// One family of lines in image coordinates (a, b): (u, v), or (v, u) where `swap`.
-struct Family {
-    bool swap = false;
-    bool radial = false;
-    int sigma = 1;          ///< radial: the half (a - ea has this sign) the fan covers
-    int dir = 1;            ///< the sweep's step along a
-    double ea = 0, eb = 0;  ///< radial: the epipole
-    double m = 1;           ///< radial: slope of line i is i / m
-    double slope = 0;       ///< parallel: b = i + slope * a
-    long i_min = 0, i_max = -1;
-};
-
-constexpr double kFarEpipole = 1e6;  // px from the image: lines taken as parallel beyond
-
-long round_index(double x) { return long(std::floor(x + 0.5)); }
-
-}  // namespace
-
-struct LampShadows::Lines {
-    std::vector<Family> families;
-    int width = 0, height = 0;
-
-    /// The family and line that pixel (u, v) belongs to.
-    void locate(int u, int v, int& family, long& line) const {
-        const Family& f0 = families[0];
-        if (!f0.radial) {
-            const double a = f0.swap ? v : u, b = f0.swap ? u : v;
-            family = 0;
-            line = round_index(b - f0.slope * a);
-            return;
-        }
-        const double dx = u - (f0.swap ? f0.eb : f0.ea), dy = v - (f0.swap ? f0.ea : f0.eb);
-        double qa, qb;
-        if (dx >= std::fabs(dy)) {
-            family = 0, qa = dx, qb = dy;
-        } else if (-dx >= std::fabs(dy)) {
-            family = 1, qa = dx, qb = dy;
-        } else if (dy > 0) {
-            family = 2, qa = dy, qb = dx;
-        } else {
-            family = 3, qa = dy, qb = dx;
-        }
-        line = qa == 0.0 ? 0 : round_index(families[family].m * qb / qa);
-    }
-    double line_b(const Family& f, long i, double a) const {
-        return f.radial ? f.eb + (double(i) / f.m) * (a - f.ea) : double(i) + f.slope * a;
-    }
-};
 
 namespace {
 
@@ -139,63 +89,20 @@ LampShadows::Lines make_lines(const Camera& cam, const Vec3& L) {
     return lines;
 }
 
-/// Per pixel of row v for the lamp at L (unit a, distance dl): the shadow coordinate of the
-/// surface (gf), and, as an occluder, of its pixel's far edge along the sweep (gh) and of that
-/// edge `thickness` deeper (gb), -FLT_MAX for open water; the penumbra's scale k and the lamp
-/// distance d1. The edge is half a pixel further along the sweep, whose direction at (u, v) is
-/// (u - ex, v - ey) times `outward` (radial lines) or (ex, ey) (parallel lines), scaled so
-/// that its larger component is 1/2: where a pixel's surface ends is unknown, and between two
-/// pixels is the least biased guess (without it every shadow edge lay half a pixel short).
-/// What shadow_row needs of the lamp and the sweep (see there).
-struct RowParams {
-    float fx, fy, ex, ey, outward, ax, ay, az, dl, lx, ly, lz, t;
-    bool radial;
-};
-
+/// Per pixel of row v: sample_terms (lamp_shadows_lines.h) along the row.
 DEEPSEA_CLONES
 void shadow_row(int n, int v, const float* __restrict z, const float* __restrict rx, float ry,
                 const RowParams& prm, float* __restrict gf, float* __restrict gh,
                 float* __restrict gb, float* __restrict k, float* __restrict d1) {
-    // (copies: loop invariants the vectoriser can see as such)
-    const float fx = prm.fx, fy = prm.fy, ex = prm.ex, ey = prm.ey;
-    const float ax = prm.ax, ay = prm.ay, az = prm.az, dl = prm.dl, lx = prm.lx, ly = prm.ly,
-                lz = prm.lz, t = prm.t;
     // the sweep's direction at (u, v): (au u + bu, sv) (a select on `radial` in the loop kept
     // GCC from vectorising it)
     const float au = prm.radial ? prm.outward : 0.0f;
-    const float bu = prm.radial ? -prm.outward * ex : ex;
-    const float sv = prm.radial ? prm.outward * (float(v) - ey) : ey;
+    const float bu = prm.radial ? -prm.outward * prm.ex : prm.ex;
+    const float sv = prm.radial ? prm.outward * (float(v) - prm.ey) : prm.ey;
+    const RowParams p = prm;  // (a copy: loop invariants the vectoriser can see as such)
 #pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        // (masks as floats, as kernels.cpp's)
-        const float zr = z[u], rxu = rx[u];
-        const float surf = zr > 0.0f ? 1.0f : 0.0f, none = (surf - 1.0f) * FLT_MAX;
-        const float zs = zr > 0.0f ? zr : 1.0f;
-        const float px = rxu * zs, py = ry * zs;
-        const float cx = py * az - zs * ay, cy = zs * ax - px * az, cz = px * ay - py * ax;
-        const float c2r = cx * cx + cy * cy + cz * cz;
-        const float c2 = c2r > 1e-30f ? c2r : 1e-30f;  // (no std::max: its reference stays scalar)
-        const float pa = px * ax + py * ay + zs * az;
-        const float dx = lx - px, dy = ly - py, dz = lz - zs;
-        const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
-        gf[u] = surf * ((dl - pa) / std::sqrt(c2)) + none;
-        k[u] = c2 / d;
-        d1[u] = d;
-        // the pixel's far edge
-        const float su = au * float(u) + bu;
-        const float mu = std::fabs(su) > std::fabs(sv) ? std::fabs(su) : std::fabs(sv);
-        const float m = mu > 1e-20f ? mu : 1e-20f;
-        const float qx = (rxu + 0.5f * su / (m * fx)) * zs, qy = (ry + 0.5f * sv / (m * fy)) * zs;
-        const float ex2 = qy * az - zs * ay, ey2 = zs * ax - qx * az, ez2 = qx * ay - qy * ax;
-        const float e2r = ex2 * ex2 + ey2 * ey2 + ez2 * ez2;
-        const float e2 = e2r > 1e-30f ? e2r : 1e-30f;
-        const float qa = qx * ax + qy * ay + zs * az;
-        const float inv = 1.0f / std::sqrt(e2);
-        // deeper by t along the viewing ray: Q (z + t) / z, so Q x a and Q . a scale alike
-        const float s = (zs + t) / zs;
-        gh[u] = surf * ((dl - qa) * inv) + none;
-        gb[u] = surf * ((dl - s * qa) * inv / s) + none;
-    }
+    for (int u = 0; u < n; ++u)
+        sample_terms(z[u], rx[u], ry, au * float(u) + bu, sv, p, gf[u], gh[u], gb[u], k[u], d1[u]);
 }
 
 /// An occluder's edge: its shadow coordinate g, position and distance to the lamp s_l.
@@ -272,6 +179,30 @@ struct Sweep {
     }
 };
 
+/// The camera with its x and y axes exchanged: pixel (u, v) of the transposed image is pixel
+/// (v, u) of `cam`'s.
+Camera transposed(const Camera& cam) {
+    Camera c;
+    c.width = cam.height;
+    c.height = cam.width;
+    c.fx = cam.fy;
+    c.fy = cam.fx;
+    c.cx = cam.cy;
+    c.cy = cam.cx;
+    return c;
+}
+
+/// dst (h x w) = src (w x h) transposed, in tiles.
+void transpose(const float* src, int w, int h, float* dst) {
+    constexpr int kTile = 32;
+    tbb::parallel_for(0, (h + kTile - 1) / kTile, [&](int tv) {
+        for (int u0 = 0; u0 < w; u0 += kTile)
+            for (int v = tv * kTile; v < std::min(h, (tv + 1) * kTile); ++v)
+                for (int u = u0; u < std::min(w, u0 + kTile); ++u)
+                    dst[std::size_t(u) * h + v] = src[std::size_t(v) * w + u];
+    });
+}
+
 }  // namespace
 
 LampShadows::LampShadows() = default;
@@ -286,12 +217,25 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
     m_height = H;
     std::vector<Vec3> positions;
     for (const Light& l : rig.lights) positions.push_back(l.position);
+    const Camera camt = transposed(cam);
     if (!(m_camera == cam) || positions.size() != m_positions.size() ||
         !std::equal(
             positions.begin(), positions.end(), m_positions.begin(),
             [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; })) {
         m_lines.clear();
-        for (const Vec3& p : positions) m_lines.push_back(make_lines(cam, p));
+        m_lines_t.clear();
+        for (const Vec3& p : positions) {
+            m_lines.push_back(make_lines(cam, p));
+            // Parallel lines along image rows are swept in the transposed image, where they
+            // are columns: the lanes' eight lines then lie side by side in memory.
+            const Family& f = m_lines.back().families[0];
+            Lines t;
+            if (!f.radial && !f.swap) {
+                t = make_lines(camt, Vec3{p.y, p.x, p.z});
+                if (t.families[0].radial || !t.families[0].swap) t = Lines{};
+            }
+            m_lines_t.push_back(std::move(t));
+        }
         m_camera = cam;
         m_positions = positions;
         m_rx.resize(W);
@@ -301,17 +245,34 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
     }
     m_visibility.resize(rig.lights.size());
     for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
-    const float t = thickness;
-    thread_local std::vector<float> zrow;
-
+    bool have_t = false;  // m_depth_t holds this frame's depth, transposed
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         const Vec3& L = rig.lights[l].position;
-        const double dl = length(L);
-        const Vec3 a = L * (1.0 / dl);
         const float R = float(rig.lights[l].radius);
         Image& vis = m_visibility[l];
         if (vis.width != W || vis.height != H || vis.channels != 1) vis = Image(W, H, 1);
-        const Lines& lines = m_lines[l];
+        if (m_lines_t[l].families.empty()) {
+            lamp_pass(cam, zdepth, L, R, m_lines[l], m_rx.data(), m_ry.data(), thickness, vis);
+            continue;
+        }
+        if (!have_t) {
+            if (m_depth_t.width != H || m_depth_t.height != W) m_depth_t = Image(H, W, 1);
+            transpose(zdepth.data.data(), W, H, m_depth_t.data.data());
+            have_t = true;
+        }
+        lamp_pass(camt, m_depth_t, Vec3{L.y, L.x, L.z}, R, m_lines_t[l], m_ry.data(), m_rx.data(),
+                  thickness, vis);
+    }
+}
+
+void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& L, float R,
+                            const Lines& lines, const float* rx, const float* ry, float t,
+                            Image& vis) {
+    const int W = cam.width, H = cam.height;
+    thread_local std::vector<float> zrow;
+    {
+        const double dl = length(L);
+        const Vec3 a = L * (1.0 / dl);
         const Family& f0 = lines.families[0];
         const float ex = float(f0.swap ? f0.eb : f0.ea), ey = float(f0.swap ? f0.ea : f0.eb);
         const float outward = float(f0.dir * f0.sigma);  // radial: 1 away from the epipole
@@ -331,13 +292,23 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
                             float(L.z),
                             t,
                             f0.radial};
+        if (!f0.radial) {
+            // parallel lines: eight at a time in vector lanes, each sample's terms computed
+            // there (lamp_shadows_lanes.cpp)
+            // (vis is the frame's, this image's transpose where their sizes differ)
+            tbb::parallel_for(0, vis.height,
+                              [&](int v) { std::fill_n(vis.row(v), vis.width, 1.0f); });
+            sweep_parallel_lines(f0, SweepArrays{zdepth.data.data(), rx, ry, vis.data.data(), W, H,
+                                                 R, prm, vis.width != W});
+            return;
+        }
         tbb::parallel_for(0, H, [&](int v) {
             zrow.resize(W);
             const float* raw = zdepth.row(v);
             for (int u = 0; u < W; ++u) zrow[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
             const std::size_t o = std::size_t(v) * W;
-            shadow_row(W, v, zrow.data(), m_rx.data(), m_ry[v], prm, m_gf.data() + o,
-                       m_gh.data() + o, m_gb.data() + o, m_k.data() + o, m_d1.data() + o);
+            shadow_row(W, v, zrow.data(), rx, ry[v], prm, m_gf.data() + o, m_gh.data() + o,
+                       m_gb.data() + o, m_k.data() + o, m_d1.data() + o);
             std::fill_n(vis.row(v), W, 1.0f);
         });
 
@@ -348,8 +319,8 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
                        m_k.data(),
                        m_d1.data(),
                        zdepth.data.data(),
-                       m_rx.data(),
-                       m_ry.data(),
+                       rx,
+                       ry,
                        vis.data.data(),
                        W,
                        R};
@@ -383,16 +354,7 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
                         q = long(qv) * W + qu;
                         if (sw.gf[q] == -FLT_MAX) q = -1;
                     }
-                    if (inside && !f.radial) {
-                        // parallel lines: the sample is the line's own pixel, but where the
-                        // line runs exactly between two rows (the row below is then its own)
-                        const int r = double(r0) - b == 0.5 ? r0 - 1 : r0;
-                        if (r >= 0 && r < B) {
-                            const int u = f.swap ? r : a, v = f.swap ? a : r;
-                            const long p = long(v) * W + u;
-                            if (sw.gf[p] != -FLT_MAX) sw.out[p] = sw.visible(p, u, v, h);
-                        }
-                    } else if (inside) {
+                    if (inside) {
                         const int bf = int(std::floor(b));
                         for (int r = bf; r <= bf + 1; ++r) {
                             if (r < 0 || r >= B) continue;

@@ -28,7 +28,7 @@ struct Renderer::State {
           settings(std::move(s)),
           water(rendered_water(a, settings)),
           lamps(a.info.rig, water, a.lamp_fields,
-                ShadowSettings{settings.shadows, settings.shadow_thickness}) {
+                ShadowSettings{settings.shadows, settings.shadow_thickness, settings.shadow_step}) {
         if (settings.port && settings.shadows)
             throw ConfigError(
                 "--shadows: lamp shadows through a port are not built yet (the "

@@ -128,6 +128,20 @@ expect_fail "another sequence into this folder" render --rgb "$work/num/rgb/*.pn
   --depth "$work/num/depth/*.exr" -o "$work/seq"
 grep -q "holds the frames of" "$work/err.txt"
 [[ $(cat "$work"/seq/* "$work"/lay/* | md5sum) == "$sum_seq" ]] || { echo "FAIL: outputs changed"; exit 1; }
+# --shadow-step: a bad value is one line naming it, before any work; a sequence swept at one
+# step refuses --resume at another.
+for bad in 0 9 two; do
+  expect_fail "--shadow-step $bad" render --rgb "$rgb" --depth "$depth" -o "$work/st" --shadows \
+    --shadow-step "$bad"
+  grep -q -- "--shadow-step" "$work/err.txt"
+done
+expect_fail "--shadow-step without --shadows" render --rgb "$rgb" --depth "$depth" -o "$work/st" \
+  --shadow-step 3
+expect_absent "$work/st"
+render --rgb "$rgb" --depth "$depth" -o "$work/st" --shadows --shadow-step 3 >/dev/null
+expect_fail "resume at another shadow step" render --rgb "$rgb" --depth "$depth" -o "$work/st" \
+  --shadows --resume
+grep -q -- "--shadow-step was 3, now 2" "$work/err.txt"
 # Frames without a manifest cannot be resumed (their exposure is unknown).
 mkdir "$work/old"; cp "$work/seq_full/frame_0001.png" "$work/old/"
 expect_fail "resume without a manifest" render --rgb "$rgb" --depth "$depth" -o "$work/old" --resume

@@ -126,7 +126,8 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
 /// image) at each preset's density, on the flight's first frame, the camera moving along the
 /// flight from one run to the next (particles fixed in the world); `snow-streaks` the nepheloid
 /// preset drawn as motion streaks, the camera moving at 1 m/s (the flight's 0.25 m a frame
-/// taken 0.25 s apart) with a 10 ms exposure: 1 cm in it.
+/// taken 0.25 s apart) with a 10 ms exposure: 1 cm in it; then `snow-shadows`: the nepheloid
+/// preset's snow and the lamps' shadows (LampShadows::compute, the default step) together.
 std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchArgs& a,
                             int threads) {
     std::vector<Case> cases;
@@ -164,6 +165,27 @@ std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchAr
         detail("%s: %ld particles drawn per frame on average\n", name.c_str(),
                particles / std::max(a.repeats, 1));
         cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
+    }
+    if (wanted(a.cases, "snow-shadows")) {
+        // The budget as stated: the lamps' shadows (the default step) and the densest
+        // preset's snow on one frame, as `deepsea demo --snow nepheloid` renders them.
+        SnowSettings s;
+        s.snow = snow_preset("nepheloid");
+        MarineSnow snow(s, asset.info.rig, asset.info.water);
+        LampShadows shadows;
+        Image final(cam.width, cam.height, 3);
+        std::vector<double> t, cpu;
+        for (int r = 0; r <= a.repeats; ++r) {
+            const FlightPose p = flight_pose(flight, r);
+            snow.set_frame(std::uint64_t(r), CameraPose{p.origin, p.right, p.down, p.forward});
+            const double t0 = now_ms(), c0 = cpu_ms();
+            shadows.compute(cam, frame.depth, asset.info.rig, ShadowSettings{true});
+            snow.draw(cam, frame.depth, final, nullptr, nullptr);
+            if (r == 0) continue;  // the first run allocates
+            t.push_back(now_ms() - t0);
+            cpu.push_back(cpu_ms() - c0);
+        }
+        cases.push_back(summarize("snow-shadows", cam.width, cam.height, threads, t, cpu));
     }
     return cases;
 }

@@ -306,7 +306,8 @@ void setup_bench(CLI::App& sub) {
         "composite_flat_port_pinhole: the pinhole asset through it), snow "
         "(snow-abyssal, "
         "snow-nepheloid, snow-plume: marine snow alone; snow-streaks: nepheloid as "
-        "motion streaks, 1 m/s, 10 ms), shadows (lamp shadows alone; "
+        "motion streaks, 1 m/s, 10 ms; snow-shadows: the nepheloid preset and lamp "
+        "shadows together), shadows (lamp shadows alone; "
         "shadows-exact: the full-resolution sweep), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
         "also -camera: with the setup's camera stage)");

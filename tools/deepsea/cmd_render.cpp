@@ -29,6 +29,8 @@ struct RenderArgs {
     std::uint64_t snow_seed = 1;
     int bits = 8;
     int threads = 0;
+    int shadow_step = kDefaultShadowStep;
+    const CLI::Option* shadow_step_option = nullptr;  ///< whether --shadow-step was given
     ShardFlags shard;
 };
 
@@ -68,6 +70,15 @@ void run(const RenderArgs& a) {
     opt.resume = a.resume;
     opt.forward = !a.no_forward;
     opt.shadows = a.shadows;
+    if (a.shadow_step_option && a.shadow_step_option->count() > 0) {
+        if (!a.shadows)
+            throw ConfigError("--shadow-step sets how lamp shadows are swept: give --shadows");
+        if (a.shadow_step < 1 || a.shadow_step > kMaxShadowStep)
+            throw ConfigError("--shadow-step: must be from 1 (every pixel) to " +
+                              std::to_string(kMaxShadowStep) + " pixels, got " +
+                              std::to_string(a.shadow_step));
+        opt.shadow_step = a.shadow_step;
+    }
     opt.bits = a.bits;
     if ((a.half || a.layer_set != "all") && a.layers.empty())
         throw ConfigError("--layer-set and --half choose what --layers writes: give --layers");
@@ -216,6 +227,12 @@ void setup_render(CLI::App& sub) {
         "--shadows", a->shadows,
         "lamp shadows from the depth map, penumbrae from each lamp's radius "
         "(docs/snow-shadows.md, \"Lamp shadows\"); off by default, as in the paper's model");
+    a->shadow_step_option =
+        sub.add_option("--shadow-step", a->shadow_step,
+                       "with --shadows: pixels between the swept samples along each axis, 1 (every "
+                       "pixel, the reference) to 8; default 2 (docs/snow-shadows.md, \"Reduced "
+                       "resolution\")")
+            ->default_str(std::to_string(kDefaultShadowStep));
     sub.add_option(
         "--snow", a->snow,
         "marine snow lit by the lamps (docs/snow-shadows.md, \"Marine snow\"): a preset, "

@@ -18,6 +18,7 @@
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/port.h"
 #include "deepsea/runtime/exposure.h"
+#include "deepsea/runtime/lamp_shadows.h"
 #include "deepsea/runtime/marine_snow.h"
 
 namespace deepsea {
@@ -28,6 +29,7 @@ struct SequenceOptions {
     Exposure exposure;     ///< auto: chosen on the first frame composited, then kept (no flicker)
     bool forward = true;   ///< forward scatter, if the asset's water defines it
     bool shadows = false;  ///< lamp shadows from the depth map (docs/model.md)
+    int shadow_step = kDefaultShadowStep;  ///< their sweep's step (ShadowSettings::step)
     /// Marine snow (docs/model.md): unset, none. Each frame's key is frame_key(job), its pose
     /// the job's.
     std::optional<SnowSettings> snow;

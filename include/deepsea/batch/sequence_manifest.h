@@ -52,6 +52,7 @@ struct SequenceManifest {
     bool half = false;                 ///< half-float layers (--half)
     bool forward = true;               ///< forward scatter on
     bool shadows = false;              ///< lamp shadows on (absent from older manifests: off)
+    int shadow_step = 2;  ///< with shadows, their sweep's step (absent: the default, 2)
     /// Marine snow: its preset ("off": none; absent from older manifests: off), the seed of
     /// its particles and the lens's focus distance (metres).
     std::string snow = "off";

@@ -16,6 +16,9 @@ namespace deepsea {
 /// The default ShadowSettings::step: within the measured error of docs/model.md at a quarter
 /// of the full sweep's samples.
 inline constexpr int kDefaultShadowStep = 2;
+/// The largest step render --shadow-step takes: beyond it shadows narrower than the step, most
+/// of a seafloor's, are lost.
+inline constexpr int kMaxShadowStep = 8;
 
 /// Whether and how the lamps' shadows are rendered.
 struct ShadowSettings {
@@ -61,12 +64,21 @@ public:
 private:
     /// The sweep on every pixel of `zdepth` into m_visibility (lamp_shadows.cpp).
     void sweep(const Camera& camera, const Image& zdepth, const Rig& rig, float thickness);
+    /// One lamp (at L, radius R) swept along `lines` into `vis` (lamp_shadows.cpp): on the
+    /// frame, or on the transposed frame and camera (rays rx, ry to match; parallel lines only,
+    /// `vis` then still the frame's).
+    void lamp_pass(const Camera& camera, const Image& zdepth, const Vec3& L, float R,
+                   const Lines& lines, const float* rx, const float* ry, float thickness,
+                   Image& vis);
 
     int m_width = 0, m_height = 0;
     std::vector<Image> m_visibility;
-    std::vector<Lines> m_lines;     ///< per lamp, for m_camera and m_positions
-    Camera m_camera;                ///< the lines' camera
-    std::vector<Vec3> m_positions;  ///< the lines' lamp positions
+    std::vector<Lines> m_lines;  ///< per lamp, for m_camera and m_positions
+    /// per lamp: its lines in the transposed frame where it is swept there (else none)
+    std::vector<Lines> m_lines_t;
+    Image m_depth_t;                                             ///< the transposed frame's depth
+    Camera m_camera;                                             ///< the lines' camera
+    std::vector<Vec3> m_positions;                               ///< the lines' lamp positions
     std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
     std::unique_ptr<LampShadows> m_coarse;  ///< the sweep on every step-th pixel (step > 1)
     Image m_coarse_depth;                   ///< its depth: every step-th pixel's

@@ -15,6 +15,7 @@
 #include "deepsea/optics/shadow.h"
 #include "deepsea/optics/water.h"
 #include "deepsea/runtime/frame_view.h"
+#include "deepsea/runtime/lamp_shadows.h"
 #include "deepsea/runtime/layers.h"
 #include "deepsea/runtime/marine_snow.h"
 
@@ -31,6 +32,8 @@ struct RenderSettings {
     /// in the paper's model; thickness in metres of planar depth.
     bool shadows = false;
     double shadow_thickness = kDefaultShadowThickness;
+    /// Pixels between the swept samples (ShadowSettings::step, >= 1).
+    int shadow_step = kDefaultShadowStep;
     /// The housing's port (docs/ports.md): each pixel sees along its water-side ray, and the
     /// layers gain `mask`. Unset: the pinhole looks into the water. An asset baked through a
     /// port needs the same port (same_rays); a pinhole asset takes any.

@@ -6,6 +6,7 @@
 
 #include "../temp_folder.h"
 #include "deepsea/core/error.h"
+#include "deepsea/runtime/lamp_shadows.h"
 
 namespace deepsea {
 
@@ -71,6 +72,14 @@ TEST_F(ManifestTest, RoundTripsExactlyThroughTheFile) {
     EXPECT_FALSE(r.shadows);
     some.shadows = true;
     EXPECT_TRUE(manifest_from_json(manifest_to_json(some), "m5.json").shadows);
+    // the step with them (absent, as in manifests from before --shadow-step: the default)
+    some.shadow_step = 3;
+    EXPECT_EQ(manifest_from_json(manifest_to_json(some), "m6.json").shadow_step, 3);
+    std::string no_step = manifest_to_json(some);
+    const std::size_t at = no_step.find("\"shadow_step\"");
+    ASSERT_NE(at, std::string::npos);
+    no_step.erase(at, no_step.find(',', at) + 1 - at);  // ("shadows" follows it)
+    EXPECT_EQ(manifest_from_json(no_step, "m7.json").shadow_step, kDefaultShadowStep);
     some.shadows = false;
     some.image = false;  // no -o: "none", and the format stays png
     EXPECT_EQ(manifest_from_json(manifest_to_json(some), "m4.json").image_format, "png");
@@ -133,6 +142,12 @@ TEST(Manifest, ResumeRefusesEverySettingThatChangesTheFrames) {
     EXPECT_NE(changed([](auto& r) { r.forward = false; }).find("forward"), std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.shadows = true; }).find("--shadows was off, now on"),
               std::string::npos);
+    {
+        SequenceManifest shadowed = folder, other = run;
+        shadowed.shadows = other.shadows = true;
+        other.shadow_step = 4;
+        EXPECT_NE(refusal(shadowed, other).find("--shadow-step was 2, now 4"), std::string::npos);
+    }
     EXPECT_NE(changed([](auto& r) { r.depth_scale = 0.0001; }).find("--depth-scale"),
               std::string::npos);
     EXPECT_NE(changed([](auto& r) { r.rgb = "/other/*.png"; }).find("holds the frames of"),

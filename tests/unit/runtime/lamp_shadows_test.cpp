@@ -406,4 +406,35 @@ TEST(LampShadows, IdenticalAtAnyThreadCount) {
     }
 }
 
+TEST(LampShadows, TransposedFrameGivesTheTransposedVisibility) {
+    // A lamp beside the camera sweeps lines along the rows, which run in the transposed frame
+    // (lamp_shadows.cpp); the same lamp, frame and camera transposed beforehand sweep columns
+    // directly. The two must be each other's transpose, bit for bit (a non-square frame, so
+    // that a width taken for a height shows).
+    FlightParams fp;
+    fp.camera = Camera{240, 180, 200.0, 210.0, 119.5, 89.5};
+    fp.pitch_deg = 45.0;  // the seafloor test's close survey
+    fp.altitude = 1.0;
+    fp.relief = 2.5;
+    const Frame frame = render_flight_frame(fp, 0);
+    const Camera& cam = fp.camera;
+    const Camera camt{cam.height, cam.width, cam.fy, cam.fx, cam.cy, cam.cx};
+    Image deptht(cam.height, cam.width, 1);
+    for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) deptht.at(v, u) = frame.depth.at(u, v);
+    const Vec3 lamp{-0.6, 0.05, 0.0};
+    const LampShadows a = shadows_of(cam, frame.depth, one_lamp(lamp, 0.04));
+    const LampShadows b = shadows_of(camt, deptht, one_lamp({lamp.y, lamp.x, lamp.z}, 0.04));
+    long differ = 0, shadowed = 0;
+    for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) {
+            differ += a.visibility(0).at(u, v) != b.visibility(0).at(v, u);
+            shadowed += a.visibility(0).at(u, v) < 0.5f;
+        }
+    std::printf("transposed: %ld of %d px shadowed, %ld differ\n", shadowed, cam.width * cam.height,
+                differ);
+    EXPECT_GT(shadowed, 0);
+    EXPECT_EQ(differ, 0);
+}
+
 }  // namespace deepsea

@@ -1,0 +1,129 @@
+#pragma once
+// Internal to lamp_shadows*.cpp: a lamp's epipolar lines (families of them) and the per-pixel
+// arrays the sweep reads, shared by the scalar sweep (lamp_shadows.cpp) and the sweep of
+// parallel lines in vector lanes (lamp_shadows_lanes.cpp).
+
+#include <cfloat>
+#include <cmath>
+#include <vector>
+
+#include "deepsea/runtime/lamp_shadows.h"
+
+namespace deepsea {
+
+/// One family of lines in image coordinates (a, b): (u, v), or (v, u) where `swap`.
+struct Family {
+    bool swap = false;
+    bool radial = false;
+    int sigma = 1;          ///< radial: the half (a - ea has this sign) the fan covers
+    int dir = 1;            ///< the sweep's step along a
+    double ea = 0, eb = 0;  ///< radial: the epipole
+    double m = 1;           ///< radial: slope of line i is i / m
+    double slope = 0;       ///< parallel: b = i + slope * a
+    long i_min = 0, i_max = -1;
+};
+
+constexpr double kFarEpipole = 1e6;  // px from the image: lines taken as parallel beyond
+
+inline long round_index(double x) { return long(std::floor(x + 0.5)); }
+
+struct LampShadows::Lines {
+    std::vector<Family> families;
+    int width = 0, height = 0;
+
+    /// The family and line that pixel (u, v) belongs to.
+    void locate(int u, int v, int& family, long& line) const {
+        const Family& f0 = families[0];
+        if (!f0.radial) {
+            const double a = f0.swap ? v : u, b = f0.swap ? u : v;
+            family = 0;
+            line = round_index(b - f0.slope * a);
+            return;
+        }
+        const double dx = u - (f0.swap ? f0.eb : f0.ea), dy = v - (f0.swap ? f0.ea : f0.eb);
+        double qa, qb;
+        if (dx >= std::fabs(dy)) {
+            family = 0, qa = dx, qb = dy;
+        } else if (-dx >= std::fabs(dy)) {
+            family = 1, qa = dx, qb = dy;
+        } else if (dy > 0) {
+            family = 2, qa = dy, qb = dx;
+        } else {
+            family = 3, qa = dy, qb = dx;
+        }
+        line = qa == 0.0 ? 0 : round_index(families[family].m * qb / qa);
+    }
+    double line_b(const Family& f, long i, double a) const {
+        return f.radial ? f.eb + (double(i) / f.m) * (a - f.ea) : double(i) + f.slope * a;
+    }
+};
+
+/// What sample_terms needs of the lamp and the sweep: the camera's fx, fy; the sweep's
+/// direction (ex, ey: the epipole, radial lines, with `outward`; the step, parallel lines);
+/// the lamp's unit vector a, distance dl and position l; the thickness t.
+struct RowParams {
+    float fx, fy, ex, ey, outward, ax, ay, az, dl, lx, ly, lz, t;
+    bool radial;
+};
+
+/// A pixel's terms for the lamp (planar depth zr, 0 for open water; ray (rx, ry); the sweep's
+/// direction (su, sv) there): the shadow coordinate of the surface (gf), and, as an occluder,
+/// of its pixel's far edge along the sweep (gh) and of that edge `t` deeper (gb), -FLT_MAX
+/// for open water; the penumbra's scale k and the lamp distance d1. The edge is half a pixel
+/// further along the sweep, (su, sv) scaled so that its larger component is 1/2: where a
+/// pixel's surface ends is unknown, and between two pixels is the least biased guess (without
+/// it every shadow edge lay half a pixel short). Branch-free (masks as floats, as
+/// kernels.cpp's), for vectorised loops.
+[[gnu::always_inline]] inline void sample_terms(float zr, float rxu, float ry, float su, float sv,
+                                                const RowParams& p, float& gf, float& gh, float& gb,
+                                                float& k, float& d1) {
+    const float ax = p.ax, ay = p.ay, az = p.az, dl = p.dl;
+    const float surf = zr > 0.0f ? 1.0f : 0.0f, none = (surf - 1.0f) * FLT_MAX;
+    const float zs = zr > 0.0f ? zr : 1.0f;
+    const float px = rxu * zs, py = ry * zs;
+    const float cx = py * az - zs * ay, cy = zs * ax - px * az, cz = px * ay - py * ax;
+    const float c2r = cx * cx + cy * cy + cz * cz;
+    const float c2 = c2r > 1e-30f ? c2r : 1e-30f;  // (no std::max: its reference stays scalar)
+    const float pa = px * ax + py * ay + zs * az;
+    const float dx = p.lx - px, dy = p.ly - py, dz = p.lz - zs;
+    const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+    gf = surf * ((dl - pa) / std::sqrt(c2)) + none;
+    k = c2 / d;
+    d1 = d;
+    // the pixel's far edge
+    const float mu = std::fabs(su) > std::fabs(sv) ? std::fabs(su) : std::fabs(sv);
+    const float m = mu > 1e-20f ? mu : 1e-20f;
+    const float qx = (rxu + 0.5f * su / (m * p.fx)) * zs, qy = (ry + 0.5f * sv / (m * p.fy)) * zs;
+    const float ex2 = qy * az - zs * ay, ey2 = zs * ax - qx * az, ez2 = qx * ay - qy * ax;
+    const float e2r = ex2 * ex2 + ey2 * ey2 + ez2 * ez2;
+    const float e2 = e2r > 1e-30f ? e2r : 1e-30f;
+    const float qa = qx * ax + qy * ay + zs * az;
+    const float inv = 1.0f / std::sqrt(e2);
+    // deeper by t along the viewing ray: Q (z + t) / z, so Q x a and Q . a scale alike
+    const float s = (zs + p.t) / zs;
+    gh = surf * ((dl - qa) * inv) + none;
+    gb = surf * ((dl - s * qa) * inv / s) + none;
+}
+
+/// One lamp's inputs for the sweep of parallel lines and its visibility image (filled with 1
+/// before: only shadowed pixels are written): the frame's planar depth, the rays' x per column
+/// and y per row, the lamp's radius R and sample_terms' parameters; `out_transposed`: the
+/// visibility image is the transpose of the depth's (H x W: the sweep runs on the transposed
+/// frame and writes the frame's own image).
+struct SweepArrays {
+    const float *z, *rx, *ry;
+    float* out;
+    int W, H;
+    float R;
+    RowParams prm;
+    bool out_transposed;
+};
+
+/// Sweeps the parallel family `f` (not radial) over the image, eight neighbouring lines at a
+/// time in the lanes of a vector: the same horizon, test and update per line as the scalar
+/// sweep of lamp_shadows.cpp (docs/snow-shadows.md, "Sweep"), its branches as selects, each
+/// sample's terms computed as it is swept. Blocks of lines in parallel; each pixel is written
+/// by its own line only.
+void sweep_parallel_lines(const Family& f, const SweepArrays& s);
+
+}  // namespace deepsea
