@@ -16,20 +16,9 @@
 
 namespace deepsea {
 
-namespace {
-
-Water water() {
-    Water w;
-    w.c = {0.3, 0.1, 0.06};
-    w.b = {0.05, 0.05, 0.05};
-    return w;
-}
-
-}  // namespace
-
 TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
     const Camera cam = testing::snow_camera();
-    const Water wat = water();
+    const Water wat = testing::snow_water();
     Rng rng(11);
     const int n = 301;  // not a multiple of any vector width
     std::vector<Vec3> X(static_cast<std::size_t>(n));
@@ -81,7 +70,7 @@ TEST(MarineSnowDraw, SubPixelParticleIsSharedBilinearly) {
     SnowSettings s;
     s.snow = snow_preset("abyssal");
     s.snow.concentration = 0.3;  // about 7 particles in view
-    MarineSnow snow(s, testing::snow_lamps(false), water());
+    MarineSnow snow(s, testing::snow_lamps(false), testing::snow_water());
     const ThinLens lens{cam.fx, s.pixel_pitch_um, s.f_number, s.focus_distance_m};
     const Image depth(cam.width, cam.height, 1);
     int checked = 0;
@@ -125,7 +114,7 @@ TEST(MarineSnowDraw, SameImageAtAnyThreadCount) {
     s.snow = snow_preset("plume");
     s.focus_distance_m = 1.5;
     s.f_number = 1.4;  // large soft discs near the lens, overlapping across bands
-    MarineSnow snow(s, testing::snow_lamps(true), water());
+    MarineSnow snow(s, testing::snow_lamps(true), testing::snow_water());
     // A slanted floor: some particles and parts of discs behind it.
     Image depth(cam.width, cam.height, 1);
     for (int v = 0; v < cam.height; ++v)

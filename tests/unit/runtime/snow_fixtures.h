@@ -1,11 +1,20 @@
 #pragma once
-// The marine-snow tests' camera and rig (marine_snow_draw_test.cpp,
-// snow_scattered_light_test.cpp).
+// The marine-snow tests' camera, rig and clear water (marine_snow_draw_test.cpp,
+// snow_scattered_light_test.cpp, snow_streaks_test.cpp).
 
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
+#include "deepsea/optics/water.h"
 
 namespace deepsea::testing {
+
+/// Clear water that scatters little (the particles' light, not the water's, is under test).
+inline Water snow_water() {
+    Water w;
+    w.c = {0.3, 0.1, 0.06};
+    w.b = {0.05, 0.05, 0.05};
+    return w;
+}
 
 inline Camera snow_camera() {
     Camera c;

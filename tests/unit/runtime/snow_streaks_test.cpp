@@ -18,13 +18,6 @@ namespace deepsea {
 
 namespace {
 
-Water water() {
-    Water w;
-    w.c = {0.3, 0.1, 0.06};
-    w.b = {0.05, 0.05, 0.05};
-    return w;
-}
-
 SnowSettings streak_settings() {
     SnowSettings s;
     s.snow = snow_preset("abyssal");
@@ -98,7 +91,7 @@ int check_streaks(const Vec3& d, int want, bool soft) {
         s.focus_distance_m = 0.2;
     }
     const ThinLens lens{cam.fx, s.pixel_pitch_um, s.f_number, s.focus_distance_m};
-    MarineSnow snow(s, testing::snow_lamps(false), water());
+    MarineSnow snow(s, testing::snow_lamps(false), testing::snow_water());
     int checked = 0;
     for (int seed = 0; seed < 300 && checked < want; ++seed) {
         const CameraPose pose = tilted_pose({0.7 * seed, -0.3 * seed, 0.2 * seed});
@@ -186,9 +179,9 @@ TEST(SnowStreaks, OffWithoutPoseOrSwitch) {
     s.snow.concentration = 200.0;
     const CameraPose pose = tilted_pose({1, 2, 3});
     const Shutter shutter = moving(pose, {0.05, 0.01, 0.02});
-    MarineSnow on(s, testing::snow_lamps(false), water());
+    MarineSnow on(s, testing::snow_lamps(false), testing::snow_water());
     s.streaks = false;
-    MarineSnow off(s, testing::snow_lamps(false), water());
+    MarineSnow off(s, testing::snow_lamps(false), testing::snow_water());
     off.set_frame(0, pose, shutter);
     on.set_frame(0, pose);
     const Image still = draw(on, cam);
@@ -205,7 +198,7 @@ TEST(SnowStreaks, SameImageAtAnyThreadCount) {
     s.snow = snow_preset("plume");
     s.streaks = true;
     const CameraPose pose = tilted_pose({1, 2, 3});
-    MarineSnow snow(s, testing::snow_lamps(true), water());
+    MarineSnow snow(s, testing::snow_lamps(true), testing::snow_water());
     snow.set_frame(5, pose, moving(pose, {0.03, 0.02, 0.05}));
     Image depth(cam.width, cam.height, 1);
     for (int v = 0; v < cam.height; ++v)
