@@ -21,18 +21,9 @@ TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
     const Water wat = testing::snow_water();
     Rng rng(11);
     const int n = 301;  // not a multiple of any vector width
-    std::vector<Vec3> X(static_cast<std::size_t>(n));
-    std::vector<float> x, y, z, inv, D;
-    for (Vec3& p : X) {
-        p.z = 0.1 + 3.0 * rng.uniform();
-        p.x = (rng.uniform() - 0.5) * 1.2 * p.z;
-        p.y = (rng.uniform() - 0.5) * 0.9 * p.z;
-        x.push_back(float(p.x));
-        y.push_back(float(p.y));
-        z.push_back(float(p.z));
-        inv.push_back(float(1.0 / length(p)));
-        D.push_back(float(1e-3 * (0.5 + 2.0 * rng.uniform())));
-    }
+    const testing::ParticleSet ps = testing::random_particles(rng, n, 3.0);
+    const std::vector<Vec3>& X = ps.X;
+    const std::vector<float>& D = ps.D;
     for (const bool table : {false, true})
         for (const Phase phase :
              {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.6},
@@ -43,9 +34,8 @@ TEST(MarineSnowDraw, FloatLightMatchesParticleRadiance) {
             snow.phase = phase;
             std::vector<float> e(3 * std::size_t(n)), scratch(5 * std::size_t(n));
             float* s = scratch.data();
-            snow_light(rig, wat, snow, cam.fx, cam.fy,
-                       ParticleRows{n, x.data(), y.data(), z.data(), inv.data(), D.data()},
-                       e.data(), e.data() + n, e.data() + 2 * n,
+            snow_light(rig, wat, snow, cam.fx, cam.fy, ps.rows(), e.data(), e.data() + n,
+                       e.data() + 2 * n,
                        SnowLightScratch{s, s + n, s + 2 * n, s + 3 * n, s + 4 * n});
             int lit = 0;
             for (int q = 0; q < n; ++q) {

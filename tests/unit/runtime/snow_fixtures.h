@@ -2,9 +2,13 @@
 // The marine-snow tests' camera, rig and clear water (marine_snow_draw_test.cpp,
 // snow_scattered_light_test.cpp, snow_streaks_test.cpp).
 
+#include <vector>
+
+#include "deepsea/core/random.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/water.h"
+#include "deepsea/runtime/snow_light.h"
 
 namespace deepsea::testing {
 
@@ -14,6 +18,32 @@ inline Water snow_water() {
     w.c = {0.3, 0.1, 0.06};
     w.b = {0.05, 0.05, 0.05};
     return w;
+}
+
+/// n particles in front of the camera (depth 0.1 to 0.1 + depth_span m, in a frustum a little
+/// wider than the snow camera's, diameters 0.5 to 2.5 mm), as doubles and as snow_light's rows.
+struct ParticleSet {
+    std::vector<Vec3> X;
+    std::vector<float> x, y, z, inv, D;
+    ParticleRows rows() const {
+        return {int(X.size()), x.data(), y.data(), z.data(), inv.data(), D.data()};
+    }
+};
+
+inline ParticleSet random_particles(Rng& rng, int n, double depth_span) {
+    ParticleSet s;
+    s.X.resize(static_cast<std::size_t>(n));
+    for (Vec3& p : s.X) {
+        p.z = 0.1 + depth_span * rng.uniform();
+        p.x = (rng.uniform() - 0.5) * 1.2 * p.z;
+        p.y = (rng.uniform() - 0.5) * 0.9 * p.z;
+        s.x.push_back(float(p.x));
+        s.y.push_back(float(p.y));
+        s.z.push_back(float(p.z));
+        s.inv.push_back(float(1.0 / length(p)));
+        s.D.push_back(float(1e-3 * (0.5 + 2.0 * rng.uniform())));
+    }
+    return s;
 }
 
 inline Camera snow_camera() {

@@ -48,18 +48,9 @@ TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
     const std::vector<LampField> scattered = fields(r, wat);
     Rng rng(3);
     const int n = 203;
-    std::vector<Vec3> X(static_cast<std::size_t>(n));
-    std::vector<float> x, y, z, inv, D;
-    for (Vec3& p : X) {
-        p.z = 0.1 + 3.5 * rng.uniform();
-        p.x = (rng.uniform() - 0.5) * 1.2 * p.z;
-        p.y = (rng.uniform() - 0.5) * 0.9 * p.z;
-        x.push_back(float(p.x));
-        y.push_back(float(p.y));
-        z.push_back(float(p.z));
-        inv.push_back(float(1.0 / length(p)));
-        D.push_back(float(1e-3 * (0.5 + 2.0 * rng.uniform())));
-    }
+    const testing::ParticleSet ps = testing::random_particles(rng, n, 3.5);
+    const std::vector<Vec3>& X = ps.X;
+    const std::vector<float>& D = ps.D;
     for (const Phase phase :
          {Phase{PhaseKind::Isotropic, 0.0}, Phase{PhaseKind::HenyeyGreenstein, 0.6},
           Phase{PhaseKind::PetzoldTurbid, 0.0}}) {
@@ -69,7 +60,7 @@ TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
             scratch(5 * std::size_t(n));
         float* s = scratch.data();
         const SnowLightScratch sc{s, s + n, s + 2 * n, s + 3 * n, s + 4 * n};
-        const ParticleRows rows{n, x.data(), y.data(), z.data(), inv.data(), D.data()};
+        const ParticleRows rows = ps.rows();
         snow_light(r, wat, snow, cam.fx, cam.fy, rows, e.data(), e.data() + n, e.data() + 2 * n, sc,
                    scattered);
         snow_light(r, wat, snow, cam.fx, cam.fy, rows, e0.data(), e0.data() + n, e0.data() + 2 * n,
@@ -98,7 +89,7 @@ TEST(SnowScatteredLight, FloatRowsMatchParticleRadianceWithFields) {
     }
     // One field per lamp, or none.
     std::vector<float> e(3 * 4), sc(5 * 4);
-    const ParticleRows rows{1, x.data(), y.data(), z.data(), inv.data(), D.data()};
+    const ParticleRows rows{1, ps.x.data(), ps.y.data(), ps.z.data(), ps.inv.data(), ps.D.data()};
     EXPECT_THROW(
         snow_light(r, wat, snow_preset("plume"), 1, 1, rows, e.data(), e.data() + 1, e.data() + 2,
                    {sc.data(), sc.data() + 1, sc.data() + 2, sc.data() + 3, sc.data() + 4},
