@@ -195,7 +195,7 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
             for (int j = 0; j < kLanes; ++j) {
                 const float gp = p.gf[j];
                 const bool lit = (p.valid[j] <= 0.0f) | (hq[j] <= 0.0f) | (gp < lo[j]);
-                arg[j] = lit | (gp > eg[j]) ? 1.0f : -1.0f;
+                arg[j] = (lit | (gp > eg[j])) ? 1.0f : -1.0f;
             }
         }
         // (the image is filled with 1: only shadowed pixels are written)

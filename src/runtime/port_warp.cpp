@@ -236,7 +236,7 @@ void surface_hits(int n, const PortRays::MarchRow m, const float* __restrict in,
         y[u] = hit ? m.oy[u] + th * m.dy[u] : 0.0f;
         z[u] = hit ? zh : 0.0f;
         t[u] = hit ? th : 0.0f;
-        mask[u] = hit | (state[u] == kOpen) ? 1.0f : 0.0f;
+        mask[u] = (hit | (state[u] == kOpen)) ? 1.0f : 0.0f;
     }
     const std::size_t row = std::size_t(W) * kPortSurfaceChannels, C = kPortSurfaceChannels;
     for (int u = 0; u < n; ++u) {

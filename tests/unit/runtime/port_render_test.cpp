@@ -294,7 +294,8 @@ TEST(PortRender, MarchStartsOnlyWhereNothingNearerIsRead) {
     const int W = cam.width, H = cam.height, B = kPortStartBlock, bw = (W + B - 1) / B;
     Image inv(W, H, 1);
     std::srand(7);
-    for (float& s : inv.data) s = std::rand() % 5 == 0 ? 0.0f : float(std::rand()) / RAND_MAX;
+    for (float& s : inv.data)
+        s = std::rand() % 5 == 0 ? 0.0f : float(std::rand()) / float(RAND_MAX);
     Image nearest, rows;
     window_nearest(inv, nearest, rows);
     long windows = 0;
