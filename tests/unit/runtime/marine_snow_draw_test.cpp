@@ -105,10 +105,7 @@ TEST(MarineSnowDraw, SameImageAtAnyThreadCount) {
     s.focus_distance_m = 1.5;
     s.f_number = 1.4;  // large soft discs near the lens, overlapping across bands
     MarineSnow snow(s, testing::snow_lamps(true), testing::snow_water());
-    // A slanted floor: some particles and parts of discs behind it.
-    Image depth(cam.width, cam.height, 1);
-    for (int v = 0; v < cam.height; ++v)
-        for (int u = 0; u < cam.width; ++u) depth.at(u, v) = float(0.5 + 3.0 * v / cam.height);
+    const Image depth = testing::slanted_floor(cam, 3.0);
     const auto draw = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         std::vector<Image> out{Image(cam.width, cam.height, 3), Image(cam.width, cam.height, 3),

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "deepsea/core/image.h"
 #include "deepsea/core/random.h"
 #include "deepsea/optics/camera.h"
 #include "deepsea/optics/light.h"
@@ -54,6 +55,15 @@ inline Camera snow_camera() {
     c.cx = 119.5;
     c.cy = 89.5;
     return c;
+}
+
+/// A floor sloping away from the camera's top row: planar depth 0.5 m there, 0.5 + span m at
+/// the bottom, so that some particles and parts of discs lie behind it.
+inline Image slanted_floor(const Camera& cam, double span) {
+    Image depth(cam.width, cam.height, 1);
+    for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) depth.at(u, v) = float(0.5 + span * v / cam.height);
+    return depth;
 }
 
 /// Two Gaussian lamps, one with a 40 degree cutoff; with `table` the second has a tabulated

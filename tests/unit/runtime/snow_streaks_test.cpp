@@ -200,9 +200,7 @@ TEST(SnowStreaks, SameImageAtAnyThreadCount) {
     const CameraPose pose = tilted_pose({1, 2, 3});
     MarineSnow snow(s, testing::snow_lamps(true), testing::snow_water());
     snow.set_frame(5, pose, moving(pose, {0.03, 0.02, 0.05}));
-    Image depth(cam.width, cam.height, 1);
-    for (int v = 0; v < cam.height; ++v)
-        for (int u = 0; u < cam.width; ++u) depth.at(u, v) = float(0.5 + 2.0 * v / cam.height);
+    const Image depth = testing::slanted_floor(cam, 2.0);
     const auto run = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         std::vector<Image> out{Image(cam.width, cam.height, 3), Image(cam.width, cam.height, 3),
