@@ -51,14 +51,19 @@ Source planar(const float* data, int w, int h) {
 //   (G_sigma * s)(x, y) = ny[y] sum_l g_l nx[x] sum_k g_k s(x + k, y + l),
 // k and l over in-image pixels, nx and ny from inside_weights: a uniform image stays uniform.
 // With Edge::Clamp, k and l run over the whole kernel, s(x + k, y + l) read at the nearest
-// in-image pixel, and nx = ny = 1 / sum_k g_k.
+// in-image pixel (times the fade's factor for its distance, where given), and
+// nx = ny = 1 / sum_k g_k.
+int radius(double sigma) { return std::max(1, int(std::ceil(3.0 * sigma))); }
+
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
-                 std::vector<float>& nx, std::vector<float>& ny, Store store, Edge edge) {
+                 std::vector<float>& nx, std::vector<float>& ny, Store store, Edge edge,
+                 const Fade* fade) {
     const int w = src.w, h = src.h;
-    const int r = std::max(1, int(std::ceil(3.0 * sigma)));
+    const int r = radius(sigma);
     g.resize(2 * r + 1);
     for (int i = -r; i <= r; ++i) g[i + r] = float(std::exp(-0.5 * i * i / (sigma * sigma)));
     const bool clamp = edge == Edge::Clamp;
+    if (fade && !(clamp && fade->reach >= r)) fade = nullptr;
     if (clamp) {
         double total = 0.0;
         for (const float x : g) total += x;
@@ -84,7 +89,14 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
             for (; next <= std::min(h - 1, y + r); ++next) {
                 const float* in = src.at(c, next);
                 for (int x = 0; x < w; ++x) padded[r + x] = in[x * src.pixel];
-                if (clamp) {
+                if (fade) {
+                    const float* fl = fade->left + (std::size_t(c) * h + next) * fade->reach;
+                    const float* fr = fade->right + (std::size_t(c) * h + next) * fade->reach;
+                    for (int k = 1; k <= r; ++k) {
+                        padded[r - k] = padded[r] * fl[k - 1];
+                        padded[r + w - 1 + k] = padded[r + w - 1] * fr[k - 1];
+                    }
+                } else if (clamp) {
                     std::fill(padded.begin(), padded.begin() + r, padded[r]);
                     std::fill(padded.begin() + r + w, padded.end(), padded[r + w - 1]);
                 }
@@ -100,6 +112,14 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
                 const float gk = g[k + r] * ny[y];
                 const int yk = std::clamp(y + k, 0, h - 1);
                 const float* in = rows.data() + std::size_t(yk % ring) * w;
+                const int out = y + k < 0 ? -(y + k) : y + k - (h - 1);
+                if (fade && out > 0) {
+                    const float* f = (y + k < 0 ? fade->top : fade->bottom) +
+                                     (std::size_t(c) * fade->reach + out - 1) * w;
+#pragma omp simd
+                    for (int x = 0; x < w; ++x) dst[x] += gk * in[x] * f[x];
+                    continue;
+                }
 #pragma omp simd
                 for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
             }

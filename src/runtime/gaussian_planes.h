@@ -31,13 +31,30 @@ enum class Store { Set, Add };
 /// to the borders, Clamp keeps the borders' own.
 enum class Edge { Normalise, Clamp };
 
+/// With Edge::Clamp: the border pixels continued outward, each times its own factor at each
+/// distance, so that a lamp-lit scene can dim beyond the frame as its light does. Per plane c:
+/// left[(c * h + y) * reach + k - 1] is pixel (-k, y) over pixel (0, y), right the same beyond
+/// column w - 1, top[(c * reach + k - 1) * w + x] pixel (x, -k) over (x, 0) (applied to the
+/// horizontal pass's row 0), bottom beyond row h - 1; k = 1 .. reach, reach >= radius(sigma).
+struct Fade {
+    int reach = 0;
+    const float* left = nullptr;
+    const float* right = nullptr;
+    const float* top = nullptr;
+    const float* bottom = nullptr;
+};
+
+/// The kernel's radius in pixels for `sigma`: the taps blur_planes takes on each side.
+int radius(double sigma);
+
 /// Separable Gaussian of `sigma` (pixels of this resolution) of 3 planes, src to planar dst
 /// (stored or added), with `edge` beyond the image. g, nx, ny (kernel, row and column
 /// normalisation) are the caller's, kept between frames so that nothing is allocated once they
-/// have grown (each worker keeps its own few rows of the horizontal pass).
+/// have grown (each worker keeps its own few rows of the horizontal pass). `fade` (Clamp only,
+/// may be null: the borders unchanged) dims the continued borders.
 void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector<float>& g,
                  std::vector<float>& nx, std::vector<float>& ny, Store store = Store::Set,
-                 Edge edge = Edge::Normalise);
+                 Edge edge = Edge::Normalise, const Fade* fade = nullptr);
 
 /// dst = a + t (b - a), n floats.
 void lerp_rows(int n, const float* a, const float* b, float t, float* dst);

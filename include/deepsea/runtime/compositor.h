@@ -64,6 +64,7 @@ private:
     const BackscatterSource& m_backscatter;
     ForwardBlur m_blur;                        ///< Jaffe-McGlamery forward scatter
     std::optional<ForwardPsfBlur> m_psf_blur;  ///< forward scatter from the phase function
+    EdgeFalloff m_beyond;                      ///< its scene beyond the frame (transport tables)
     std::vector<float> m_rx;                   ///< (u - cx) / fx per column
     std::vector<float> m_c3;                   ///< c per channel, as a row holds it (3 x width)
     // With forward scatter on (without, rows keep their own):

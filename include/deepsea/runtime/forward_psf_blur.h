@@ -13,9 +13,34 @@
 #include <vector>
 
 #include "deepsea/core/image.h"
+#include "deepsea/optics/camera.h"
 #include "deepsea/optics/forward_psf.h"
+#include "deepsea/runtime/sources.h"
 
 namespace deepsea {
+
+/// What lies beyond a W x H frame for a transport table's blur: each border pixel continued
+/// outward, times a factor per distance (the continued surface's weighted radiance over the
+/// border pixel's; runtime/forward_psf_edges.h computes it from the lamps). Factors at
+/// dist[k] pixels beyond the edge, linear in between, 1 at the edge, the last one beyond.
+/// Per channel c, border pixel i and sample k: left and right (i = row) at
+/// [(c * height + i) * K + k], top and bottom (i = column) at [(c * width + i) * K + k].
+struct EdgeFalloff {
+    int width = 0, height = 0;
+    std::vector<float> dist;  ///< pixels beyond the edge, ascending, > 0 (K values)
+    std::vector<float> left, right, top, bottom;
+    int samples() const { return int(dist.size()); }
+    /// The factor of one side's border pixel at s pixels beyond it.
+    float at(const std::vector<float>& side, int border, int c, float s) const;
+};
+
+/// The falloff beyond the frame of a planar depth image `zdepth` lit by `lamps`: each border
+/// pixel's surface continued outward at its planar depth and normal (the nearest border pixel's
+/// albedo), its irradiance over the border pixel's (unshadowed, every lamp, scattered light
+/// included), times psf's total weight at its distance over the border pixel's. Evaluated
+/// every 8th border pixel, linear between (src/runtime/forward_psf_edges.cpp).
+void edge_falloff(const Camera& cam, const Image& zdepth, const IrradianceSource& lamps,
+                  const ForwardPsf& psf, EdgeFalloff& out);
 
 /// Reusable state: buffers are kept between frames. prepare() weighs and blurs one frame,
 /// row() then gives any row of F as an interleaved RGB row (thread-safe).
@@ -25,8 +50,9 @@ public:
 
     /// surface: J/pi E (3 channels); d2: camera-to-surface distance (1 channel, <= 0 for no
     /// surface, which sends no light). Both are read again by row(): they must stay unchanged
-    /// until the frame's rows are taken.
-    void prepare(const Image& surface, const Image& d2);
+    /// until the frame's rows are taken. beyond (transport tables only, may be null: the
+    /// borders continued unchanged): how the scene dims beyond the frame, of this frame's size.
+    void prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond = nullptr);
     /// out_rgb[3u + c] = F at (u, v).
     void row(int v, float* out_rgb) const;
     /// sum_rgb[3u + c] += F at (u, v): the same F as row(), added where it is wanted.
@@ -102,6 +128,9 @@ private:
     std::vector<Grid> m_grids;    ///< factors 2, 4, .. up to the widest group's
     /// blur_planes' scratch
     std::vector<float> m_kernel, m_norm_x, m_norm_y;
+    /// Fills m_fade for one grid (factor f, w x h) and kernel radius r from `beyond`.
+    void fade_grid(const EdgeFalloff& beyond, int f, int w, int h, int r);
+    std::vector<float> m_fade[4];  ///< left, right, top, bottom of the grid being blurred
 };
 
 }  // namespace deepsea
