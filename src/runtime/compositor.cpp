@@ -269,10 +269,11 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     // D's own exp(-c d2) would attenuate it twice) by sigma = sigma_per_m * d2 pixels; d2 is 0
     // for open water.
     if (psf) {
-        // beyond the frame the surface dims as the lamps' light on it (not through a port,
-        // whose rays the border pixels do not continue)
-        if (!port) edge_falloff(cam, depth, m_lamps, m_psf_blur->psf(), m_beyond);
-        m_psf_blur->prepare(m_surface, m_d2, port ? nullptr : &m_beyond);
+        // a transport table's scene dims beyond the frame as the lamps' light on it (not
+        // through a port, whose rays the border pixels do not continue)
+        const bool fade = !port && m_psf_blur->psf().from_transport();
+        if (fade) edge_falloff(cam, depth, m_lamps, m_psf_blur->psf(), m_beyond);
+        m_psf_blur->prepare(m_surface, m_d2, fade ? &m_beyond : nullptr);
     } else {
         m_blur.prepare(m_surface, m_d2,
                        float(forward_sigma_px(m_water.forward, forward_fx(), 1.0)));

@@ -65,10 +65,16 @@ void edge_falloff(const Camera& cam, const Image& zdepth, const IrradianceSource
             T[j] = float(std::hypot(double(px[j]), double(py[j]), double(z)));
         }
     }
-    // v = -1: points of no row of the frame (unshadowed, each computed on its own)
-    const RowGeometry g{-1,        int(n),    px.data(), py.data(),
-                        pz.data(), nx.data(), ny.data(), nz.data()};
-    lamps.irradiance_row(g, E.data());
+    // One point at a time, as a row of one of no row of the frame (v = -1): unshadowed, and
+    // computed where it is (a longer row would interpolate a lamp field's light between its
+    // points, which here are no row of a surface).
+    for (std::size_t j = 0; j < n; ++j) {
+        if (!(pz[j] > 0.0f)) continue;
+        const RowGeometry g{-1, 1, &px[j], &py[j], &pz[j], &nx[j], &ny[j], &nz[j]};
+        float e[3];
+        lamps.irradiance_row(g, e);
+        for (int c = 0; c < 3; ++c) E[std::size_t(c) * n + j] = e[c];
+    }
     for (int s = 0; s < 4; ++s) sides[s]->assign(std::size_t(3) * count[s] * K, 1.0f);
     for (std::size_t m = 0; m < samples.size(); ++m) {
         const int s = samples[m].side, i = samples[m].i;

@@ -10,6 +10,7 @@
 
 #include "deepsea/optics/direct.h"
 #include "deepsea/optics/forward_transport.h"
+#include "deepsea/optics/lamp_field.h"
 #include "deepsea/runtime/forward_psf_blur.h"
 #include "deepsea/runtime/lamps.h"
 #include "runtime_fixtures.h"
@@ -127,9 +128,10 @@ TEST(ForwardPsfEdges, AFrameWithItsFalloffSeesWhatAWiderFrameSees) {
 }
 
 TEST(ForwardPsfEdges, TheLampsFalloffIsTheIrradianceOfTheContinuedSurface) {
-    // A plane 2 m away, the fixture's two lamps: every 8th border pixel's factors are the
-    // optics' irradiance at the continued point over the border pixel's, times the total
-    // weights' ratio; those between are linear between them.
+    // A plane 2 m away, the fixture's two lamps with their scattered light (lamp fields): every
+    // 8th border pixel's factors are the optics' irradiance at the continued point (unscattered
+    // plus each field's, in double) over the border pixel's, times the total weights' ratio;
+    // those between are linear between them.
     const Camera cam = testing::small_camera();
     const Rig rig = testing::two_lamps();
     const Water w = turbid();
@@ -139,8 +141,16 @@ TEST(ForwardPsfEdges, TheLampsFalloffIsTheIrradianceOfTheContinuedSurface) {
                          cam.height);
     const float z = 2.0f;
     const Image depth(cam.width, cam.height, 1, z);
+    LampFieldSettings ls;
+    ls.nr = 10;
+    ls.ntheta = 13;
+    ls.r0 = 0.05;
+    ls.r_max = 12.0;
+    ls.samples = 64;  // noise does not matter: both sides read the same table
+    std::vector<LampField> fields;
+    for (const Light& L : rig.lights) fields.push_back(bake_lamp_field(L, w, ls));
     EdgeFalloff f;
-    edge_falloff(cam, depth, AnalyticLamps(rig, w), psf, f);
+    edge_falloff(cam, depth, AnalyticLamps(rig, w, fields), psf, f);
     ASSERT_EQ(f.width, cam.width);
     ASSERT_GT(f.samples(), 4);
     const Vec3 n(0, 0, -1);
@@ -149,10 +159,15 @@ TEST(ForwardPsfEdges, TheLampsFalloffIsTheIrradianceOfTheContinuedSurface) {
         for (int i = 0; i < count; i += 8) {
             const double u = rows ? ub : i, v = rows ? i : vb;
             const Vec3 Pb = cam.ray(u, v) * double(z);
-            const Rgb eb = lamp_irradiance(rig, w, Pb, n), tb = psf.total(length(Pb));
+            const auto irradiance = [&](const Vec3& P) {
+                Rgb e = lamp_irradiance(rig, w, P, n);
+                for (int c = 0; c < 3; ++c) e[c] += testing::exact_scattered(rig, fields, P, n, c);
+                return e;
+            };
+            const Rgb eb = irradiance(Pb), tb = psf.total(length(Pb));
             for (int k = 0; k < f.samples(); k += 3) {
                 const Vec3 Pq = cam.ray(u + du * f.dist[k], v + dv * f.dist[k]) * double(z);
-                const Rgb eq = lamp_irradiance(rig, w, Pq, n), tq = psf.total(length(Pq));
+                const Rgb eq = irradiance(Pq), tq = psf.total(length(Pq));
                 for (int c = 0; c < 3; ++c) {
                     const double expect = eq[c] / eb[c] * tq[c] / tb[c];
                     EXPECT_NEAR(f.at(side, i, c, f.dist[k]), expect, 1e-4 + 1e-4 * expect)
