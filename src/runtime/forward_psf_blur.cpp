@@ -330,39 +330,6 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     });
 }
 
-float EdgeFalloff::at(const std::vector<float>& side, int border, int c, float s) const {
-    const int K = samples();
-    const int n = &side == &left || &side == &right ? height : width;
-    const float* f = side.data() + (std::size_t(c) * n + border) * K;
-    if (K == 0 || s <= 0.0f) return 1.0f;
-    const int k = int(std::upper_bound(dist.begin(), dist.end(), s) - dist.begin());
-    if (k >= K) return f[K - 1];
-    const float d0 = k == 0 ? 0.0f : dist[k - 1], f0 = k == 0 ? 1.0f : f[k - 1];
-    return f0 + (s - d0) / (dist[k] - d0) * (f[k] - f0);
-}
-
-void ForwardPsfBlur::fade_grid(const EdgeFalloff& beyond, int f, int w, int h, int r) {
-    // A grid cell k beyond the edge lies k f pixels beyond the border cell, whose block mean
-    // stands for its middle pixel; a grid row or column samples the border at its middle.
-    const int W = m_width, H = m_height;
-    for (auto& v : m_fade) v.resize(std::size_t(3) * std::max(w, h) * r);
-    for (int c = 0; c < 3; ++c) {
-        for (int k = 1; k <= r; ++k) {
-            const float s = float(k * f);
-            for (int y = 0; y < h; ++y) {
-                const int v = std::min(y * f + f / 2, H - 1);
-                m_fade[0][(std::size_t(c) * h + y) * r + k - 1] = beyond.at(beyond.left, v, c, s);
-                m_fade[1][(std::size_t(c) * h + y) * r + k - 1] = beyond.at(beyond.right, v, c, s);
-            }
-            for (int x = 0; x < w; ++x) {
-                const int u = std::min(x * f + f / 2, W - 1);
-                m_fade[2][(std::size_t(c) * r + k - 1) * w + x] = beyond.at(beyond.top, u, c, s);
-                m_fade[3][(std::size_t(c) * r + k - 1) * w + x] = beyond.at(beyond.bottom, u, c, s);
-            }
-        }
-    }
-}
-
 void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond) {
     const int W = surface.width, H = surface.height;
     // The frame's farthest surface, but no farther than where every weight is below 1e-17 of
@@ -402,10 +369,9 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
         const double rest = std::sqrt(std::max(sigma * sigma - g.spent, 0.09)) / g.factor;
         float* sum = g.factor == 1 ? m_full.data() : grid_of(g.factor).acc.data();
         // Beyond the frame: a transport table's scene continues as its borders (its wide
-        // scales reach across small images, and lamp-lit scenes are dimmer outside than in);
-        // the small-angle model's as the in-image mean, as it always has.
-        // Where the frame says how it dims beyond its edges (the lamps' light on the continued
-        // surface), the borders fade so.
+        // scales reach across small images), fading as `beyond` says (lamp-lit scenes are
+        // dimmer outside than in); the small-angle model's as the in-image mean, as it always
+        // has.
         planes::Fade fade;
         if (m_psf.from_transport() && beyond && beyond->width == m_width &&
             beyond->height == m_height && beyond->samples() > 0) {

@@ -1,5 +1,6 @@
 // How the scene dims beyond the frame's edges, for the forward scatter from transport
-// (forward_psf_blur.h, edge_falloff; docs/model.md, "Forward scatter from transport").
+// (forward_psf_blur.h: EdgeFalloff, edge_falloff, and the blur's fading borders per grid;
+// docs/model.md, "Forward scatter from transport").
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,55 @@ constexpr int kBorderStep = 8;  ///< border pixels between lamp evaluations (lin
 constexpr double kReach = 3.5;  ///< farthest distance, in the frame's larger side
 
 }  // namespace
+
+float EdgeFalloff::at(const std::vector<float>& side, int border, int c, float s) const {
+    const int K = samples();
+    if (K == 0 || s <= 0.0f) return 1.0f;
+    const int n = &side == &left || &side == &right ? height : width;
+    const float* f = side.data() + (std::size_t(c) * n + border) * K;
+    const int k = int(std::upper_bound(dist.begin(), dist.end(), s) - dist.begin());
+    if (k >= K) return f[K - 1];
+    const float d0 = k == 0 ? 0.0f : dist[k - 1], f0 = k == 0 ? 1.0f : f[k - 1];
+    return f0 + (s - d0) / (dist[k] - d0) * (f[k] - f0);
+}
+
+void ForwardPsfBlur::fade_grid(const EdgeFalloff& beyond, int f, int w, int h, int r) {
+    // A grid cell k beyond the edge lies k f pixels beyond the border cell, whose block mean
+    // stands for its middle pixel; a grid row or column samples the border at its middle.
+    // EdgeFalloff::at, with each distance's two samples and weight found once.
+    const int W = m_width, H = m_height, K = beyond.samples();
+    for (auto& v : m_fade) v.resize(std::size_t(3) * std::max(w, h) * r);
+    const auto side = [&](const std::vector<float>& src, int n, int border, int c) {
+        return src.data() + (std::size_t(c) * n + border) * K;
+    };
+    for (int k = 1; k <= r; ++k) {
+        const float s = float(k * f);
+        const int i =
+            int(std::upper_bound(beyond.dist.begin(), beyond.dist.end(), s) - beyond.dist.begin());
+        // factor = (1 - t) at(i - 1) + t at(i), at(-1) = 1; beyond the last sample, the last
+        const int i0 = std::min(i, K) - 1, i1 = std::min(i, K - 1);
+        const float d0 = i == 0 ? 0.0f : beyond.dist[i0];
+        const float t = i >= K ? 1.0f : (s - d0) / (beyond.dist[i1] - d0);
+        const auto at = [&](const float* src) {
+            const float a = i0 < 0 ? 1.0f : src[i0];
+            return a + t * (src[i1] - a);
+        };
+        for (int c = 0; c < 3; ++c) {
+            for (int y = 0; y < h; ++y) {
+                const int v = std::min(y * f + f / 2, H - 1);
+                const std::size_t o = (std::size_t(c) * h + y) * r + k - 1;
+                m_fade[0][o] = at(side(beyond.left, H, v, c));
+                m_fade[1][o] = at(side(beyond.right, H, v, c));
+            }
+            for (int x = 0; x < w; ++x) {
+                const int u = std::min(x * f + f / 2, W - 1);
+                const std::size_t o = (std::size_t(c) * r + k - 1) * w + x;
+                m_fade[2][o] = at(side(beyond.top, W, u, c));
+                m_fade[3][o] = at(side(beyond.bottom, W, u, c));
+            }
+        }
+    }
+}
 
 void edge_falloff(const Camera& cam, const Image& zdepth, const IrradianceSource& lamps,
                   const ForwardPsf& psf, EdgeFalloff& out) {

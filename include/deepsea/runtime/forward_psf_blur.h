@@ -21,7 +21,7 @@ namespace deepsea {
 
 /// What lies beyond a W x H frame for a transport table's blur: each border pixel continued
 /// outward, times a factor per distance (the continued surface's weighted radiance over the
-/// border pixel's; runtime/forward_psf_edges.h computes it from the lamps). Factors at
+/// border pixel's; edge_falloff below computes it from the lamps). Factors at
 /// dist[k] pixels beyond the edge, linear in between, 1 at the edge, the last one beyond.
 /// Per channel c, border pixel i and sample k: left and right (i = row) at
 /// [(c * height + i) * K + k], top and bottom (i = column) at [(c * width + i) * K + k].
@@ -30,7 +30,8 @@ struct EdgeFalloff {
     std::vector<float> dist;  ///< pixels beyond the edge, ascending, > 0 (K values)
     std::vector<float> left, right, top, bottom;
     int samples() const { return int(dist.size()); }
-    /// The factor of one side's border pixel at s pixels beyond it.
+    /// The factor of one side's (left, right, top or bottom) border pixel at s pixels beyond
+    /// it.
     float at(const std::vector<float>& side, int border, int c, float s) const;
 };
 
