@@ -14,7 +14,6 @@ namespace deepsea {
 namespace {
 
 constexpr int kSamples = 12;    ///< distances beyond each edge
-constexpr int kBorderStep = 8;  ///< border pixels between lamp evaluations (linear between)
 constexpr double kReach = 3.5;  ///< farthest distance, in the frame's larger side
 
 }  // namespace
@@ -87,7 +86,7 @@ void edge_falloff(const Camera& cam, const Image& zdepth, const IrradianceSource
     thread_local std::vector<float> px, py, pz, nx, ny, nz, E, T;
     samples.clear();
     for (int s = 0; s < 4; ++s) {
-        for (int i = 0;; i = std::min(i + kBorderStep, count[s] - 1)) {
+        for (int i = 0;; i = std::min(i + edge_falloff_step(count[s]), count[s] - 1)) {
             samples.push_back({s, i});
             if (i == count[s] - 1) break;
         }

@@ -9,6 +9,7 @@
 /// (their block sums give each scale's), as few as 3 in clear water; 1e-3 for weights fitted
 /// to a transport table (optics/forward_transport.h), whose Monte Carlo error is larger.
 
+#include <algorithm>
 #include <map>
 #include <vector>
 
@@ -38,10 +39,16 @@ struct EdgeFalloff {
 /// The falloff beyond the frame of a planar depth image `zdepth` lit by `lamps`: each border
 /// pixel's surface continued outward at its planar depth and normal (the nearest border pixel's
 /// albedo), its irradiance over the border pixel's (unshadowed, every lamp, scattered light
-/// included), times psf's total weight at its distance over the border pixel's. Evaluated
-/// every 8th border pixel, linear between (src/runtime/forward_psf_edges.cpp).
+/// included), times psf's total weight at its distance over the border pixel's. Evaluated at
+/// every edge_falloff_step-th border pixel and the last, linear between
+/// (src/runtime/forward_psf_edges.cpp).
 void edge_falloff(const Camera& cam, const Image& zdepth, const IrradianceSource& lamps,
                   const ForwardPsf& psf, EdgeFalloff& out);
+
+/// Border pixels between two of edge_falloff's samples along a side of n pixels: 8, or an
+/// eighth of the side on larger frames (the lamps' light varies slowly along a border; each
+/// sample costs 13 lamp evaluations, about 1 us each with lamp fields).
+inline int edge_falloff_step(int n) { return std::max(8, (n - 1 + 7) / 8); }
 
 /// Reusable state: buffers are kept between frames. prepare() weighs and blurs one frame,
 /// row() then gives any row of F as an interleaved RGB row (thread-safe).

@@ -128,8 +128,8 @@ TEST(ForwardPsfEdges, AFrameWithItsFalloffSeesWhatAWiderFrameSees) {
 }
 
 TEST(ForwardPsfEdges, TheLampsFalloffIsTheIrradianceOfTheContinuedSurface) {
-    // A plane 2 m away, the fixture's two lamps with their scattered light (lamp fields): every
-    // 8th border pixel's factors are the optics' irradiance at the continued point (unscattered
+    // A plane 2 m away, the fixture's two lamps with their scattered light (lamp fields): the
+    // sampled border pixels' factors are the optics' irradiance at the continued point (unscattered
     // plus each field's, in double) over the border pixel's, times the total weights' ratio;
     // those between are linear between them.
     const Camera cam = testing::small_camera();
@@ -156,7 +156,8 @@ TEST(ForwardPsfEdges, TheLampsFalloffIsTheIrradianceOfTheContinuedSurface) {
     const Vec3 n(0, 0, -1);
     const auto check = [&](const std::vector<float>& side, int count, int ub, int vb, double du,
                            double dv, bool rows) {
-        for (int i = 0; i < count; i += 8) {
+        const int step = edge_falloff_step(count);
+        for (int i = 0; i < count; i += step) {
             const double u = rows ? ub : i, v = rows ? i : vb;
             const Vec3 Pb = cam.ray(u, v) * double(z);
             const auto irradiance = [&](const Vec3& P) {
@@ -184,10 +185,12 @@ TEST(ForwardPsfEdges, TheLampsFalloffIsTheIrradianceOfTheContinuedSurface) {
     const int K = f.samples();
     for (int c = 0; c < 3; ++c) {
         for (int k = 0; k < K; ++k) {
-            const float a = f.left[(std::size_t(c) * cam.height + 8) * K + k];
-            const float b = f.left[(std::size_t(c) * cam.height + 16) * K + k];
-            EXPECT_NEAR(f.left[(std::size_t(c) * cam.height + 12) * K + k], 0.5f * (a + b),
-                        1e-5f * (a + b));
+            const int step = edge_falloff_step(cam.height);  // samples at step and 2 step
+            const float a = f.left[(std::size_t(c) * cam.height + step) * K + k];
+            const float b = f.left[(std::size_t(c) * cam.height + 2 * step) * K + k];
+            const float t = float(step / 2) / float(step);  // the pixel step + step / 2
+            EXPECT_NEAR(f.left[(std::size_t(c) * cam.height + step + step / 2) * K + k],
+                        a + t * (b - a), 1e-5f * (a + b));
         }
     }
 }
