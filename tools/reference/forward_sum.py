@@ -156,8 +156,9 @@ def main():
     lit[H:2 * H, W:2 * W] = inside
     ys, xs = np.arange(a.step // 2, H, a.step), np.arange(a.step // 2, W, a.step)
     o, p = ours[ys][:, xs].sum((0, 1)), pt[ys][:, xs].sum((0, 1))
+    whole_ratio = ours.sum((0, 1)) / pt.sum((0, 1))
     print(f"{a.row}: {len(ys) * len(xs)} pixels; deepsea / path tracer "
-          f"{np.round(o / p, 4)} (the whole image: {np.round(ours.sum((0, 1)) / pt.sum((0, 1)), 4)})")
+          f"{np.round(o / p, 4)} (the whole image: {np.round(whole_ratio, 4)})")
     for name, L, exact in [("pixel angles, borders continued", borders, False),
                            ("pixel angles, lit beyond", lit, False),
                            ("true angles, borders continued", borders, True),
@@ -165,7 +166,7 @@ def main():
         s = sum(gather(table, L, z, fx, cx, cy, x + W, y + H, exact) for y in ys for x in xs)
         # against the path tracer through deepsea's whole image (the sampled pixels' own
         # path-traced sum is noisier)
-        whole = s / o * ours.sum((0, 1)) / pt.sum((0, 1))
+        whole = s / o * whole_ratio
         print(f"  {name}: / deepsea {np.round(s / o, 4)}, / path tracer {np.round(s / p, 4)} "
               f"(through the whole image {np.round(whole, 4)})", flush=True)
 
