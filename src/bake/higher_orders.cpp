@@ -127,8 +127,8 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
                 MonteCarlo mc{s.paths, s.seed, s.wall};
                 if (s.tail_above > 0.0)
                     for (int c = 0; c < 3; ++c)
-                        mc.tail_above[c] = std::max(s.tail_above * single[c],
-                                                    std::numeric_limits<double>::min());
+                        mc.tail_above[c] =
+                            std::max(s.tail_above * single[c], std::numeric_limits<double>::min());
                 const Estimate e = higher_orders_cumulative(transport, ray.origin, ray.dir, t, mc,
                                                             stream, par.stop);
                 std::copy(e.value.begin(), e.value.end(), coarse.begin() + std::ptrdiff_t(n * nk));
