@@ -96,6 +96,9 @@ json settings_json(const BakeInfo& info) {
         s["lamp_samples"] = info.higher_orders.lamp_samples;
         // the wall model: assets baked before it are another request, re-baked by bake-library
         if (info.higher_orders.wall) s["wall"] = "absorbing";
+        // tail pooling: assets baked before it are another request too
+        if (info.higher_orders.tail_above > 0.0)
+            s["tail"] = {info.higher_orders.tail_above, info.higher_orders.tail_radius};
     }
     if (info.z_max_auto) {
         s["z_max"] = "auto";

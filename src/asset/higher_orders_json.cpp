@@ -56,6 +56,7 @@ json higher_orders_json(const HigherOrderSettings& h) {
               {"lamp_rel_std_error", h.lamp_rel_std_error}};
     if (h.spacing_rad > 0.0) m["spacing_rad"] = h.spacing_rad;
     if (h.wall) m["wall"] = "absorbing";
+    if (h.tail_above > 0.0) m["tail"] = {{"above", h.tail_above}, {"radius", h.tail_radius}};
     const HigherOrderCheck& c = h.check;
     if (c.done) {
         m["check"] = {
@@ -88,6 +89,14 @@ HigherOrderSettings parse_higher_orders(const json& m) {
     if (m.contains("spacing_rad")) {
         h.spacing_rad = num(m, "spacing_rad", kWhere);
         if (!(h.spacing_rad > 0.0)) fail(kWhere + ".spacing_rad", "must be > 0");
+    }
+    // Absent before tail pooling: each column its own paths' light.
+    if (m.contains("tail")) {
+        const json& t = m["tail"];
+        h.tail_above = num(t, "above", kWhere + ".tail");
+        h.tail_radius = integer(t, "radius", kWhere + ".tail");
+        if (!(h.tail_above > 0.0) || h.tail_radius < 0)
+            fail(kWhere + ".tail", "above must be > 0 and radius >= 0");
     }
     if (m.contains("check")) h.check = parse_check(m["check"]);
     return h;

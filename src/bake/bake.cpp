@@ -181,6 +181,10 @@ BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const 
         info.higher_orders.stride_auto = s.higher_orders.stride == 0;
         info.higher_orders.stride = mc_stride(cam, rig, water, s, r.step);
         info.higher_orders.wall = true;
+        info.higher_orders.tail_above = kMsTailAbove;
+        info.higher_orders.tail_radius =
+            ms_tail_radius(double(info.higher_orders.stride) * r.step / std::min(cam.fx, cam.fy),
+                           ms_detail(cam, rig, water));
     }
     info.check.done = s.check;  // the request; bake() fills in what it measured
     info.baker_version = kBakerVersion;

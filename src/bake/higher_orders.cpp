@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "deepsea/bake/bake_ray.h"
@@ -11,6 +12,11 @@
 #include "deepsea/optics/multiple_scattering.h"
 
 namespace deepsea {
+
+int ms_tail_radius(double spacing, double detail) {
+    if (!(spacing > 0.0) || !(detail > 0.0)) return 0;
+    return int(std::min(double(kMsTailRadius), std::floor(kMsTailPerDetail * detail / spacing)));
+}
 
 long higher_order_columns(int ni, int nj, int stride) {
     return long(computed_indices(ni, stride).size()) * long(computed_indices(nj, stride).size());
@@ -25,6 +31,37 @@ double reach(const Camera& cam, double z_max, const Light& L) {
         for (double v : {-0.5, cam.height - 0.5})
             r = std::max(r, length(cam.ray(u, v) * z_max - L.position));
     return r;
+}
+
+/// Replaces each computed column's tail (the paths' light above its threshold, part of its
+/// value) with the tent-weighted mean of the tails of the columns within `radius` computed
+/// columns of it: the rare bright paths that any of them could have drawn, shared among them.
+/// The sum over columns of equal weight stays what it was on average; the column's own body
+/// (below the threshold) is kept.
+void pool_tails(MsColumns& ms, const std::vector<Rgb>& tails, int radius) {
+    const long A = long(ms.ci.size()), B = long(ms.cj.size());
+    const std::size_t nk = ms.nk;
+    std::vector<Rgb> pooled(nk);
+    std::vector<Rgb> out = ms.values;
+    for (long a = 0; a < A; ++a) {
+        for (long b = 0; b < B; ++b) {
+            std::fill(pooled.begin(), pooled.end(), Rgb());
+            double weights = 0.0;
+            for (long p = std::max(0L, a - radius); p <= std::min(A - 1, a + radius); ++p) {
+                for (long q = std::max(0L, b - radius); q <= std::min(B - 1, b + radius); ++q) {
+                    const double w = double(radius + 1 - std::labs(p - a)) *
+                                     double(radius + 1 - std::labs(q - b));
+                    const Rgb* t = tails.data() + (p * B + q) * long(nk);
+                    for (std::size_t k = 0; k < nk; ++k) pooled[k] += t[k] * w;
+                    weights += w;
+                }
+            }
+            const std::size_t n = std::size_t(a * B + b) * nk;
+            for (std::size_t k = 0; k < nk; ++k)
+                out[n + k] = ms.values[n + k] - tails[n + k] + pooled[k] * (1.0 / weights);
+        }
+    }
+    ms.values = std::move(out);
 }
 
 bool same_profile(const Rid& a, const Rid& b) {
@@ -74,7 +111,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
     std::vector<Rgb>& coarse = ms.values;
     coarse.resize(ci.size() * cj.size() * nk);
     std::vector<double> rel_error(ci.size() * cj.size()), fraction(ci.size() * cj.size());
-    const MonteCarlo mc{s.paths, s.seed, s.wall};
+    std::vector<Rgb> tails(coarse.size());  // the paths' light above each column's threshold
     parallel_for(
         ci.size() * cj.size(),
         [&](std::size_t begin, std::size_t end) {
@@ -86,10 +123,17 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
                 for (std::size_t k = 0; k < nk; ++k) t[k] = ray.path(l.z[k]);
                 const std::uint64_t stream =
                     std::uint64_t(i) * std::uint64_t(l.nj) + std::uint64_t(j);
+                const Rgb single = asset.at(i, j, int(nk) - 1);
+                MonteCarlo mc{s.paths, s.seed, s.wall};
+                if (s.tail_above > 0.0)
+                    for (int c = 0; c < 3; ++c)
+                        mc.tail_above[c] =
+                            std::max(s.tail_above * single[c], std::numeric_limits<double>::min());
                 const Estimate e = higher_orders_cumulative(transport, ray.origin, ray.dir, t, mc,
                                                             stream, par.stop);
                 std::copy(e.value.begin(), e.value.end(), coarse.begin() + std::ptrdiff_t(n * nk));
-                const Rgb single = asset.at(i, j, int(nk) - 1);
+                if (!e.tail.empty())
+                    std::copy(e.tail.begin(), e.tail.end(), tails.begin() + std::ptrdiff_t(n * nk));
                 double err = 0.0, frac = 0.0;
                 for (int c = 0; c < 3; ++c) {
                     const double total = single[c] + e.value.back()[c];
@@ -103,6 +147,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
             }
         },
         Parallel{par.threads, 1, par.progress}.with_stop(par.stop));
+    if (s.tail_above > 0.0) pool_tails(ms, tails, s.tail_radius);
     // The check needs the single scattering alone, so it runs before the sum.
     s.check = info.check.done
                   ? check_higher_orders(asset, ms, Parallel{par.threads}.with_stop(par.stop))

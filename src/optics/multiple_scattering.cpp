@@ -179,6 +179,8 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
     std::vector<double> Z(nk);
     for (std::size_t k = 0; k < nk; ++k) Z[k] = origin.z + dir.z * t[k];
     std::vector<Rgb> s1(nk), s2(nk), path(nk);
+    const bool tail = mc.tail_above.max() > 0.0;
+    if (tail) out.tail.assign(nk, Rgb());
     thread_local std::vector<std::pair<double, Rgb>> parts;
     for (int i = 0; i < mc.paths; ++i) {
         throw_if_stopped(stop);
@@ -214,8 +216,22 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
             s1[k] += run;
             s2[k] += run * run;
         }
+        if (tail) {
+            // run is the path's total now: its share above the threshold, per channel
+            Rgb share;
+            for (int c = 0; c < 3; ++c)
+                if (run[c] > mc.tail_above[c]) share[c] = 1.0 - mc.tail_above[c] / run[c];
+            if (share.max() > 0.0) {
+                Rgb sum;
+                for (std::size_t k = k0; k < nk; ++k) {
+                    sum += path[k];
+                    out.tail[k] += sum * share;
+                }
+            }
+        }
     }
     const double n = mc.paths;
+    for (Rgb& v : out.tail) v = v / n;
     for (std::size_t k = 0; k < nk; ++k) {
         out.value[k] = s1[k] / n;
         for (int c = 0; c < 3; ++c) {

@@ -95,6 +95,14 @@ void run(const InfoArgs& a) {
                              "depth (open water: without walls)"
                            : "in front of a surface: water without walls (baked before the "
                              "wall model)");
+        if (h.tail_above > 0.0) {
+            std::printf(
+                "           bright paths pooled: light above %g x a column's single scattering "
+                "shared within %d computed columns\n",
+                h.tail_above, h.tail_radius);
+        } else {
+            std::printf("           each column from its own paths (baked before tail pooling)\n");
+        }
         if (h.check.done) {
             std::printf(
                 "           check of orders >= 2: mean %.2f %%, max %.2f %% of the total "

@@ -66,6 +66,11 @@ struct HigherOrderSettings {
     /// true: each depth sample but the last holds the water light in front of an absorbing
     /// wall there (MonteCarlo::wall); false: water without walls (baked before the wall model)
     bool wall = false;
+    /// Tail pooling (docs/ms-columns.md): each path's light above tail_above x the column's
+    /// single scattering (per channel, at z_max) is shared among the computed columns within
+    /// tail_radius of it. 0: not pooled (baked before it, or a fixed model).
+    double tail_above = 0;
+    int tail_radius = 0;
     HigherOrderCheck check;  ///< the bake's check of the interpolation
 };
 

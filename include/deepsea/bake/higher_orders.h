@@ -18,6 +18,20 @@ void add_lamp_fields(Asset& asset, const Parallel& par = {});
 /// (`forward_scatter: on`); otherwise it leaves the asset as it is.
 void add_forward_psf(Asset& asset, const Parallel& par = {});
 
+/// Tail pooling (docs/ms-columns.md): a path's light above this many times its column's single
+/// scattering (per channel, at z_max) is shared among the computed columns within
+/// ms_tail_radius of it (tent weights).
+inline constexpr double kMsTailAbove = 16.0;
+/// At most this many computed columns either side, and within kMsTailPerDetail of the light's
+/// angular detail (lattice_rule.h, ms_detail): pooling wider blurs the beams' edges (measured
+/// on crossing pencil beams, docs/ms-columns.md).
+inline constexpr int kMsTailRadius = 2;
+inline constexpr double kMsTailPerDetail = 0.6;
+
+/// Computed columns within which tails are pooled, for columns `spacing` radians apart and
+/// light of angular detail `detail` radians (0 where the columns are too far apart to pool).
+int ms_tail_radius(double spacing, double detail);
+
 /// Columns the Monte Carlo computes on an ni x nj lattice with this stride.
 long higher_order_columns(int ni, int nj, int stride);
 

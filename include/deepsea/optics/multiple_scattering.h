@@ -30,6 +30,9 @@ struct MonteCarlo {
     /// in front of an absorbing wall there (the plane z = that sample's planar depth), not in
     /// water without walls (docs/model.md, "Water light in front of a surface").
     bool wall = false;
+    /// Per channel, > 0: Estimate::tail gets the part of each path's light above this (the
+    /// path's total to the last sample; each of its samples in the same proportion).
+    Rgb tail_above{};
 };
 
 /// The water and lamps, with what every path needs precomputed.
@@ -89,6 +92,9 @@ private:
 struct Estimate {
     std::vector<Rgb> value;
     std::vector<Rgb> std_error;
+    /// With MonteCarlo::tail_above: the share of `value` from the paths' light above it, per
+    /// sample (empty otherwise). value - tail is what the paths gave below it.
+    std::vector<Rgb> tail;
 };
 
 /// Radiance reaching the viewer at the origin along unit direction dir from light that

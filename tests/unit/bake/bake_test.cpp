@@ -16,6 +16,7 @@
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/bake/accuracy.h"
+#include "deepsea/bake/higher_orders.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/jerlov.h"
 
@@ -336,6 +337,17 @@ TEST_F(BakeFile, MultipleScatteringRoundTripAndDamage) {
         before.higher_orders.wall = false;
         EXPECT_EQ(bake_info_to_json(before).find("\"wall\""), std::string::npos);
         EXPECT_FALSE(bake_info_from_json(bake_info_to_json(before)).higher_orders.wall);
+        EXPECT_NE(input_hash(before), a.info.input_hash);  // bake-library re-bakes it
+    }
+    // Tail pooling is recorded and read back; an asset from before it reads as not pooled.
+    EXPECT_EQ(ha.tail_above, kMsTailAbove);
+    EXPECT_EQ(hb.tail_above, ha.tail_above);
+    EXPECT_EQ(hb.tail_radius, ha.tail_radius);
+    {
+        BakeInfo before = a.info;
+        before.higher_orders.tail_above = 0.0;
+        EXPECT_EQ(bake_info_to_json(before).find("\"tail\""), std::string::npos);
+        EXPECT_EQ(bake_info_from_json(bake_info_to_json(before)).higher_orders.tail_above, 0.0);
         EXPECT_NE(input_hash(before), a.info.input_hash);  // bake-library re-bakes it
     }
     // An asset from before the angular rule and its check (keys absent) still reads: spacing

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "../asset/test_assets.h"
 #include "deepsea/bake/bake.h"
@@ -153,6 +154,63 @@ TEST(MsColumns, CheckPixelsLieBetweenComputedColumns) {
         for (int i : ms.ci) EXPECT_NE(u, double(i * 2));
         for (int j : ms.cj) EXPECT_NE(v, double(j * 2));
     }
+}
+
+/// Orders >= 2 alone at z_max on every lattice column of `single` (exact single scattering),
+/// from add_higher_orders with this seed, every column computed, and tail pooling or not.
+std::vector<double> higher_orders_green(const Asset& single, std::uint64_t seed, bool pooled) {
+    Asset a = single;
+    a.info.check.done = false;  // the check is not under test here
+    HigherOrderSettings& h = a.info.higher_orders;
+    h.paths = 512;
+    h.stride = 1;
+    h.seed = seed;
+    h.wall = true;
+    h.tail_above = pooled ? kMsTailAbove : 0.0;
+    h.tail_radius = kMsTailRadius;
+    add_higher_orders(a);
+    std::vector<double> out;
+    const int k = a.info.lattice.nk() - 1;
+    for (int i = 0; i < a.info.lattice.ni; ++i)
+        for (int j = 0; j < a.info.lattice.nj; ++j)
+            out.push_back(a.at(i, j, k).g - single.at(i, j, k).g);
+    return out;
+}
+
+TEST(MsColumns, PoolingBrightPathsCutsTheSpreadBetweenSeedsNotTheMean) {
+    const Camera cam = wide(12, 9);
+    const Asset single =
+        bake(cam, pencils(8.0), test::test_water(), pencil_settings(Scattering::Single, 0));
+    double spread_own = 0.0, spread_pooled = 0.0, sum_own = 0.0, sum_pooled = 0.0;
+    const std::vector<double> a = higher_orders_green(single, 1, false);
+    const std::vector<double> b = higher_orders_green(single, 2, false);
+    const std::vector<double> pa = higher_orders_green(single, 1, true);
+    const std::vector<double> pb = higher_orders_green(single, 2, true);
+    for (std::size_t n = 0; n < a.size(); ++n) {
+        spread_own += (a[n] - b[n]) * (a[n] - b[n]);
+        spread_pooled += (pa[n] - pb[n]) * (pa[n] - pb[n]);
+        sum_own += a[n] + b[n];
+        sum_pooled += pa[n] + pb[n];
+    }
+    // Two seeds' columns differ by their noise: pooling the bright paths halves that at least.
+    EXPECT_LT(spread_pooled, 0.25 * spread_own);
+    // It moves light between neighbouring columns, not in or out: the image's sum stays within
+    // the noise of the columns' own (sqrt(spread / 2) per column, over sqrt(columns) of them).
+    const double se_sum = std::sqrt(spread_own / 2.0 * double(a.size()));
+    EXPECT_LT(std::abs(sum_pooled - sum_own), 3.0 * se_sum);
+}
+
+TEST(MsColumns, TailsArePooledWithinTheLightsDetail) {
+    // Columns a tenth of the detail apart: the widest pooling; as far apart as the detail: none.
+    EXPECT_EQ(ms_tail_radius(0.01, 0.1), kMsTailRadius);
+    EXPECT_EQ(ms_tail_radius(0.1, 0.1), 0);
+    EXPECT_EQ(ms_tail_radius(0.1 / 1.5, 0.1), 0);
+    EXPECT_EQ(ms_tail_radius(0.1 / 2.0, 0.1), 1);
+    // The pencil rig on the 12x9 camera: pixels about as wide as the detail, so none (pooling
+    // there lifted a pixel beside a beam by 3.6 standard errors in
+    // PencilBeamsAreResolvedBetweenColumns).
+    const Camera cam = wide(12, 9);
+    EXPECT_EQ(ms_tail_radius(1.0 / cam.fx, ms_detail(cam, pencils(8.0), test::test_water())), 0);
 }
 
 }  // namespace

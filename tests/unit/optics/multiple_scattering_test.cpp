@@ -102,4 +102,34 @@ TEST(MultipleScattering, CumulativeIsMonotoneWithHonestErrors) {
     EXPECT_LT(se / a.value.back().r, 0.1);
 }
 
+TEST(MultipleScattering, TailIsThePathsLightAboveTheThreshold) {
+    const Rig rig = isotropic_lamp({0.5, 0, 0});
+    const Water w = water(0.3, 0.2, Phase{PhaseKind::HenyeyGreenstein, 0.9});
+    const Transport tr(rig, w);
+    const std::vector<double> t{0.5, 1.0, 2.0, 4.0, 8.0};
+    const Vec3 dir(0, 0, 1);
+    const auto run = [&](double above) {
+        MonteCarlo mc{4000, 3};
+        mc.tail_above = Rgb(above);
+        return higher_orders_cumulative(tr, dir, t, mc, 0);
+    };
+    const Estimate plain = run(0.0);
+    EXPECT_TRUE(plain.tail.empty());
+    const double mean = plain.value.back().r;
+    const Estimate all = run(1e-300), none = run(1e300);
+    const Estimate low = run(4.0 * mean), high = run(64.0 * mean);
+    for (std::size_t k = 0; k < t.size(); ++k) {
+        // The split leaves the estimate as it was (the same paths).
+        EXPECT_EQ(low.value[k].r, plain.value[k].r);
+        EXPECT_NEAR(all.tail[k].r, plain.value[k].r, 1e-9 * mean);
+        EXPECT_EQ(none.tail[k].r, 0.0);
+        EXPECT_GE(low.tail[k].r, high.tail[k].r);
+        EXPECT_LE(low.tail[k].r, low.value[k].r);
+    }
+    // Paths' totals spread far above their mean: some light lies above 4x it, less above 64x.
+    EXPECT_GT(low.tail.back().r, 0.0);
+    EXPECT_LT(low.tail.back().r, low.value.back().r);
+    EXPECT_GT(low.tail.back().r, high.tail.back().r);
+}
+
 }  // namespace deepsea
