@@ -38,14 +38,14 @@ void direct_row(int n, const float* __restrict d2, const float* __restrict c3,
 #pragma omp simd
         for (int i = 0; i < 3 * n; ++i) {
             const float surf = dx[i] > 0.0f ? 1.0f : 0.0f;
-            final[i] += direct_signal(L[i], surf * transmission(c3[i], dx[i]));
+            final[i] += direct_signal(L[i], surf * transmission<FastMath>(c3[i], dx[i]));
         }
         return;
     }
 #pragma omp simd
     for (int i = 0; i < 3 * n; ++i) {
         const float surf = dx[i] > 0.0f ? 1.0f : 0.0f;
-        T[i] = surf * transmission(c3[i], dx[i]);
+        T[i] = surf * transmission<FastMath>(c3[i], dx[i]);
         D[i] = direct_signal(L[i], T[i]);  // L is lambertian_radiance
         final[i] += D[i];
     }

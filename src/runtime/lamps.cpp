@@ -37,7 +37,10 @@ constexpr double kDegToRad = M_PI / 180.0;
 /// Adds one lamp's irradiance to the planar RGB row: with its Gaussian RID (one exponential a
 /// channel, lamp.h's gaussian_lamp_term), or with RID 1 (tabulated RIDs: the caller scales by
 /// the RID at scratch_theta). Shadowed: times the lamp's visibility per pixel (vis). Inlined
-/// into each clone below.
+/// into each clone below. The exponentials and arc cosines are core/fast_math.h's, inline
+/// (libmvec's, called per 8 values, were 8.5 % of a JPEG sequence's CPU time): within a few
+/// float roundings of the exact (tests/unit/core/fast_math_test.cpp; the rows against optics in
+/// double to 1e-5: AnalyticLamps.GaussianLampsMatchOptics).
 template <bool Gaussian, bool Shadowed>
 [[gnu::always_inline]] inline void lamp_rows(const Light& L, const Rgb& c, const RowGeometry& g,
                                              const float* __restrict vis, float* __restrict e,
@@ -63,19 +66,19 @@ template <bool Gaussian, bool Shadowed>
         // the equations are optics' (lamp.h); here only the row layout and the open-water mask
         const LampGeometry<float> lg =
             lamp_geometry({lx - px[u], ly - py[u], lz - pz[u]}, {nx[u], ny[u], nz[u]}, axis);
-        const float theta = lamp_angle(lg.cos_theta);
+        const float theta = lamp_angle<FastMath>(lg.cos_theta);
         float spread = pz[u] > 0.0f ? lamp_spread(lg.d1, lg.cos_n) : 0.0f;
         spread = theta > cutoff ? 0.0f : spread;
         if constexpr (Shadowed) spread *= vis[u];
         if constexpr (Gaussian) {
-            er[u] += gaussian_lamp_term(ir, theta, sig, spread, cr, lg.d1);
-            eg[u] += gaussian_lamp_term(ig, theta, sig, spread, cg, lg.d1);
-            eb[u] += gaussian_lamp_term(ib, theta, sig, spread, cb, lg.d1);
+            er[u] += gaussian_lamp_term<FastMath>(ir, theta, sig, spread, cr, lg.d1);
+            eg[u] += gaussian_lamp_term<FastMath>(ig, theta, sig, spread, cg, lg.d1);
+            eb[u] += gaussian_lamp_term<FastMath>(ib, theta, sig, spread, cb, lg.d1);
         } else {
             scratch_theta[u] = theta;
-            er[u] += lamp_term(ir, 1.0f, spread, cr, lg.d1);
-            eg[u] += lamp_term(ig, 1.0f, spread, cg, lg.d1);
-            eb[u] += lamp_term(ib, 1.0f, spread, cb, lg.d1);
+            er[u] += lamp_term<FastMath>(ir, 1.0f, spread, cr, lg.d1);
+            eg[u] += lamp_term<FastMath>(ig, 1.0f, spread, cg, lg.d1);
+            eb[u] += lamp_term<FastMath>(ib, 1.0f, spread, cb, lg.d1);
         }
     }
 }

@@ -10,7 +10,7 @@ fail=0
 calls() {  # calls FUNCTION FILE...: each file calls FUNCTION(
   local fn=$1; shift
   for f in "$@"; do
-    grep -Eq "\\b$fn(<[a-z]+>)?\\(" "$f" || { echo "FAIL: $f does not call $fn (optics' equation)"; fail=1; }
+    grep -Eq "\\b$fn(<[A-Za-z]+>)?\\(" "$f" || { echo "FAIL: $f does not call $fn (optics' equation)"; fail=1; }
   done
 }
 calls direct_signal src/runtime/kernels.cpp src/reference/reference.cpp src/optics/direct.cpp \

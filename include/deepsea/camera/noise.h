@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <cstring>
 
-#include "deepsea/camera/fast_math.h"
+#include "deepsea/core/fast_math.h"
 #include "deepsea/core/random.h"
 
 namespace deepsea {

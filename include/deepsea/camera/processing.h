@@ -1,7 +1,7 @@
 #pragma once
 /// \file Colour processing (docs/camera.md, "Processing"): from linear DN to display values.
 
-#include "deepsea/camera/fast_math.h"
+#include "deepsea/core/fast_math.h"
 #include "deepsea/camera/model.h"
 
 namespace deepsea {

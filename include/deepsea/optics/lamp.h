@@ -21,12 +21,12 @@ inline T gaussian_rid(T theta, T sigma) {
 }
 
 /// The angle theta (radians, [0, pi]) whose cosine is cos_theta, clamped to [-1, 1] first:
-/// the dot product of two unit vectors can round to just beyond 1.
-template <class T>
+/// the dot product of two unit vectors can round to just beyond 1. Math: whose acos
+/// (core/fast_math.h; the runtime's rows take FastMath's).
+template <class Math = ExactMath, class T>
 inline T lamp_angle(T cos_theta) {
-    using std::acos;
     const T ct = cos_theta > T(1) ? T(1) : (cos_theta < T(-1) ? T(-1) : cos_theta);
-    return acos(ct);
+    return Math::acos(ct);
 }
 
 /// How a lamp sees a surface point P (lamp.h's inputs, see lamp_geometry).
@@ -59,18 +59,17 @@ inline T lamp_spread(T d1, T cos_n) {
 /// max(0, n . w) (W/m^2 for I0 in W/sr, c in 1/m, d1 in metres), from rid = RID(theta) and
 /// spread = lamp_spread(d1, cos_n). rid * spread comes first so that the three channels'
 /// calls share it.
-template <class T>
+template <class Math = ExactMath, class T>
 inline T lamp_term(T I0, T rid, T spread, T c, T d1) {
-    return (rid * spread) * I0 * transmission(c, d1);
+    return (rid * spread) * I0 * transmission<Math>(c, d1);
 }
 
 /// lamp_term for a Gaussian RID, the RID's exponential and the transmission's taken as one:
 /// I0 spread exp(-theta^2 / (2 sigma^2) - c d1) = lamp_term(I0, gaussian_rid(theta, sigma),
 /// spread, c, d1). The runtime's rows evaluate this form: one exponential a channel, not two.
-template <class T>
+template <class Math = ExactMath, class T>
 inline T gaussian_lamp_term(T I0, T theta, T sigma, T spread, T c, T d1) {
-    using std::exp;
-    return spread * I0 * exp(-theta * theta / (T(2) * sigma * sigma) - c * d1);
+    return spread * I0 * Math::exp(-theta * theta / (T(2) * sigma * sigma) - c * d1);
 }
 
 /// One channel of the radiance J E / pi (W/(m^2 sr)) leaving a Lambertian surface of linear

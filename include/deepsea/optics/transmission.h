@@ -6,16 +6,17 @@
 
 #include <cmath>
 
+#include "deepsea/core/fast_math.h"
 #include "deepsea/core/vec.h"
 
 namespace deepsea {
 
 /// Fraction exp(-c d) of the light that crosses d metres of water of beam attenuation c (1/m)
-/// without being absorbed or scattered.
-template <class T>
+/// without being absorbed or scattered. Math: whose exp (core/fast_math.h; the runtime's rows
+/// take FastMath's).
+template <class Math = ExactMath, class T>
 inline T transmission(T c, T d) {
-    using std::exp;
-    return exp(-c * d);
+    return Math::exp(-c * d);
 }
 
 /// transmission per channel (R, G, B) over d metres.
