@@ -1,8 +1,8 @@
 #pragma once
 /// \file Colour processing (docs/camera.md, "Processing"): from linear DN to display values.
 
-#include "deepsea/core/fast_math.h"
 #include "deepsea/camera/model.h"
+#include "deepsea/core/fast_math.h"
 
 namespace deepsea {
 
