@@ -102,7 +102,8 @@ template <class F>
                                          r * (1.0f / 24.0f +
                                               r * (1.0f / 120.0f +
                                                    r * (1.0f / 720.0f + r * (1.0f / 5040.0f)))))));
-        return float_of(bits_of(p) + (std::int32_t(n) << 23));
+        // n * 2^23, not n << 23: a left shift of a negative n is undefined (UBSan); the same code.
+        return float_of(bits_of(p) + std::int32_t(n) * (std::int32_t(1) << 23));
     } else {
         return std::exp(x);
     }
