@@ -24,6 +24,15 @@ namespace fast_math_detail {
     std::memcpy(&x, &i, sizeof x);
     return x;
 }
+/// e^y for |y| <= ln 2 / 2 by its Taylor series to degree 7 (truncation below 5e-9): the part
+/// of fast_exp2 and fast_exp between their powers of two.
+[[gnu::always_inline]] inline float exp_taylor7(float y) {
+    return 1.0f +
+           y * (1.0f + y * (0.5f + y * (1.0f / 6.0f +
+                                        y * (1.0f / 24.0f +
+                                             y * (1.0f / 120.0f +
+                                                  y * (1.0f / 720.0f + y * (1.0f / 5040.0f)))))));
+}
 }  // namespace fast_math_detail
 
 /// log2(x) for a normal float x > 0: x = m 2^e with m in [sqrt(1/2), sqrt(2)), and
@@ -55,12 +64,7 @@ template <class F>
     if constexpr (std::is_same_v<F, float>) {
         using namespace fast_math_detail;
         const float n = std::floor(t + 0.5f), y = (t - n) * 0.6931471805599453f;
-        const float p =
-            1.0f +
-            y * (1.0f + y * (0.5f + y * (1.0f / 6.0f +
-                                         y * (1.0f / 24.0f +
-                                              y * (1.0f / 120.0f +
-                                                   y * (1.0f / 720.0f + y * (1.0f / 5040.0f)))))));
+        const float p = exp_taylor7(y);
         return p * float_of((std::int32_t(n) + 127) << 23);
     } else {
         return std::exp2(t);
@@ -96,12 +100,7 @@ template <class F>
         x = x > -86.64339f ? x : -86.64339f;  // -125 ln 2: n >= -125
         const float n = std::floor(x * 1.4426950408889634f + 0.5f);
         const float r = (x - n * 0.693145751953125f) - n * 1.428606765330187e-06f;
-        const float p =
-            1.0f +
-            r * (1.0f + r * (0.5f + r * (1.0f / 6.0f +
-                                         r * (1.0f / 24.0f +
-                                              r * (1.0f / 120.0f +
-                                                   r * (1.0f / 720.0f + r * (1.0f / 5040.0f)))))));
+        const float p = exp_taylor7(r);
         // n * 2^23, not n << 23: a left shift of a negative n is undefined (UBSan); the same code.
         return float_of(bits_of(p) + std::int32_t(n) * (std::int32_t(1) << 23));
     } else {
