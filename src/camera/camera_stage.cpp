@@ -346,12 +346,16 @@ struct CameraStage::Recording {
         const float y2 = float(st.m_camera.ray_y(v) * st.m_camera.ray_y(v));
         const Vignetting& vig = st.m_model.lens.vignetting;
         const std::int32_t last = std::int32_t(sp.max_dn);
+        const bool direct = camera_rows::reads_unaligned(sp, mosaic);
         double sum[3] = {0.0, 0.0, 0.0};
         for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
             const int len = std::min(camera_rows::kChunk, n - c0);
             const std::size_t at = stride * v + c0;
-            const float* rad = aligned ? rad_row + c0 : t.radiance;
-            if (!aligned) copy(rad_row + c0, t.radiance, len);
+            // The radiance read in place where sensor_row can, else copied to aligned scratch
+            // (so is the noise-free DN's).
+            const bool in_place = aligned || (direct && !layers.noise_free);
+            const float* rad = in_place ? rad_row + c0 : t.radiance;
+            if (!in_place) copy(rad_row + c0, t.radiance, len);
             camera_rows::sensor_row(
                 sp, base + std::uint32_t(c0), len,
                 t.rows(rad, st.m_response.get() + at, st.m_dsnu ? st.m_dsnu.get() + at : t.zeros,

@@ -86,7 +86,22 @@ struct RowBuffers {
 void normal_row(NoiseKey key, std::uint32_t base, int n, float* z, std::int32_t* index);
 
 /// n values from noise counter `base` on (a chunk of a row): radiance to DN (docs/noise.md).
+/// b.radiance must be 64-byte aligned unless reads_unaligned(p, b) (then it may lie anywhere).
 void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b);
+
+/// Whether the processor has AVX2 and FMA (sensor_avx2.cpp).
+extern const bool kSensorAvx2;
+
+/// The Gaussian path of sensor_row for the n values of a chunk with noise and no mosaic, with
+/// AVX2 and FMA (only where kSensorAvx2): the bits of rows.cpp's x86-64-v3 clone; the radiance
+/// read where it lies. Lists the values for the exact path in b.index (b.flag is not written)
+/// and returns their number.
+int gaussian_values_avx2(const SensorParams& p, int n, const RowBuffers& b);
+
+/// Whether sensor_row reads b.radiance at any alignment for these parameters (no copy needed).
+inline bool reads_unaligned(const SensorParams& p, bool mosaic) {
+    return kSensorAvx2 && p.noise && !mosaic;
+}
 
 /// n values without noise, for the noise-free image: K min(mean, full well) + black, clipped to
 /// the DN range, from the noise-free response (falloff x channel response, per millisecond).
