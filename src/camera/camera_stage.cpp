@@ -347,6 +347,7 @@ struct CameraStage::Recording {
         const Vignetting& vig = st.m_model.lens.vignetting;
         const std::int32_t last = std::int32_t(sp.max_dn);
         const bool direct = camera_rows::reads_unaligned(sp, mosaic);
+        const bool shown_in_sensor = direct && table && !two_pass;
         double sum[3] = {0.0, 0.0, 0.0};
         for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
             const int len = std::min(camera_rows::kChunk, n - c0);
@@ -356,10 +357,19 @@ struct CameraStage::Recording {
             const bool in_place = aligned || (direct && !layers.noise_free);
             const float* rad = in_place ? rad_row + c0 : t.radiance;
             if (!in_place) copy(rad_row + c0, t.radiance, len);
-            camera_rows::sensor_row(
-                sp, base + std::uint32_t(c0), len,
+            camera_rows::RowBuffers rb =
                 t.rows(rad, st.m_response.get() + at, st.m_dsnu ? st.m_dsnu.get() + at : t.zeros,
-                       mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr));
+                       mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr);
+            if (shown_in_sensor) {  // the image made in the sensor's loop, through the table
+                if (layers.codes8) {
+                    rb.code_lut = code_lut.data();
+                    rb.codes = out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0;
+                } else {
+                    rb.lut = lut.data();
+                    rb.shown = out.image.row(v) + c0;
+                }
+            }
+            camera_rows::sensor_row(sp, base + std::uint32_t(c0), len, rb);
             if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v) + c0, len);
             if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
             if (hist) count_brightest(t, len, last, hist);
@@ -379,7 +389,7 @@ struct CameraStage::Recording {
                 if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
                 continue;
             }
-            show(t, v, c0, len, t.raw);
+            if (!shown_in_sensor) show(t, v, c0, len, t.raw);
             if (layers.noise_free) display(t, len, t.gain, out.noise_free.row(v) + c0, false);
         }
         if (grey)

@@ -23,6 +23,21 @@ namespace deepsea::camera_rows {
 
 namespace {
 
+/// i % 3 for the values of a chunk (chunks start at whole pixels).
+struct Channels {
+    alignas(64) std::int32_t c[kChunk];
+    Channels() {
+        for (int i = 0; i < kChunk; ++i) c[i] = i % 3;
+    }
+};
+const Channels kChannels;
+
+}  // namespace
+
+const std::int32_t* chunk_channels() { return kChannels.c; }
+
+namespace {
+
 // Values, not std::max/min's references: a reference to a temporary inside an `omp simd` loop
 // becomes a per-lane array that stops GCC from vectorising the loop.
 inline float max_of(float a, float b) { return a > b ? a : b; }
@@ -232,7 +247,14 @@ void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
         const bool lin = p.keep_linear, mos = b.record != nullptr;
         if (reads_unaligned(p, mos)) {  // lists the exact path's values itself
             const int m = gaussian_values_avx2(p, n, b);
-            if (m) exact_values(p, base, m, b);
+            if (!m) return;
+            exact_values(p, base, m, b);
+            const std::int32_t* chan = chunk_channels();
+            for (int j = 0; j < m; ++j) {  // the image of the values the exact path changed
+                const int i = b.index[j], at = 3 * std::int32_t(b.raw[i]) + chan[i];
+                if (b.shown) b.shown[i] = b.lut[at];
+                if (b.codes) b.codes[i] = std::uint8_t(b.code_lut[at]);
+            }
             return;
         }
         const int exact =
@@ -341,19 +363,6 @@ void process_row(const ProcessParams& p, int n, const float* scale, const float*
     else
         process_curve<false>(p, n, scale, dn, tmp, out);
 }
-
-namespace {
-
-/// i % 3 for the values of a chunk (chunks start at whole pixels).
-struct Channels {
-    alignas(64) std::int32_t c[kChunk];
-    Channels() {
-        for (int i = 0; i < kChunk; ++i) c[i] = i % 3;
-    }
-};
-const Channels kChannels;
-
-}  // namespace
 
 #if defined(__x86_64__) && defined(__GNUC__)
 /// The table read with AVX2's vgatherdps, 8 values at a time (written by hand: GCC's

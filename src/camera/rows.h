@@ -77,6 +77,13 @@ struct RowBuffers {
     // The exact path's values, gathered: index, mean, uniform, electrons, DSNU + read noise.
     std::int32_t* index;
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
+    /// Optional, only where reads_unaligned: the image made in the sensor's loop through the
+    /// frame's table of display values (`lut` into `shown`) or of 8-bit codes (`code_lut` into
+    /// `codes`), entry 3 dn + c as lookup_row's (null: not made here).
+    const float* lut = nullptr;
+    float* shown = nullptr;
+    const std::int32_t* code_lut = nullptr;
+    std::uint8_t* codes = nullptr;
 };
 
 /// n standard normal deviates of a stream from noise counter `base` on:
@@ -94,9 +101,12 @@ extern const bool kSensorAvx2;
 
 /// The Gaussian path of sensor_row for the n values of a chunk with noise and no mosaic, with
 /// AVX2 and FMA (only where kSensorAvx2): the bits of rows.cpp's x86-64-v3 clone; the radiance
-/// read where it lies. Lists the values for the exact path in b.index (b.flag is not written)
-/// and returns their number.
+/// read where it lies. Lists the values for the exact path in b.index and returns their number
+/// (b.mean is written where a group of 8 has one of them, b.flag not at all).
 int gaussian_values_avx2(const SensorParams& p, int n, const RowBuffers& b);
+
+/// i % 3 for the values of a chunk (chunks start at whole pixels), kChunk of them, aligned.
+const std::int32_t* chunk_channels();
 
 /// Whether sensor_row reads b.radiance at any alignment for these parameters (no copy needed).
 inline bool reads_unaligned(const SensorParams& p, bool mosaic) {

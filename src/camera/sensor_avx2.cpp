@@ -30,7 +30,15 @@ struct Arrays {
     float* __restrict mean;
     float* __restrict raw;
     float* __restrict linear;
+    const std::int32_t* __restrict chan;  // chunk_channels()
+    const float* __restrict lut;
+    float* __restrict shown;
+    const std::int32_t* __restrict code_lut;
+    std::uint8_t* __restrict codes;
 };
+
+/// What the loop makes of the DN besides: nothing, display values or 8-bit codes.
+enum class Show { None, Display, Codes };
 
 /// The frame's parameters, broadcast once per chunk (locals: the loop's stores cannot change
 /// them, so they stay in registers).
@@ -71,10 +79,10 @@ __attribute__((target("avx2,fma"), always_inline)) inline void store(float* q, _
 /// exact path's flags as the low 8 bits. kLinear: also store the linear DN (the clone of
 /// noisy_values<true, false>, whose skewness term GCC associates differently from
 /// noisy_values<false, false>'s).
-template <bool kLinear, bool kMasked>
+template <bool kLinear, Show kShow, bool kMasked>
 __attribute__((target("avx2,fma"), always_inline)) inline int eight(const Params& p,
                                                                     const Arrays& a, int i,
-                                                                    __m256i mask) {
+                                                                    __m256i mask, int left) {
     const __m256 zero = _mm256_setzero_ps();
     const __m256 rt = _mm256_mul_ps(load<kMasked>(a.response + i, mask), p.t);
     const __m256 mean =
@@ -110,9 +118,38 @@ __attribute__((target("avx2,fma"), always_inline)) inline int eight(const Params
     }
     dn = _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(dn), zero), p.max_dn);
     store<kMasked>(a.raw + i, mask, dn);
-    store<kMasked>(a.mean + i, mask, mean);
+    if constexpr (kShow != Show::None) {  // the table's entry 3 dn + c (lookup_row)
+        const __m256i d = _mm256_cvttps_epi32(dn);
+        const __m256i at =
+            _mm256_add_epi32(_mm256_add_epi32(d, _mm256_slli_epi32(d, 1)),
+                             _mm256_load_si256(reinterpret_cast<const __m256i*>(a.chan + i)));
+        if constexpr (kShow == Show::Display) {
+            if constexpr (kMasked)
+                store<true>(
+                    a.shown + i, mask,
+                    _mm256_mask_i32gather_ps(zero, a.lut, at, _mm256_castsi256_ps(mask), 4));
+            else
+                _mm256_storeu_ps(a.shown + i, _mm256_i32gather_ps(a.lut, at, 4));
+        } else {
+            const __m256i code = kMasked ? _mm256_mask_i32gather_epi32(_mm256_setzero_si256(),
+                                                                       a.code_lut, at, mask, 4)
+                                         : _mm256_i32gather_epi32(a.code_lut, at, 4);
+            const __m128i words =
+                _mm_packus_epi32(_mm256_castsi256_si128(code), _mm256_extracti128_si256(code, 1));
+            const __m128i bytes = _mm_packus_epi16(words, words);
+            if constexpr (kMasked) {
+                alignas(16) std::uint8_t eight[16];
+                _mm_store_si128(reinterpret_cast<__m128i*>(eight), bytes);
+                for (int k = 0; k < left; ++k) a.codes[i + k] = eight[k];
+            } else {
+                _mm_storel_epi64(reinterpret_cast<__m128i*>(a.codes + i), bytes);
+            }
+        }
+    }
     const __m256 poisson = _mm256_cmp_ps(mean, p.poisson_below, _CMP_LT_OS);
-    return _mm256_movemask_ps(_mm256_or_ps(poisson, clip));
+    const int flags = _mm256_movemask_ps(_mm256_or_ps(poisson, clip));
+    if (flags) store<kMasked>(a.mean + i, mask, mean);  // the exact path reads these only
+    return flags;
 }
 
 /// Appends the values i + k of the set bits k to the exact path's index list.
@@ -123,21 +160,30 @@ inline void append(int bits, int i, std::int32_t* index, int& m) {
     }
 }
 
-template <bool kLinear>
+template <bool kLinear, Show kShow>
 __attribute__((target("avx2,fma"))) int gaussian_values(const SensorParams& p, int n,
                                                         const RowBuffers& b) {
     const Params q = broadcast(p);
-    const Arrays a{b.radiance, b.response, b.dsnu, b.normal, b.mean, b.raw, b.linear};
+    const Arrays a{b.radiance, b.response,       b.dsnu, b.normal, b.mean,     b.raw,
+                   b.linear,   chunk_channels(), b.lut,  b.shown,  b.code_lut, b.codes};
     std::int32_t* index = b.index;
     int m = 0, i = 0;
     for (; i + 8 <= n; i += 8)
-        if (const int bits = eight<kLinear, false>(q, a, i, __m256i())) append(bits, i, index, m);
+        if (const int bits = eight<kLinear, kShow, false>(q, a, i, __m256i(), 8))
+            append(bits, i, index, m);
     if (i < n) {
         const __m256i mask =
             _mm256_cmpgt_epi32(_mm256_set1_epi32(n - i), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-        append(eight<kLinear, true>(q, a, i, mask) & ((1 << (n - i)) - 1), i, index, m);
+        append(eight<kLinear, kShow, true>(q, a, i, mask, n - i) & ((1 << (n - i)) - 1), i, index,
+               m);
     }
     return m;
+}
+
+template <Show kShow>
+int gaussian_values_show(const SensorParams& p, int n, const RowBuffers& b) {
+    return p.keep_linear ? gaussian_values<true, kShow>(p, n, b)
+                         : gaussian_values<false, kShow>(p, n, b);
 }
 
 }  // namespace
@@ -145,7 +191,9 @@ __attribute__((target("avx2,fma"))) int gaussian_values(const SensorParams& p, i
 const bool kSensorAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 
 int gaussian_values_avx2(const SensorParams& p, int n, const RowBuffers& b) {
-    return p.keep_linear ? gaussian_values<true>(p, n, b) : gaussian_values<false>(p, n, b);
+    if (b.shown) return gaussian_values_show<Show::Display>(p, n, b);
+    if (b.codes) return gaussian_values_show<Show::Codes>(p, n, b);
+    return gaussian_values_show<Show::None>(p, n, b);
 }
 
 #else
