@@ -7,6 +7,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <initializer_list>
 #include <memory>
 #include <new>
 
@@ -84,6 +86,48 @@ struct RowBuffers {
     float* shown = nullptr;
     const std::int32_t* code_lut = nullptr;
     std::uint8_t* codes = nullptr;
+};
+
+/// One task's chunk buffers (kChunk values each) for the camera stage (camera_stage.cpp),
+/// carved from one aligned allocation.
+struct Scratch {
+    AlignedBytes all;
+    float *row, *radiance, *zeros, *gain, *normal, *mean, *raw, *linear, *image, *tmp, *scale,
+        *shown, *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
+    std::int32_t *index, *flag;
+
+    /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
+    Scratch(int width, bool whole_row) {
+        constexpr std::size_t n = kChunk;
+        const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
+                          r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
+        all = AlignedBytes(r + 15 * f + 2 * i);
+        std::size_t at = 0;
+        const auto take = [&](std::size_t bytes) {
+            const std::size_t here = at;
+            at += bytes;
+            return here;
+        };
+        row = all.at<float>(take(r));
+        for (float** p :
+             {&radiance, &zeros, &gain, &normal, &mean, &raw, &linear, &image, &tmp, &scale, &shown,
+              &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
+            *p = all.at<float>(take(f));
+        index = all.at<std::int32_t>(take(i));
+        flag = all.at<std::int32_t>(take(i));
+        std::memset(zeros, 0, f);
+    }
+    /// The per-channel scales of a frame, as a chunk.
+    void scales(const float s[3]) {
+        for (int u = 0; u < kChunk / 3; ++u)
+            for (int c = 0; c < 3; ++c) scale[3 * u + c] = s[c];
+    }
+    RowBuffers rows(const float* rad, const float* response, const float* dsnu,
+                    const std::int32_t* record) const {
+        return {
+            rad,    response, dsnu,       record,        normal,          mean,        flag, raw,
+            linear, index,    exact_mean, exact_uniform, exact_electrons, exact_offset};
+    }
 };
 
 /// n standard normal deviates of a stream from noise counter `base` on:
