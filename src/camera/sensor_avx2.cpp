@@ -3,9 +3,10 @@
 // operations in the same order as the x86-64-v3 clone GCC makes of noisy_values under
 // -ffast-math (a reciprocal square root with one Newton step, the skewness term associated as
 // there), so that the bits are those of that clone; written by hand so that it reads the
-// radiance where it lies (unaligned: no copy into the scratch) and flags the exact path's
-// values with a mask (docs/camera-speed.md). A chunk's last values (fewer than 8) are computed
-// as a masked vector of 8, so that every value of a row takes the same arithmetic.
+// radiance where it lies (unaligned: no copy into the scratch), lists the exact path's values
+// from a mask and, where asked, makes the image through the frame's table in the same loop
+// (docs/camera-speed.md). A chunk's last values (fewer than 8) are computed as a masked vector
+// of 8, so that every value of a row takes the same arithmetic.
 
 #include <cstdint>
 
