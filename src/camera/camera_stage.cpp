@@ -20,6 +20,7 @@ namespace deepsea {
 
 using camera_rows::AlignedBytes;
 using camera_rows::line_bytes;
+using camera_rows::Scratch;
 
 namespace {
 
@@ -35,48 +36,6 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
     const std::shared_ptr<unsigned char> owner(bytes.data.release(), AlignedBytes::Free());
     return std::shared_ptr<float>(owner, reinterpret_cast<float*>(owner.get()));
 }
-
-/// One task's chunk buffers (camera_rows::kChunk values each), carved from one aligned
-/// allocation.
-struct Scratch {
-    AlignedBytes all;
-    float *row, *radiance, *zeros, *gain, *normal, *mean, *raw, *linear, *image, *tmp, *scale,
-        *shown, *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
-    std::int32_t *index, *flag;
-
-    /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
-    Scratch(int width, bool whole_row) {
-        constexpr std::size_t n = camera_rows::kChunk;
-        const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
-                          r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
-        all = AlignedBytes(r + 15 * f + 2 * i);
-        std::size_t at = 0;
-        const auto take = [&](std::size_t bytes) {
-            const std::size_t here = at;
-            at += bytes;
-            return here;
-        };
-        row = all.at<float>(take(r));
-        for (float** p :
-             {&radiance, &zeros, &gain, &normal, &mean, &raw, &linear, &image, &tmp, &scale, &shown,
-              &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
-            *p = all.at<float>(take(f));
-        index = all.at<std::int32_t>(take(i));
-        flag = all.at<std::int32_t>(take(i));
-        std::memset(zeros, 0, f);
-    }
-    /// The per-channel scales of a frame, as a chunk.
-    void scales(const float s[3]) {
-        for (int u = 0; u < camera_rows::kChunk / 3; ++u)
-            for (int c = 0; c < 3; ++c) scale[3 * u + c] = s[c];
-    }
-    camera_rows::RowBuffers rows(const float* rad, const float* response, const float* dsnu,
-                                 const std::int32_t* record) const {
-        return {
-            rad,    response, dsnu,       record,        normal,          mean,        flag, raw,
-            linear, index,    exact_mean, exact_uniform, exact_electrons, exact_offset};
-    }
-};
 
 /// Adds a chunk's pixels (len values, whole pixels) to the histogram of their brightest raw DN
 /// (whole numbers in [0, last]), found in a vector loop into the exact path's index scratch (free
@@ -346,16 +305,28 @@ struct CameraStage::Recording {
         const float y2 = float(st.m_camera.ray_y(v) * st.m_camera.ray_y(v));
         const Vignetting& vig = st.m_model.lens.vignetting;
         const std::int32_t last = std::int32_t(sp.max_dn);
+        const bool direct = camera_rows::reads_unaligned(sp, mosaic);
+        const bool in_loop = direct && table && !two_pass;  // the image made by sensor_row
         double sum[3] = {0.0, 0.0, 0.0};
         for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
             const int len = std::min(camera_rows::kChunk, n - c0);
             const std::size_t at = stride * v + c0;
-            const float* rad = aligned ? rad_row + c0 : t.radiance;
-            if (!aligned) copy(rad_row + c0, t.radiance, len);
-            camera_rows::sensor_row(
-                sp, base + std::uint32_t(c0), len,
+            // The radiance read in place where sensor_row can, else copied to aligned scratch
+            // (so is the noise-free DN's).
+            const bool in_place = aligned || (direct && !layers.noise_free);
+            const float* rad = in_place ? rad_row + c0 : t.radiance;
+            if (!in_place) copy(rad_row + c0, t.radiance, len);
+            camera_rows::RowBuffers rb =
                 t.rows(rad, st.m_response.get() + at, st.m_dsnu ? st.m_dsnu.get() + at : t.zeros,
-                       mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr));
+                       mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr);
+            if (in_loop && layers.codes8) {
+                rb.code_lut = code_lut.data();
+                rb.codes = out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0;
+            } else if (in_loop) {
+                rb.lut = lut.data();
+                rb.shown = out.image.row(v) + c0;
+            }
+            camera_rows::sensor_row(sp, base + std::uint32_t(c0), len, rb);
             if (layers.linear_dn) copy(t.linear, out.linear_dn.row(v) + c0, len);
             if (keep_raw) copy(t.raw, out.raw.row(v) + c0, len);
             if (hist) count_brightest(t, len, last, hist);
@@ -375,7 +346,7 @@ struct CameraStage::Recording {
                 if (layers.noise_free) copy(t.gain, out.noise_free.row(v) + c0, len);
                 continue;
             }
-            show(t, v, c0, len, t.raw);
+            if (!in_loop) show(t, v, c0, len, t.raw);
             if (layers.noise_free) display(t, len, t.gain, out.noise_free.row(v) + c0, false);
         }
         if (grey)

@@ -23,6 +23,21 @@ namespace deepsea::camera_rows {
 
 namespace {
 
+/// i % 3 for the values of a chunk (chunks start at whole pixels).
+struct Channels {
+    alignas(64) std::int32_t c[kChunk];
+    Channels() {
+        for (int i = 0; i < kChunk; ++i) c[i] = i % 3;
+    }
+};
+const Channels kChannels;
+
+}  // namespace
+
+const std::int32_t* chunk_channels() { return kChannels.c; }
+
+namespace {
+
 // Values, not std::max/min's references: a reference to a temporary inside an `omp simd` loop
 // becomes a per-lane array that stops GCC from vectorising the loop.
 inline float max_of(float a, float b) { return a > b ? a : b; }
@@ -108,9 +123,22 @@ void invert_exact(int m, const float* mean, const float* uniform, float* electro
     }
 }
 
-/// The exact path for the flagged values: the Poisson below kGaussianShotNoiseFrom electrons,
-/// and near the full well the shot noise clipped before the read noise adds. Gathered, computed in
-/// vector loops, scattered back.
+/// The exact path for the m values listed in b.index: the Poisson below kGaussianShotNoiseFrom
+/// electrons, and near the full well the shot noise clipped before the read noise adds.
+/// Gathered, computed in vector loops, scattered back.
+void exact_values(const SensorParams& p, std::uint32_t base, int m, const RowBuffers& b) {
+    gather_exact(p, base, m, b);
+    invert_exact(m, b.exact_mean, b.exact_uniform, b.exact_electrons);
+    for (int j = 0; j < m; ++j) {
+        const int i = b.index[j];
+        const float electrons = b.exact_electrons[j], offset = b.exact_offset[j];
+        const float dn = p.gain * (min_of(electrons, p.full_well) + offset) + p.black;
+        b.raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), p.max_dn);
+        if (p.keep_linear) b.linear[i] = p.gain * (electrons + offset) + p.black;
+    }
+}
+
+/// exact_values for the values flagged in b.flag.
 void exact_path(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b) {
     int m = 0, i = 0;
     for (; i + 8 <= n; i += 8) {  // 8 flags at a time: most are 0
@@ -125,15 +153,7 @@ void exact_path(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
         b.index[m] = i;
         m += b.flag[i];
     }
-    gather_exact(p, base, m, b);
-    invert_exact(m, b.exact_mean, b.exact_uniform, b.exact_electrons);
-    for (int j = 0; j < m; ++j) {
-        const int i = b.index[j];
-        const float electrons = b.exact_electrons[j], offset = b.exact_offset[j];
-        const float dn = p.gain * (min_of(electrons, p.full_well) + offset) + p.black;
-        b.raw[i] = min_of(max_of(std::floor(dn + 0.5f), 0.0f), p.max_dn);
-        if (p.keep_linear) b.linear[i] = p.gain * (electrons + offset) + p.black;
-    }
+    exact_values(p, base, m, b);
 }
 
 }  // namespace
@@ -225,6 +245,18 @@ void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
         // Four loops (linear kept or not, mosaic or not): the plain one carries no mask.
         normal_row(p.shot_key, base, n, b.normal, b.index);
         const bool lin = p.keep_linear, mos = b.record != nullptr;
+        if (reads_unaligned(p, mos)) {  // lists the exact path's values itself
+            const int m = gaussian_values_avx2(p, n, b);
+            if (!m) return;
+            exact_values(p, base, m, b);
+            const std::int32_t* chan = chunk_channels();
+            for (int j = 0; j < m; ++j) {  // the image of the values the exact path changed
+                const int i = b.index[j], at = 3 * std::int32_t(b.raw[i]) + chan[i];
+                if (b.shown) b.shown[i] = b.lut[at];
+                if (b.codes) b.codes[i] = std::uint8_t(b.code_lut[at]);
+            }
+            return;
+        }
         const int exact =
             lin ? (mos ? noisy_values<true, true>(p, n, b) : noisy_values<true, false>(p, n, b))
                 : (mos ? noisy_values<false, true>(p, n, b) : noisy_values<false, false>(p, n, b));
@@ -331,19 +363,6 @@ void process_row(const ProcessParams& p, int n, const float* scale, const float*
     else
         process_curve<false>(p, n, scale, dn, tmp, out);
 }
-
-namespace {
-
-/// i % 3 for the values of a chunk (chunks start at whole pixels).
-struct Channels {
-    alignas(64) std::int32_t c[kChunk];
-    Channels() {
-        for (int i = 0; i < kChunk; ++i) c[i] = i % 3;
-    }
-};
-const Channels kChannels;
-
-}  // namespace
 
 #if defined(__x86_64__) && defined(__GNUC__)
 /// The table read with AVX2's vgatherdps, 8 values at a time (written by hand: GCC's

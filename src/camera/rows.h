@@ -7,6 +7,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <initializer_list>
 #include <memory>
 #include <new>
 
@@ -77,6 +79,55 @@ struct RowBuffers {
     // The exact path's values, gathered: index, mean, uniform, electrons, DSNU + read noise.
     std::int32_t* index;
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
+    /// Optional, only where reads_unaligned: the image made in the sensor's loop through the
+    /// frame's table of display values (`lut` into `shown`) or of 8-bit codes (`code_lut` into
+    /// `codes`), entry 3 dn + c as lookup_row's (null: not made here).
+    const float* lut = nullptr;
+    float* shown = nullptr;
+    const std::int32_t* code_lut = nullptr;
+    std::uint8_t* codes = nullptr;
+};
+
+/// One task's chunk buffers (kChunk values each) for the camera stage (camera_stage.cpp),
+/// carved from one aligned allocation.
+struct Scratch {
+    AlignedBytes all;
+    float *row, *radiance, *zeros, *gain, *normal, *mean, *raw, *linear, *image, *tmp, *scale,
+        *shown, *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
+    std::int32_t *index, *flag;
+
+    /// `whole_row`: also a row of 3 x width values (the lens map's radiance, the demosaic).
+    Scratch(int width, bool whole_row) {
+        constexpr std::size_t n = kChunk;
+        const std::size_t f = line_bytes<float>(n), i = line_bytes<std::int32_t>(n),
+                          r = whole_row ? line_bytes<float>(3 * std::size_t(width)) : 0;
+        all = AlignedBytes(r + 15 * f + 2 * i);
+        std::size_t at = 0;
+        const auto take = [&](std::size_t bytes) {
+            const std::size_t here = at;
+            at += bytes;
+            return here;
+        };
+        row = all.at<float>(take(r));
+        for (float** p :
+             {&radiance, &zeros, &gain, &normal, &mean, &raw, &linear, &image, &tmp, &scale, &shown,
+              &exact_mean, &exact_uniform, &exact_electrons, &exact_offset})
+            *p = all.at<float>(take(f));
+        index = all.at<std::int32_t>(take(i));
+        flag = all.at<std::int32_t>(take(i));
+        std::memset(zeros, 0, f);
+    }
+    /// The per-channel scales of a frame, as a chunk.
+    void scales(const float s[3]) {
+        for (int u = 0; u < kChunk / 3; ++u)
+            for (int c = 0; c < 3; ++c) scale[3 * u + c] = s[c];
+    }
+    RowBuffers rows(const float* rad, const float* response, const float* dsnu,
+                    const std::int32_t* record) const {
+        return {
+            rad,    response, dsnu,       record,        normal,          mean,        flag, raw,
+            linear, index,    exact_mean, exact_uniform, exact_electrons, exact_offset};
+    }
 };
 
 /// n standard normal deviates of a stream from noise counter `base` on:
@@ -86,7 +137,25 @@ struct RowBuffers {
 void normal_row(NoiseKey key, std::uint32_t base, int n, float* z, std::int32_t* index);
 
 /// n values from noise counter `base` on (a chunk of a row): radiance to DN (docs/noise.md).
+/// b.radiance must be 64-byte aligned unless reads_unaligned(p, b) (then it may lie anywhere).
 void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffers& b);
+
+/// Whether the processor has AVX2 and FMA (sensor_avx2.cpp).
+extern const bool kSensorAvx2;
+
+/// The Gaussian path of sensor_row for the n values of a chunk with noise and no mosaic, with
+/// AVX2 and FMA (only where kSensorAvx2): the bits of rows.cpp's x86-64-v3 clone; the radiance
+/// read where it lies. Lists the values for the exact path in b.index and returns their number
+/// (b.mean is written where a group of 8 has one of them, b.flag not at all).
+int gaussian_values_avx2(const SensorParams& p, int n, const RowBuffers& b);
+
+/// i % 3 for the values of a chunk (chunks start at whole pixels), kChunk of them, aligned.
+const std::int32_t* chunk_channels();
+
+/// Whether sensor_row reads b.radiance at any alignment for these parameters (no copy needed).
+inline bool reads_unaligned(const SensorParams& p, bool mosaic) {
+    return kSensorAvx2 && p.noise && !mosaic;
+}
 
 /// n values without noise, for the noise-free image: K min(mean, full well) + black, clipped to
 /// the DN range, from the noise-free response (falloff x channel response, per millisecond).
