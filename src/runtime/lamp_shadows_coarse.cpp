@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "clones.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/normals.h"
 #include "deepsea/runtime/lamp_shadows.h"
@@ -63,6 +64,14 @@ void upsample_row(int W, int Wc, int step, float ty, const float* z, const float
     }
 }
 
+/// Whether every value of a visibility row is 1 (fully lit).
+DEEPSEA_CLONES
+bool all_lit(const float* v, int n) {
+    int shaded = 0;  // (an integer reduction: vectorised without -ffast-math)
+    for (int i = 0; i < n; ++i) shaded |= v[i] < 1.0f ? 1 : 0;
+    return shaded == 0;
+}
+
 }  // namespace
 
 void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig,
@@ -92,8 +101,17 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         Image& vis = m_visibility[l];
         if (vis.width != W || vis.height != H || vis.channels != 1) vis = Image(W, H, 1);
+        // A row between two fully lit coarse rows (most of a frame) is all 1: only filled.
+        m_lit_rows.resize(std::size_t(Hc));
+        tbb::parallel_for(0, Hc, [&](int j) {
+            m_lit_rows[std::size_t(j)] = all_lit(m_coarse->row(l, j), Wc) ? 1 : 0;
+        });
         tbb::parallel_for(0, H, [&](int v) {
             const int j0 = v / s, j1 = std::min(j0 + 1, Hc - 1);
+            if (m_lit_rows[std::size_t(j0)] && m_lit_rows[std::size_t(j1)]) {
+                std::fill_n(vis.row(v), W, 1.0f);
+                return;
+            }
             const float ty = float(v - j0 * s) / float(s);
             upsample_row(W, Wc, s, ty, zdepth.row(v), m_coarse->row(l, j0), m_coarse->row(l, j1),
                          m_coarse_depth.row(j0), m_coarse_depth.row(j1), vis.row(v));

@@ -82,6 +82,7 @@ private:
     std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
     std::unique_ptr<LampShadows> m_coarse;  ///< the sweep on every step-th pixel (step > 1)
     Image m_coarse_depth;                   ///< its depth: every step-th pixel's
+    std::vector<unsigned char> m_lit_rows;  ///< per coarse row: whether all of it is lit
 };
 
 }  // namespace deepsea
