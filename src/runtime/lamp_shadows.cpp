@@ -244,15 +244,23 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
         for (int v = 0; v < H; ++v) m_ry[v] = float(cam.ray_y(v));
     }
     m_visibility.resize(rig.lights.size());
+    m_ones.resize(rig.lights.size());
     for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
     bool have_t = false;  // m_depth_t holds this frame's depth, transposed
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         const Vec3& L = rig.lights[l].position;
         const float R = float(rig.lights[l].radius);
         Image& vis = m_visibility[l];
-        if (vis.width != W || vis.height != H || vis.channels != 1) vis = Image(W, H, 1);
+        std::vector<unsigned char>& ones = m_ones[l];
+        if (vis.width != W || vis.height != H || vis.channels != 1) {
+            vis = Image(W, H, 1);
+            ones.clear();
+        }
+        ones.resize(std::size_t(H), 0);
         if (m_lines_t[l].families.empty()) {
-            lamp_pass(cam, zdepth, L, R, m_lines[l], m_rx.data(), m_ry.data(), thickness, vis);
+            lamp_pass(cam, zdepth, L, R, m_lines[l], m_rx.data(), m_ry.data(), thickness, vis,
+                      ones.data());
+            std::fill(ones.begin(), ones.end(), 0);  // (not known after the sweep)
             continue;
         }
         if (!have_t) {
@@ -261,13 +269,14 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
             have_t = true;
         }
         lamp_pass(camt, m_depth_t, Vec3{L.y, L.x, L.z}, R, m_lines_t[l], m_ry.data(), m_rx.data(),
-                  thickness, vis);
+                  thickness, vis, ones.data());
+        std::fill(ones.begin(), ones.end(), 0);
     }
 }
 
 void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& L, float R,
                             const Lines& lines, const float* rx, const float* ry, float t,
-                            Image& vis) {
+                            Image& vis, const unsigned char* ones) {
     const int W = cam.width, H = cam.height;
     thread_local std::vector<float> zrow;
     {
@@ -296,8 +305,9 @@ void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& 
             // parallel lines: eight at a time in vector lanes, each sample's terms computed
             // there (lamp_shadows_lanes.cpp)
             // (vis is the frame's, this image's transpose where their sizes differ)
-            tbb::parallel_for(0, vis.height,
-                              [&](int v) { std::fill_n(vis.row(v), vis.width, 1.0f); });
+            tbb::parallel_for(0, vis.height, [&](int v) {
+                if (!ones[v]) std::fill_n(vis.row(v), vis.width, 1.0f);
+            });
             sweep_parallel_lines(f0, SweepArrays{zdepth.data.data(), rx, ry, vis.data.data(), W, H,
                                                  R, prm, vis.width != W});
             return;
@@ -309,7 +319,7 @@ void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& 
             const std::size_t o = std::size_t(v) * W;
             shadow_row(W, v, zrow.data(), rx, ry[v], prm, m_gf.data() + o, m_gh.data() + o,
                        m_gb.data() + o, m_k.data() + o, m_d1.data() + o);
-            std::fill_n(vis.row(v), W, 1.0f);
+            if (!ones[v]) std::fill_n(vis.row(v), W, 1.0f);
         });
 
         // open water keeps the fill's 1 (the sweep writes surfaces only)

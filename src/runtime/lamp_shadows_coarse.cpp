@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "clones.h"
 #include "deepsea/core/error.h"
 #include "deepsea/optics/normals.h"
 #include "deepsea/runtime/lamp_shadows.h"
@@ -63,6 +64,14 @@ void upsample_row(int W, int Wc, int step, float ty, const float* z, const float
     }
 }
 
+/// Whether every value of a visibility row is 1 (fully lit).
+DEEPSEA_CLONES
+bool all_lit(const float* v, int n) {
+    int shaded = 0;  // (an integer reduction: vectorised without -ffast-math)
+    for (int i = 0; i < n; ++i) shaded |= v[i] < 1.0f ? 1 : 0;
+    return shaded == 0;
+}
+
 }  // namespace
 
 void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig,
@@ -89,14 +98,32 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
     m_width = W;
     m_height = H;
     m_visibility.resize(rig.lights.size());
+    m_ones.resize(rig.lights.size());
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         Image& vis = m_visibility[l];
-        if (vis.width != W || vis.height != H || vis.channels != 1) vis = Image(W, H, 1);
+        std::vector<unsigned char>& ones = m_ones[l];
+        if (vis.width != W || vis.height != H || vis.channels != 1) {
+            vis = Image(W, H, 1);
+            ones.clear();
+        }
+        ones.resize(std::size_t(H), 0);
+        // Which coarse rows are fully lit (also kept for the coarse sweep's next fill).
+        std::vector<unsigned char>& lit = m_coarse->m_ones[l];
+        tbb::parallel_for(0, Hc,
+                          [&](int j) { lit[std::size_t(j)] = all_lit(m_coarse->row(l, j), Wc); });
+        // A row between two fully lit coarse rows (most of a frame) is all 1: filled where it
+        // does not hold only 1 already.
         tbb::parallel_for(0, H, [&](int v) {
             const int j0 = v / s, j1 = std::min(j0 + 1, Hc - 1);
+            if (lit[std::size_t(j0)] && lit[std::size_t(j1)]) {
+                if (!ones[std::size_t(v)]) std::fill_n(vis.row(v), W, 1.0f);
+                ones[std::size_t(v)] = 1;
+                return;
+            }
             const float ty = float(v - j0 * s) / float(s);
             upsample_row(W, Wc, s, ty, zdepth.row(v), m_coarse->row(l, j0), m_coarse->row(l, j1),
                          m_coarse_depth.row(j0), m_coarse_depth.row(j1), vis.row(v));
+            ones[std::size_t(v)] = 0;
         });
     }
 }

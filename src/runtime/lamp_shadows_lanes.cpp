@@ -45,6 +45,15 @@ struct Samples {
         d1[kLanes], x[kLanes], y[kLanes];
 };
 
+/// Each lane's running horizon (lamp_shadows.cpp's Horizon): the edges e (eg, ex, ey, ez, es:
+/// shadow coordinate, position, lamp distance) and e2 (fg, ...), lo, whether e and e2 exist
+/// (hq, hq2) and the step e was swept at (kq).
+struct HorizonLanes {
+    alignas(64) float eg[kLanes], ex[kLanes], ey[kLanes], ez[kLanes], es[kLanes], fg[kLanes],
+        fx[kLanes], fy[kLanes], fz[kLanes], fs[kLanes], lo[kLanes], hq[kLanes], hq2[kLanes],
+        kq[kLanes];
+};
+
 /// Lines i0 .. i_end - 1 (at most kLanes) of the parallel family f.
 DEEPSEA_CLONES
 void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
@@ -58,17 +67,20 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
     const RowParams prm = s.prm;
     const float su = prm.ex, sv = prm.ey;  // the sweep's direction (parallel lines)
     const float zfar = float(kFarDepth);
-    // each lane's horizon (lamp_shadows.cpp's Horizon: e, e2, lo, whether q and q2 exist, the
-    // depth of e's sample and the step it was swept at)
-    alignas(64) float eg[kLanes], ex[kLanes], ey[kLanes], ez[kLanes], es[kLanes];
-    alignas(64) float fg[kLanes], fx[kLanes], fy[kLanes], fz[kLanes], fs[kLanes];
-    alignas(64) float lo[kLanes], hq[kLanes], hq2[kLanes], kq[kLanes], arg[kLanes];
-    for (int j = 0; j < kLanes; ++j) {
-        eg[j] = fg[j] = -FLT_MAX;
-        ex[j] = ey[j] = ez[j] = es[j] = fx[j] = fy[j] = fz[j] = fs[j] = 0.0f;
-        lo[j] = FLT_MAX;
-        hq[j] = hq2[j] = kq[j] = arg[j] = 0.0f;
+    // each lane's horizon (lamp_shadows.cpp's Horizon), read from one copy and written to the
+    // other at each step, so that its update is a select and a plain store (kept in one array,
+    // GCC made it masked stores, slow on AMD)
+    HorizonLanes hz[2];
+    {
+        HorizonLanes& h = hz[0];
+        for (int j = 0; j < kLanes; ++j) {
+            h.eg[j] = h.fg[j] = -FLT_MAX;
+            h.ex[j] = h.ey[j] = h.ez[j] = h.es[j] = h.fx[j] = h.fy[j] = h.fz[j] = h.fs[j] = 0.0f;
+            h.lo[j] = FLT_MAX;
+            h.hq[j] = h.hq2[j] = h.kq[j] = 0.0f;
+        }
     }
+    alignas(64) float arg[kLanes];
     // the last column's sample and this column's (in turn), the pixel evaluated
     Samples buf[2] = {}, p{};
     // per lane: the sample's pixel index and column, row (0 where none: a safe address; the
@@ -78,6 +90,8 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
         const int a = first + c * step;
         Samples& q = buf[c & 1];
         const Samples& prev = buf[(c & 1) ^ 1];
+        const HorizonLanes& hc = hz[c & 1];
+        HorizonLanes& nh = hz[(c & 1) ^ 1];
         // Line i's sample in this column is in row i + off, that row's own pixel, but where
         // the lines run exactly between two rows (the row below is then their own); a line
         // is inside the image for i in [i_lo, i_hi].
@@ -91,7 +105,11 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
             // (nearly always) the eight samples side by side in row a: plain vector loads
             const int o0 = a * W + r_first;
             // the depth a few steps ahead (the lanes read 32 bytes a row, rows apart)
-            if (c + kAhead < A) __builtin_prefetch(zz + o0 + kAhead * step * W);
+            // (both cache lines the sixteen depths may span)
+            if (c + kAhead < A) {
+                __builtin_prefetch(zz + o0 + kAhead * step * W);
+                __builtin_prefetch(zz + o0 + kAhead * step * W + kLanes - 1);
+            }
             const float ya = ry[a];
             const float* rxa = rx + r_first;
 #pragma omp simd
@@ -181,12 +199,12 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
 #pragma omp simd
             for (int j = 0; j < kLanes; ++j) {
                 const float gp = p.gf[j];
-                const bool lit = (p.valid[j] <= 0.0f) | (hq[j] <= 0.0f) | (gp < lo[j]);
-                const float a1 = penumbra_lane(gp, p.k[j], p.x[j], p.y[j], p.z[j], eg[j], ex[j],
-                                               ey[j], ez[j], es[j], R);
-                const float a2 = penumbra_lane(gp, p.k[j], p.x[j], p.y[j], p.z[j], fg[j], fx[j],
-                                               fy[j], fz[j], fs[j], R);
-                const bool both = (hq2[j] > 0.0f) & (a1 > -1.0f) & (a2 < a1);
+                const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (gp < hc.lo[j]);
+                const float a1 = penumbra_lane(gp, p.k[j], p.x[j], p.y[j], p.z[j], hc.eg[j],
+                                               hc.ex[j], hc.ey[j], hc.ez[j], hc.es[j], R);
+                const float a2 = penumbra_lane(gp, p.k[j], p.x[j], p.y[j], p.z[j], hc.fg[j],
+                                               hc.fx[j], hc.fy[j], hc.fz[j], hc.fs[j], R);
+                const bool both = (hc.hq2[j] > 0.0f) & (a1 > -1.0f) & (a2 < a1);
                 const float m = both ? a2 : a1;
                 arg[j] = lit ? 1.0f : m;
             }
@@ -194,8 +212,8 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
 #pragma omp simd
             for (int j = 0; j < kLanes; ++j) {
                 const float gp = p.gf[j];
-                const bool lit = (p.valid[j] <= 0.0f) | (hq[j] <= 0.0f) | (gp < lo[j]);
-                arg[j] = (lit | (gp > eg[j])) ? 1.0f : -1.0f;
+                const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (gp < hc.lo[j]);
+                arg[j] = (lit | (gp > hc.eg[j])) ? 1.0f : -1.0f;
             }
         }
         // (the image is filled with 1: only shadowed pixels are written)
@@ -216,27 +234,28 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
             const bool chord = (q.valid[j] > 0.0f) & (std::fabs(zq - q.z[j]) <= kd * q.z[j]);
             const float ge = chord ? 0.5f * (prev.gf[j] + q.gf[j]) : prev.gh[j];
             const float b = prev.gb[j];
-            const bool up = has & (ge > eg[j]);
-            const bool mid = has & !up & (ge >= lo[j]);
+            const float eg = hc.eg[j], lo = hc.lo[j], hq = hc.hq[j];
+            const bool up = has & (ge > eg);
+            const bool mid = has & !up & (ge >= lo);
             const bool goes_on =
-                (hq[j] > 0.0f) & (kp - kq[j] <= 2.0f) & (std::fabs(ez[j] - zq) <= kd * zq);
+                (hq > 0.0f) & (kp - hc.kq[j] <= 2.0f) & (std::fabs(hc.ez[j] - zq) <= kd * zq);
             const bool shift = up & !goes_on;
-            const float lo_min = b < lo[j] ? b : lo[j];
-            const float lo_up = b <= eg[j] ? lo_min : b;
-            lo[j] = up ? lo_up : (mid ? lo_min : lo[j]);
-            fg[j] = shift ? eg[j] : fg[j];
-            fx[j] = shift ? ex[j] : fx[j];
-            fy[j] = shift ? ey[j] : fy[j];
-            fz[j] = shift ? ez[j] : fz[j];
-            fs[j] = shift ? es[j] : fs[j];
-            hq2[j] = shift ? hq[j] : hq2[j];
-            eg[j] = up ? ge : eg[j];
-            ex[j] = up ? prev.x[j] : ex[j];
-            ey[j] = up ? prev.y[j] : ey[j];
-            ez[j] = up ? zq : ez[j];
-            es[j] = up ? prev.d1[j] : es[j];
-            hq[j] = up ? 1.0f : hq[j];
-            kq[j] = up ? kp : kq[j];
+            const float lo_min = b < lo ? b : lo;
+            const float lo_up = b <= eg ? lo_min : b;
+            nh.lo[j] = up ? lo_up : (mid ? lo_min : lo);
+            nh.fg[j] = shift ? eg : hc.fg[j];
+            nh.fx[j] = shift ? hc.ex[j] : hc.fx[j];
+            nh.fy[j] = shift ? hc.ey[j] : hc.fy[j];
+            nh.fz[j] = shift ? hc.ez[j] : hc.fz[j];
+            nh.fs[j] = shift ? hc.es[j] : hc.fs[j];
+            nh.hq2[j] = shift ? hq : hc.hq2[j];
+            nh.eg[j] = up ? ge : eg;
+            nh.ex[j] = up ? prev.x[j] : hc.ex[j];
+            nh.ey[j] = up ? prev.y[j] : hc.ey[j];
+            nh.ez[j] = up ? zq : hc.ez[j];
+            nh.es[j] = up ? prev.d1[j] : hc.es[j];
+            nh.hq[j] = up ? 1.0f : hq;
+            nh.kq[j] = up ? kp : hc.kq[j];
         }
     }
 }

@@ -46,6 +46,24 @@ struct Splat {
 
 bool open_water(float z) { return !(z > 0.0f) || !std::isfinite(z); }
 
+/// floor(x) and ceil(x) as int for |x| < 2^31, exactly: without SSE4.1 (this file is built
+/// for any x86-64) std::floor is a long call, and the drawing takes four or more per particle.
+inline int ifloor(float x) {
+    const int i = int(x);
+    return float(i) > x ? i - 1 : i;
+}
+inline int iceil(float x) {
+    const int i = int(x);
+    return float(i) < x ? i + 1 : i;
+}
+/// std::lround for |x| < 2^31, exactly (halves away from zero; x - i is exact): lround is a
+/// libm call.
+inline int iround(double x) {
+    const int i = int(x);
+    const double f = x - double(i);
+    return f >= 0.5 ? i + 1 : (f <= -0.5 ? i - 1 : i);
+}
+
 /// Coverage of pixel (x, y) by a disc of radius R centred at (u, v): linear over the last
 /// pixel.
 inline float coverage(float u, float v, float R, int x, int y) {
@@ -62,17 +80,16 @@ struct Window {
 inline Window window(const Splat& s) {
     if (s.len > 0.0f) {
         const float bx = s.ax + s.len * s.dx, by = s.ay + s.len * s.dy;
-        return {
-            int(std::floor(std::min(s.ax, bx) - s.rh)), int(std::ceil(std::max(s.ax, bx) + s.rh)),
-            int(std::floor(std::min(s.ay, by) - s.rh)), int(std::ceil(std::max(s.ay, by) + s.rh))};
+        return {ifloor(std::min(s.ax, bx) - s.rh), iceil(std::max(s.ax, bx) + s.rh),
+                ifloor(std::min(s.ay, by) - s.rh), iceil(std::max(s.ay, by) + s.rh)};
     }
     if (s.radius <= 0.5f) {
-        const int x0 = int(std::floor(s.u)), y0 = int(std::floor(s.v));
+        const int x0 = ifloor(s.u), y0 = ifloor(s.v);
         return {x0, x0 + 1, y0, y0 + 1};
     }
     const float R = s.radius;
-    return {int(std::floor(s.u - R - 0.5f)), int(std::ceil(s.u + R + 0.5f)),
-            int(std::floor(s.v - R - 0.5f)), int(std::ceil(s.v + R + 0.5f))};
+    return {ifloor(s.u - R - 0.5f), iceil(s.u + R + 0.5f), ifloor(s.v - R - 0.5f),
+            iceil(s.v + R + 0.5f)};
 }
 
 /// Integral over s in [0, x] (x >= 0) of the still disc's coverage (coverage(): radius R, linear
@@ -125,8 +142,7 @@ inline RowSpan row_span(const Splat& s, int y) {
         return {1.0f, 0.0f, 1, 0};
     }
     const float xa = s.ax + t0 * s.dx, xb = s.ax + t1 * s.dx;
-    return {t0, t1, int(std::floor(std::min(xa, xb) - s.rh)),
-            int(std::ceil(std::max(xa, xb) + s.rh))};
+    return {t0, t1, ifloor(std::min(xa, xb) - s.rh), iceil(std::max(xa, xb) + s.rh)};
 }
 
 /// The frame's outputs, shared by the bands (each writes only its rows).
@@ -191,16 +207,16 @@ struct Target {
                 std::fill(row, row + (cb - ca + 1), 0.0f);
                 const float step = s.len / float(s.n);
                 // The samples within a pixel of the row (a step's margin for rounding).
-                const int k0 = std::max(0, int(std::floor(r.t0 / step - 0.5f)) - 1);
-                const int k1 = std::min(s.n - 1, int(std::ceil(r.t1 / step - 0.5f)) + 1);
+                const int k0 = std::max(0, ifloor(r.t0 / step - 0.5f) - 1);
+                const int k1 = std::min(s.n - 1, iceil(r.t1 / step - 0.5f) + 1);
                 for (int k = k0; k <= k1; ++k) {
                     const float t = (float(k) + 0.5f) * step;
-                    const float sv = s.ay + t * s.dy, fy = sv - std::floor(sv);
-                    const int ky = int(std::floor(sv));
+                    const float sv = s.ay + t * s.dy, fy = sv - float(ifloor(sv));
+                    const int ky = ifloor(sv);
                     if (ky != y && ky + 1 != y) continue;
                     const float wy = ky == y ? 1.0f - fy : fy;
-                    const float su = s.ax + t * s.dx, fx = su - std::floor(su);
-                    const int kx = int(std::floor(su)) - ca;
+                    const float su = s.ax + t * s.dx, fx = su - float(ifloor(su));
+                    const int kx = ifloor(su) - ca;
                     if (kx < 0 || kx + 1 > cb - ca) continue;  // rounding at the row's ends
                     row[kx] += wy * (1.0f - fx);
                     row[kx + 1] += wy * fx;
@@ -223,6 +239,23 @@ struct Target {
         if (s.radius <= 0.5f) {
             // A particle smaller than a pixel: its light shared bilinearly by four pixels.
             const float fu = s.u - float(w.ua), fv = s.v - float(w.va);
+            if (!snow && !ids) {
+                // (add() for `final` alone, its steps in the same order: the same sums)
+                for (int y = y0; y <= y1; ++y) {
+                    const float wy = y == w.va ? 1.0f - fv : fv;
+                    float* fr = final.row(y);
+                    for (int x = x0; x <= x1; ++x) {
+                        const float wx = x == w.ua ? 1.0f - fu : fu, wt = wx * wy;
+                        const float z = zdepth.at(x, y);
+                        if (!(wt > 0.0f) || (!open_water(z) && z <= s.z)) continue;
+                        float* f = fr + 3 * x;
+                        f[0] += s.energy[0] * wt;
+                        f[1] += s.energy[1] * wt;
+                        f[2] += s.energy[2] * wt;
+                    }
+                }
+                return;
+            }
             for (int y = y0; y <= y1; ++y) {
                 const float wy = y == w.va ? 1.0f - fv : fv;
                 for (int x = x0; x <= x1; ++x) {
@@ -314,8 +347,8 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             Splat& s = splats[b + q];
             s.id = 0;  // not drawn
             const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
-            s.iu = std::clamp(int(std::lround(u)), 0, W - 1);
-            s.iv = std::clamp(int(std::lround(v)), 0, H - 1);
+            s.iu = std::clamp(iround(u), 0, W - 1);
+            s.iv = std::clamp(iround(v), 0, H - 1);
             s.u = float(u);
             s.v = float(v);
             s.radius = float(snow_disc_radius_px(cam, lens, X, pt.diameter));

@@ -66,10 +66,11 @@ private:
     void sweep(const Camera& camera, const Image& zdepth, const Rig& rig, float thickness);
     /// One lamp (at L, radius R) swept along `lines` into `vis` (lamp_shadows.cpp): on the
     /// frame, or on the transposed frame and camera (rays rx, ry to match; parallel lines only,
-    /// `vis` then still the frame's).
+    /// `vis` then still the frame's). `ones`: per row of `vis`, whether it holds only 1 already
+    /// (then it is not filled again).
     void lamp_pass(const Camera& camera, const Image& zdepth, const Vec3& L, float R,
                    const Lines& lines, const float* rx, const float* ry, float thickness,
-                   Image& vis);
+                   Image& vis, const unsigned char* ones);
 
     int m_width = 0, m_height = 0;
     std::vector<Image> m_visibility;
@@ -82,6 +83,9 @@ private:
     std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
     std::unique_ptr<LampShadows> m_coarse;  ///< the sweep on every step-th pixel (step > 1)
     Image m_coarse_depth;                   ///< its depth: every step-th pixel's
+    /// per lamp and row of its visibility image: whether the row holds only 1 (fully lit), so
+    /// that the next frame need not fill it again (most rows: shadows are sparse)
+    std::vector<std::vector<unsigned char>> m_ones;
 };
 
 }  // namespace deepsea
