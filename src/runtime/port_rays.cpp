@@ -46,15 +46,16 @@ PortRays::PortRays(const Port& port, const Camera& camera)
     });
     m_water_fx = port_water_fx(port, camera);
     const std::size_t n = m_rays.size();
-    m_march_soa.resize(14 * n);
+    constexpr int F = kMarchRowFields;
+    m_march_soa.resize(F * n);
     tbb::parallel_for(0, camera.height, [&](int v) {
         for (int u = 0; u < camera.width; ++u) {
             const PortMarch<float> m = march(u, v);
             const Ray& r = ray(u, v);
-            const float fields[14] = {m.u_inf, m.v_inf, m.du, m.dv, m.s_origin, m.s_lo, m.s_hi,
-                                      m.rate,  r.ox,    r.oy, r.oz, r.dx,       r.dy,   r.dz};
+            const float fields[F] = {m.u_inf, m.v_inf, m.du, m.dv, m.s_origin,
+                                     m.s_lo,  m.s_hi,  r.oz, r.dz};
             const std::size_t i = std::size_t(v) * camera.width + u;
-            for (int f = 0; f < 14; ++f) m_march_soa[f * n + i] = fields[f];
+            for (int f = 0; f < F; ++f) m_march_soa[f * n + i] = fields[f];
         }
     });
 }
