@@ -93,4 +93,11 @@ double nearest_surface(const Image& depth);
 /// march may start (port_start_s).
 void window_nearest(const Image& inv, Image& out, Image& scratch);
 
+/// window_nearest in two steps, so that the compositor takes the first in its pass over the
+/// frame's rows: one row of `inv` (W values), each block's largest value (ceil(W /
+/// kPortStartBlock) of them, into `out`); then from those of every row (`rows`: one row each),
+/// window_nearest's `out` (`scratch` as there).
+void window_row_maxima(const float* inv, int W, float* out);
+void window_nearest_rows(const Image& rows, Image& out, Image& scratch);
+
 }  // namespace deepsea
