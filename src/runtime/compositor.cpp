@@ -3,7 +3,9 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "clones.h"
@@ -187,10 +189,13 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     double z_near = 0.0;
     if (port) {
         // The frame in input pixels: its normals and linear colour, which the rays' hits take.
-        z_near = nearest_surface(depth);
+        // (each row's nearest surface and window_row_maxima in the same pass: nearest_surface
+        // and window_nearest without reading the frame again)
         if (m_in_surface.width != W || m_in_surface.height != H) {
             m_in_surface = Image(W, H, kPortSurfaceChannels);
             m_inv_depth = Image(W, H, 1);
+            m_window_rows = Image((W + kPortStartBlock - 1) / kPortStartBlock, H, 1);
+            m_row_near.resize(H);
         }
         tbb::parallel_for(0, H, [&](int v) {
             RowScratch& s = scratch.local();
@@ -212,9 +217,16 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
                 p[7] = 0.0f;
             }
             float* inv = m_inv_depth.row(v);
-            for (int u = 0; u < W; ++u) inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
+            float near = std::numeric_limits<float>::infinity();
+            for (int u = 0; u < W; ++u) {
+                inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
+                near = s.z[u] > 0.0f && s.z[u] < near ? s.z[u] : near;
+            }
+            m_row_near[v] = near;
+            window_row_maxima(inv, W, m_window_rows.row(v));
         });
-        window_nearest(m_inv_depth, m_nearest, m_nearest_rows);
+        z_near = *std::min_element(m_row_near.begin(), m_row_near.end());
+        window_nearest_rows(m_window_rows, m_nearest, m_nearest_rows);
         if (forward && (m_hit_z.width != W || m_hit_z.height != H)) m_hit_z = Image(W, H, 1);
         if (all && (dst.mask.width != W || dst.mask.height != H)) dst.mask = Image(W, H, 1);
     } else {

@@ -46,15 +46,16 @@ PortRays::PortRays(const Port& port, const Camera& camera)
     });
     m_water_fx = port_water_fx(port, camera);
     const std::size_t n = m_rays.size();
-    m_march_soa.resize(14 * n);
+    constexpr int F = kMarchRowFields;
+    m_march_soa.resize(F * n);
     tbb::parallel_for(0, camera.height, [&](int v) {
         for (int u = 0; u < camera.width; ++u) {
             const PortMarch<float> m = march(u, v);
             const Ray& r = ray(u, v);
-            const float fields[14] = {m.u_inf, m.v_inf, m.du, m.dv, m.s_origin, m.s_lo, m.s_hi,
-                                      m.rate,  r.ox,    r.oy, r.oz, r.dx,       r.dy,   r.dz};
+            const float fields[F] = {m.u_inf, m.v_inf, m.du, m.dv, m.s_origin,
+                                     m.s_lo,  m.s_hi,  r.oz, r.dz};
             const std::size_t i = std::size_t(v) * camera.width + u;
-            for (int f = 0; f < 14; ++f) m_march_soa[f * n + i] = fields[f];
+            for (int f = 0; f < F; ++f) m_march_soa[f * n + i] = fields[f];
         }
     });
 }
@@ -121,21 +122,30 @@ double nearest_surface(const Image& depth) {
 
 namespace deepsea {
 
-void window_nearest(const Image& inv, Image& out, Image& scratch) {
-    const int W = inv.width, H = inv.height, B = kPortStartBlock;
-    const int bw = (W + B - 1) / B, bh = (H + B - 1) / B;
+void window_row_maxima(const float* inv, int W, float* out) {
+    const int B = kPortStartBlock, full = W / B;
+    for (int bx = 0; bx < full; ++bx) {
+        float m = 0.0f;
+        for (int k = 0; k < B; ++k) m = std::max(m, inv[B * bx + k]);
+        out[bx] = m;
+    }
+    if (full * B < W) out[full] = *std::max_element(inv + full * B, inv + W);
+}
+
+void window_nearest_rows(const Image& rows, Image& out, Image& scratch) {
+    const int bw = rows.width, H = rows.height, B = kPortStartBlock, bh = (H + B - 1) / B;
     if (out.width != bw || out.height != bh || out.channels != 1) out = Image(bw, bh, 1);
     if (scratch.width != bw || scratch.height != bh || scratch.channels != 1)
         scratch = Image(bw, bh, 1);
     // Each block's largest inverse depth, then the largest of the 3 x 3 blocks around each.
-    tbb::parallel_for(0, bh, [&](int by) {
+    for (int by = 0; by < bh; ++by) {
         float* o = scratch.row(by);
         std::fill_n(o, bw, 0.0f);
         for (int y = B * by; y < std::min(B * (by + 1), H); ++y) {
-            const float* in = inv.row(y);
-            for (int x = 0; x < W; ++x) o[x / B] = std::max(o[x / B], in[x]);
+            const float* r = rows.row(y);
+            for (int x = 0; x < bw; ++x) o[x] = std::max(o[x], r[x]);
         }
-    });
+    }
     for (int by = 0; by < bh; ++by) {
         float* o = out.row(by);
         for (int bx = 0; bx < bw; ++bx) {
@@ -146,6 +156,13 @@ void window_nearest(const Image& inv, Image& out, Image& scratch) {
             o[bx] = m;
         }
     }
+}
+
+void window_nearest(const Image& inv, Image& out, Image& scratch) {
+    const int W = inv.width, H = inv.height, B = kPortStartBlock;
+    Image rows((W + B - 1) / B, H, 1);
+    for (int y = 0; y < H; ++y) window_row_maxima(inv.row(y), W, rows.row(y));
+    window_nearest_rows(rows, out, scratch);
 }
 
 }  // namespace deepsea

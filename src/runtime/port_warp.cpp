@@ -51,6 +51,26 @@ inline float probe4(const float* __restrict inv, int W, int H, float u, float v,
     return ((w0 * s0 + w1 * s1) + w2 * s2) + w3 * s3;
 }
 
+/// The march's rate (PortMarch::rate, max(|du|, |dv|) in double rounded to float) from du and dv
+/// in float: rounding keeps the order, so this is the same float.
+inline float rate_of(float du, float dv) {
+    const float a = std::fabs(du), b = std::fabs(dv);
+    return a < b ? b : a;
+}
+
+/// The hit point's x or y from where it projects in the input (pixel p, centre c, focal length
+/// f as k = 1 / f) and its planar depth z: the point on the ray at depth z projects there, so this
+/// is ray origin + t direction, without reading the ray (docs/ports.md, "Speed": within 1.5e-7 z of
+/// the double trace's point).
+inline float back_project(float p, float c, float k, float z) { return ((p - c) * k) * z; }
+
+/// The input camera's centre and inverse focal lengths in float, for back_project.
+struct Pinhole {
+    float cx, cy, kx, ky;
+    explicit Pinhole(const Camera& c)
+        : cx(float(c.cx)), cy(float(c.cy)), kx(float(1.0 / c.fx)), ky(float(1.0 / c.fy)) {}
+};
+
 struct MarchScratch {
     std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s, start, w;
     std::vector<int> steps, side, state;
@@ -110,7 +130,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
         hi = hi < inf ? hi : 1e3f;
         hi = m.s_hi[u] < hi ? m.s_hi[u] : hi;
         const float lo = m.s_lo[u];
-        const float moved = (hi - lo) * m.rate[u];
+        const float moved = (hi - lo) * rate_of(m.du[u], m.dv[u]);
         float one;
         const float zh =
             probe4(inv, W, H, m.u_inf[u] + m.du[u] * hi, m.v_inf[u] + m.dv[u] * hi, one);
@@ -180,7 +200,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
             const float b_h2 = front ? (sd == 1 ? b_h * 0.5f : b_h) : h;
             const bool on = std::fabs(h) <= tol * (s + iz);
             const bool collapsed =
-                ((a_s2 - b_s2) * m.rate[u] <= tol) | (a_s2 - b_s2 <= span * a_s2);
+                ((a_s2 - b_s2) * rate_of(m.du[u], m.dv[u]) <= tol) | (a_s2 - b_s2 <= span * a_s2);
             const int st = state[u];
             const bool active = st == kActive;
             as[u] = active ? a_s2 : a_s;
@@ -204,8 +224,8 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
 /// taps' positions and weights, then per pixel two 4-float loads a tap (the interleaved
 /// normal and colour; gathering each float costs more), then the normals' lengths.
 DEEPSEA_CLONES
-void surface_hits(int n, const PortRays::MarchRow m, const float* __restrict in, int W, int H,
-                  MarchScratch& f, const PortRow& o) {
+void surface_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const float* __restrict in,
+                  int W, int H, MarchScratch& f, const PortRow& o) {
     const float* __restrict s_hit = f.s.data();
     const int* __restrict state = f.state.data();
     int* __restrict at = f.steps.data();  // (spent by now)
@@ -218,10 +238,9 @@ void surface_hits(int n, const PortRays::MarchRow m, const float* __restrict in,
         const bool hit = state[u] == kSurface;
         const float s_u = s_hit[u];
         const float s = hit ? s_u : 1.0f;  // (any finite s: the taps stay in the image)
-        float pu = m.u_inf[u] + m.du[u] * s, pv = m.v_inf[u] + m.dv[u] * s;
-        pu = pu > 0.0f ? pu : 0.0f;
+        const float hu = m.u_inf[u] + m.du[u] * s, hv = m.v_inf[u] + m.dv[u] * s;
+        float pu = hu > 0.0f ? hu : 0.0f, pv = hv > 0.0f ? hv : 0.0f;
         pu = pu < float(W - 1) ? pu : float(W - 1);
-        pv = pv > 0.0f ? pv : 0.0f;
         pv = pv < float(H - 1) ? pv : float(H - 1);
         const int x0 = std::min(int(pu), W - 2), y0 = std::min(int(pv), H - 2);
         const float fu = pu - float(x0), fv = pv - float(y0);
@@ -230,10 +249,10 @@ void surface_hits(int n, const PortRays::MarchRow m, const float* __restrict in,
         w[4 * u + 1] = hit ? fu * (1 - fv) : 0.0f;
         w[4 * u + 2] = hit ? (1 - fu) * fv : 0.0f;
         w[4 * u + 3] = hit ? fu * fv : 0.0f;
-        // the point at the hit's planar depth on the ray (its z is the hit's z exactly)
+        // the point at the hit's planar depth on the ray, from where it projects
         const float zh = 1.0f / s, th = (zh - m.oz[u]) / m.dz[u];
-        x[u] = hit ? m.ox[u] + th * m.dx[u] : 0.0f;
-        y[u] = hit ? m.oy[u] + th * m.dy[u] : 0.0f;
+        x[u] = hit ? back_project(hu, cam.cx, cam.kx, zh) : 0.0f;
+        y[u] = hit ? back_project(hv, cam.cy, cam.ky, zh) : 0.0f;
         z[u] = hit ? zh : 0.0f;
         t[u] = hit ? th : 0.0f;
         mask[u] = (hit | (state[u] == kOpen)) ? 1.0f : 0.0f;
@@ -269,6 +288,7 @@ void surface_hits(int n, const PortRays::MarchRow m, const float* __restrict in,
 void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
               const Image& surface, double z_near, const PortRow& o) {
     const int W = rays.camera().width;
+    const Pinhole cam(rays.camera());
     const float s_near = float(1.001 / z_near);
     const float* in = surface.data.data();
     thread_local MarchScratch f;
@@ -277,7 +297,7 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     if (fast) {
         fast_march(W, rays.march_row(v), inv_depth.data.data(), nearest.data.data(),
                    inv_depth.width, inv_depth.height, s_near, f);
-        surface_hits(W, rays.march_row(v), in, inv_depth.width, inv_depth.height, f, o);
+        surface_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
     }
     // The rest, one by one (rare: depth edges, open water, long marches)
     for (int u = 0; u < W; ++u) {
@@ -303,8 +323,8 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
         const PortRays::Ray& r = rays.ray(u, v);
         // the point at the hit's planar depth on the ray (its z is the hit's z exactly)
         const float z = 1.0f / h.s, t = (z - r.oz) / r.dz;
-        o.x[u] = r.ox + t * r.dx;
-        o.y[u] = r.oy + t * r.dy;
+        o.x[u] = back_project(m.u_inf + m.du * h.s, cam.cx, cam.kx, z);
+        o.y[u] = back_project(m.v_inf + m.dv * h.s, cam.cy, cam.ky, z);
         o.z[u] = z;
         o.t[u] = t;
         const SurfaceTapsT<float>& taps = h.taps;

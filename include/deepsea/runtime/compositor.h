@@ -74,7 +74,9 @@ private:
     const PortRays* m_port = nullptr;
     Image m_in_surface;  ///< the frame's normal and linear colour per input pixel (port_warp.h)
     Image m_inv_depth;   ///< the frame's inverse depth (optics' inverse_depth)
-    Image m_nearest, m_nearest_rows;  ///< its window_nearest (port_rays.h), the rows' maxima
+    Image m_nearest, m_nearest_rows;  ///< its window_nearest (port_rays.h), the blocks' maxima
+    Image m_window_rows;              ///< its window_row_maxima, a row each
+    std::vector<float> m_row_near;    ///< each row's nearest surface depth (+inf: none)
     Image m_hit_z;  ///< planar depth of each output pixel's hit (forward scatter's pass)
 };
 

@@ -46,17 +46,21 @@ public:
         return {
             float(u) + r.u_inf, float(v) + r.v_inf, r.du, r.dv, r.s_origin, r.s_lo, r.s_hi, r.rate};
     }
-    /// Row v's march constants in float, one array per field (what march() gives each pixel),
-    /// and its rays' origins and directions (ray()'s), for the compositor's vectorised rows.
+    /// Row v's march constants in float, one array per field (what march() gives each pixel but
+    /// its rate, max(|du|, |dv|), which the rows take from du and dv: float's rounding keeps the
+    /// order, so it is march()'s bit for bit), and its rays' planar origin depth oz and direction
+    /// dz (ray()'s): the path to a hit at planar depth z is (z - oz) / dz. Nothing else: the hit
+    /// point's x and y come from where it projects (docs/ports.md, "Speed"), so that a frame reads
+    /// 9 floats per pixel of the rays, not 14.
     struct MarchRow {
-        const float *u_inf, *v_inf, *du, *dv, *s_origin, *s_lo, *s_hi, *rate;
-        const float *ox, *oy, *oz, *dx, *dy, *dz;
+        const float *u_inf, *v_inf, *du, *dv, *s_origin, *s_lo, *s_hi, *oz, *dz;
     };
+    static constexpr int kMarchRowFields = 9;
     MarchRow march_row(int v) const {
         const std::size_t n = m_rays.size();
         const float* f = m_march_soa.data() + std::size_t(v) * m_camera.width;
-        return {f,         f + n,     f + 2 * n, f + 3 * n,  f + 4 * n,  f + 5 * n,  f + 6 * n,
-                f + 7 * n, f + 8 * n, f + 9 * n, f + 10 * n, f + 11 * n, f + 12 * n, f + 13 * n};
+        return {f,         f + n,     f + 2 * n, f + 3 * n, f + 4 * n,
+                f + 5 * n, f + 6 * n, f + 7 * n, f + 8 * n};
     }
     /// Where pixel (u, v)'s ray meets the frame's surface, given its inverse planar depth
     /// (optics' inverse_depth) and nearest surface depth z_near (+inf: no surface): the float
@@ -75,7 +79,7 @@ private:
     Port m_port;
     Camera m_camera;
     std::vector<Ray> m_rays;
-    std::vector<float> m_march_soa;  ///< march()'s 8 fields and the ray's 6, width x height planes
+    std::vector<float> m_march_soa;  ///< march_row's fields, width x height planes each
     double m_water_fx = 0.0;
     Image m_factor;
 };
@@ -88,5 +92,12 @@ double nearest_surface(const Image& depth);
 /// into `out` (resized: one value a block; `scratch` holds each block's own). Where a ray's
 /// march may start (port_start_s).
 void window_nearest(const Image& inv, Image& out, Image& scratch);
+
+/// window_nearest in two steps, so that the compositor takes the first in its pass over the
+/// frame's rows: one row of `inv` (W values), each block's largest value (ceil(W /
+/// kPortStartBlock) of them, into `out`); then from those of every row (`rows`: one row each),
+/// window_nearest's `out` (`scratch` as there).
+void window_row_maxima(const float* inv, int W, float* out);
+void window_nearest_rows(const Image& rows, Image& out, Image& scratch);
 
 }  // namespace deepsea

@@ -201,7 +201,9 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
     // port_row settles most rays in a march vectorised across the row (docs/ports.md, "Speed")
     // and leaves the rest to the scalar march: its hit points must be the scalar march's
     // (PortRays::hit, what the tests above measure) bit for bit, with the same mask, on smooth
-    // scenes and on one with depth edges and open water.
+    // scenes and on one with depth edges and open water. Its x and y come from where the hit
+    // projects, not from the ray: within float rounding of the double trace's point at the hit's
+    // depth (1.5e-7 z at most here; reading the ray's origin and direction gave 1.3e-7 z).
     const Camera cam = test_camera();
     const Port ports[] = {flat_port({0, 0, 1}, 0.03, 0.012),
                           flat_port({0.06, -0.04, 1}, 0.05, 0.02),
@@ -222,6 +224,7 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
             Image nearest, rows;
             window_nearest(inv, nearest, rows);
             long differ = 0, surfaces = 0;
+            double point_error = 0.0;  // the point's x and y against the double trace's, / z
             for (int v = 0; v < cam.height; ++v) {
                 port_row(rays, v, inv, nearest, surface, z_near,
                          {x.data(), y.data(), z.data(), t.data(), nx.data(), ny.data(), nz.data(),
@@ -234,9 +237,18 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
                                       z[u] == (surface_hit ? float(h.z) : 0.0f) &&
                                       t[u] == (surface_hit ? float(h.t) : 0.0f);
                     differ += !same;
+                    if (!surface_hit || !same) continue;
+                    // x and y come from where the hit projects: the point on the ray at z
+                    const PortRay r = trace_port(port, cam, u, v);
+                    const Vec3& w = r.direction[1];
+                    const double along = (double(z[u]) - r.origin.z) / w.z;
+                    const double ex = std::fabs(x[u] - (r.origin.x + along * w.x)),
+                                 ey = std::fabs(y[u] - (r.origin.y + along * w.y));
+                    point_error = std::max(point_error, std::max(ex, ey) / double(z[u]));
                 }
             }
             EXPECT_EQ(differ, 0) << port.name();
+            EXPECT_LT(point_error, 4e-7) << port.name();
             EXPECT_GT(surfaces, 4000) << port.name();
         }
     }
