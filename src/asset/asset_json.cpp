@@ -97,8 +97,14 @@ json settings_json(const BakeInfo& info) {
         // the wall model: assets baked before it are another request, re-baked by bake-library
         if (info.higher_orders.wall) s["wall"] = "absorbing";
         // tail pooling: assets baked before it are another request too
-        if (info.higher_orders.tail_above > 0.0)
+        if (info.higher_orders.tail_above > 0.0) {
             s["tail"] = {info.higher_orders.tail_above, info.higher_orders.tail_radius};
+            // the threshold from the column's own mean: another request again
+            if (info.higher_orders.tail_of_mean > 0.0)
+                s["tail"].push_back(info.higher_orders.tail_of_mean);
+        }
+        if (info.higher_orders.log_between) s["between_columns"] = "log-bilinear";
+        if (info.higher_orders.lamp_symmetric) s["lamp_symmetry"] = "mirror";
     }
     if (info.z_max_auto) {
         s["z_max"] = "auto";

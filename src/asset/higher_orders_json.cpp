@@ -56,7 +56,12 @@ json higher_orders_json(const HigherOrderSettings& h) {
               {"lamp_rel_std_error", h.lamp_rel_std_error}};
     if (h.spacing_rad > 0.0) m["spacing_rad"] = h.spacing_rad;
     if (h.wall) m["wall"] = "absorbing";
-    if (h.tail_above > 0.0) m["tail"] = {{"above", h.tail_above}, {"radius", h.tail_radius}};
+    if (h.tail_above > 0.0) {
+        m["tail"] = {{"above", h.tail_above}, {"radius", h.tail_radius}};
+        if (h.tail_of_mean > 0.0) m["tail"]["of_mean"] = h.tail_of_mean;
+    }
+    if (h.log_between) m["between_columns"] = "log-bilinear";
+    if (h.lamp_symmetric) m["lamp_symmetry"] = "mirror";
     const HigherOrderCheck& c = h.check;
     if (c.done) {
         m["check"] = {
@@ -97,6 +102,22 @@ HigherOrderSettings parse_higher_orders(const json& m) {
         h.tail_radius = integer(t, "radius", kWhere + ".tail");
         if (!(h.tail_above > 0.0) || h.tail_radius < 0)
             fail(kWhere + ".tail", "above must be > 0 and radius >= 0");
+        // Absent before the threshold followed the column's own orders >= 2.
+        if (t.contains("of_mean")) {
+            h.tail_of_mean = num(t, "of_mean", kWhere + ".tail");
+            if (!(h.tail_of_mean > 0.0)) fail(kWhere + ".tail.of_mean", "must be > 0");
+        }
+    }
+    // Absent before log-bilinear interpolation between columns: bilinear.
+    if (m.contains("between_columns")) {
+        if (m["between_columns"] != "log-bilinear")
+            fail(kWhere + ".between_columns", "not \"log-bilinear\"");
+        h.log_between = true;
+    }
+    // Absent before the lamp tables' odd coefficients were set to 0: as estimated.
+    if (m.contains("lamp_symmetry")) {
+        if (m["lamp_symmetry"] != "mirror") fail(kWhere + ".lamp_symmetry", "not \"mirror\"");
+        h.lamp_symmetric = true;
     }
     if (m.contains("check")) h.check = parse_check(m["check"]);
     return h;

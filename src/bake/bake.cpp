@@ -182,6 +182,9 @@ BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const 
         info.higher_orders.stride = mc_stride(cam, rig, water, s, r.step);
         info.higher_orders.wall = true;
         info.higher_orders.tail_above = kMsTailAbove;
+        info.higher_orders.tail_of_mean = kMsTailOfMean;
+        info.higher_orders.log_between = true;
+        info.higher_orders.lamp_symmetric = true;
         info.higher_orders.tail_radius =
             ms_tail_radius(double(info.higher_orders.stride) * r.step / std::min(cam.fx, cam.fy),
                            ms_detail(cam, rig, water));

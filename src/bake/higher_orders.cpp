@@ -77,6 +77,7 @@ void add_lamp_fields(Asset& asset, const Parallel& par) {
     LampFieldSettings ls;
     ls.samples = info.higher_orders.lamp_samples;
     ls.seed = info.higher_orders.seed;
+    ls.symmetric = info.higher_orders.lamp_symmetric;
     for (const Light& L : lights)
         ls.r_max = std::max(ls.r_max, 1.1 * reach(info.camera, info.lattice.z_max(), L));
     ls.r_max = std::max(ls.r_max, 10.0 * ls.r0);
@@ -104,6 +105,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
     const Lattice& l = info.lattice;
     const Transport transport(info.rig, info.water);
     MsColumns ms;
+    ms.log = s.log_between;
     ms.ci = computed_indices(l.ni, s.stride);
     ms.cj = computed_indices(l.nj, s.stride);
     const std::vector<int>&ci = ms.ci, &cj = ms.cj;
@@ -125,6 +127,7 @@ void add_higher_orders(Asset& asset, const Parallel& par) {
                     std::uint64_t(i) * std::uint64_t(l.nj) + std::uint64_t(j);
                 const Rgb single = asset.at(i, j, int(nk) - 1);
                 MonteCarlo mc{s.paths, s.seed, s.wall};
+                mc.tail_of_mean = s.tail_of_mean;
                 if (s.tail_above > 0.0)
                     for (int c = 0; c < 3; ++c)
                         mc.tail_above[c] =

@@ -41,8 +41,16 @@ Rgb MsColumns::at(double x, double y, std::size_t k) const {
     const auto v = [&](std::size_t ia, std::size_t jb) {
         return values[(ia * cj.size() + jb) * nk + k];
     };
-    return v(a, b) * ((1 - wa) * (1 - wb)) + v(a1, b) * (wa * (1 - wb)) +
-           v(a, b1) * ((1 - wa) * wb) + v(a1, b1) * (wa * wb);
+    const Rgb q[4] = {v(a, b), v(a1, b), v(a, b1), v(a1, b1)};
+    const double w[4] = {(1 - wa) * (1 - wb), wa * (1 - wb), (1 - wa) * wb, wa * wb};
+    Rgb out;
+    for (int c = 0; c < 3; ++c) {
+        const bool positive = q[0][c] > 0.0 && q[1][c] > 0.0 && q[2][c] > 0.0 && q[3][c] > 0.0;
+        double sum = 0.0;
+        for (int n = 0; n < 4; ++n) sum += w[n] * (log && positive ? std::log(q[n][c]) : q[n][c]);
+        out[c] = log && positive ? std::exp(sum) : sum;
+    }
+    return out;
 }
 
 std::vector<std::pair<double, double>> ms_check_pixels(const Asset& asset, const MsColumns& ms) {

@@ -44,6 +44,8 @@ LampField bake_lamp_field(const Light& lamp, const Water& water, const LampField
                 const ShEstimate e = scattered_radiance_sh(tr, X, s.samples, rng, par.stop);
                 float* out = f.sh.data() + n * kShCount * 3;
                 for (int k = 0; k < kShCount * 3; ++k) out[k] = float(e.value[k]);
+                if (s.symmetric)
+                    for (int m : {1, 4, 5}) std::fill(out + 3 * m, out + 3 * m + 3, 0.0f);
                 // Error of the irradiance facing the lamp (n = -X / r), green channel.
                 double Y[kShCount], E = 0.0, var = 0.0;
                 sh_basis(-X.x / r, -X.y / r, -X.z / r, Y);

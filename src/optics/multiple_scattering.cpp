@@ -182,9 +182,10 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
     const bool tail = mc.tail_above.max() > 0.0;
     if (tail) out.tail.assign(nk, Rgb());
     thread_local std::vector<std::pair<double, Rgb>> parts;
-    for (int i = 0; i < mc.paths; ++i) {
-        throw_if_stopped(stop);
-        const double u = (i + rng.uniform()) / mc.paths;
+    // Path i from the generator's state before it: its light in `path` from sample k0 on, k0
+    // returned (nk: it scattered beyond the last sample).
+    const auto trace = [&](int i, Rng& g) {
+        const double u = (i + g.uniform()) / mc.paths;
         double s, pdf;
         if (norm > 0.0) {
             s = -std::log1p(-u * norm) / a;
@@ -194,13 +195,12 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
             pdf = 1.0 / T;
         }
         const Vec3 X = origin + dir * s;
-        const PhaseSample ps = tr.next_direction(X, dir, rng);
+        const PhaseSample ps = tr.next_direction(X, dir, g);
         const Rgb f = w.b * exp(w.c * -s) * (ps.weight / pdf);
         parts.clear();
-        tr.scattered_contributions(X, ps.direction, rng, parts);
+        tr.scattered_contributions(X, ps.direction, g, parts);
         const std::size_t k0 = std::size_t(std::lower_bound(t.begin(), t.end(), s) - t.begin());
-        if (k0 >= nk) continue;
-        // This path's cumulative value at every sample from k0 on; its square for the errors.
+        if (k0 >= nk) return nk;
         std::fill(path.begin() + std::ptrdiff_t(k0), path.end(), Rgb());
         for (const auto& [z, light] : parts) {
             std::size_t k = k0;
@@ -210,23 +210,47 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
             }
             path[k] += f * light;
         }
+        return k0;
+    };
+    // With a tail: each path's start and total, to split the bright ones once the mean is known.
+    thread_local std::vector<Rng> starts;
+    thread_local std::vector<Rgb> totals;
+    if (tail) {
+        starts.assign(std::size_t(mc.paths), rng);
+        totals.assign(std::size_t(mc.paths), Rgb());
+    }
+    for (int i = 0; i < mc.paths; ++i) {
+        throw_if_stopped(stop);
+        if (tail) starts[std::size_t(i)] = rng;
+        const std::size_t k0 = trace(i, rng);
+        if (k0 >= nk) continue;
+        // This path's cumulative value at every sample from k0 on; its square for the errors.
         Rgb run;
         for (std::size_t k = k0; k < nk; ++k) {
             run += path[k];
             s1[k] += run;
             s2[k] += run * run;
         }
-        if (tail) {
-            // run is the path's total now: its share above the threshold, per channel
+        if (tail) totals[std::size_t(i)] = run;
+    }
+    if (tail) {
+        // The threshold per channel, then each path above it traced again (the same stream)
+        // for its share above it at every sample.
+        Rgb above = mc.tail_above;
+        for (int c = 0; c < 3; ++c)
+            above[c] = std::max(above[c], mc.tail_of_mean * s1[nk - 1][c] / mc.paths);
+        for (int i = 0; i < mc.paths; ++i) {
+            const Rgb& run = totals[std::size_t(i)];
             Rgb share;
             for (int c = 0; c < 3; ++c)
-                if (run[c] > mc.tail_above[c]) share[c] = 1.0 - mc.tail_above[c] / run[c];
-            if (share.max() > 0.0) {
-                Rgb sum;
-                for (std::size_t k = k0; k < nk; ++k) {
-                    sum += path[k];
-                    out.tail[k] += sum * share;
-                }
+                if (run[c] > above[c]) share[c] = 1.0 - above[c] / run[c];
+            if (!(share.max() > 0.0)) continue;
+            Rng g = starts[std::size_t(i)];
+            const std::size_t k0 = trace(i, g);
+            Rgb sum;
+            for (std::size_t k = k0; k < nk; ++k) {
+                sum += path[k];
+                out.tail[k] += sum * share;
             }
         }
     }

@@ -90,12 +90,20 @@ void run(const InfoArgs& a) {
                 "angular rule)\n",
                 h.stride, h.stride * l.step);
         }
+        std::printf("           between columns: %s\n",
+                    h.log_between ? "bilinear in the logarithm (geometric) where positive"
+                                  : "bilinear (baked before log-bilinear)");
         std::printf("           %s\n",
                     h.wall ? "in front of a surface: orders >= 2 with an absorbing wall at its "
                              "depth (open water: without walls)"
                            : "in front of a surface: water without walls (baked before the "
                              "wall model)");
-        if (h.tail_above > 0.0) {
+        if (h.tail_above > 0.0 && h.tail_of_mean > 0.0) {
+            std::printf(
+                "           bright paths pooled: light above %g x a column's single scattering "
+                "and %g x its own orders >= 2 shared within %d computed columns\n",
+                h.tail_above, h.tail_of_mean, h.tail_radius);
+        } else if (h.tail_above > 0.0) {
             std::printf(
                 "           bright paths pooled: light above %g x a column's single scattering "
                 "shared within %d computed columns\n",
@@ -115,8 +123,9 @@ void run(const InfoArgs& a) {
         }
         std::printf(
             "           scattered lamp light at surfaces: %zu lamp table(s), %d directions "
-            "per node, standard error %.2f %% (facing the lamp, mean over nodes)\n",
-            b.rig.lights.size(), h.lamp_samples, 100.0 * h.lamp_rel_std_error);
+            "per node, standard error %.2f %% (facing the lamp, mean over nodes)%s\n",
+            b.rig.lights.size(), h.lamp_samples, 100.0 * h.lamp_rel_std_error,
+            h.lamp_symmetric ? ", mirror-symmetric about each node's half-plane" : "");
     } else {
         std::printf("scattering single (the paper's model, exact)\n");
     }

@@ -71,6 +71,16 @@ struct HigherOrderSettings {
     /// tail_radius of it. 0: not pooled (baked before it, or a fixed model).
     double tail_above = 0;
     int tail_radius = 0;
+    /// With tail pooling: the threshold is also at least tail_of_mean x the column's own
+    /// orders >= 2 (per channel, at z_max), so that only paths bright for that column are
+    /// pooled where single scattering is negligible. 0: baked before it (single scattering).
+    double tail_of_mean = 0;
+    /// true: orders >= 2 between computed columns are bilinear in their logarithm where the
+    /// four columns are positive (MsColumns::log); false: bilinear (baked before it).
+    bool log_between = false;
+    /// true: the lamp tables' coefficients odd about each node's half-plane are 0
+    /// (LampFieldSettings::symmetric); false: as estimated (baked before it).
+    bool lamp_symmetric = false;
     HigherOrderCheck check;  ///< the bake's check of the interpolation
 };
 

@@ -22,6 +22,10 @@ void add_forward_psf(Asset& asset, const Parallel& par = {});
 /// scattering (per channel, at z_max) is shared among the computed columns within
 /// ms_tail_radius of it (tent weights).
 inline constexpr double kMsTailAbove = 16.0;
+/// ... and above this many times the column's own orders >= 2 (MonteCarlo::tail_of_mean):
+/// where single scattering is negligible (dark water beside a beam) a path is a rare bright
+/// one only if it is bright for that column.
+inline constexpr double kMsTailOfMean = 16.0;
 /// At most this many computed columns either side, and within kMsTailPerDetail of the light's
 /// angular detail (lattice_rule.h, ms_detail): pooling wider blurs the beams' edges (measured
 /// on crossing pencil beams, docs/ms-columns.md).

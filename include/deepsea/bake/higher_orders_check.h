@@ -18,10 +18,15 @@ struct MsColumns {
     std::vector<int> ci, cj;  ///< lattice indices computed along u and v, ascending
     std::size_t nk = 0;       ///< depth samples per column
     std::vector<Rgb> values;  ///< column (a, b), sample k at [(a * cj.size() + b) * nk + k]
+    /// Bilinear in the logarithm (a geometric mean) per channel where the four columns are
+    /// positive: light that falls off exponentially away from a beam is not lifted between
+    /// columns as a linear mean lifts it; plain bilinear where one is 0.
+    bool log = false;
 
-    /// Bilinear between computed columns at lattice coordinates (x, y) = (u, v) / step: on
-    /// lattice columns what the bake stores, and in between what the runtime's bilinear lookup
-    /// of those gives (each lattice cell lies within one computed cell).
+    /// Bilinear (or with `log`, log-bilinear) between computed columns at lattice coordinates
+    /// (x, y) = (u, v) / step: on lattice columns what the bake stores, and in between what
+    /// the runtime's bilinear lookup of those gives (each lattice cell lies within one
+    /// computed cell).
     Rgb at(double x, double y, std::size_t k) const;
 };
 

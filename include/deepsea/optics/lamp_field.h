@@ -39,6 +39,11 @@ struct LampFieldSettings {
     double r_max = 30.0;  ///< metres; farther points get no scattered light
     int samples = 4096;   ///< directions per node
     std::uint64_t seed = 1;
+    /// Coefficients odd in y (Y_1,-1, Y_2,-2, Y_2,-1) set to 0: the field at a node in the
+    /// half-plane y = 0 is mirror-symmetric about it (the profile depends only on the angle to
+    /// the axis), so they are 0 but for the estimate's noise, which, in a table shared by
+    /// mirror-image lamps, would twist their light the same way.
+    bool symmetric = false;
 };
 
 /// Bakes the field of one lamp (its RID; position, axis and intensity do not matter) in this

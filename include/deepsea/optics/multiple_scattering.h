@@ -33,6 +33,9 @@ struct MonteCarlo {
     /// Per channel, > 0: Estimate::tail gets the part of each path's light above this (the
     /// path's total to the last sample; each of its samples in the same proportion).
     Rgb tail_above{};
+    /// With tail_above: the threshold is at least this many times the estimate's own mean at
+    /// the last sample (known after all paths; those above it are traced again for the split).
+    double tail_of_mean = 0.0;
 };
 
 /// The water and lamps, with what every path needs precomputed.

@@ -132,4 +132,28 @@ TEST(MultipleScattering, TailIsThePathsLightAboveTheThreshold) {
     EXPECT_GT(low.tail.back().r, high.tail.back().r);
 }
 
+TEST(MultipleScattering, TailOfMeanSetsTheThresholdFromTheEstimate) {
+    const Rig rig = isotropic_lamp({0.5, 0, 0});
+    const Water w = water(0.3, 0.2, Phase{PhaseKind::HenyeyGreenstein, 0.9});
+    const Transport tr(rig, w);
+    const std::vector<double> t{0.5, 1.0, 2.0, 4.0, 8.0};
+    const Vec3 dir(0, 0, 1);
+    const auto run = [&](double above, double of_mean) {
+        MonteCarlo mc{4000, 3};
+        mc.tail_above = Rgb(above);
+        mc.tail_of_mean = of_mean;
+        return higher_orders_cumulative(tr, dir, t, mc, 0);
+    };
+    const Estimate fixed = run(16.0 * run(0.0, 0.0).value.back().r, 0.0);
+    // A threshold below 16 x the mean is raised to it: the same split as that fixed threshold,
+    // from the paths traced again; one above it is kept.
+    const Estimate own = run(1e-300, 16.0), higher = run(1e300, 16.0);
+    for (std::size_t k = 0; k < t.size(); ++k) {
+        EXPECT_EQ(own.value[k].r, fixed.value[k].r);
+        EXPECT_NEAR(own.tail[k].r, fixed.tail[k].r, 1e-12 * fixed.value.back().r);
+        EXPECT_EQ(higher.tail[k].r, 0.0);
+    }
+    EXPECT_GT(own.tail.back().r, 0.0);
+}
+
 }  // namespace deepsea
