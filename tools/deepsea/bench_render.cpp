@@ -75,31 +75,34 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
         settings.shadows = k >= 2;
         time(kCompositeCases[k], settings, k % 2 == 0 ? LayerSet::All : LayerSet::Final);
     }
+    // Two renderers' all layers frame by frame in turn: paired timings, so that the machine's
+    // drift does not fall on one of the two.
+    const auto paired = [&](const std::string& name0, Renderer& r0, const std::string& name1,
+                            Renderer& r1) {
+        Layers l0, l1;
+        r0.render(l0, frame, LayerSet::All);
+        r1.render(l1, frame, LayerSet::All);
+        std::vector<double> t[2], cpu[2];
+        for (int r = 0; r < a.repeats; ++r) {
+            for (int k = 0; k < 2; ++k) {
+                const double t0 = now_ms(), c0 = cpu_ms();
+                (k == 0 ? r0 : r1).render(k == 0 ? l0 : l1, frame, LayerSet::All);
+                t[k].push_back(now_ms() - t0);
+                cpu[k].push_back(cpu_ms() - c0);
+            }
+        }
+        cases.push_back(summarize(name0, cam.width, cam.height, threads, t[0], cpu[0]));
+        cases.push_back(summarize(name1, cam.width, cam.height, threads, t[1], cpu[1]));
+    };
     if (asset.forward_psf && wanted(a.cases, "composite_small_angle")) {
-        // All layers with the asset's forward scatter from transport and, frame by frame in
-        // turn, with the small-angle point spread that assets without the table get: paired
-        // timings, so that the machine's drift does not fall on one of the two.
+        // All layers with the asset's forward scatter from transport and, in turn, with the
+        // small-angle point spread that assets without the table get.
         Asset small_angle = asset;
         small_angle.forward_psf.reset();
         RenderSettings plain;
         plain.camera = cam;
         Renderer table(asset, plain), small(small_angle, plain);
-        Layers lt, ls;
-        table.render(lt, frame, LayerSet::All);
-        small.render(ls, frame, LayerSet::All);
-        std::vector<double> t[2], cpu[2];
-        for (int r = 0; r < a.repeats; ++r) {
-            for (int k = 0; k < 2; ++k) {
-                const double t0 = now_ms(), c0 = cpu_ms();
-                (k == 0 ? table : small).render(k == 0 ? lt : ls, frame, LayerSet::All);
-                t[k].push_back(now_ms() - t0);
-                cpu[k].push_back(cpu_ms() - c0);
-            }
-        }
-        cases.push_back(
-            summarize("composite_transport_psf", cam.width, cam.height, threads, t[0], cpu[0]));
-        cases.push_back(
-            summarize("composite_small_angle", cam.width, cam.height, threads, t[1], cpu[1]));
+        paired("composite_transport_psf", table, "composite_small_angle", small);
     }
     RenderSettings port_settings;
     port_settings.camera = cam;
@@ -114,7 +117,12 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
         BakeSettings through = bench_bake(a);
         through.port = port_settings.port;
         const Asset port_asset = bake(cam, asset.info.rig, asset.info.water, through);
-        time("composite_flat_port", port_settings, LayerSet::All, &port_asset);
+        // in turn with the same frame without a port (composite_flat_port_base), whose ratio
+        // is the port's cost (docs/ports.md, "Speed")
+        RenderSettings plain;
+        plain.camera = cam;
+        Renderer port(port_asset, port_settings), pinhole(asset, plain);
+        paired("composite_flat_port", port, "composite_flat_port_base", pinhole);
     }
     // The same with the pinhole asset, looked up through the port (port_backscatter.h).
     if (wanted(a.cases, "composite_flat_port_pinhole"))
