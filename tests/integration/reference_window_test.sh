@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # validate.py --confirm's windows (tools/reference/validate.py): a window of a row's camera casts
 # the same rays through the same pixels as the full camera (exact single scattering, 1e-5), and a
-# window one pixel over does not.
+# window one pixel over does not; compare() names the resolved bins over the target.
 set -euo pipefail
 deepsea=$1 work=$2 src=$3
 py=/usr/bin/python3

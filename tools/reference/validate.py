@@ -3,7 +3,7 @@
 "Validation against the path tracer").
 
 Usage: validate.py DEEPSEA WORK [--set table|wall|ci] [--rows a,b] [--paths-scale F]
-                   [--threads N] [--keep-reference] [--reference-only] [--check]
+                   [--threads N] [--keep-reference] [--reference-only] [--check] [--confirm F]
   table: the validation table's rows (waters, beams, rigs, cameras, phase functions)
   wall:  the surface's effect on the water light: planes at 1, 2, 3 m against empty water
          ending at the same depth (the path tracer's own water light, same seed), and deepsea's
@@ -12,7 +12,10 @@ Each row: deepsea bake --scattering multiple + render --layers, against deepsea 
 --scattering multiple. Prints a Markdown table: per layer (water = backscatter, surface =
 direct + forward, final) the largest channel difference in image sums, and the worst 4x4 bin
 of those the path tracer resolves (the bin's standard error <= 2.5 %; where fewer than half are,
-the smallest power-of-two bin with half resolved, named in the bin column). Debian's python3, numpy, OIIO.
+the smallest power-of-two bin with half resolved, named in the bin column). --confirm F: each
+resolved bin over the 10 % target path-traced again alone, in a window of the row's camera, with
+F times the paths (a bin's own error understates it where its paths missed the bright ones).
+Debian's python3, numpy, OIIO.
 """
 
 import argparse
