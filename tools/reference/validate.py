@@ -208,7 +208,8 @@ def retrace(a, name, row, baked, plane, layers):
     rays: camera(window=...)) with a.confirm times the row's paths and another seed: a bin's
     own standard error understates its error where its paths missed the rare bright ones, so
     the bins that look worst are those that missed most (docs/model.md, "Validation against
-    the path tracer"). Returns per layer [(bin row, bin column, size, first %, again %, SE %)]."""
+    the path tracer"). Returns per layer [(bin row, bin column, size, first %, its SE %,
+    re-traced %, its SE %, paths per pixel)]."""
     wname, rig, size, fov, z, paths = row
     w, h = map(int, size.split("x"))
     paths = max(1, int(paths * a.paths_scale)) * a.confirm
