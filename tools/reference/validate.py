@@ -214,6 +214,7 @@ def retrace(a, name, row, baked, plane, layers):
     w, h = map(int, size.split("x"))
     paths = max(1, int(paths * a.paths_scale)) * a.confirm
     out = {}
+    traced = 0.0
     for layer, (_, _, _, b, _, (over, _, _)) in layers.items():
         parts = LAYERS[layer]
         ours = sum(read_layer(baked, p) for p in parts)
@@ -222,9 +223,10 @@ def retrace(a, name, row, baked, plane, layers):
             pt = os.path.join(d, "pt.exr")
             setup, rgb, depth = write_scene(d, row, camera(w, h, fov, (r * b, c * b, b, b)), plane)
             if not (a.keep_reference and os.path.exists(pt)):
-                run([a.deepsea, "reference", "--config", setup, "--rgb", rgb, "--depth", depth,
-                     "--scattering", "multiple", "--paths", str(paths), "--seed", str(RETRACE_SEED),
-                     "--z-max", str(Z_MAX), "--layers", pt, "--threads", str(a.threads)])
+                traced += run([a.deepsea, "reference", "--config", setup, "--rgb", rgb,
+                               "--depth", depth, "--scattering", "multiple", "--paths", str(paths),
+                               "--seed", str(RETRACE_SEED), "--z-max", str(Z_MAX), "--layers", pt,
+                               "--threads", str(a.threads)])
             ref = sum(read_layer(pt, p) for p in parts).sum(axis=(0, 1))
             var = sum(read_layer(pt, p + "_se") ** 2 for p in parts).sum(axis=(0, 1))
             mine = ours[r * b:(r + 1) * b, c * b:(c + 1) * b].sum(axis=(0, 1))
@@ -232,6 +234,7 @@ def retrace(a, name, row, baked, plane, layers):
             ch = int(np.argmax(np.abs(again)))
             out.setdefault(layer, []).append((r, c, b, first, first_se, 100 * again[ch],
                                               100 * math.sqrt(var[ch]) / ref[ch], paths))
+    print(f"{name}: windows path-traced in {traced:.0f} s", file=sys.stderr)
     return out
 
 
