@@ -286,7 +286,7 @@ def main():
                 failed.append(f"{name} {layer} {dd:+.1f}%")
         if a.confirm:
             retraced[name] = (layers, retrace(a, name, rows[name], baked, plane, layers))
-    if retraced:
+    if any(per_layer for _, per_layer in retraced.values()):
         print_retraced(retraced)
     if a.check and failed:
         print("missed 5 % + 3 SE in image sums: " + "; ".join(failed), file=sys.stderr)
