@@ -3,7 +3,7 @@
 "Validation against the path tracer").
 
 Usage: validate.py DEEPSEA WORK [--set table|wall|ci] [--rows a,b] [--paths-scale F]
-                   [--threads N] [--keep-reference] [--reference-only] [--check]
+                   [--threads N] [--keep-reference] [--reference-only] [--check] [--confirm F]
   table: the validation table's rows (waters, beams, rigs, cameras, phase functions)
   wall:  the surface's effect on the water light: planes at 1, 2, 3 m against empty water
          ending at the same depth (the path tracer's own water light, same seed), and deepsea's
@@ -12,7 +12,10 @@ Each row: deepsea bake --scattering multiple + render --layers, against deepsea 
 --scattering multiple. Prints a Markdown table: per layer (water = backscatter, surface =
 direct + forward, final) the largest channel difference in image sums, and the worst 4x4 bin
 of those the path tracer resolves (the bin's standard error <= 2.5 %; where fewer than half are,
-the smallest power-of-two bin with half resolved, named in the bin column). Debian's python3, numpy, OIIO.
+the smallest power-of-two bin with half resolved, named in the bin column). --confirm F: each
+resolved bin over the 10 % target path-traced again alone, in a window of the row's camera, with
+F times the paths (a bin's own error understates it where its paths missed the bright ones).
+Debian's python3, numpy, OIIO.
 """
 
 import argparse
@@ -96,25 +99,44 @@ def wall_rows():
     return rows
 
 
+def camera(w, h, fov, window=None):
+    """(width, height, fx, fy, cx, cy) of a row's camera: w x h px, horizontal field of view fov
+    (degrees), centred. window (row, column, height, width): that window of it alone, the same
+    rays through the same pixels (pixel (u, v) of the window is (column + u, row + v))."""
+    f = (w / 2) / math.tan(math.radians(fov) / 2)
+    cx, cy = (w - 1) / 2, (h - 1) / 2
+    if window is None:
+        return (w, h, f, f, cx, cy)
+    r0, c0, wh, ww = window
+    return (ww, wh, f, f, cx - c0, cy - r0)
+
+
+def write_scene(d, row, cam, plane):
+    """A row's setup.yaml, uniform albedo and depth (plane or open water) in folder d."""
+    wname, rig = row[0], row[1]
+    w, h, fx, fy, cx, cy = cam
+    os.makedirs(d, exist_ok=True)
+    setup = os.path.join(d, "setup.yaml")
+    with open(setup, "w") as fh:
+        fh.write(f"camera: {{width: {w}, height: {h}, fx: {fx}, fy: {fy}, "
+                 f"cx: {cx}, cy: {cy}}}\nrig:\n  name: {rig}\n  lights:\n"
+                 + "".join(RIGS[rig]) + WATERS[wname])
+    rgb, depth = os.path.join(d, "albedo.exr"), os.path.join(d, "depth.exr")
+    write_exr(rgb, np.tile(np.array(ALBEDO, np.float32), (h, w, 1)))
+    write_exr(depth, np.full((h, w, 1), plane if plane else np.inf, np.float32))
+    return setup, rgb, depth
+
+
 def render_row(a, name, row):
     """Bakes (once per camera, rig and water), renders and path-traces one row's scene."""
     wname, rig, size, fov, z, paths = row
     paths = max(1, int(paths * a.paths_scale))
     w, h = map(int, size.split("x"))
-    f = (w / 2) / math.tan(math.radians(fov) / 2)
     d = os.path.join(a.work, name)
-    os.makedirs(d, exist_ok=True)
-    setup = os.path.join(d, "setup.yaml")
-    with open(setup, "w") as fh:
-        fh.write(f"camera: {{width: {w}, height: {h}, fx: {f}, fy: {f}, "
-                 f"cx: {(w - 1) / 2}, cy: {(h - 1) / 2}}}\nrig:\n  name: {rig}\n  lights:\n"
-                 + "".join(RIGS[rig]) + WATERS[wname])
     # ("open", z): empty water whose camera rays end at z (the same seed as the plane at z)
     open_to = z[1] if isinstance(z, tuple) else None
     plane = None if isinstance(z, tuple) else z
-    rgb, depth = os.path.join(d, "albedo.exr"), os.path.join(d, "depth.exr")
-    write_exr(rgb, np.tile(np.array(ALBEDO, np.float32), (h, w, 1)))
-    write_exr(depth, np.full((h, w, 1), plane if plane else np.inf, np.float32))
+    setup, rgb, depth = write_scene(d, row, camera(w, h, fov), plane)
     th = ["--threads", str(a.threads)]
     asset = os.path.join(a.work, f"{wname}_{rig}_{size}_{fov:g}.vdb")
     times = {}
@@ -139,6 +161,8 @@ def render_row(a, name, row):
 
 
 LAYERS = {"water": ["backscatter"], "surface": ["direct", "forward"], "final": ["final"]}
+BIN_TARGET = 0.10  # per bin, of the path tracer's value
+RETRACE_SEED = 2  # --confirm: the windows' seed (the rows path-trace with seed 1)
 
 
 def compare(baked, pt, plane):
@@ -165,8 +189,52 @@ def compare(baked, pt, plane):
                 break
             b *= 2
         rel = np.abs(bo - br) / br
+        # bins with a resolved channel over the target: (row, column, its worst such channel %)
+        hot = (ok & (rel > BIN_TARGET)).any(2)
+        over = [(int(r), int(c), 100 * rel[r, c][ok[r, c]].max(),
+                 100 * bse[r, c][ok[r, c]].max()) for r, c in zip(*np.nonzero(hot))]
+        rest = ok & ~hot[:, :, None]
+        # the mean signed bin error, resolved bins and the others, in the channel furthest off
+        signed = (bo - br)[:, :, worst] / br[:, :, worst]
+        lean = [100 * signed[m].mean() if m.any() else math.nan
+                for m in (ok[:, :, worst], ~ok[:, :, worst])]
         out[name] = (diff[worst], se[worst], 100 * rel[ok].max() if ok.any() else math.nan, b,
-                     100 * ok.mean())
+                     100 * ok.mean(), (over, 100 * rel[rest].max() if rest.any() else 0.0, lean))
+    return out
+
+
+def retrace(a, name, row, baked, plane, layers):
+    """Each resolved bin over the target, path-traced again in a window of its own (the same
+    rays: camera(window=...)) with a.confirm times the row's paths and another seed: a bin's
+    own standard error understates its error where its paths missed the rare bright ones, so
+    the bins that look worst are those that missed most (docs/model.md, "Validation against
+    the path tracer"). Returns per layer [(bin row, bin column, size, first %, its SE %,
+    re-traced %, its SE %, paths per pixel)]."""
+    wname, rig, size, fov, z, paths = row
+    w, h = map(int, size.split("x"))
+    paths = max(1, int(paths * a.paths_scale)) * a.confirm
+    out = {}
+    traced = 0.0
+    for layer, (_, _, _, b, _, (over, _, _)) in layers.items():
+        parts = LAYERS[layer]
+        ours = sum(read_layer(baked, p) for p in parts)
+        for r, c, first, first_se in over:
+            d = os.path.join(a.work, name, f"window-{b}-{r}-{c}")
+            pt = os.path.join(d, "pt.exr")
+            setup, rgb, depth = write_scene(d, row, camera(w, h, fov, (r * b, c * b, b, b)), plane)
+            if not (a.keep_reference and os.path.exists(pt)):
+                traced += run([a.deepsea, "reference", "--config", setup, "--rgb", rgb,
+                               "--depth", depth, "--scattering", "multiple", "--paths", str(paths),
+                               "--seed", str(RETRACE_SEED), "--z-max", str(Z_MAX), "--layers", pt,
+                               "--threads", str(a.threads)])
+            ref = sum(read_layer(pt, p) for p in parts).sum(axis=(0, 1))
+            var = sum(read_layer(pt, p + "_se") ** 2 for p in parts).sum(axis=(0, 1))
+            mine = ours[r * b:(r + 1) * b, c * b:(c + 1) * b].sum(axis=(0, 1))
+            again = mine / ref - 1
+            ch = int(np.argmax(np.abs(again)))
+            out.setdefault(layer, []).append((r, c, b, first, first_se, 100 * again[ch],
+                                              100 * math.sqrt(var[ch]) / ref[ch], paths))
+    print(f"{name}: windows path-traced in {traced:.0f} s", file=sys.stderr)
     return out
 
 
@@ -183,6 +251,9 @@ def main():
     ap.add_argument("--bake-args", default="", help="more options for deepsea bake")
     ap.add_argument("--reference-only", action="store_true",
                     help="path-trace only (then rerun with --keep-reference)")
+    ap.add_argument("--confirm", type=int, default=0, metavar="F",
+                    help="path-trace each resolved bin over the 10 %% target again, alone in a "
+                         "window, with F times the row's paths and seed 2")
     ap.add_argument("--check", action="store_true",
                     help="exit 1 where a row misses 5 %% + 3 SE in image sums")
     a = ap.parse_args()
@@ -203,18 +274,47 @@ def main():
           "| bins resolved |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     failed = []
+    retraced = {}
     for name, (baked, pt, plane) in results.items():
         wname, rig, size, fov, z, _ = rows[name]
-        for layer, (dd, se, wb, b, bse) in compare(baked, pt, plane).items():
+        layers = compare(baked, pt, plane)
+        for layer, (dd, se, wb, b, bse, _) in layers.items():
             print(f"| {name} | {wname} | {rig} | {size} {fov:g} deg | "
                   f"{f'{plane:g} m' if plane else 'none'} | {layer} | {dd:+.1f}% | {se:.1f}% | "
                   f"{wb:.1f}% | {b}x{b} | {bse:.0f}% |")
             if abs(dd) > 5 + 3 * se:
                 failed.append(f"{name} {layer} {dd:+.1f}%")
+        if a.confirm:
+            retraced[name] = (layers, retrace(a, name, rows[name], baked, plane, layers))
+    if any(per_layer for _, per_layer in retraced.values()):
+        print_retraced(retraced)
     if a.check and failed:
         print("missed 5 % + 3 SE in image sums: " + "; ".join(failed), file=sys.stderr)
         return 1
     return 0
+
+
+def print_retraced(retraced):
+    """The re-traced bins, and each layer's worst resolved bin with them in place."""
+    print("\n| row | layer | bin | pixels (rows, columns) | first | its SE | re-traced | its SE "
+          "| paths per pixel |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, (layers, per_layer) in retraced.items():
+        for layer, hits in per_layer.items():
+            for r, c, b, first, first_se, again, se, paths in hits:
+                print(f"| {name} | {layer} | {b}x{b} | {r * b}-{r * b + b - 1}, "
+                      f"{c * b}-{c * b + b - 1} | {first:.1f}% | {first_se:.1f}% | {again:+.1f}% "
+                      f"| {se:.1f}% | {paths} |")
+    for name, (layers, per_layer) in retraced.items():
+        for layer, (_, _, wb, b, _, (_, rest, lean)) in layers.items():
+            hits = per_layer.get(layer, [])
+            if not hits:
+                continue
+            again = max(abs(h[5]) for h in hits)
+            print(f"{name} {layer}: worst resolved {b}x{b} bin {wb:.1f}% as first traced; the "
+                  f"{len(hits)} over {100 * BIN_TARGET:.0f}% re-traced: worst {again:.1f}%; "
+                  f"with them in place {max(rest, again):.1f}%; mean bin error (the sum's "
+                  f"channel) {lean[0]:+.1f}% on resolved bins, {lean[1]:+.1f}% on the others")
 
 
 def wall_table(rows, results):
