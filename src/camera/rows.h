@@ -12,6 +12,10 @@
 #include <memory>
 #include <new>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 #include "deepsea/camera/model.h"
 #include "deepsea/camera/noise.h"
 
@@ -81,10 +85,11 @@ struct RowBuffers {
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
     /// Optional, only where reads_unaligned: the image made in the sensor's loop through the
     /// frame's table of display values (`lut` into `shown`) or of 8-bit codes (`code_lut` into
-    /// `codes`), entry 3 dn + c as lookup_row's (null: not made here).
+    /// `codes`, kCodePad bytes after its last entry), entry 3 dn + c as lookup_row's (null: not
+    /// made here).
     const float* lut = nullptr;
     float* shown = nullptr;
-    const std::int32_t* code_lut = nullptr;
+    const std::uint8_t* code_lut = nullptr;
     std::uint8_t* codes = nullptr;
 };
 
@@ -173,8 +178,15 @@ void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp
 void fixed_pattern_row(NoiseKey prnu_key, NoiseKey dsnu_key, std::uint32_t base, int n, float prnu,
                        float dsnu, float* response, float* dsnu_out);
 
-/// Each of `pixels` pixels' brightest raw DN (interleaved R, G, B: whole numbers >= 0) as an int.
-void brightest_row(int pixels, const float* raw, std::int32_t* brightest);
+/// Counters per bin of the camera stage's histograms of the brightest raw DN: pixel p counts in
+/// counter p % kCounters of its bin, so that a run of pixels of one brightness (dark water) does
+/// not wait on one counter's last increment each time.
+inline constexpr int kCounters = 4;
+
+/// Each of `pixels` pixels' counter (kCounters) in a histogram of the brightest raw DN:
+/// kCounters min(brightest, last) + p % kCounters, from the pixels' raw DN (interleaved R, G, B:
+/// whole numbers >= 0).
+void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* counter);
 
 /// What the processing kernel needs (per-channel scales come as a row, `scale`).
 struct ProcessParams {
@@ -194,8 +206,30 @@ void process_row(const ProcessParams& p, int n, const float* scale, const float*
 /// `lut` of 3 x levels (entry 3 dn + c: channel c's display value of dn).
 void lookup_row(const float* lut, int n, const float* dn, float* out);
 
-/// lookup_row for a table of 8-bit codes (each in an int32: entry 3 dn + c, 0 to 255): the image
-/// as codes without display values in between.
-void lookup_codes_row(const std::int32_t* lut, int n, const float* dn, std::uint8_t* out);
+/// Bytes a table of 8-bit codes has after its last entry: AVX2 gathers read each entry as the
+/// low byte of a 32-bit word (a 12-bit sensor's table is 12 KB, in L1, not 48 KB of words).
+inline constexpr int kCodePad = 3;
+
+/// lookup_row for a table of 8-bit codes (entry 3 dn + c, kCodePad bytes after the last): the
+/// image as codes without display values in between.
+void lookup_codes_row(const std::uint8_t* lut, int n, const float* dn, std::uint8_t* out);
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// The codes of a table of 8-bit codes (kCodePad) at the 8 entries `at`, in the low 8 bytes:
+/// each entry gathered as the low byte of the 32-bit word there. kMasked: `mask`'s lanes only
+/// (the others 0).
+template <bool kMasked = false>
+__attribute__((target("avx2"), always_inline)) inline __m128i gather_codes(
+    const std::uint8_t* lut, __m256i at, __m256i mask = __m256i()) {
+    const int* words = reinterpret_cast<const int*>(lut);
+    const __m256i w = kMasked
+                          ? _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), words, at, mask, 1)
+                          : _mm256_i32gather_epi32(words, at, 1);
+    const __m256i code = _mm256_and_si256(w, _mm256_set1_epi32(0xff));
+    const __m128i pairs =
+        _mm_packus_epi32(_mm256_castsi256_si128(code), _mm256_extracti128_si256(code, 1));
+    return _mm_packus_epi16(pairs, pairs);
+}
+#endif
 
 }  // namespace deepsea::camera_rows
