@@ -269,7 +269,7 @@ struct CameraStage::Recording {
     void make_tables() {
         lut = display_table(pp, scale, int(sp.max_dn) + 1);
         if (!layers.codes8) return;
-        code_lut.assign(lut.size() + camera_rows::kCodePad, 0);
+        code_lut.resize(lut.size());
         quantise8(lut.data(), lut.size(), code_lut.data());
     }
 

@@ -439,7 +439,7 @@ __attribute__((target("avx2"))) void lookup_codes_avx2(const std::uint8_t* lut, 
         const __m256i at =
             _mm256_add_epi32(_mm256_add_epi32(d, _mm256_slli_epi32(d, 1)),
                              _mm256_load_si256(reinterpret_cast<const __m256i*>(chan + i)));
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), gather_codes(lut, at));
+        read_codes(lut, at, out + i);
     }
     for (; i < n; ++i) out[i] = lut[3 * std::int32_t(dn[i]) + chan[i]];
 }

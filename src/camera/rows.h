@@ -85,8 +85,7 @@ struct RowBuffers {
     float *exact_mean, *exact_uniform, *exact_electrons, *exact_offset;
     /// Optional, only where reads_unaligned: the image made in the sensor's loop through the
     /// frame's table of display values (`lut` into `shown`) or of 8-bit codes (`code_lut` into
-    /// `codes`, kCodePad bytes after its last entry), entry 3 dn + c as lookup_row's (null: not
-    /// made here).
+    /// `codes`), entry 3 dn + c as lookup_row's (null: not made here).
     const float* lut = nullptr;
     float* shown = nullptr;
     const std::uint8_t* code_lut = nullptr;
@@ -206,29 +205,20 @@ void process_row(const ProcessParams& p, int n, const float* scale, const float*
 /// `lut` of 3 x levels (entry 3 dn + c: channel c's display value of dn).
 void lookup_row(const float* lut, int n, const float* dn, float* out);
 
-/// Bytes a table of 8-bit codes has after its last entry: AVX2 gathers read each entry as the
-/// low byte of a 32-bit word (a 12-bit sensor's table is 12 KB, in L1, not 48 KB of words).
-inline constexpr int kCodePad = 3;
-
-/// lookup_row for a table of 8-bit codes (entry 3 dn + c, kCodePad bytes after the last): the
+/// lookup_row for a table of 8-bit codes (entry 3 dn + c; a 12-bit sensor's table is 12 KB): the
 /// image as codes without display values in between.
 void lookup_codes_row(const std::uint8_t* lut, int n, const float* dn, std::uint8_t* out);
 
 #if defined(__x86_64__) && defined(__GNUC__)
-/// The codes of a table of 8-bit codes (kCodePad) at the 8 entries `at`, in the low 8 bytes:
-/// each entry gathered as the low byte of the 32-bit word there. kMasked: `mask`'s lanes only
-/// (the others 0).
-template <bool kMasked = false>
-__attribute__((target("avx2"), always_inline)) inline __m128i gather_codes(
-    const std::uint8_t* lut, __m256i at, __m256i mask = __m256i()) {
-    const int* words = reinterpret_cast<const int*>(lut);
-    const __m256i w = kMasked
-                          ? _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), words, at, mask, 1)
-                          : _mm256_i32gather_epi32(words, at, 1);
-    const __m256i code = _mm256_and_si256(w, _mm256_set1_epi32(0xff));
-    const __m128i pairs =
-        _mm_packus_epi32(_mm256_castsi256_si128(code), _mm256_extracti128_si256(code, 1));
-    return _mm_packus_epi16(pairs, pairs);
+/// out[j] = lut[at[j]] for the first `count` lanes of `at` (entries of a table of 8-bit codes),
+/// by scalar loads: on the AMD EPYC of docs/camera-speed.md, vpgatherdd of the table took more
+/// of the sensor loop's time than all its arithmetic.
+__attribute__((target("avx2"), always_inline)) inline void read_codes(const std::uint8_t* lut,
+                                                                     __m256i at, std::uint8_t* out,
+                                                                     int count = 8) {
+    alignas(32) std::int32_t k[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(k), at);
+    for (int j = 0; j < count; ++j) out[j] = lut[k[j]];
 }
 #endif
 

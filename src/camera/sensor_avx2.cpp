@@ -132,14 +132,7 @@ __attribute__((target("avx2,fma"), always_inline)) inline int eight(const Params
             else
                 _mm256_storeu_ps(a.shown + i, _mm256_i32gather_ps(a.lut, at, 4));
         } else {
-            const __m128i bytes = gather_codes<kMasked>(a.code_lut, at, mask);
-            if constexpr (kMasked) {
-                alignas(16) std::uint8_t eight[16];
-                _mm_store_si128(reinterpret_cast<__m128i*>(eight), bytes);
-                for (int k = 0; k < left; ++k) a.codes[i + k] = eight[k];
-            } else {
-                _mm_storel_epi64(reinterpret_cast<__m128i*>(a.codes + i), bytes);
-            }
+            read_codes(a.code_lut, at, a.codes + i, kMasked ? left : 8);
         }
     }
     const __m256 poisson = _mm256_cmp_ps(mean, p.poisson_below, _CMP_LT_OS);
