@@ -366,8 +366,8 @@ void brightest_generic(int p0, int pixels, const float* raw, std::int32_t last,
 /// in the same lane of three vectors (pixels in the order 0 3 6 1 4 7 2 5, G and B rotated into
 /// it), two maxima, one permute back to pixel order (GCC's vectoriser makes the strided loads of
 /// brightest_generic with twice the instructions).
-__attribute__((target("avx2"))) void brightest_avx2(int pixels, const float* raw,
-                                                    std::int32_t last, std::int32_t* counter) {
+__attribute__((target("avx2"))) void brightest_avx2(int pixels, const float* raw, std::int32_t last,
+                                                    std::int32_t* counter) {
     static_assert(kCounters == 4, "the lanes' counters below are p % 4");
     const __m256i g_turn = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 0);
     const __m256i b_turn = _mm256_setr_epi32(2, 3, 4, 5, 6, 7, 0, 1);
@@ -381,10 +381,10 @@ __attribute__((target("avx2"))) void brightest_avx2(int pixels, const float* raw
         // Lane l of r: value 0 9 18 3 12 21 6 15 (R of pixels 0 3 6 1 4 7 2 5).
         const __m256 r = _mm256_blend_ps(_mm256_blend_ps(a, b, 0x92), c, 0x24);
         // Before turning: C0 A1 B2 C3 A4 B5 C6 A7 and B0 C1 A2 B3 C4 A5 B6 C7.
-        const __m256 g = _mm256_permutevar8x32_ps(
-            _mm256_blend_ps(_mm256_blend_ps(a, b, 0x24), c, 0x49), g_turn);
-        const __m256 bl = _mm256_permutevar8x32_ps(
-            _mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92), b_turn);
+        const __m256 g =
+            _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x24), c, 0x49), g_turn);
+        const __m256 bl =
+            _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92), b_turn);
         const __m256 m = _mm256_permutevar8x32_ps(_mm256_max_ps(r, _mm256_max_ps(g, bl)), order);
         const __m256i bin = _mm256_min_epi32(_mm256_cvttps_epi32(m), top);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(counter + p),

@@ -214,8 +214,8 @@ void lookup_codes_row(const std::uint8_t* lut, int n, const float* dn, std::uint
 /// by scalar loads: on the AMD EPYC of docs/camera-speed.md, vpgatherdd of the table took more
 /// of the sensor loop's time than all its arithmetic.
 __attribute__((target("avx2"), always_inline)) inline void read_codes(const std::uint8_t* lut,
-                                                                     __m256i at, std::uint8_t* out,
-                                                                     int count = 8) {
+                                                                      __m256i at, std::uint8_t* out,
+                                                                      int count = 8) {
     alignas(32) std::int32_t k[8];
     _mm256_store_si256(reinterpret_cast<__m256i*>(k), at);
     for (int j = 0; j < count; ++j) out[j] = lut[k[j]];
