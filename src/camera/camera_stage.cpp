@@ -37,12 +37,16 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
     return std::shared_ptr<float>(owner, reinterpret_cast<float*>(owner.get()));
 }
 
+using camera_rows::kCounters;
+
 /// Adds a chunk's pixels (len values, whole pixels) to the histogram of their brightest raw DN
-/// (whole numbers in [0, last]), found in a vector loop into the exact path's index scratch (free
-/// by now).
+/// (whole numbers in [0, last]; kCounters counters a bin), their counters found in a vector loop
+/// into the exact path's index scratch (free by now).
 void count_brightest(Scratch& t, int len, std::int32_t last, std::uint32_t* hist) {
-    camera_rows::brightest_row(len / 3, t.raw, t.index);
-    for (int p = 0; p < len / 3; ++p) ++hist[std::min(t.index[p], last)];
+    const int pixels = len / 3;
+    const std::int32_t* counter = t.index;
+    camera_rows::brightest_row(pixels, t.raw, last, t.index);
+    for (int p = 0; p < pixels; ++p) ++hist[std::uint32_t(counter[p])];
 }
 
 /// n floats from src to dst.
@@ -184,7 +188,7 @@ struct CameraStage::Recording {
     float resp[3], scale[3];  // resp: the noise-free image's response, no PRNU
     double range;
     std::vector<float> lut;
-    std::vector<std::int32_t> code_lut;  // with codes8: the table's values as 8-bit codes
+    std::vector<std::uint8_t> code_lut;  // with codes8: the table's values as 8-bit codes
     std::size_t record_row;
     AlignedBytes record;
     std::vector<double> row_sums;
@@ -265,9 +269,8 @@ struct CameraStage::Recording {
     void make_tables() {
         lut = display_table(pp, scale, int(sp.max_dn) + 1);
         if (!layers.codes8) return;
-        std::vector<std::uint8_t> codes(lut.size());
-        quantise8(lut.data(), lut.size(), codes.data());
-        code_lut.assign(codes.begin(), codes.end());
+        code_lut.resize(lut.size());
+        quantise8(lut.data(), lut.size(), code_lut.data());
     }
 
     /// Display values of `len` DN into dst, both passes: whole DN (`whole`) through this frame's
@@ -294,7 +297,7 @@ struct CameraStage::Recording {
     std::uint32_t* histogram() {
         if (!layers.meter) return nullptr;
         std::vector<std::uint32_t>& hist = hists.local();
-        if (hist.empty()) hist.assign(std::size_t(sp.max_dn) + 1, 0);
+        if (hist.empty()) hist.assign(kCounters * (std::size_t(sp.max_dn) + 1), 0);
         return hist.data();
     }
 
@@ -360,7 +363,8 @@ struct CameraStage::Recording {
         if (layers.meter) {
             out.brightest.assign(std::size_t(sp.max_dn) + 1, 0);
             for (const std::vector<std::uint32_t>& hist : hists)
-                for (std::size_t b = 0; b < hist.size(); ++b) out.brightest[b] += hist[b];
+                for (std::size_t b = 0; b < hist.size(); ++b)
+                    out.brightest[b / kCounters] += hist[b];
         }
         if (!two_pass) return;
         if (grey) {

@@ -253,7 +253,7 @@ void sensor_row(const SensorParams& p, std::uint32_t base, int n, const RowBuffe
             for (int j = 0; j < m; ++j) {  // the image of the values the exact path changed
                 const int i = b.index[j], at = 3 * std::int32_t(b.raw[i]) + chan[i];
                 if (b.shown) b.shown[i] = b.lut[at];
-                if (b.codes) b.codes[i] = std::uint8_t(b.code_lut[at]);
+                if (b.codes) b.codes[i] = b.code_lut[at];
             }
             return;
         }
@@ -348,11 +348,60 @@ template <bool kMatrix>
 
 }  // namespace
 
+namespace {
+
 DEEPSEA_CAMERA_CLONES
-void brightest_row(int pixels, const float* raw, std::int32_t* brightest) {
+void brightest_generic(int p0, int pixels, const float* raw, std::int32_t last,
+                       std::int32_t* counter) {
 #pragma omp simd
-    for (int i = 0; i < pixels; ++i)
-        brightest[i] = std::int32_t(max_of(raw[3 * i], max_of(raw[3 * i + 1], raw[3 * i + 2])));
+    for (int p = p0; p < pixels; ++p) {
+        const std::int32_t b =
+            std::int32_t(max_of(raw[3 * p], max_of(raw[3 * p + 1], raw[3 * p + 2])));
+        counter[p] = kCounters * (b < last ? b : last) + p % kCounters;
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// 8 pixels from 3 vectors (24 interleaved values) at a time: blends put each pixel's R, G and B
+/// in the same lane of three vectors (pixels in the order 0 3 6 1 4 7 2 5, G and B rotated into
+/// it), two maxima, one permute back to pixel order (GCC's vectoriser makes the strided loads of
+/// brightest_generic with twice the instructions).
+__attribute__((target("avx2"))) void brightest_avx2(int pixels, const float* raw, std::int32_t last,
+                                                    std::int32_t* counter) {
+    static_assert(kCounters == 4, "the lanes' counters below are p % 4");
+    const __m256i g_turn = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 0);
+    const __m256i b_turn = _mm256_setr_epi32(2, 3, 4, 5, 6, 7, 0, 1);
+    const __m256i order = _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5);  // lane of pixel k
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3), top = _mm256_set1_epi32(last);
+    int p = 0;
+    for (; p + 8 <= pixels; p += 8) {
+        const float* q = raw + 3 * p;
+        const __m256 a = _mm256_loadu_ps(q), b = _mm256_loadu_ps(q + 8),
+                     c = _mm256_loadu_ps(q + 16);
+        // Lane l of r: value 0 9 18 3 12 21 6 15 (R of pixels 0 3 6 1 4 7 2 5).
+        const __m256 r = _mm256_blend_ps(_mm256_blend_ps(a, b, 0x92), c, 0x24);
+        // Before turning: C0 A1 B2 C3 A4 B5 C6 A7 and B0 C1 A2 B3 C4 A5 B6 C7.
+        const __m256 g =
+            _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x24), c, 0x49), g_turn);
+        const __m256 bl =
+            _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92), b_turn);
+        const __m256 m = _mm256_permutevar8x32_ps(_mm256_max_ps(r, _mm256_max_ps(g, bl)), order);
+        const __m256i bin = _mm256_min_epi32(_mm256_cvttps_epi32(m), top);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(counter + p),
+                            _mm256_or_si256(_mm256_slli_epi32(bin, 2), lane));
+    }
+    brightest_generic(p, pixels, raw, last, counter);
+}
+const bool kBrightestAvx2 = __builtin_cpu_supports("avx2");
+#endif
+
+}  // namespace
+
+void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* counter) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (kBrightestAvx2) return brightest_avx2(pixels, raw, last, counter);
+#endif
+    brightest_generic(0, pixels, raw, last, counter);
 }
 
 DEEPSEA_CAMERA_CLONES
@@ -381,7 +430,7 @@ __attribute__((target("avx2"))) void lookup_avx2(const float* lut, int n, const 
     }
     for (; i < n; ++i) out[i] = lut[3 * std::int32_t(dn[i]) + chan[i]];
 }
-__attribute__((target("avx2"))) void lookup_codes_avx2(const std::int32_t* lut, int n,
+__attribute__((target("avx2"))) void lookup_codes_avx2(const std::uint8_t* lut, int n,
                                                        const float* dn, std::uint8_t* out) {
     const std::int32_t* chan = kChannels.c;
     int i = 0;
@@ -390,12 +439,9 @@ __attribute__((target("avx2"))) void lookup_codes_avx2(const std::int32_t* lut, 
         const __m256i at =
             _mm256_add_epi32(_mm256_add_epi32(d, _mm256_slli_epi32(d, 1)),
                              _mm256_load_si256(reinterpret_cast<const __m256i*>(chan + i)));
-        const __m256i code = _mm256_i32gather_epi32(lut, at, 4);
-        const __m128i words =
-            _mm_packus_epi32(_mm256_castsi256_si128(code), _mm256_extracti128_si256(code, 1));
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(words, words));
+        read_codes(lut, at, out + i);
     }
-    for (; i < n; ++i) out[i] = std::uint8_t(lut[3 * std::int32_t(dn[i]) + chan[i]]);
+    for (; i < n; ++i) out[i] = lut[3 * std::int32_t(dn[i]) + chan[i]];
 }
 const bool kHaveAvx2 = __builtin_cpu_supports("avx2");
 #endif
@@ -413,12 +459,12 @@ void lookup_row(const float* lut, int n, const float* dn, float* out) {
     }
 }
 
-void lookup_codes_row(const std::int32_t* lut, int n, const float* dn, std::uint8_t* out) {
+void lookup_codes_row(const std::uint8_t* lut, int n, const float* dn, std::uint8_t* out) {
 #if defined(__x86_64__) && defined(__GNUC__)
     if (kHaveAvx2) return lookup_codes_avx2(lut, n, dn, out);
 #endif
     for (int i = 0; i < n; i += 3)
-        for (int c = 0; c < 3; ++c) out[i + c] = std::uint8_t(lut[3 * std::int32_t(dn[i + c]) + c]);
+        for (int c = 0; c < 3; ++c) out[i + c] = lut[3 * std::int32_t(dn[i + c]) + c];
 }
 
 }  // namespace deepsea::camera_rows

@@ -12,6 +12,10 @@
 #include <memory>
 #include <new>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 #include "deepsea/camera/model.h"
 #include "deepsea/camera/noise.h"
 
@@ -84,7 +88,7 @@ struct RowBuffers {
     /// `codes`), entry 3 dn + c as lookup_row's (null: not made here).
     const float* lut = nullptr;
     float* shown = nullptr;
-    const std::int32_t* code_lut = nullptr;
+    const std::uint8_t* code_lut = nullptr;
     std::uint8_t* codes = nullptr;
 };
 
@@ -173,8 +177,15 @@ void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp
 void fixed_pattern_row(NoiseKey prnu_key, NoiseKey dsnu_key, std::uint32_t base, int n, float prnu,
                        float dsnu, float* response, float* dsnu_out);
 
-/// Each of `pixels` pixels' brightest raw DN (interleaved R, G, B: whole numbers >= 0) as an int.
-void brightest_row(int pixels, const float* raw, std::int32_t* brightest);
+/// Counters per bin of the camera stage's histograms of the brightest raw DN: pixel p counts in
+/// counter p % kCounters of its bin, so that a run of pixels of one brightness (dark water) does
+/// not wait on one counter's last increment each time.
+inline constexpr int kCounters = 4;
+
+/// Each of `pixels` pixels' counter (kCounters) in a histogram of the brightest raw DN:
+/// kCounters min(brightest, last) + p % kCounters, from the pixels' raw DN (interleaved R, G, B:
+/// whole numbers >= 0).
+void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* counter);
 
 /// What the processing kernel needs (per-channel scales come as a row, `scale`).
 struct ProcessParams {
@@ -194,8 +205,21 @@ void process_row(const ProcessParams& p, int n, const float* scale, const float*
 /// `lut` of 3 x levels (entry 3 dn + c: channel c's display value of dn).
 void lookup_row(const float* lut, int n, const float* dn, float* out);
 
-/// lookup_row for a table of 8-bit codes (each in an int32: entry 3 dn + c, 0 to 255): the image
-/// as codes without display values in between.
-void lookup_codes_row(const std::int32_t* lut, int n, const float* dn, std::uint8_t* out);
+/// lookup_row for a table of 8-bit codes (entry 3 dn + c; a 12-bit sensor's table is 12 KB): the
+/// image as codes without display values in between.
+void lookup_codes_row(const std::uint8_t* lut, int n, const float* dn, std::uint8_t* out);
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// out[j] = lut[at[j]] for the first `count` lanes of `at` (entries of a table of 8-bit codes),
+/// by scalar loads: on the AMD EPYC of docs/camera-speed.md, vpgatherdd of the table took more
+/// of the sensor loop's time than all its arithmetic.
+__attribute__((target("avx2"), always_inline)) inline void read_codes(const std::uint8_t* lut,
+                                                                      __m256i at, std::uint8_t* out,
+                                                                      int count = 8) {
+    alignas(32) std::int32_t k[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(k), at);
+    for (int j = 0; j < count; ++j) out[j] = lut[k[j]];
+}
+#endif
 
 }  // namespace deepsea::camera_rows

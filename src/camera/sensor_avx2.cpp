@@ -34,7 +34,7 @@ struct Arrays {
     const std::int32_t* __restrict chan;  // chunk_channels()
     const float* __restrict lut;
     float* __restrict shown;
-    const std::int32_t* __restrict code_lut;
+    const std::uint8_t* __restrict code_lut;
     std::uint8_t* __restrict codes;
 };
 
@@ -132,19 +132,7 @@ __attribute__((target("avx2,fma"), always_inline)) inline int eight(const Params
             else
                 _mm256_storeu_ps(a.shown + i, _mm256_i32gather_ps(a.lut, at, 4));
         } else {
-            const __m256i code = kMasked ? _mm256_mask_i32gather_epi32(_mm256_setzero_si256(),
-                                                                       a.code_lut, at, mask, 4)
-                                         : _mm256_i32gather_epi32(a.code_lut, at, 4);
-            const __m128i words =
-                _mm_packus_epi32(_mm256_castsi256_si128(code), _mm256_extracti128_si256(code, 1));
-            const __m128i bytes = _mm_packus_epi16(words, words);
-            if constexpr (kMasked) {
-                alignas(16) std::uint8_t eight[16];
-                _mm_store_si128(reinterpret_cast<__m128i*>(eight), bytes);
-                for (int k = 0; k < left; ++k) a.codes[i + k] = eight[k];
-            } else {
-                _mm_storel_epi64(reinterpret_cast<__m128i*>(a.codes + i), bytes);
-            }
+            read_codes(a.code_lut, at, a.codes + i, kMasked ? left : 8);
         }
     }
     const __m256 poisson = _mm256_cmp_ps(mean, p.poisson_below, _CMP_LT_OS);

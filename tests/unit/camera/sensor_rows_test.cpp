@@ -1,7 +1,8 @@
 // The sensor kernel's rows (rows.h's sensor_row; with AVX2 and FMA, sensor_avx2.cpp): a value's
 // DN does not depend on where the radiance lies in memory or on how long the chunk is; the image
 // the kernel makes in its loop is the frame's table read at the DN it returns (the exact path's
-// values too); the Gaussian path's DN are those of the noise model in double.
+// values too); the Gaussian path's DN are those of the noise model in double; brightest_row
+// gives each pixel its histogram counter.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -88,10 +89,10 @@ TEST(SensorRows, DnDoNotDependOnTheRadiancesAlignmentOrTheChunksLength) {
 TEST(SensorRows, ImageMadeInTheLoopIsTheTableAtTheReturnedDn) {
     if (!camera_rows::kSensorAvx2) GTEST_SKIP() << "the image is made in the loop with AVX2 only";
     std::vector<float> lut(3 * 4096);
-    std::vector<std::int32_t> code_lut(lut.size());
+    std::vector<std::uint8_t> code_lut(lut.size());
     for (std::size_t k = 0; k < lut.size(); ++k) {
         lut[k] = float(std::sqrt(double(k / 3) / 4095.0) * (1.0 - 0.1 * double(k % 3)));
-        code_lut[k] = std::int32_t(k * 7 % 256);
+        code_lut[k] = std::uint8_t(k * 7 % 256);
     }
     for (const float read_noise : {1.5f, 2.5f}) {
         const camera_rows::SensorParams p = sensor(read_noise);
@@ -112,7 +113,7 @@ TEST(SensorRows, ImageMadeInTheLoopIsTheTableAtTheReturnedDn) {
             for (int i = 0; i < n; ++i) {
                 const int at = 3 * int(c.raw()[i]) + i % 3;
                 ASSERT_EQ(c.shown[i], lut[at]) << read_noise << " " << n << " " << i;
-                ASSERT_EQ(int(d.codes[i]), code_lut[at]) << read_noise << " " << n << " " << i;
+                ASSERT_EQ(int(d.codes[i]), int(code_lut[at])) << read_noise << " " << n << " " << i;
                 ASSERT_EQ(c.raw()[i], d.raw()[i]);
                 clipped += c.raw()[i] >= p.gain * p.full_well;
                 dark += c.raw()[i] < p.black + 3.0f;
@@ -146,6 +147,31 @@ TEST(SensorRows, GaussianPathIsTheNoiseModelInDouble) {
     }
     EXPECT_GT(checked, kChunk / 2);
     EXPECT_GE(equal, checked - 2);
+}
+
+}  // namespace
+}  // namespace deepsea
+
+namespace deepsea {
+namespace {
+
+TEST(SensorRows, BrightestRowGivesEachPixelsCounterInOrder) {
+    // Whole DN in every channel order, past `last` too; every length from 1 to 40 pixels (the
+    // AVX2 loop's groups of 8 and its generic end).
+    const std::int32_t last = 900;
+    std::vector<float> raw(3 * 40);
+    for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = float((i * 7919 + 13) % 1000);
+    for (int pixels = 1; pixels <= 40; ++pixels) {
+        std::vector<std::int32_t> counter(std::size_t(pixels), -1);
+        camera_rows::brightest_row(pixels, raw.data(), last, counter.data());
+        for (int p = 0; p < pixels; ++p) {
+            const float b = std::max(raw[3 * p], std::max(raw[3 * p + 1], raw[3 * p + 2]));
+            const std::int32_t bin = std::min(std::int32_t(b), last);
+            ASSERT_EQ(counter[std::size_t(p)],
+                      camera_rows::kCounters * bin + p % camera_rows::kCounters)
+                << pixels << " " << p;
+        }
+    }
 }
 
 }  // namespace
