@@ -188,8 +188,8 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     const bool port = m_port != nullptr;
     double z_near = 0.0;
     if (port) {
-        // The frame in input pixels: its normals and linear colour, which the rays' hits take.
-        // (each row's nearest surface and window_row_maxima in the same pass: nearest_surface
+        // The frame in input pixels: its normals, inverse depth and linear colour, which the
+        // rays' marches and hits read (port_surface_row). (each row's nearest surface and window_row_maxima in the same pass: nearest_surface
         // and window_nearest without reading the frame again)
         if (m_in_surface.width != W || m_in_surface.height != H) {
             m_in_surface = Image(W, H, kPortSurfaceChannels);
@@ -204,26 +204,9 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
                              s.y.data(), s.z.data());
             row_normals(cam, depth, v, m_rx.data(), s);
             const float* J = color_row(color, v, s.color);
-            float* S = m_in_surface.row(v);
-            for (int u = 0; u < W; ++u) {
-                float* p = S + std::size_t(u) * kPortSurfaceChannels;
-                p[0] = s.nx[u];
-                p[1] = s.ny[u];
-                p[2] = s.nz[u];
-                p[3] = 0.0f;
-                p[4] = J[3 * u];
-                p[5] = J[3 * u + 1];
-                p[6] = J[3 * u + 2];
-                p[7] = 0.0f;
-            }
-            float* inv = m_inv_depth.row(v);
-            float near = std::numeric_limits<float>::infinity();
-            for (int u = 0; u < W; ++u) {
-                inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
-                near = s.z[u] > 0.0f && s.z[u] < near ? s.z[u] : near;
-            }
-            m_row_near[v] = near;
-            window_row_maxima(inv, W, m_window_rows.row(v));
+            m_row_near[v] = port_surface_row(W, s.z.data(), s.nx.data(), s.ny.data(),
+                                             s.nz.data(), J, m_in_surface.row(v),
+                                             m_inv_depth.row(v), m_window_rows.row(v));
         });
         z_near = *std::min_element(m_row_near.begin(), m_row_near.end());
         window_nearest_rows(m_window_rows, m_nearest, m_nearest_rows);

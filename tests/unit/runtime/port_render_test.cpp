@@ -211,7 +211,10 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
     const Image depths[] = {depth_of(cam, plane({0.4, -0.2, 1}, 2.5)),
                             depth_of(cam, sphere({0.1, -0.05, 1.6}, 0.45)),
                             testing::plane_scene(cam).depth};
-    const Image surface(cam.width, cam.height, kPortSurfaceChannels);
+    // (normals and colour 0 here: only the hits are compared; the march reads the inverse depth)
+    Image surface(cam.width, cam.height, kPortSurfaceChannels);
+    const std::vector<float> zeros(3 * std::size_t(cam.width), 0.0f);
+    std::vector<float> row_inv(cam.width), window_row(cam.width);
     std::vector<float> x(cam.width), y(cam.width), z(cam.width), t(cam.width), nx(cam.width),
         ny(cam.width), nz(cam.width), J(3 * cam.width), mask(cam.width);
     for (const Port& port : ports) {
@@ -223,6 +226,11 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
             const double z_near = nearest_surface(planar);
             Image nearest, rows;
             window_nearest(inv, nearest, rows);
+            for (int v = 0; v < cam.height; ++v) {
+                port_surface_row(cam.width, planar.row(v), zeros.data(), zeros.data(),
+                                 zeros.data(), zeros.data(), surface.row(v), row_inv.data(),
+                                 window_row.data());
+            }
             long differ = 0, surfaces = 0;
             double point_error = 0.0;  // the point's x and y against the double trace's, / z
             for (int v = 0; v < cam.height; ++v) {
