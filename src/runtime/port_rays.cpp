@@ -58,6 +58,28 @@ PortRays::PortRays(const Port& port, const Camera& camera)
             for (int f = 0; f < F; ++f) m_march_soa[f * n + i] = fields[f];
         }
     });
+    const float* f = m_march_soa.data();
+    const auto [u_lo, u_hi] = std::minmax_element(f, f + n);
+    const auto [v_lo, v_hi] = std::minmax_element(f + n, f + 2 * n);
+    m_u_lo = *u_lo;
+    m_u_hi = *u_hi;
+    m_v_lo = *v_lo;
+    m_v_hi = *v_hi;
+    for (std::size_t i = 0; i < n; ++i) {
+        m_du = std::max(m_du, double(std::fabs(f[2 * n + i])));
+        m_dv = std::max(m_dv, double(std::fabs(f[3 * n + i])));
+    }
+}
+
+PortRays::PixelBox PortRays::reach(double s_max) const {
+    const int W = m_camera.width, H = m_camera.height;
+    const double s = 1.01 * std::max(s_max, 0.0), margin = 3.0;
+    const double x0 = m_u_lo - m_du * s - margin, x1 = m_u_hi + m_du * s + margin;
+    const double y0 = m_v_lo - m_dv * s - margin, y1 = m_v_hi + m_dv * s + margin;
+    if (!(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(y0) && std::isfinite(y1)))
+        return {0, W - 1, 0, H - 1};
+    const auto clamp = [](double x, int n) { return int(std::clamp(std::floor(x), 0.0, n - 1.0)); };
+    return {clamp(x0, W), clamp(x1, W), clamp(y0, H), clamp(y1, H)};
 }
 
 RayProjection PortRays::projection(int u, int v) const {

@@ -234,7 +234,7 @@ void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const flo
         const float a_s = as[u], a_h = ah[u], b_s = bs[u], b_h = bh[u];
         float s = (a_s * b_h - b_s * a_h) / (b_h - a_h);
         s = s < a_s && s > b_s ? s : 0.5f * (a_s + b_s);
-        s = active ? s : 1.0f;  // (any finite s: the taps stay in the image)
+        s = active ? s : 0.0f;  // (the vanishing point: its taps lie in PortRays::reach)
         s_hit[u] = s;
         const float hu = m.u_inf[u] + m.du[u] * s, hv = m.v_inf[u] + m.dv[u] * s;
         float pu = hu > 0.0f ? hu : 0.0f, pv = hv > 0.0f ? hv : 0.0f;
@@ -305,23 +305,27 @@ void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const flo
 }  // namespace
 
 DEEPSEA_CLONES
-float port_surface_row(int W, const float* __restrict z, const float* __restrict nx,
-                       const float* __restrict ny, const float* __restrict nz,
-                       const float* __restrict J, float* __restrict surface,
-                       float* __restrict inv, float* __restrict window_row) {
+float port_depth_row(int W, const float* __restrict z, float* __restrict inv,
+                     float* __restrict window_row) {
     float near = std::numeric_limits<float>::infinity();
 #pragma omp simd reduction(min : near)
     for (int u = 0; u < W; ++u) {
         inv[u] = z[u] > 0.0f ? 1.0f / z[u] : 0.0f;
         near = z[u] > 0.0f && z[u] < near ? z[u] : near;
     }
-    for (int u = 0; u < W; ++u) {
+    window_row_maxima(inv, W, window_row);
+    return near;
+}
+
+DEEPSEA_CLONES
+void port_surface_row(int n, const float* __restrict nx, const float* __restrict ny,
+                      const float* __restrict nz, const float* __restrict J,
+                      const float* __restrict inv, float* __restrict surface) {
+    for (int u = 0; u < n; ++u) {
         float* p = surface + std::size_t(u) * kPortSurfaceChannels;
         store4(p, Float4{nx[u], ny[u], nz[u], inv[u]});
         store4(p + 4, Float4{J[3 * u], J[3 * u + 1], J[3 * u + 2], 0.0f});
     }
-    window_row_maxima(inv, W, window_row);
-    return near;
 }
 
 void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,

@@ -11,13 +11,16 @@ namespace deepsea {
 /// inverse depth beside the normal: the march's last probe reads it with the normal's taps).
 inline constexpr int kPortSurfaceChannels = 8;
 
-/// One input row for the port's rows, from its sanitised planar depth z (open water 0), normals
-/// and linear colour (interleaved RGB): its interleaved surface row (kPortSurfaceChannels), its
-/// inverse depth (optics' inverse_depth: 1 / z, 0 for open water) and the largest inverse depth
-/// of each run of kPortStartBlock pixels (window_row_maxima). Returns the row's nearest surface
-/// (its smallest z > 0; +inf without one).
-float port_surface_row(int W, const float* z, const float* nx, const float* ny, const float* nz,
-                       const float* J, float* surface, float* inv, float* window_row);
+/// One input row's depth for the port's rows, from its sanitised planar depth z (open water 0):
+/// its inverse depth (optics' inverse_depth: 1 / z, 0 for open water) and the largest inverse
+/// depth of each run of kPortStartBlock pixels (window_row_maxima). Returns the row's nearest
+/// surface (its smallest z > 0; +inf without one).
+float port_depth_row(int W, const float* z, float* inv, float* window_row);
+
+/// n pixels of an input row's interleaved surface (kPortSurfaceChannels) from their normals,
+/// inverse depth (port_depth_row's) and linear colour (interleaved RGB).
+void port_surface_row(int n, const float* nx, const float* ny, const float* nz, const float* J,
+                      const float* inv, float* surface);
 
 /// One output row's surface through the port (inv_depth: the frame's inverse_depth; nearest: its
 /// window_nearest, where each ray's march may start; surface: its rows by port_surface_row, whose
