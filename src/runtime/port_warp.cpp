@@ -96,9 +96,17 @@ struct MarchLanes {
     float *lo, *hi, *step, *ps, *ph, *as, *ah, *bs, *bh;
     int *steps, *state;
     explicit MarchLanes(MarchScratch& f)
-        : lo(f.lo.data()), hi(f.hi.data()), step(f.step.data()), ps(f.ps.data()),
-          ph(f.ph.data()), as(f.as.data()), ah(f.ah.data()), bs(f.bs.data()), bh(f.bh.data()),
-          steps(f.steps.data()), state(f.state.data()) {}
+        : lo(f.lo.data()),
+          hi(f.hi.data()),
+          step(f.step.data()),
+          ps(f.ps.data()),
+          ph(f.ph.data()),
+          as(f.as.data()),
+          ah(f.ah.data()),
+          bs(f.bs.data()),
+          bh(f.bh.data()),
+          steps(f.steps.data()),
+          state(f.state.data()) {}
 };
 
 template <bool kFirst>
@@ -220,7 +228,7 @@ void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const flo
     const float* __restrict bh = f.bh.data();
     float* __restrict s_hit = f.s.data();
     int* __restrict state = f.state.data();
-    int* __restrict at = f.steps.data();  // (spent by now)
+    int* __restrict at = f.steps.data();   // (spent by now)
     float* __restrict lo_z = f.ps.data();  // (likewise)
     float* __restrict hi_z = f.ph.data();  // (likewise)
     float* __restrict w = f.w.data();
@@ -334,7 +342,8 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     const Pinhole cam(rays.camera());
     const float s_near = float(1.001 / z_near);
     const float* in = surface.data.data();
-    thread_local MarchScratch f;
+    thread_local MarchScratch scratch;
+    MarchScratch& f = scratch;  // (one look-up of the thread's scratch, not one a pixel)
     f.fit(W);
     const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
     if (fast) {
@@ -343,8 +352,9 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
         settle_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
     }
     // The rest, one by one (rare: depth edges, open water, long marches)
+    const int* state = f.state.data();
     for (int u = 0; u < W; ++u) {
-        const int st = fast ? f.state[u] : kScalar;
+        const int st = fast ? state[u] : kScalar;
         if (st == kSurface || st == kOpen || st == kUnseen) continue;  // (done above)
         // (kActive and kMarching too: not settled in the fast steps; the scalar march starts
         // again)

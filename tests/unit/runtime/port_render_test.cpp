@@ -228,8 +228,8 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
             window_nearest(inv, nearest, rows);
             for (int v = 0; v < cam.height; ++v) {
                 port_depth_row(cam.width, planar.row(v), row_inv.data(), window_row.data());
-                port_surface_row(cam.width, zeros.data(), zeros.data(), zeros.data(),
-                                 zeros.data(), row_inv.data(), surface.row(v));
+                port_surface_row(cam.width, zeros.data(), zeros.data(), zeros.data(), zeros.data(),
+                                 row_inv.data(), surface.row(v));
             }
             // The compositor makes normals and colour only within PortRays::reach: NaN beyond
             // it, which any tap read there, even with weight 0, would carry into the hits
