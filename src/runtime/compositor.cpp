@@ -204,8 +204,8 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             m_row_near[v] = port_depth_row(W, s.z.data(), m_inv_depth.row(v), m_window_rows.row(v));
         });
         z_near = *std::min_element(m_row_near.begin(), m_row_near.end());
-        // Normals and colour only where the rays can read them: no march starts deeper than
-        // the frame's nearest surface (port_row's s_near)
+        // Normals and colour only where the rays can read them: no march starts nearer the
+        // camera than the frame's nearest surface (port_row's s_near)
         const PortRays::PixelBox box = m_port->reach(1.001 / z_near);
         tbb::parallel_for(box.y0, box.y1 + 1, [&](int v) {
             RowScratch& s = scratch.local();

@@ -59,16 +59,22 @@ PortRays::PortRays(const Port& port, const Camera& camera)
         }
     });
     const float* f = m_march_soa.data();
-    const auto [u_lo, u_hi] = std::minmax_element(f, f + n);
-    const auto [v_lo, v_hi] = std::minmax_element(f + n, f + 2 * n);
-    m_u_lo = *u_lo;
-    m_u_hi = *u_hi;
-    m_v_lo = *v_lo;
-    m_v_hi = *v_hi;
+    m_u_lo = m_v_lo = std::numeric_limits<double>::infinity();
+    m_u_hi = m_v_hi = -m_u_lo;
+    bool finite = true;
     for (std::size_t i = 0; i < n; ++i) {
-        m_du = std::max(m_du, double(std::fabs(f[2 * n + i])));
-        m_dv = std::max(m_dv, double(std::fabs(f[3 * n + i])));
+        const double u = f[i], v = f[n + i], du = std::fabs(f[2 * n + i]),
+                     dv = std::fabs(f[3 * n + i]);
+        finite = finite && std::isfinite(u) && std::isfinite(v) && std::isfinite(du) &&
+                 std::isfinite(dv);
+        m_u_lo = std::min(m_u_lo, u);
+        m_u_hi = std::max(m_u_hi, u);
+        m_v_lo = std::min(m_v_lo, v);
+        m_v_hi = std::max(m_v_hi, v);
+        m_du = std::max(m_du, du);
+        m_dv = std::max(m_dv, dv);
     }
+    if (!finite) m_u_lo = -std::numeric_limits<double>::infinity();  // reach: the whole image
 }
 
 PortRays::PixelBox PortRays::reach(double s_max) const {
