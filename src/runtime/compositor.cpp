@@ -188,9 +188,9 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     const bool port = m_port != nullptr;
     double z_near = 0.0;
     if (port) {
-        // The frame in input pixels: its normals and linear colour, which the rays' hits take.
-        // (each row's nearest surface and window_row_maxima in the same pass: nearest_surface
-        // and window_nearest without reading the frame again)
+        // The frame in input pixels: its inverse depth, which the rays' marches read, with each
+        // row's nearest surface and window_row_maxima in the same pass (port_depth_row); then
+        // its normals and linear colour beside it, which the hits take (port_surface_row).
         if (m_in_surface.width != W || m_in_surface.height != H) {
             m_in_surface = Image(W, H, kPortSurfaceChannels);
             m_inv_depth = Image(W, H, 1);
@@ -200,32 +200,24 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         tbb::parallel_for(0, H, [&](int v) {
             RowScratch& s = scratch.local();
             s.fit(W);
-            back_project_row(W, depth.row(v), m_rx.data(), float(cam.ray_y(v)), s.x.data(),
-                             s.y.data(), s.z.data());
-            row_normals(cam, depth, v, m_rx.data(), s);
-            const float* J = color_row(color, v, s.color);
-            float* S = m_in_surface.row(v);
-            for (int u = 0; u < W; ++u) {
-                float* p = S + std::size_t(u) * kPortSurfaceChannels;
-                p[0] = s.nx[u];
-                p[1] = s.ny[u];
-                p[2] = s.nz[u];
-                p[3] = 0.0f;
-                p[4] = J[3 * u];
-                p[5] = J[3 * u + 1];
-                p[6] = J[3 * u + 2];
-                p[7] = 0.0f;
-            }
-            float* inv = m_inv_depth.row(v);
-            float near = std::numeric_limits<float>::infinity();
-            for (int u = 0; u < W; ++u) {
-                inv[u] = s.z[u] > 0.0f ? 1.0f / s.z[u] : 0.0f;
-                near = s.z[u] > 0.0f && s.z[u] < near ? s.z[u] : near;
-            }
-            m_row_near[v] = near;
-            window_row_maxima(inv, W, m_window_rows.row(v));
+            sanitise_row(W, depth.row(v), s.z.data());
+            m_row_near[v] = port_depth_row(W, s.z.data(), m_inv_depth.row(v), m_window_rows.row(v));
         });
         z_near = *std::min_element(m_row_near.begin(), m_row_near.end());
+        // Normals and colour only where the rays can read them: no march starts nearer the
+        // camera than the frame's nearest surface (port_row's s_near)
+        const PortRays::PixelBox box = m_port->reach(1.001 / z_near);
+        tbb::parallel_for(box.y0, box.y1 + 1, [&](int v) {
+            RowScratch& s = scratch.local();
+            s.fit(W);
+            sanitise_row(W, depth.row(v), s.z.data());
+            row_normals(cam, depth, v, m_rx.data(), s);
+            const float* J = color_row(color, v, s.color);
+            const int x = box.x0;
+            port_surface_row(box.x1 - x + 1, s.nx.data() + x, s.ny.data() + x, s.nz.data() + x,
+                             J + 3 * x, m_inv_depth.row(v) + x,
+                             m_in_surface.row(v) + std::size_t(x) * kPortSurfaceChannels);
+        });
         window_nearest_rows(m_window_rows, m_nearest, m_nearest_rows);
         if (forward && (m_hit_z.width != W || m_hit_z.height != H)) m_hit_z = Image(W, H, 1);
         if (all && (dst.mask.width != W || dst.mask.height != H)) dst.mask = Image(W, H, 1);

@@ -16,5 +16,8 @@ inline Float4 load4(const float* p) {
 }
 inline void store4(float* p, Float4 v) { std::memcpy(p, &v, sizeof v); }
 inline Float4 splat(float w) { return Float4{w, w, w, w}; }
+/// Lane by lane std::min(a, b) and std::max(a, b).
+inline Float4 min4(Float4 a, Float4 b) { return b < a ? b : a; }
+inline Float4 max4(Float4 a, Float4 b) { return a < b ? b : a; }
 
 }  // namespace deepsea

@@ -58,6 +58,34 @@ PortRays::PortRays(const Port& port, const Camera& camera)
             for (int f = 0; f < F; ++f) m_march_soa[f * n + i] = fields[f];
         }
     });
+    const float* f = m_march_soa.data();
+    m_u_lo = m_v_lo = std::numeric_limits<double>::infinity();
+    m_u_hi = m_v_hi = -m_u_lo;
+    bool finite = true;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double u = f[i], v = f[n + i], du = std::fabs(f[2 * n + i]),
+                     dv = std::fabs(f[3 * n + i]);
+        finite = finite && std::isfinite(u) && std::isfinite(v) && std::isfinite(du) &&
+                 std::isfinite(dv);
+        m_u_lo = std::min(m_u_lo, u);
+        m_u_hi = std::max(m_u_hi, u);
+        m_v_lo = std::min(m_v_lo, v);
+        m_v_hi = std::max(m_v_hi, v);
+        m_du = std::max(m_du, du);
+        m_dv = std::max(m_dv, dv);
+    }
+    if (!finite) m_u_lo = -std::numeric_limits<double>::infinity();  // reach: the whole image
+}
+
+PortRays::PixelBox PortRays::reach(double s_max) const {
+    const int W = m_camera.width, H = m_camera.height;
+    const double s = 1.01 * std::max(s_max, 0.0), margin = 3.0;
+    const double x0 = m_u_lo - m_du * s - margin, x1 = m_u_hi + m_du * s + margin;
+    const double y0 = m_v_lo - m_dv * s - margin, y1 = m_v_hi + m_dv * s + margin;
+    if (!(std::isfinite(x0) && std::isfinite(x1) && std::isfinite(y0) && std::isfinite(y1)))
+        return {0, W - 1, 0, H - 1};
+    const auto clamp = [](double x, int n) { return int(std::clamp(std::floor(x), 0.0, n - 1.0)); };
+    return {clamp(x0, W), clamp(x1, W), clamp(y0, H), clamp(y1, H)};
 }
 
 RayProjection PortRays::projection(int u, int v) const {

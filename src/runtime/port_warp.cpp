@@ -26,10 +26,9 @@ enum FastState : int {
     kMarching = 5,  ///< in front of the surface so far, stepping toward the vanishing point
 };
 
-/// The steps of at most a pixel, and the Illinois steps after them, tried across the row before
-/// a ray is left to the scalar march.
+/// The steps of at most a pixel tried across the row (then one Illinois step, in settle_hits)
+/// before a ray is left to the scalar march.
 constexpr int kFastMarchSteps = 8;
-constexpr int kFastSteps = 1;
 
 /// port_detail::taps_at's value where its four pixels are one surface (the same arithmetic on
 /// the same clamped position; W, H >= 2); `one` is 0 where taps_at would take the nearest pixel
@@ -73,11 +72,11 @@ struct Pinhole {
 
 struct MarchScratch {
     std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s, start, w;
-    std::vector<int> steps, side, state;
+    std::vector<int> steps, state;
     void fit(int n) {
         for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s, &start}) v->resize(n);
         w.resize(4 * std::size_t(n));
-        for (auto* v : {&steps, &side, &state}) v->resize(n);
+        for (auto* v : {&steps, &state}) v->resize(n);
     }
 };
 
@@ -88,9 +87,60 @@ bool any_in(int n, const int* state, int which) {
     return false;
 }
 
+/// Step i of fast_march for lane u: the probe, and the bracket where it is the first behind the
+/// surface. kFirst (i = 1): no lane holds a bracket yet, so the bracket and the previous probe
+/// are written in every lane (those not marching never read them), plain stores instead of
+/// masked ones, which cost many times as much on some x86 cores.
+/// fast_march's scratch as plain pointers, for march_step.
+struct MarchLanes {
+    float *lo, *hi, *step, *ps, *ph, *as, *ah, *bs, *bh;
+    int *steps, *state;
+    explicit MarchLanes(MarchScratch& f)
+        : lo(f.lo.data()),
+          hi(f.hi.data()),
+          step(f.step.data()),
+          ps(f.ps.data()),
+          ph(f.ph.data()),
+          as(f.as.data()),
+          ah(f.ah.data()),
+          bs(f.bs.data()),
+          bh(f.bh.data()),
+          steps(f.steps.data()),
+          state(f.state.data()) {}
+};
+
+template <bool kFirst>
+__attribute__((always_inline)) inline void march_step(int u, int i, const PortRays::MarchRow& m,
+                                                      const float* __restrict inv, int W, int H,
+                                                      const MarchLanes& f) {
+    const int st = f.state[u];
+    const int n_steps = f.steps[u];
+    const bool last = i == n_steps;
+    const bool marching = (st == kMarching) & (i <= n_steps);
+    const float s = last ? f.lo[u] : f.hi[u] - f.step[u] * float(i);
+    float one;
+    const float iz = probe4(inv, W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, one);
+    const float h = s - iz;
+    const bool cross = h <= 0.0f;
+    const bool keep = !kFirst & !marching;
+    f.as[u] = keep ? f.as[u] : f.ps[u];
+    f.ah[u] = keep ? f.ah[u] : f.ph[u];
+    f.bs[u] = keep ? f.bs[u] : s;
+    f.bh[u] = keep ? f.bh[u] : h;
+    f.ps[u] = keep ? f.ps[u] : s;
+    f.ph[u] = keep ? f.ph[u] : h;
+    const int none = f.lo[u] == 0.0f ? kOpen : kUnseen;
+    f.state[u] = !marching     ? st
+                 : one == 0.0f ? kScalar
+                 : cross       ? (h < 0.0f ? kActive : kScalar)
+                 : last        ? none
+                               : kMarching;
+}
+
 /// The march of optics' march_port_ray for the rays of one row that take at most
 /// kFastMarchSteps steps and whose probes all lie between four pixels of one surface: the same
-/// probes, steps and Illinois steps (kFastSteps of them), lane by lane. Every other ray is
+/// probes and steps, lane by lane, up to the bracket of the first crossing (kActive: in front at
+/// f.as, f.ah, behind at f.bs, f.bh), whose Illinois step settle_hits takes. Every other ray is
 /// marked kScalar. Each ray's march starts at port_start_s where port_start_window allows
 /// (`nearest`: window_nearest of inv), at s_near otherwise; the start is kept in f.start for
 /// the scalar march.
@@ -102,13 +152,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
     float* __restrict step_ = f.step.data();
     float* __restrict ps = f.ps.data();
     float* __restrict ph = f.ph.data();
-    float* __restrict as = f.as.data();
-    float* __restrict ah = f.ah.data();
-    float* __restrict bs = f.bs.data();
-    float* __restrict bh = f.bh.data();
-    float* __restrict s_out = f.s.data();
     int* __restrict steps_ = f.steps.data();
-    int* __restrict side = f.side.data();
     int* __restrict state = f.state.data();
     float* __restrict start = f.start.data();
     const float inf = std::numeric_limits<float>::infinity();
@@ -151,93 +195,55 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
         step_[u] = (hi - lo) / steps;
         ps[u] = hi;
         ph[u] = hh;
-        side[u] = 0;
     }
     // Toward the vanishing point, a step at a time: the first probe behind the surface brackets
     // the crossing with the one before it (in front).
+    const MarchLanes lanes(f);
     for (int i = 1; i <= kFastMarchSteps && any_in(n, state, kMarching); ++i) {
+        if (i == 1) {
 #pragma omp simd
-        for (int u = 0; u < n; ++u) {
-            const int st = state[u];
-            const bool last = i == steps_[u];
-            const bool marching = (st == kMarching) & (i <= steps_[u]);
-            const float s = last ? lo_[u] : hi_[u] - step_[u] * float(i);
-            float one;
-            const float iz =
-                probe4(inv, W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, one);
-            const float h = s - iz;
-            const bool cross = h <= 0.0f;
-            as[u] = marching ? ps[u] : as[u];
-            ah[u] = marching ? ph[u] : ah[u];
-            bs[u] = marching ? s : bs[u];
-            bh[u] = marching ? h : bh[u];
-            ps[u] = marching ? s : ps[u];
-            ph[u] = marching ? h : ph[u];
-            const int none = lo_[u] == 0.0f ? kOpen : kUnseen;
-            state[u] = !marching     ? st
-                       : one == 0.0f ? kScalar
-                       : cross       ? (h < 0.0f ? kActive : kScalar)
-                       : last        ? none
-                                     : kMarching;
-        }
-    }
-    const float tol = kPortHitToleranceFloat, span = 4 * std::numeric_limits<float>::epsilon();
-    for (int step = 0; step < kFastSteps && any_in(n, state, kActive); ++step) {
+            for (int u = 0; u < n; ++u) march_step<true>(u, i, m, inv, W, H, lanes);
+        } else {
 #pragma omp simd
-        for (int u = 0; u < n; ++u) {
-            float a_s = as[u], a_h = ah[u], b_s = bs[u], b_h = bh[u];
-            float s = (a_s * b_h - b_s * a_h) / (b_h - a_h);
-            s = s < a_s && s > b_s ? s : 0.5f * (a_s + b_s);
-            float one;
-            const float iz =
-                probe4(inv, W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, one);
-            const float h = s - iz;
-            // Illinois: the side that stays twice running has its h halved
-            const int sd = side[u];
-            const bool front = h > 0.0f;
-            const float a_s2 = front ? s : a_s, b_s2 = front ? b_s : s;
-            const float a_h2 = front ? h : (sd == -1 ? a_h * 0.5f : a_h);
-            const float b_h2 = front ? (sd == 1 ? b_h * 0.5f : b_h) : h;
-            const bool on = std::fabs(h) <= tol * (s + iz);
-            const bool collapsed =
-                ((a_s2 - b_s2) * rate_of(m.du[u], m.dv[u]) <= tol) | (a_s2 - b_s2 <= span * a_s2);
-            const int st = state[u];
-            const bool active = st == kActive;
-            as[u] = active ? a_s2 : a_s;
-            ah[u] = active ? a_h2 : a_h;
-            bs[u] = active ? b_s2 : b_s;
-            bh[u] = active ? b_h2 : b_h;
-            side[u] = active ? (front ? 1 : -1) : sd;
-            s_out[u] = active ? s : s_out[u];
-            state[u] = !active       ? st
-                       : one == 0.0f ? kScalar
-                       : on          ? kSurface
-                       : collapsed   ? kScalar
-                                     : kActive;
+            for (int u = 0; u < n; ++u) march_step<false>(u, i, m, inv, W, H, lanes);
         }
     }
 }
 
-/// The hits that fast_march settled on one surface (kSurface): the point, the path from the
-/// port, and the normal and colour from the four input pixels around the hit, with the scalar
-/// code's arithmetic (port_row's; taps_at's weights). Other lanes get zeros. Lane by lane the
-/// taps' positions and weights, then per pixel two 4-float loads a tap (the interleaved
-/// normal and colour; gathering each float costs more), then the normals' lengths.
+/// The Illinois step of the rays that fast_march bracketed (kActive), the same as the scalar
+/// march's first, and the hits that it settles on one surface (kSurface): the point, the path
+/// from the port, and the normal and colour from the four input pixels around the hit, with the
+/// scalar code's arithmetic (port_row's; taps_at's weights). The step's probe reads its four
+/// inverse depths from the interleaved surface (slot 3, beside the normal), which the normal's
+/// and colour's taps load anyway: the same pixels, weights and sums as probe4, so the same value
+/// without a gather of its own. Rays the step does not settle become kScalar; lanes without a
+/// hit get zeros. Lane by lane the step's s and the taps' positions and weights, then per pixel
+/// two 4-float loads a tap, then lane by lane the step's outcome and the normals' lengths.
 DEEPSEA_CLONES
-void surface_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const float* __restrict in,
-                  int W, int H, MarchScratch& f, const PortRow& o) {
-    const float* __restrict s_hit = f.s.data();
-    const int* __restrict state = f.state.data();
-    int* __restrict at = f.steps.data();  // (spent by now)
+void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const float* __restrict in,
+                 int W, int H, MarchScratch& f, const PortRow& o) {
+    const float* __restrict as = f.as.data();
+    const float* __restrict ah = f.ah.data();
+    const float* __restrict bs = f.bs.data();
+    const float* __restrict bh = f.bh.data();
+    float* __restrict s_hit = f.s.data();
+    int* __restrict state = f.state.data();
+    int* __restrict at = f.steps.data();   // (spent by now)
+    float* __restrict lo_z = f.ps.data();  // (likewise)
+    float* __restrict hi_z = f.ph.data();  // (likewise)
     float* __restrict w = f.w.data();
     float* __restrict x = o.x, * __restrict y = o.y, * __restrict z = o.z, * __restrict t = o.t;
     float* __restrict nx = o.nx, * __restrict ny = o.ny, * __restrict nz = o.nz;
     float* __restrict J = o.J, * __restrict mask = o.mask;
 #pragma omp simd
     for (int u = 0; u < n; ++u) {
-        const bool hit = state[u] == kSurface;
-        const float s_u = s_hit[u];
-        const float s = hit ? s_u : 1.0f;  // (any finite s: the taps stay in the image)
+        const bool active = state[u] == kActive;
+        // regula falsi between the bracket's ends, bisection where it falls outside
+        const float a_s = as[u], a_h = ah[u], b_s = bs[u], b_h = bh[u];
+        float s = (a_s * b_h - b_s * a_h) / (b_h - a_h);
+        s = s < a_s && s > b_s ? s : 0.5f * (a_s + b_s);
+        s = active ? s : 0.0f;  // (the vanishing point: its taps lie in PortRays::reach)
+        s_hit[u] = s;
         const float hu = m.u_inf[u] + m.du[u] * s, hv = m.v_inf[u] + m.dv[u] * s;
         float pu = hu > 0.0f ? hu : 0.0f, pv = hv > 0.0f ? hv : 0.0f;
         pu = pu < float(W - 1) ? pu : float(W - 1);
@@ -245,45 +251,90 @@ void surface_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const fl
         const int x0 = std::min(int(pu), W - 2), y0 = std::min(int(pv), H - 2);
         const float fu = pu - float(x0), fv = pv - float(y0);
         at[u] = (y0 * W + x0) * kPortSurfaceChannels;
-        w[4 * u] = hit ? (1 - fu) * (1 - fv) : 0.0f;
-        w[4 * u + 1] = hit ? fu * (1 - fv) : 0.0f;
-        w[4 * u + 2] = hit ? (1 - fu) * fv : 0.0f;
-        w[4 * u + 3] = hit ? fu * fv : 0.0f;
+        w[4 * u] = active ? (1 - fu) * (1 - fv) : 0.0f;
+        w[4 * u + 1] = active ? fu * (1 - fv) : 0.0f;
+        w[4 * u + 2] = active ? (1 - fu) * fv : 0.0f;
+        w[4 * u + 3] = active ? fu * fv : 0.0f;
+    }
+    const std::size_t row = std::size_t(W) * kPortSurfaceChannels, C = kPortSurfaceChannels;
+    const float edge = float(kDepthDiscontinuity);
+    constexpr int kAhead = 16;
+    for (int u = 0; u < n; ++u) {
+        const float* p = in + at[u];
+        if (u + kAhead < n) {
+            __builtin_prefetch(in + at[u + kAhead]);
+            __builtin_prefetch(in + at[u + kAhead] + row);
+        }
+        const Float4 w0 = splat(w[4 * u]), w1 = splat(w[4 * u + 1]), w2 = splat(w[4 * u + 2]),
+                     w3 = splat(w[4 * u + 3]);
+        const Float4 t0 = load4(p), t1 = load4(p + C), t2 = load4(p + row), t3 = load4(p + row + C);
+        const Float4 N = ((w0 * t0 + w1 * t1) + w2 * t2) + w3 * t3;
+        const Float4 j = ((w0 * load4(p + 4) + w1 * load4(p + C + 4)) + w2 * load4(p + row + 4)) +
+                         w3 * load4(p + row + C + 4);
+        // (lane 3: the inverse depth, and the four pixels' least and largest for probe4's test
+        // of one surface; the weights are spent)
+        store4(w + 4 * u, N);
+        const Float4 lo = min4(min4(t0, t1), min4(t2, t3)), hi = max4(max4(t0, t1), max4(t2, t3));
+        lo_z[u] = lo[3];
+        hi_z[u] = hi[3];
+        J[3 * u] = j[0];
+        J[3 * u + 1] = j[1];
+        J[3 * u + 2] = j[2];
+    }
+    const float tol = kPortHitToleranceFloat;
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const int st = state[u];
+        const float iz = w[4 * u + 3], lo = lo_z[u], hi = hi_z[u];
+        const float s = s_hit[u], h = s - iz;
+        // on the surface, between four pixels of one surface: the scalar march's hit; any
+        // other outcome of the step is left to it
+        const bool one = (lo > 0.0f) & (hi - lo <= edge * lo);
+        const bool on = std::fabs(h) <= tol * (s + iz);
+        const bool hit = (st == kActive) & one & on;
+        state[u] = hit ? kSurface : st == kActive ? kScalar : st;
+        const float hu = m.u_inf[u] + m.du[u] * s, hv = m.v_inf[u] + m.dv[u] * s;
         // the point at the hit's planar depth on the ray, from where it projects
         const float zh = 1.0f / s, th = (zh - m.oz[u]) / m.dz[u];
         x[u] = hit ? back_project(hu, cam.cx, cam.kx, zh) : 0.0f;
         y[u] = hit ? back_project(hv, cam.cy, cam.ky, zh) : 0.0f;
         z[u] = hit ? zh : 0.0f;
         t[u] = hit ? th : 0.0f;
-        mask[u] = (hit | (state[u] == kOpen)) ? 1.0f : 0.0f;
-    }
-    const std::size_t row = std::size_t(W) * kPortSurfaceChannels, C = kPortSurfaceChannels;
-    for (int u = 0; u < n; ++u) {
-        const float* p = in + at[u];
-        const Float4 w0 = splat(w[4 * u]), w1 = splat(w[4 * u + 1]), w2 = splat(w[4 * u + 2]),
-                     w3 = splat(w[4 * u + 3]);
-        const Float4 N =
-            ((w0 * load4(p) + w1 * load4(p + C)) + w2 * load4(p + row)) + w3 * load4(p + row + C);
-        const Float4 j = ((w0 * load4(p + 4) + w1 * load4(p + C + 4)) + w2 * load4(p + row + 4)) +
-                         w3 * load4(p + row + C + 4);
-        nx[u] = N[0];
-        ny[u] = N[1];
-        nz[u] = N[2];
-        J[3 * u] = j[0];
-        J[3 * u + 1] = j[1];
-        J[3 * u + 2] = j[2];
-    }
-#pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        const float len = std::sqrt(nx[u] * nx[u] + ny[u] * ny[u] + nz[u] * nz[u]);
+        mask[u] = (hit | (st == kOpen)) ? 1.0f : 0.0f;
+        const float Nx = w[4 * u], Ny = w[4 * u + 1], Nz = w[4 * u + 2];
+        const float len = std::sqrt(Nx * Nx + Ny * Ny + Nz * Nz);
         const float inv = len > 0.0f ? 1.0f / len : 0.0f;
-        nx[u] *= inv;
-        ny[u] *= inv;
-        nz[u] *= inv;
+        nx[u] = Nx * inv;
+        ny[u] = Ny * inv;
+        nz[u] = Nz * inv;
     }
 }
 
 }  // namespace
+
+DEEPSEA_CLONES
+float port_depth_row(int W, const float* __restrict z, float* __restrict inv,
+                     float* __restrict window_row) {
+    float near = std::numeric_limits<float>::infinity();
+#pragma omp simd reduction(min : near)
+    for (int u = 0; u < W; ++u) {
+        inv[u] = z[u] > 0.0f ? 1.0f / z[u] : 0.0f;
+        near = z[u] > 0.0f && z[u] < near ? z[u] : near;
+    }
+    window_row_maxima(inv, W, window_row);
+    return near;
+}
+
+DEEPSEA_CLONES
+void port_surface_row(int n, const float* __restrict nx, const float* __restrict ny,
+                      const float* __restrict nz, const float* __restrict J,
+                      const float* __restrict inv, float* __restrict surface) {
+    for (int u = 0; u < n; ++u) {
+        float* p = surface + std::size_t(u) * kPortSurfaceChannels;
+        store4(p, Float4{nx[u], ny[u], nz[u], inv[u]});
+        store4(p + 4, Float4{J[3 * u], J[3 * u + 1], J[3 * u + 2], 0.0f});
+    }
+}
 
 void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
               const Image& surface, double z_near, const PortRow& o) {
@@ -291,17 +342,19 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     const Pinhole cam(rays.camera());
     const float s_near = float(1.001 / z_near);
     const float* in = surface.data.data();
-    thread_local MarchScratch f;
+    thread_local MarchScratch scratch;
+    MarchScratch& f = scratch;  // (one look-up of the thread's scratch, not one a pixel)
     f.fit(W);
     const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
     if (fast) {
         fast_march(W, rays.march_row(v), inv_depth.data.data(), nearest.data.data(),
                    inv_depth.width, inv_depth.height, s_near, f);
-        surface_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
+        settle_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
     }
     // The rest, one by one (rare: depth edges, open water, long marches)
+    const int* state = f.state.data();
     for (int u = 0; u < W; ++u) {
-        const int st = fast ? f.state[u] : kScalar;
+        const int st = fast ? state[u] : kScalar;
         if (st == kSurface || st == kOpen || st == kUnseen) continue;  // (done above)
         // (kActive and kMarching too: not settled in the fast steps; the scalar march starts
         // again)

@@ -71,6 +71,15 @@ public:
     /// Pixels per radian of the water-side rays at the image centre, along x: fx without a port,
     /// about n_water / n_air times fx behind a flat one. The forward blur's angular scale.
     double water_fx() const { return m_water_fx; }
+    /// The input pixels that the rays' marches at inverse depths s <= s_max (the march's start
+    /// and a thousandth beyond it) and their taps can read, inclusive: a box over the vanishing
+    /// points and the projections' largest rates, with a margin of 3 pixels for float's rounding
+    /// (the whole image where a projection is not finite). The compositor makes the input's
+    /// normals and colour only there (docs/ports.md, "Speed").
+    struct PixelBox {
+        int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+    };
+    PixelBox reach(double s_max) const;
     /// Per pixel, port_radiance_factor: water-side radiance to the radiance reaching the camera
     /// (the n^2 law, with Fresnel on request), RGB.
     const Image& radiance_factor() const { return m_factor; }
@@ -81,6 +90,8 @@ private:
     std::vector<Ray> m_rays;
     std::vector<float> m_march_soa;  ///< march_row's fields, width x height planes each
     double m_water_fx = 0.0;
+    /// reach()'s bounds: the vanishing points' box (input pixels) and the largest |du|, |dv|
+    double m_u_lo = 0.0, m_u_hi = 0.0, m_v_lo = 0.0, m_v_hi = 0.0, m_du = 0.0, m_dv = 0.0;
     Image m_factor;
 };
 

@@ -211,7 +211,10 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
     const Image depths[] = {depth_of(cam, plane({0.4, -0.2, 1}, 2.5)),
                             depth_of(cam, sphere({0.1, -0.05, 1.6}, 0.45)),
                             testing::plane_scene(cam).depth};
-    const Image surface(cam.width, cam.height, kPortSurfaceChannels);
+    // (normals and colour 0 here: only the hits are compared; the march reads the inverse depth)
+    Image surface(cam.width, cam.height, kPortSurfaceChannels);
+    const std::vector<float> zeros(3 * std::size_t(cam.width), 0.0f);
+    std::vector<float> row_inv(cam.width), window_row(cam.width);
     std::vector<float> x(cam.width), y(cam.width), z(cam.width), t(cam.width), nx(cam.width),
         ny(cam.width), nz(cam.width), J(3 * cam.width), mask(cam.width);
     for (const Port& port : ports) {
@@ -223,6 +226,24 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
             const double z_near = nearest_surface(planar);
             Image nearest, rows;
             window_nearest(inv, nearest, rows);
+            for (int v = 0; v < cam.height; ++v) {
+                port_depth_row(cam.width, planar.row(v), row_inv.data(), window_row.data());
+                port_surface_row(cam.width, zeros.data(), zeros.data(), zeros.data(), zeros.data(),
+                                 row_inv.data(), surface.row(v));
+            }
+            // The compositor makes normals and colour only within PortRays::reach: NaN beyond
+            // it, which any tap read there, even with weight 0, would carry into the hits
+            const PortRays::PixelBox box = rays.reach(1.001 / z_near);
+            long outside = 0;
+            for (int v = 0; v < cam.height; ++v) {
+                for (int u = 0; u < cam.width; ++u) {
+                    if (u >= box.x0 && u <= box.x1 && v >= box.y0 && v <= box.y1) continue;
+                    float* p = surface.row(v) + std::size_t(u) * kPortSurfaceChannels;
+                    for (int c : {0, 1, 2, 4, 5, 6}) p[c] = std::nanf("");
+                    ++outside;
+                }
+            }
+            long not_finite = 0;
             long differ = 0, surfaces = 0;
             double point_error = 0.0;  // the point's x and y against the double trace's, / z
             for (int v = 0; v < cam.height; ++v) {
@@ -230,6 +251,9 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
                          {x.data(), y.data(), z.data(), t.data(), nx.data(), ny.data(), nz.data(),
                           J.data(), mask.data()});
                 for (int u = 0; u < cam.width; ++u) {
+                    not_finite += !(std::isfinite(nx[u]) && std::isfinite(ny[u]) &&
+                                    std::isfinite(nz[u]) && std::isfinite(J[3 * u]) &&
+                                    std::isfinite(J[3 * u + 1]) && std::isfinite(J[3 * u + 2]));
                     const PortHit h = rays.hit(u, v, inv, z_near);
                     const bool surface_hit = h.kind == PortHitKind::Surface;
                     surfaces += surface_hit;
@@ -248,6 +272,9 @@ TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
                 }
             }
             EXPECT_EQ(differ, 0) << port.name();
+            EXPECT_EQ(not_finite, 0) << port.name() << ": a tap beyond PortRays::reach";
+            std::printf("%s: %ld of %d input pixels beyond reach\n", port.name(), outside,
+                        cam.width * cam.height);
             EXPECT_LT(point_error, 4e-7) << port.name();
             EXPECT_GT(surfaces, 4000) << port.name();
         }
