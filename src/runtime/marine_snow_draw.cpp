@@ -386,45 +386,27 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         }
     });
 
-    // A particle whose centre lies behind the surface at its pixel is not drawn: tested by
-    // bands of the centre's row, each band's depth read in order first where it is dense.
+    // Each band's particles, in id order (a counting sort by band). A particle whose centre
+    // lies behind the surface at its pixel is not drawn: tested in each band it touches (the
+    // same depth, the same answer), so that no pass of its own reads the depth.
     const int bands = (H + kBandRows - 1) / kBandRows;
     const Target target{zdepth, final, snow, ids, m_best.data(), W, H};
     std::vector<float> sinks(std::size_t(bands), 0.0f);
-    {
-        std::vector<std::uint32_t> start(std::size_t(bands) + 1, 0);
-        for (const Splat& s : splats)
-            if (s.id != 0) ++start[std::size_t(s.iv / kBandRows) + 1];
-        for (int b = 0; b < bands; ++b) start[std::size_t(b) + 1] += start[std::size_t(b)];
-        std::vector<std::uint32_t> order(start.back()), fill(start.begin(), start.end() - 1);
-        for (std::size_t q = 0; q < n; ++q)
-            if (splats[q].id != 0)
-                order[fill[std::size_t(splats[q].iv / kBandRows)]++] = std::uint32_t(q);
-        tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
-            for (int b = range.begin(); b != range.end(); ++b) {
-                const int y0 = b * kBandRows, y1 = std::min(H, y0 + kBandRows) - 1;
-                const std::uint32_t i0 = start[std::size_t(b)], i1 = start[std::size_t(b) + 1];
-                if (std::int64_t(i1 - i0) * 128 > std::int64_t(y1 - y0 + 1) * W)
-                    sinks[std::size_t(b)] = target.warm(y0, y1, false);
-                for (std::uint32_t i = i0; i < i1; ++i) {
-                    Splat& s = splats[order[i]];
-                    const float zs = zdepth.row(s.iv)[s.iu];
-                    if (!open_water(zs) && zs <= s.z) s.id = 0;  // behind the surface
-                }
-            }
-        });
-    }
-
-    // Each band's particles, in id order (a counting sort by band).
+    const auto hidden = [&](const Splat& s) {
+        const float zs = zdepth.row(s.iv)[s.iu];
+        return !open_water(zs) && zs <= s.z;
+    };
     std::vector<std::uint32_t> start(std::size_t(bands) + 1, 0);
-    int drawn = 0;
+    int drawn = 0;  // (counted per band below, at each particle's first band)
     const auto band_span = [&](const Splat& s) {
         return std::pair{std::max(s.va, 0) / kBandRows, std::min(s.vb, H - 1) / kBandRows};
     };
     for (const Splat& s : splats) {
         if (s.id == 0) continue;
-        ++drawn;
-        if (s.vb < 0 || s.va > H - 1) continue;
+        if (s.vb < 0 || s.va > H - 1) {
+            drawn += hidden(s) ? 0 : 1;  // off the image, but drawn
+            continue;
+        }
         const auto [b0, b1] = band_span(s);
         for (int b = b0; b <= b1; ++b) ++start[std::size_t(b) + 1];
     }
@@ -436,6 +418,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         const auto [b0, b1] = band_span(s);
         for (int b = b0; b <= b1; ++b) order[fill[std::size_t(b)]++] = std::uint32_t(q);
     }
+    std::vector<int> band_drawn(std::size_t(bands), 0);
 
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
         for (int b = range.begin(); b != range.end(); ++b) {
@@ -444,11 +427,17 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             // Warm when the particles would touch most of the band's cache lines anyway.
             if (std::int64_t(i1 - i0) * 64 > std::int64_t(y1 - y0 + 1) * W)
                 sinks[std::size_t(b)] = target.warm(y0, y1, true);
+            int count = 0;
             for (std::uint32_t i = i0; i < i1; ++i) {
-                target.draw(splats[order[i]], y0, y1);
+                const Splat& s = splats[order[i]];
+                if (hidden(s)) continue;
+                count += band_span(s).first == b ? 1 : 0;
+                target.draw(s, y0, y1);
             }
+            band_drawn[std::size_t(b)] = count;
         }
     });
+    for (const int c : band_drawn) drawn += c;
     m_drawn = drawn;
 }
 
