@@ -386,9 +386,11 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         }
     });
 
-    // Each band's particles, in id order (a counting sort by band). A particle whose centre
-    // lies behind the surface at its pixel is not drawn: tested in each band it touches (the
-    // same depth, the same answer), so that no pass of its own reads the depth.
+    // Each band's particles, in id order: a counting sort by band, in parallel over chunks of
+    // particles (each chunk's entries in a band follow the chunk before's, so the order is the
+    // ids'). A particle whose centre lies behind the surface at its pixel is not drawn: tested
+    // in each band it touches (the same depth, the same answer), so that no pass of its own
+    // reads the depth.
     const int bands = (H + kBandRows - 1) / kBandRows;
     const Target target{zdepth, final, snow, ids, m_best.data(), W, H};
     std::vector<float> sinks(std::size_t(bands), 0.0f);
@@ -396,28 +398,50 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         const float zs = zdepth.row(s.iv)[s.iu];
         return !open_water(zs) && zs <= s.z;
     };
-    std::vector<std::uint32_t> start(std::size_t(bands) + 1, 0);
-    int drawn = 0;  // (counted per band below, at each particle's first band)
     const auto band_span = [&](const Splat& s) {
         return std::pair{std::max(s.va, 0) / kBandRows, std::min(s.vb, H - 1) / kBandRows};
     };
-    for (const Splat& s : splats) {
-        if (s.id == 0) continue;
-        if (s.vb < 0 || s.va > H - 1) {
-            drawn += hidden(s) ? 0 : 1;  // off the image, but drawn
-            continue;
+    const auto off_image = [&](const Splat& s) { return s.vb < 0 || s.va > H - 1; };
+    const std::size_t chunks = (n + kBlock - 1) / kBlock, nb = std::size_t(bands);
+    // per chunk: its entries in each band, then (after the scan) where they go in `order`;
+    // its particles drawn off the image (counted in `drawn`, in no band)
+    std::vector<std::uint32_t> at(chunks * nb, 0);
+    std::vector<int> off_drawn(chunks, 0);
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
+        std::uint32_t* count = at.data() + k * nb;
+        for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
+            const Splat& s = splats[q];
+            if (s.id == 0) continue;
+            if (off_image(s)) {
+                off_drawn[k] += hidden(s) ? 0 : 1;
+                continue;
+            }
+            const auto [b0, b1] = band_span(s);
+            for (int b = b0; b <= b1; ++b) ++count[b];
         }
-        const auto [b0, b1] = band_span(s);
-        for (int b = b0; b <= b1; ++b) ++start[std::size_t(b) + 1];
+    });
+    std::vector<std::uint32_t> start(nb + 1, 0);
+    for (std::size_t b = 0; b < nb; ++b) {
+        std::uint32_t next = start[b];
+        for (std::size_t k = 0; k < chunks; ++k) {
+            const std::uint32_t c = at[k * nb + b];
+            at[k * nb + b] = next;
+            next += c;
+        }
+        start[b + 1] = next;
     }
-    for (int b = 0; b < bands; ++b) start[std::size_t(b) + 1] += start[std::size_t(b)];
-    std::vector<std::uint32_t> order(start.back()), fill(start.begin(), start.end() - 1);
-    for (std::size_t q = 0; q < n; ++q) {
-        const Splat& s = splats[q];
-        if (s.id == 0 || s.vb < 0 || s.va > H - 1) continue;
-        const auto [b0, b1] = band_span(s);
-        for (int b = b0; b <= b1; ++b) order[fill[std::size_t(b)]++] = std::uint32_t(q);
-    }
+    std::vector<std::uint32_t> order(start.back());
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
+        std::uint32_t* fill = at.data() + k * nb;
+        for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
+            const Splat& s = splats[q];
+            if (s.id == 0 || off_image(s)) continue;
+            const auto [b0, b1] = band_span(s);
+            for (int b = b0; b <= b1; ++b) order[fill[b]++] = std::uint32_t(q);
+        }
+    });
+    int drawn = 0;  // (counted per band below, at each particle's first band)
+    for (const int c : off_drawn) drawn += c;
     std::vector<int> band_drawn(std::size_t(bands), 0);
 
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
