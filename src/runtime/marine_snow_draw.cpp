@@ -389,8 +389,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
     // Each band's particles, in id order: a counting sort by band, in parallel over chunks of
     // particles (each chunk's entries in a band follow the chunk before's, so the order is the
     // ids'). A particle whose centre lies behind the surface at its pixel is not drawn: tested
-    // in each band it touches (the same depth, the same answer), so that no pass of its own
-    // reads the depth.
+    // as the chunk counts it (no pass of its own), it then joins no band.
     const int bands = (H + kBandRows - 1) / kBandRows;
     const Target target{zdepth, final, snow, ids, m_best.data(), W, H};
     std::vector<float> sinks(std::size_t(bands), 0.0f);
@@ -410,10 +409,14 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
         std::uint32_t* count = at.data() + k * nb;
         for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
-            const Splat& s = splats[q];
+            Splat& s = splats[q];
             if (s.id == 0) continue;
+            if (hidden(s)) {
+                s.id = 0;  // behind the surface
+                continue;
+            }
             if (off_image(s)) {
-                off_drawn[k] += hidden(s) ? 0 : 1;
+                ++off_drawn[k];
                 continue;
             }
             const auto [b0, b1] = band_span(s);
@@ -454,7 +457,6 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             int count = 0;
             for (std::uint32_t i = i0; i < i1; ++i) {
                 const Splat& s = splats[order[i]];
-                if (hidden(s)) continue;
                 count += band_span(s).first == b ? 1 : 0;
                 target.draw(s, y0, y1);
             }
