@@ -48,9 +48,12 @@ LampShadows::Lines make_lines(const Camera& cam, const Vec3& L) {
         f.dir = da > 0 ? 1 : -1;
         f.slope = db / da;
         const double A = f.swap ? H : W, B = f.swap ? W : H;
+        // Exactly the lines that hold pixels (locate()'s b - slope a is extreme at a corner):
+        // a line beside the image would be swept for nothing, in a block of lanes of its own
+        // off the fast path.
         const double c[4] = {0.0, -f.slope * (A - 1), B - 1, B - 1 - f.slope * (A - 1)};
-        f.i_min = round_index(*std::min_element(c, c + 4)) - 1;
-        f.i_max = round_index(*std::max_element(c, c + 4)) + 1;
+        f.i_min = round_index(*std::min_element(c, c + 4));
+        f.i_max = round_index(*std::max_element(c, c + 4));
         lines.families.push_back(f);
         return lines;
     }

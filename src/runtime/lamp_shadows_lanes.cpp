@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <type_traits>
 
 #include "clones.h"
 #include "deepsea/optics/normals.h"
@@ -86,12 +87,16 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
     // per lane: the sample's pixel index and column, row (0 where none: a safe address; the
     // sample is then marked invalid), and the pixel evaluated where it is another (see below)
     alignas(64) int qi[kLanes], qu[kLanes], qv[kLanes], qok[kLanes], pi[kLanes], pok[kLanes];
-    for (int c = 0; c < A; ++c) {
+    // One step along the lines, column c (parity P = c & 1 picks the buffers: a constant, so
+    // that their addresses are too; with c & 1 in the loop GCC recomputed some 26 array
+    // addresses at each step).
+    const auto column = [&](int c, auto parity) __attribute__((always_inline)) {
+        constexpr int P = decltype(parity)::value;
         const int a = first + c * step;
-        Samples& q = buf[c & 1];
-        const Samples& prev = buf[(c & 1) ^ 1];
-        const HorizonLanes& hc = hz[c & 1];
-        HorizonLanes& nh = hz[(c & 1) ^ 1];
+        Samples& q = buf[P];
+        const Samples& prev = buf[P ^ 1];
+        const HorizonLanes& hc = hz[P];
+        HorizonLanes& nh = hz[P ^ 1];
         // Line i's sample in this column is in row i + off, that row's own pixel, but where
         // the lines run exactly between two rows (the row below is then their own); a line
         // is inside the image for i in [i_lo, i_hi].
@@ -194,8 +199,15 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                 p.y[j] = ok ? ry[v] * z : 0.0f;
             }
         }
-        // P's visibility under the horizon (Sweep::visible); the disc's fraction after
-        if (R > 0.0f) {
+        // P's visibility under the horizon (Sweep::visible); the disc's fraction after. Where
+        // every lane is lit (most steps) nothing is written: the penumbra is not evaluated.
+        int unlit = 0;
+#pragma omp simd reduction(| : unlit)
+        for (int j = 0; j < kLanes; ++j) {
+            const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (p.gf[j] < hc.lo[j]);
+            unlit |= lit ? 0 : 1;
+        }
+        if (unlit && R > 0.0f) {
 #pragma omp simd
             for (int j = 0; j < kLanes; ++j) {
                 const float gp = p.gf[j];
@@ -208,7 +220,7 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                 const float m = both ? a2 : a1;
                 arg[j] = lit ? 1.0f : m;
             }
-        } else {
+        } else if (unlit) {
 #pragma omp simd
             for (int j = 0; j < kLanes; ++j) {
                 const float gp = p.gf[j];
@@ -218,8 +230,10 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
         }
         // (the image is filled with 1: only shadowed pixels are written)
         float least = 1.0f;  // (arg is 1 where no pixel is evaluated)
+        if (unlit) {
 #pragma omp simd reduction(min : least)
-        for (int j = 0; j < kLanes; ++j) least = arg[j] < least ? arg[j] : least;
+            for (int j = 0; j < kLanes; ++j) least = arg[j] < least ? arg[j] : least;
+        }
         for (int j = 0; least < 1.0f && j < kLanes; ++j) {
             if (!pok[j] || !(p.valid[j] > 0.0f) || arg[j] >= 1.0f) continue;
             const int o = s.out_transposed ? (pi[j] % W) * s.H + pi[j] / W : pi[j];
@@ -257,7 +271,13 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
             nh.hq[j] = up ? 1.0f : hq;
             nh.kq[j] = up ? kp : hc.kq[j];
         }
+    };
+    int c = 0;
+    for (; c + 1 < A; c += 2) {
+        column(c, std::integral_constant<int, 0>{});
+        column(c + 1, std::integral_constant<int, 1>{});
     }
+    if (c < A) column(c, std::integral_constant<int, 0>{});
 }
 
 }  // namespace

@@ -123,12 +123,12 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
                         const Vec3 w{(double(i) + pr.uniform()) * cell,
                                      (double(j) + pr.uniform()) * cell,
                                      (double(k) + pr.uniform()) * cell};
-                        const double size_q = pr.uniform();
                         const Vec3 c = to_camera(p, w);
                         if (!(c.z >= v.z0 && c.z <= v.z1)) continue;
                         const double x = c.x / c.z, y = c.y / c.z;
                         if (x < v.xl || x >= v.xr || y < v.yt || y >= v.yb) continue;
-                        out.push_back({c, sizes(size_q), 0});
+                        // the stream's fourth number, drawn for particles in view only
+                        out.push_back({c, sizes(pr.uniform()), 0});
                     }
                 }
         }

@@ -386,56 +386,66 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         }
     });
 
-    // A particle whose centre lies behind the surface at its pixel is not drawn: tested by
-    // bands of the centre's row, each band's depth read in order first where it is dense.
+    // Each band's particles, in id order: a counting sort by band, in parallel over chunks of
+    // particles (each chunk's entries in a band follow the chunk before's, so the order is the
+    // ids'). A particle whose centre lies behind the surface at its pixel is not drawn: tested
+    // as the chunk counts it (no pass of its own), it then joins no band.
     const int bands = (H + kBandRows - 1) / kBandRows;
     const Target target{zdepth, final, snow, ids, m_best.data(), W, H};
     std::vector<float> sinks(std::size_t(bands), 0.0f);
-    {
-        std::vector<std::uint32_t> start(std::size_t(bands) + 1, 0);
-        for (const Splat& s : splats)
-            if (s.id != 0) ++start[std::size_t(s.iv / kBandRows) + 1];
-        for (int b = 0; b < bands; ++b) start[std::size_t(b) + 1] += start[std::size_t(b)];
-        std::vector<std::uint32_t> order(start.back()), fill(start.begin(), start.end() - 1);
-        for (std::size_t q = 0; q < n; ++q)
-            if (splats[q].id != 0)
-                order[fill[std::size_t(splats[q].iv / kBandRows)]++] = std::uint32_t(q);
-        tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
-            for (int b = range.begin(); b != range.end(); ++b) {
-                const int y0 = b * kBandRows, y1 = std::min(H, y0 + kBandRows) - 1;
-                const std::uint32_t i0 = start[std::size_t(b)], i1 = start[std::size_t(b) + 1];
-                if (std::int64_t(i1 - i0) * 128 > std::int64_t(y1 - y0 + 1) * W)
-                    sinks[std::size_t(b)] = target.warm(y0, y1, false);
-                for (std::uint32_t i = i0; i < i1; ++i) {
-                    Splat& s = splats[order[i]];
-                    const float zs = zdepth.row(s.iv)[s.iu];
-                    if (!open_water(zs) && zs <= s.z) s.id = 0;  // behind the surface
-                }
-            }
-        });
-    }
-
-    // Each band's particles, in id order (a counting sort by band).
-    std::vector<std::uint32_t> start(std::size_t(bands) + 1, 0);
-    int drawn = 0;
+    const auto hidden = [&](const Splat& s) {
+        const float zs = zdepth.row(s.iv)[s.iu];
+        return !open_water(zs) && zs <= s.z;
+    };
     const auto band_span = [&](const Splat& s) {
         return std::pair{std::max(s.va, 0) / kBandRows, std::min(s.vb, H - 1) / kBandRows};
     };
-    for (const Splat& s : splats) {
-        if (s.id == 0) continue;
-        ++drawn;
-        if (s.vb < 0 || s.va > H - 1) continue;
-        const auto [b0, b1] = band_span(s);
-        for (int b = b0; b <= b1; ++b) ++start[std::size_t(b) + 1];
+    const auto off_image = [&](const Splat& s) { return s.vb < 0 || s.va > H - 1; };
+    const std::size_t chunks = (n + kBlock - 1) / kBlock, nb = std::size_t(bands);
+    // per chunk: its entries in each band, then (after the scan) where they go in `order`;
+    // its particles drawn off the image (counted in `drawn`, in no band)
+    std::vector<std::uint32_t> at(chunks * nb, 0);
+    std::vector<int> off_drawn(chunks, 0);
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
+        std::uint32_t* count = at.data() + k * nb;
+        for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
+            Splat& s = splats[q];
+            if (s.id == 0) continue;
+            if (hidden(s)) {
+                s.id = 0;  // behind the surface
+                continue;
+            }
+            if (off_image(s)) {
+                ++off_drawn[k];
+                continue;
+            }
+            const auto [b0, b1] = band_span(s);
+            for (int b = b0; b <= b1; ++b) ++count[b];
+        }
+    });
+    std::vector<std::uint32_t> start(nb + 1, 0);
+    for (std::size_t b = 0; b < nb; ++b) {
+        std::uint32_t next = start[b];
+        for (std::size_t k = 0; k < chunks; ++k) {
+            const std::uint32_t c = at[k * nb + b];
+            at[k * nb + b] = next;
+            next += c;
+        }
+        start[b + 1] = next;
     }
-    for (int b = 0; b < bands; ++b) start[std::size_t(b) + 1] += start[std::size_t(b)];
-    std::vector<std::uint32_t> order(start.back()), fill(start.begin(), start.end() - 1);
-    for (std::size_t q = 0; q < n; ++q) {
-        const Splat& s = splats[q];
-        if (s.id == 0 || s.vb < 0 || s.va > H - 1) continue;
-        const auto [b0, b1] = band_span(s);
-        for (int b = b0; b <= b1; ++b) order[fill[std::size_t(b)]++] = std::uint32_t(q);
-    }
+    std::vector<std::uint32_t> order(start.back());
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
+        std::uint32_t* fill = at.data() + k * nb;
+        for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
+            const Splat& s = splats[q];
+            if (s.id == 0 || off_image(s)) continue;
+            const auto [b0, b1] = band_span(s);
+            for (int b = b0; b <= b1; ++b) order[fill[b]++] = std::uint32_t(q);
+        }
+    });
+    int drawn = 0;  // (counted per band below, at each particle's first band)
+    for (const int c : off_drawn) drawn += c;
+    std::vector<int> band_drawn(std::size_t(bands), 0);
 
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
         for (int b = range.begin(); b != range.end(); ++b) {
@@ -444,11 +454,16 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             // Warm when the particles would touch most of the band's cache lines anyway.
             if (std::int64_t(i1 - i0) * 64 > std::int64_t(y1 - y0 + 1) * W)
                 sinks[std::size_t(b)] = target.warm(y0, y1, true);
+            int count = 0;
             for (std::uint32_t i = i0; i < i1; ++i) {
-                target.draw(splats[order[i]], y0, y1);
+                const Splat& s = splats[order[i]];
+                count += band_span(s).first == b ? 1 : 0;
+                target.draw(s, y0, y1);
             }
+            band_drawn[std::size_t(b)] = count;
         }
     });
+    for (const int c : band_drawn) drawn += c;
     m_drawn = drawn;
 }
 

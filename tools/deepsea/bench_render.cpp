@@ -39,6 +39,18 @@ namespace {
 const char* const kCompositeCases[] = {"composite", "composite_final_only", "composite-shadows",
                                        "composite_final_only-shadows"};
 
+/// The close survey (docs/snow-shadows.md, "Cost"): 1 m above a floor of 2.5 times the usual
+/// relief, the camera pitched 40 degrees forward, where the demo's lamps cast shadows (the
+/// default flight's first frame, 3 m above the floor looking straight down, has none).
+FlightParams survey_flight(const Camera& cam) {
+    FlightParams fp;
+    fp.camera = cam;
+    fp.pitch_deg = 40.0;
+    fp.altitude = 1.0;
+    fp.relief = 2.5;
+    return fp;
+}
+
 }  // namespace
 
 /// Composites one generated frame repeatedly, for each layer set (all layers, then only the
@@ -135,7 +147,9 @@ std::vector<Case> time_compositor(const Asset& asset, const Camera& cam, const B
 /// flight from one run to the next (particles fixed in the world); `snow-streaks` the nepheloid
 /// preset drawn as motion streaks, the camera moving at 1 m/s (the flight's 0.25 m a frame
 /// taken 0.25 s apart) with a 10 ms exposure: 1 cm in it; then `snow-shadows`: the nepheloid
-/// preset's snow and the lamps' shadows (LampShadows::compute, the default step) together.
+/// preset's snow and the lamps' shadows (LampShadows::compute, the default step) together, and
+/// `snow-shadows-survey`: the same on the close survey's first frame (survey_flight()), where
+/// the lamps cast shadows.
 std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchArgs& a,
                             int threads) {
     std::vector<Case> cases;
@@ -174,9 +188,15 @@ std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchAr
                particles / std::max(a.repeats, 1));
         cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
     }
-    if (wanted(a.cases, "snow-shadows")) {
-        // The budget as stated: the lamps' shadows (the default step) and the densest
-        // preset's snow on one frame, as `deepsea demo --snow nepheloid` renders them.
+    // The budget as stated: the lamps' shadows (the default step) and the densest
+    // preset's snow on one frame, as `deepsea demo --snow nepheloid` renders them; on the
+    // flight's first frame (no shadowed pixel with the demo's lamps: the sweep and the lit
+    // rows alone) and on the close survey's (shadows cast).
+    for (const bool survey : {false, true}) {
+        const std::string name = survey ? "snow-shadows-survey" : "snow-shadows";
+        if (!wanted(a.cases, name)) continue;
+        const FlightParams fp = survey ? survey_flight(cam) : flight;
+        const Frame f = survey ? render_flight_frame(fp, 0) : frame;
         SnowSettings s;
         s.snow = snow_preset("nepheloid");
         MarineSnow snow(s, asset.info.rig, asset.info.water);
@@ -184,39 +204,42 @@ std::vector<Case> time_snow(const Asset& asset, const Camera& cam, const BenchAr
         Image final(cam.width, cam.height, 3);
         std::vector<double> t, cpu;
         for (int r = 0; r <= a.repeats; ++r) {
-            const FlightPose p = flight_pose(flight, r);
+            const FlightPose p = flight_pose(fp, r);
             snow.set_frame(std::uint64_t(r), CameraPose{p.origin, p.right, p.down, p.forward});
             const double t0 = now_ms(), c0 = cpu_ms();
-            shadows.compute(cam, frame.depth, asset.info.rig, ShadowSettings{true});
-            snow.draw(cam, frame.depth, final, nullptr, nullptr);
+            shadows.compute(cam, f.depth, asset.info.rig, ShadowSettings{true});
+            snow.draw(cam, f.depth, final, nullptr, nullptr);
             if (r == 0) continue;  // the first run allocates
             t.push_back(now_ms() - t0);
             cpu.push_back(cpu_ms() - c0);
         }
-        cases.push_back(summarize("snow-shadows", cam.width, cam.height, threads, t, cpu));
+        cases.push_back(summarize(name, cam.width, cam.height, threads, t, cpu));
     }
     return cases;
 }
 
-/// Lamp shadows alone (LampShadows::compute: every lamp's visibility image) on the flight's
-/// first frame with the setup's rig: `shadows` as rendered, `shadows-exact` the full-resolution
-/// sweep it is checked against (docs/runtime.md, "Lamp shadows").
+/// Lamp shadows alone (LampShadows::compute: every lamp's visibility image) with the setup's
+/// rig: on the flight's first frame, `shadows` as rendered, `shadows-exact` the full-resolution
+/// sweep it is checked against (docs/snow-shadows.md, "Lamp shadows"); `shadows-survey` as
+/// rendered on the close survey's first frame (survey_flight()), where the lamps cast shadows.
 std::vector<Case> time_shadows(const Camera& cam, const Rig& rig, const BenchArgs& a, int threads) {
     std::vector<Case> cases;
     FlightParams flight;
     flight.camera = cam;
     const Frame frame = render_flight_frame(flight, 0);
-    for (const bool exact : {false, true}) {
-        const std::string name = exact ? "shadows-exact" : "shadows";
+    for (const char* name : {"shadows", "shadows-exact", "shadows-survey"}) {
         if (!wanted(a.cases, name)) continue;
+        const bool survey = std::string(name) == "shadows-survey";
         ShadowSettings s{true};
-        if (exact) s.step = 1;
+        if (std::string(name) == "shadows-exact") s.step = 1;
+        const Frame f = survey ? render_flight_frame(survey_flight(cam), 0) : Frame{};
+        const Image& depth = survey ? f.depth : frame.depth;
         LampShadows shadows;
-        shadows.compute(cam, frame.depth, rig, s);  // the first run allocates
+        shadows.compute(cam, depth, rig, s);  // the first run allocates
         std::vector<double> t, cpu;
         for (int r = 0; r < a.repeats; ++r) {
             const double t0 = now_ms(), c0 = cpu_ms();
-            shadows.compute(cam, frame.depth, rig, s);
+            shadows.compute(cam, depth, rig, s);
             t.push_back(now_ms() - t0);
             cpu.push_back(cpu_ms() - c0);
         }

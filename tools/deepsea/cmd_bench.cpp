@@ -308,8 +308,9 @@ void setup_bench(CLI::App& sub) {
         "(snow-abyssal, "
         "snow-nepheloid, snow-plume: marine snow alone; snow-streaks: nepheloid as "
         "motion streaks, 1 m/s, 10 ms; snow-shadows: the nepheloid preset and lamp "
-        "shadows together), shadows (lamp shadows alone; "
-        "shadows-exact: the full-resolution sweep), stage, camera "
+        "shadows together; snow-shadows-survey: the same on a close survey's frame, where the "
+        "lamps cast shadows), shadows (lamp shadows alone; shadows-exact: the full-resolution "
+        "sweep; shadows-survey: on the close survey's frame), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
         "also -camera: with the setup's camera stage)");
     sub.add_flag("--json", a->json, "print JSON for scripts");
