@@ -87,10 +87,6 @@ bool any_in(int n, const int* state, int which) {
     return false;
 }
 
-/// Step i of fast_march for lane u: the probe, and the bracket where it is the first behind the
-/// surface. kFirst (i = 1): no lane holds a bracket yet, so the bracket and the previous probe
-/// are written in every lane (those not marching never read them), plain stores instead of
-/// masked ones, which cost many times as much on some x86 cores.
 /// fast_march's scratch as plain pointers, for march_step.
 struct MarchLanes {
     float *lo, *hi, *step, *ps, *ph, *as, *ah, *bs, *bh;
@@ -109,6 +105,10 @@ struct MarchLanes {
           state(f.state.data()) {}
 };
 
+/// Step i of fast_march for lane u: the probe, and the bracket where it is the first behind the
+/// surface. kFirst (i = 1): no lane holds a bracket yet, so the bracket and the previous probe
+/// are written in every lane (those not marching never read them), plain stores instead of
+/// masked ones, which cost many times as much on some x86 cores.
 template <bool kFirst>
 __attribute__((always_inline)) inline void march_step(int u, int i, const PortRays::MarchRow& m,
                                                       const float* __restrict inv, int W, int H,
