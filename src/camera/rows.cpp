@@ -346,10 +346,6 @@ template <bool kMatrix>
     process<kMatrix, OutputCurve::Linear>(p, n, scale, dn, tmp, out);
 }
 
-}  // namespace
-
-namespace {
-
 DEEPSEA_CAMERA_CLONES
 void brightest_generic(int p0, int pixels, const float* raw, std::int32_t last,
                        std::int32_t* counter) {
@@ -392,14 +388,15 @@ __attribute__((target("avx2"))) void brightest_avx2(int pixels, const float* raw
     }
     brightest_generic(p, pixels, raw, last, counter);
 }
-const bool kBrightestAvx2 = __builtin_cpu_supports("avx2");
+/// The AVX2 loops here and below are taken where the processor has AVX2.
+const bool kHaveAvx2 = __builtin_cpu_supports("avx2");
 #endif
 
 }  // namespace
 
 void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* counter) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (kBrightestAvx2) return brightest_avx2(pixels, raw, last, counter);
+    if (kHaveAvx2) return brightest_avx2(pixels, raw, last, counter);
 #endif
     brightest_generic(0, pixels, raw, last, counter);
 }
@@ -443,7 +440,6 @@ __attribute__((target("avx2"))) void lookup_codes_avx2(const std::uint8_t* lut, 
     }
     for (; i < n; ++i) out[i] = lut[3 * std::int32_t(dn[i]) + chan[i]];
 }
-const bool kHaveAvx2 = __builtin_cpu_supports("avx2");
 #endif
 
 void lookup_row(const float* lut, int n, const float* dn, float* out) {
