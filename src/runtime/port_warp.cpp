@@ -80,13 +80,6 @@ struct MarchScratch {
     }
 };
 
-/// True where some ray of the row is still in `which`.
-bool any_in(int n, const int* state, int which) {
-    for (int u = 0; u < n; ++u)
-        if (state[u] == which) return true;
-    return false;
-}
-
 /// fast_march's scratch as plain pointers, for march_step.
 struct MarchLanes {
     float *lo, *hi, *step, *ps, *ph, *as, *ah, *bs, *bh;
@@ -108,9 +101,10 @@ struct MarchLanes {
 /// Step i of fast_march for lane u: the probe, and the bracket where it is the first behind the
 /// surface. kFirst (i = 1): no lane holds a bracket yet, so the bracket and the previous probe
 /// are written in every lane (those not marching never read them), plain stores instead of
-/// masked ones, which cost many times as much on some x86 cores.
+/// masked ones, which cost many times as much on some x86 cores. Returns 1 where the ray is
+/// still marching after it.
 template <bool kFirst>
-__attribute__((always_inline)) inline void march_step(int u, int i, const PortRays::MarchRow& m,
+__attribute__((always_inline)) inline int march_step(int u, int i, const PortRays::MarchRow& m,
                                                       const float* __restrict inv, int W, int H,
                                                       const MarchLanes& f) {
     const int st = f.state[u];
@@ -130,11 +124,13 @@ __attribute__((always_inline)) inline void march_step(int u, int i, const PortRa
     f.ps[u] = keep ? f.ps[u] : s;
     f.ph[u] = keep ? f.ph[u] : h;
     const int none = f.lo[u] == 0.0f ? kOpen : kUnseen;
-    f.state[u] = !marching     ? st
-                 : one == 0.0f ? kScalar
-                 : cross       ? (h < 0.0f ? kActive : kScalar)
-                 : last        ? none
-                               : kMarching;
+    const int next = !marching     ? st
+                     : one == 0.0f ? kScalar
+                     : cross       ? (h < 0.0f ? kActive : kScalar)
+                     : last        ? none
+                                   : kMarching;
+    f.state[u] = next;
+    return next == kMarching ? 1 : 0;
 }
 
 /// The march of optics' march_port_ray for the rays of one row that take at most
@@ -157,6 +153,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
     float* __restrict start = f.start.data();
     const float inf = std::numeric_limits<float>::infinity();
     const float still = float(kPortStillPx);
+    int marching = 0;  // (the rays still marching: counted in the loops, not by a scan of the row)
     // (the windows in a loop of their own: with the read of `nearest` in the same loop GCC
     // branches on the window and does not vectorise the masked read)
 #pragma omp simd
@@ -164,7 +161,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
         steps_[u] = port_start_window(m.u_inf[u], m.v_inf[u], m.du[u], m.dv[u], m.s_lo[u],
                                       m.s_hi[u], s_near, W, H);
     }
-#pragma omp simd
+#pragma omp simd reduction(+ : marching)
     for (int u = 0; u < n; ++u) {
         const int window = steps_[u];
         const float window_near = nearest[window >= 0 ? window : 0];
@@ -189,6 +186,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
                              (steps <= float(kFastMarchSteps) ? 1.0f : 0.0f) * one *
                              (hh > 0.0f ? 1.0f : 0.0f);
         state[u] = simple == 0.0f ? kScalar : kMarching;
+        marching += simple == 0.0f ? 0 : 1;
         lo_[u] = lo;
         hi_[u] = hi;
         steps_[u] = int(steps);
@@ -199,13 +197,14 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
     // Toward the vanishing point, a step at a time: the first probe behind the surface brackets
     // the crossing with the one before it (in front).
     const MarchLanes lanes(f);
-    for (int i = 1; i <= kFastMarchSteps && any_in(n, state, kMarching); ++i) {
+    for (int i = 1; i <= kFastMarchSteps && marching > 0; ++i) {
+        marching = 0;
         if (i == 1) {
-#pragma omp simd
-            for (int u = 0; u < n; ++u) march_step<true>(u, i, m, inv, W, H, lanes);
+#pragma omp simd reduction(+ : marching)
+            for (int u = 0; u < n; ++u) marching += march_step<true>(u, i, m, inv, W, H, lanes);
         } else {
-#pragma omp simd
-            for (int u = 0; u < n; ++u) march_step<false>(u, i, m, inv, W, H, lanes);
+#pragma omp simd reduction(+ : marching)
+            for (int u = 0; u < n; ++u) marching += march_step<false>(u, i, m, inv, W, H, lanes);
         }
     }
 }
@@ -219,8 +218,9 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
 /// without a gather of its own. Rays the step does not settle become kScalar; lanes without a
 /// hit get zeros. Lane by lane the step's s and the taps' positions and weights, then per pixel
 /// two 4-float loads a tap, then lane by lane the step's outcome and the normals' lengths.
+/// Returns the number of rays left to the scalar march.
 DEEPSEA_CLONES
-void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const float* __restrict in,
+int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const float* __restrict in,
                  int W, int H, MarchScratch& f, const PortRow& o) {
     const float* __restrict as = f.as.data();
     const float* __restrict ah = f.ah.data();
@@ -282,7 +282,8 @@ void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const flo
         J[3 * u + 2] = j[2];
     }
     const float tol = kPortHitToleranceFloat;
-#pragma omp simd
+    int left = 0;
+#pragma omp simd reduction(+ : left)
     for (int u = 0; u < n; ++u) {
         const int st = state[u];
         const float iz = w[4 * u + 3], lo = lo_z[u], hi = hi_z[u];
@@ -292,7 +293,9 @@ void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const flo
         const bool one = (lo > 0.0f) & (hi - lo <= edge * lo);
         const bool on = std::fabs(h) <= tol * (s + iz);
         const bool hit = (st == kActive) & one & on;
-        state[u] = hit ? kSurface : st == kActive ? kScalar : st;
+        const int next = hit ? kSurface : st == kActive ? kScalar : st;
+        state[u] = next;
+        left += (next == kSurface) | (next == kOpen) | (next == kUnseen) ? 0 : 1;
         const float hu = m.u_inf[u] + m.du[u] * s, hv = m.v_inf[u] + m.dv[u] * s;
         // the point at the hit's planar depth on the ray, from where it projects
         const float zh = 1.0f / s, th = (zh - m.oz[u]) / m.dz[u];
@@ -308,6 +311,7 @@ void settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const flo
         ny[u] = Ny * inv;
         nz[u] = Nz * inv;
     }
+    return left;
 }
 
 }  // namespace
@@ -346,16 +350,18 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     MarchScratch& f = scratch;  // (one look-up of the thread's scratch, not one a pixel)
     f.fit(W);
     const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
+    int left = W;
     if (fast) {
         fast_march(W, rays.march_row(v), inv_depth.data.data(), nearest.data.data(),
                    inv_depth.width, inv_depth.height, s_near, f);
-        settle_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
+        left = settle_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
     }
-    // The rest, one by one (rare: depth edges, open water, long marches)
+    // The rest, one by one (rare: depth edges, open water, long marches), up to the last of them
     const int* state = f.state.data();
-    for (int u = 0; u < W; ++u) {
+    for (int u = 0; u < W && left > 0; ++u) {
         const int st = fast ? state[u] : kScalar;
         if (st == kSurface || st == kOpen || st == kUnseen) continue;  // (done above)
+        --left;
         // (kActive and kMarching too: not settled in the fast steps; the scalar march starts
         // again)
         const PortMarch<float> m = rays.march(u, v);
