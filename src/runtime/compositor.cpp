@@ -41,6 +41,14 @@ void sanitise_row(int n, const float* __restrict raw, float* __restrict z) {
     for (int u = 0; u < n; ++u) z[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
 }
 
+/// A port row's light path in water, d2: the path t from the port to the hit where the row has
+/// one (z > 0), 0 otherwise.
+DEEPSEA_CLONES
+void port_path_row(int n, const float* __restrict z, const float* __restrict t,
+                   float* __restrict d2) {
+    for (int u = 0; u < n; ++u) d2[u] = z[u] > 0.0f ? t[u] : 0.0f;
+}
+
 /// A row's sanitised depth z and its back-projected x = rx z, y = ry z (camera frame).
 DEEPSEA_CLONES
 void back_project_row(int n, const float* __restrict raw, const float* __restrict rx, float ry,
@@ -252,7 +260,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         kernels::shade_row(W, s.x.data(), s.y.data(), s.z.data(), s.e.data(), J, d2, L);
         if (port) {
             // the light's path in water runs from the port's outer surface, not the camera
-            for (int u = 0; u < W; ++u) d2[u] = s.z[u] > 0.0f ? s.t[u] : 0.0f;
+            port_path_row(W, s.z.data(), s.t.data(), d2);
             if (all) std::copy(s.mask.begin(), s.mask.begin() + W, dst.mask.row(v));
             if (forward) std::copy(s.z.begin(), s.z.begin() + W, m_hit_z.row(v));
         }
