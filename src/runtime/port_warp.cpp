@@ -105,8 +105,8 @@ struct MarchLanes {
 /// still marching after it.
 template <bool kFirst>
 __attribute__((always_inline)) inline int march_step(int u, int i, const PortRays::MarchRow& m,
-                                                      const float* __restrict inv, int W, int H,
-                                                      const MarchLanes& f) {
+                                                     const float* __restrict inv, int W, int H,
+                                                     const MarchLanes& f) {
     const int st = f.state[u];
     const int n_steps = f.steps[u];
     const bool last = i == n_steps;
@@ -221,7 +221,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
 /// Returns the number of rays left to the scalar march.
 DEEPSEA_CLONES
 int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const float* __restrict in,
-                 int W, int H, MarchScratch& f, const PortRow& o) {
+                int W, int H, MarchScratch& f, const PortRow& o) {
     const float* __restrict as = f.as.data();
     const float* __restrict ah = f.ah.data();
     const float* __restrict bs = f.bs.data();
