@@ -117,8 +117,7 @@ public:
             std::fill(model.begin(), model.end(), 0.0);
             for (int j = 0; j < W; j += 4) {
                 const double* s0 = &m_share[std::size_t(j) * R];
-                const double f0 = first[j], f1 = first[j + 1], f2 = first[j + 2],
-                             f3 = first[j + 3];
+                const double f0 = first[j], f1 = first[j + 1], f2 = first[j + 2], f3 = first[j + 3];
                 for (int i = 0; i < R; ++i) {
                     model[i] = model[i] + f0 * s0[i] + f1 * s0[R + i] + f2 * s0[2 * R + i] +
                                f3 * s0[3 * R + i];

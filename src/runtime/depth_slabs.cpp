@@ -29,8 +29,8 @@ typedef int Int8 __attribute__((vector_size(32)));
 [[gnu::always_inline]] inline void cell(float zu, const float* __restrict zs,
                                         const float* __restrict znext,
                                         const float* __restrict inv_h, const int* __restrict bucket,
-                                        int last_bucket, float bucket_scale, float z_max, int& k_out,
-                                        float& wz_out) {
+                                        int last_bucket, float bucket_scale, float z_max,
+                                        int& k_out, float& wz_out) {
     const float zz = zu > 0.0f ? std::min(zu, z_max) : z_max;
     int k = bucket[std::min(int(zz * bucket_scale), last_bucket)];
     k += znext[k] <= zz ? 1 : 0;
