@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/forward_transport.h"
@@ -76,6 +77,8 @@ void place(const std::vector<double>& grid, double sigma, double w, std::vector<
     add_placed(placement(grid, sigma), w, out);
 }
 
+typedef double Double2 __attribute__((vector_size(16)));
+
 /// Gaussian mixtures on fixed widths fitted to shares on rings [edge[i], edge[i + 1]) (the
 /// last ring reaching to infinity) by expectation-maximisation, which keeps the weights
 /// non-negative and their sum that of the shares.
@@ -93,6 +96,14 @@ public:
                     out(edge[i]) - (i + 1 < m_rings ? out(edge[i + 1]) : 0.0);
             }
         }
+        // the same shares four widths to a ring, as fit's sums read them
+        m_share4.resize(m_share.size());
+        for (int j = 0; j < m_widths; ++j) {
+            for (int i = 0; i < m_rings; ++i) {
+                m_share4[(std::size_t(j / 4) * m_rings + i) * 4 + j % 4] =
+                    m_share[std::size_t(j) * m_rings + i];
+            }
+        }
     }
     /// Share of width j on ring i.
     double share(int j, int i) const { return m_share[std::size_t(j) * m_rings + i]; }
@@ -102,20 +113,32 @@ public:
         const int W = m_widths, R = m_rings;
         std::vector<double> model(R), ratio(R), next(W);
         for (int iter = 0; iter < iterations; ++iter) {
+            // model[i] = sum over widths j in order of first[j] share(j, i), four widths a pass
             std::fill(model.begin(), model.end(), 0.0);
-            for (int j = 0; j < W; ++j) {
-                for (int i = 0; i < R; ++i) model[i] += first[j] * m_share[std::size_t(j) * R + i];
+            for (int j = 0; j < W; j += 4) {
+                const double* s0 = &m_share[std::size_t(j) * R];
+                const double f0 = first[j], f1 = first[j + 1], f2 = first[j + 2], f3 = first[j + 3];
+                for (int i = 0; i < R; ++i) {
+                    model[i] = model[i] + f0 * s0[i] + f1 * s0[R + i] + f2 * s0[2 * R + i] +
+                               f3 * s0[3 * R + i];
+                }
             }
             // each ring's target over its model, once a ring rather than once a ring and width
             for (int i = 0; i < R; ++i) ratio[i] = model[i] > 0.0 ? target[i] / model[i] : 0.0;
-            // four widths' sums side by side, each over the rings in order (independent chains)
+            // four widths' sums side by side, the lanes of two vectors, each over the rings in
+            // order (independent chains: each lane's sum is the scalar loop's, bit for bit)
             static_assert(kWidths % 4 == 0, "widths in fours");
             for (int j = 0; j < W; j += 4) {
-                const double* s0 = &m_share[std::size_t(j) * R];
-                double sum[4] = {};
+                const double* s0 = &m_share4[std::size_t(j) * R];
+                Double2 sum01 = {}, sum23 = {};
                 for (int i = 0; i < R; ++i) {
-                    for (int m = 0; m < 4; ++m) sum[m] += ratio[i] * s0[std::size_t(m) * R + i];
+                    Double2 s01, s23;
+                    std::memcpy(&s01, s0 + std::size_t(i) * 4, sizeof s01);
+                    std::memcpy(&s23, s0 + std::size_t(i) * 4 + 2, sizeof s23);
+                    sum01 += ratio[i] * s01;
+                    sum23 += ratio[i] * s23;
                 }
+                const double sum[4] = {sum01[0], sum01[1], sum23[0], sum23[1]};
                 for (int m = 0; m < 4; ++m) next[j + m] = first[j + m] * sum[m];
             }
             first.swap(next);
@@ -125,7 +148,8 @@ public:
 
 private:
     int m_widths, m_rings;
-    std::vector<double> m_share;
+    std::vector<double> m_share;   ///< [j * rings + i]
+    std::vector<double> m_share4;  ///< [((j / 4) * rings + i) * 4 + j % 4]
 };
 
 }  // namespace

@@ -88,15 +88,22 @@ struct PetzoldPhase {
     }
 };
 
+/// Each water's table made on its first use (three sphere integrals each), not all three at
+/// once.
 const PetzoldPhase& petzold(PhaseKind kind) {
-    static const PetzoldPhase clear(1), coastal(2), turbid(3);
     switch (kind) {
-        case PhaseKind::PetzoldCoastal:
+        case PhaseKind::PetzoldCoastal: {
+            static const PetzoldPhase coastal(2);
             return coastal;
-        case PhaseKind::PetzoldTurbid:
+        }
+        case PhaseKind::PetzoldTurbid: {
+            static const PetzoldPhase turbid(3);
             return turbid;
-        default:
+        }
+        default: {
+            static const PetzoldPhase clear(1);
             return clear;
+        }
     }
 }
 

@@ -5,41 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "clones.h"
+#include "depth_slabs.h"
 #include "float4.h"
 
 namespace deepsea {
 
 namespace {
-
-/// Buckets of at most the thinnest slab's thickness, so a bucket's slab is right or one short.
-int bucket_count(const std::vector<double>& z) {
-    double thinnest = z.back();
-    for (std::size_t k = 0; k + 1 < z.size(); ++k) thinnest = std::min(thinnest, z[k + 1] - z[k]);
-    const double n = std::ceil(z.back() / thinnest) + 1.0;
-    return int(std::clamp(n, 1024.0, double(1 << 20)));
-}
-
-/// Each pixel's slab k and weight wz within it: the slab from the bucket table plus at most one
-/// step. z == 0 (open water) looks up z_max, as does any depth beyond it:
-///   z'_u = min(z_u, z_max),  z_(k_u) <= z'_u < z_(k_u + 1),
-///   wz_u = clamp((z'_u - z_(k_u)) / (z_(k_u + 1) - z_(k_u)), 0, 1).
-DEEPSEA_CLONES
-void depth_cells(int n, const float* __restrict z, const float* __restrict zs,
-                 const float* __restrict znext, const float* __restrict inv_h,
-                 const int* __restrict bucket, int last_bucket, float bucket_scale, float z_max,
-                 int* __restrict k_out, float* __restrict wz_out) {
-#pragma omp simd
-    for (int u = 0; u < n; ++u) {
-        const float zz = z[u] > 0.0f ? std::min(z[u], z_max) : z_max;
-        int k = bucket[std::min(int(zz * bucket_scale), last_bucket)];
-        k += znext[k] <= zz ? 1 : 0;
-        k_out[u] = k;
-        wz_out[u] = std::clamp((zz - zs[k]) * inv_h[k], 0.0f, 1.0f);
-    }
-}
 
 /// The slabs [lo, hi] that pixels [begin, end) use: lo = min(lo, min_u k_u),
 /// hi = max(hi, max_u k_u).
@@ -122,22 +95,7 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
         m_spans.back().end = u + 1;
     }
 
-    const int K = l.slabs();
-    m_z.assign(l.z.begin(), l.z.end());
-    m_inv_h.resize(K);
-    m_znext.resize(K);
-    for (int k = 0; k < K; ++k) {
-        m_inv_h[k] = float(1.0 / (l.z[k + 1] - l.z[k]));
-        m_znext[k] = k + 1 < K ? float(l.z[k + 1]) : std::numeric_limits<float>::max();
-    }
-    const int buckets = bucket_count(l.z);
-    m_bucket_scale = float(buckets / l.z_max());
-    m_bucket.resize(buckets + 1);
-    for (int b = 0, k = 0; b <= buckets; ++b) {
-        const double zb = b / double(m_bucket_scale);
-        while (k < K - 1 && l.z[k + 1] <= zb) ++k;
-        m_bucket[b] = k;
-    }
+    m_slabs = std::make_shared<const DepthSlabs>(l.z);
 }
 
 void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out_rgb) const {
@@ -153,8 +111,7 @@ void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out_
     s.slice.resize(std::size_t(l.ni) * block + 1);  // + 1: lookup_row's fourth lane
     s.wz.resize(n);
     s.slab.resize(n);
-    depth_cells(n, z, m_z.data(), m_znext.data(), m_inv_h.data(), m_bucket.data(),
-                int(m_bucket.size()) - 1, m_bucket_scale, m_z.back(), s.slab.data(), s.wz.data());
+    depth_cells(n, z, *m_slabs, s.slab.data(), s.wz.data());
     // Only the slabs the row's pixels use are blended (a smooth surface uses one to three per
     // lattice column of the 64 or so): each column's range over the pixels on either side.
     s.lo.assign(l.ni, l.slabs());

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 
+#include "clones.h"
 #include "column_basis.h"
 #include "deepsea/core/error.h"
 #include "forward_psf_rows.h"
@@ -47,9 +48,12 @@ RowTaps doubled_row(int y, int h_lo) {
 /// Table rows and fractions of one row of distances,
 ///   d_u / step = i_u + t_u,  i_u = min(floor(d_u / step), bins - 1),
 /// and idx[u] = -1 where there is no surface (d <= 0) or the distance is beyond the table (its
-/// weights are negligible).
-void table_rows(int n, const float* d2, float inv_step, float range, int bins, int* idx,
-                float* frac) {
+/// weights are negligible). AVX2 without fused multiply-adds (t_u from the rounded product, as
+/// in the generic clone).
+DEEPSEA_CLONES_NO_FMA
+void table_rows(int n, const float* __restrict d2, float inv_step, float range, int bins,
+                int* __restrict idx, float* __restrict frac) {
+#pragma omp simd
     for (int u = 0; u < n; ++u) {
         const float d = d2[u];
         const bool on = d > 0.0f && d < range;

@@ -36,6 +36,52 @@ void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
     }
 }
 
+/// dst[x] *= s[x].
+DEEPSEA_CLONES_NO_FMA
+void scale_row(int n, const float* __restrict s, float* __restrict dst) {
+#pragma omp simd
+    for (int x = 0; x < n; ++x) dst[x] *= s[x];
+}
+
+/// dst[x] += src[x].
+DEEPSEA_CLONES_NO_FMA
+void add_row(int n, const float* __restrict src, float* __restrict dst) {
+#pragma omp simd
+    for (int x = 0; x < n; ++x) dst[x] += src[x];
+}
+
+/// Where the vertical pass is: row y of plane c, in a w x h image, radius r, the ring of rows.
+struct RowAt {
+    int w, h, r, ring, c, y;
+    float ny;  ///< the row's normalisation
+};
+
+/// The vertical pass of output row y (blur_planes): dst[x] = sum_(k = k0)^(k1) g_(k + r) ny[y]
+/// h_(y + k)[x], h the horizontal pass's rows in their ring slots (the nearest in-image row,
+/// times the fade's factor beyond the image where given). AVX2 without fused multiply-adds: each
+/// product and sum rounds as in the generic clone, so the bits do not depend on the processor.
+DEEPSEA_CLONES_NO_FMA
+void vertical_row(const RowAt& at, int k0, int k1, const float* __restrict g,
+                  const float* __restrict rows, const Fade* fade, float* __restrict dst) {
+    const int w = at.w, h = at.h, y = at.y;
+    std::fill(dst, dst + w, 0.0f);
+    for (int k = k0; k <= k1; ++k) {
+        const float gk = g[k + at.r] * at.ny;
+        const int yk = std::clamp(y + k, 0, h - 1);
+        const float* __restrict in = rows + std::size_t(yk % at.ring) * w;
+        const int out = y + k < 0 ? -(y + k) : y + k - (h - 1);
+        if (fade && out > 0) {
+            const float* __restrict f = (y + k < 0 ? fade->top : fade->bottom) +
+                                        (std::size_t(at.c) * fade->reach + out - 1) * w;
+#pragma omp simd
+            for (int x = 0; x < w; ++x) dst[x] += gk * in[x] * f[x];
+            continue;
+        }
+#pragma omp simd
+        for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
+    }
+}
+
 }  // namespace
 
 Source interleaved(const Image& in) {
@@ -102,31 +148,13 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
                 }
                 float* dst = rows.data() + std::size_t(next % ring) * w;
                 convolve_row(padded.data(), dst, w, g.data(), r);
-                for (int x = 0; x < w; ++x) dst[x] *= nx[x];
+                scale_row(w, nx.data(), dst);
             }
             float* out = dst_planes + c * plane + std::size_t(y) * w;
             float* dst = store == Store::Add ? sum.data() : out;
-            std::fill(dst, dst + w, 0.0f);
             const int k0 = clamp ? -r : std::max(-r, -y), k1 = clamp ? r : std::min(r, h - 1 - y);
-            for (int k = k0; k <= k1; ++k) {
-                const float gk = g[k + r] * ny[y];
-                const int yk = std::clamp(y + k, 0, h - 1);
-                const float* in = rows.data() + std::size_t(yk % ring) * w;
-                const int out = y + k < 0 ? -(y + k) : y + k - (h - 1);
-                if (fade && out > 0) {
-                    const float* f = (y + k < 0 ? fade->top : fade->bottom) +
-                                     (std::size_t(c) * fade->reach + out - 1) * w;
-#pragma omp simd
-                    for (int x = 0; x < w; ++x) dst[x] += gk * in[x] * f[x];
-                    continue;
-                }
-#pragma omp simd
-                for (int x = 0; x < w; ++x) dst[x] += gk * in[x];
-            }
-            if (store == Store::Add) {
-#pragma omp simd
-                for (int x = 0; x < w; ++x) out[x] += dst[x];
-            }
+            vertical_row({w, h, r, ring, c, y, ny[y]}, k0, k1, g.data(), rows.data(), fade, dst);
+            if (store == Store::Add) add_row(w, dst, out);
         }
     });
 }

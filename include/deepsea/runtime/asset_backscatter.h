@@ -3,6 +3,7 @@
 /// interpolation weights precomputed once per frame size.
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "deepsea/asset/asset.h"
@@ -10,6 +11,8 @@
 #include "deepsea/runtime/sources.h"
 
 namespace deepsea {
+
+struct DepthSlabs;
 
 /// Looks B(u, v, z) up in an asset for frames of `camera`: bilinear in (u, v), linear in z,
 /// constant beyond z_max (also for open water). The camera must be the asset's or the same
@@ -32,13 +35,8 @@ private:
         int begin, end, i0, i1;
     };
     std::vector<Span> m_spans;
-    // Depth lookup without a log or a search per pixel: uniform buckets over [0, z_max], no
-    // wider than the thinnest slab, each holding the slab its start falls in; the right slab
-    // is that one or the next.
-    std::vector<float> m_z, m_inv_h;  ///< samples and 1 / slab thickness
-    std::vector<float> m_znext;       ///< z[k + 1], and for the last slab the largest float
-    std::vector<int> m_bucket;
-    float m_bucket_scale = 0.0f;  ///< buckets per metre
+    /// Each depth's slab without a log or a search per pixel (depth_slabs.h).
+    std::shared_ptr<const DepthSlabs> m_slabs;
 };
 
 }  // namespace deepsea
