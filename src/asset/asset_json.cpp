@@ -105,6 +105,8 @@ json settings_json(const BakeInfo& info) {
         }
         if (info.higher_orders.log_between) s["between_columns"] = "log-bilinear";
         if (info.higher_orders.lamp_symmetric) s["lamp_symmetry"] = "mirror";
+        // the roulette after each segment's next event: another estimate, so another request
+        if (info.higher_orders.roulette_after_next_event) s["roulette"] = "after next event";
     }
     if (info.z_max_auto) {
         s["z_max"] = "auto";

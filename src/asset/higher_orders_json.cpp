@@ -62,6 +62,7 @@ json higher_orders_json(const HigherOrderSettings& h) {
     }
     if (h.log_between) m["between_columns"] = "log-bilinear";
     if (h.lamp_symmetric) m["lamp_symmetry"] = "mirror";
+    if (h.roulette_after_next_event) m["roulette"] = "after next event";
     const HigherOrderCheck& c = h.check;
     if (c.done) {
         m["check"] = {
@@ -118,6 +119,12 @@ HigherOrderSettings parse_higher_orders(const json& m) {
     if (m.contains("lamp_symmetry")) {
         if (m["lamp_symmetry"] != "mirror") fail(kWhere + ".lamp_symmetry", "not \"mirror\"");
         h.lamp_symmetric = true;
+    }
+    // Absent before the roulette came after each segment's next event: before it.
+    if (m.contains("roulette")) {
+        if (m["roulette"] != "after next event")
+            fail(kWhere + ".roulette", "not \"after next event\"");
+        h.roulette_after_next_event = true;
     }
     if (m.contains("check")) h.check = parse_check(m["check"]);
     return h;

@@ -185,6 +185,7 @@ BakeInfo make_info(const Camera& cam, const Rig& rig, const Water& water, const 
         info.higher_orders.tail_of_mean = kMsTailOfMean;
         info.higher_orders.log_between = true;
         info.higher_orders.lamp_symmetric = true;
+        info.higher_orders.roulette_after_next_event = true;
         info.higher_orders.tail_radius =
             ms_tail_radius(double(info.higher_orders.stride) * r.step / std::min(cam.fx, cam.fy),
                            ms_detail(cam, rig, water));

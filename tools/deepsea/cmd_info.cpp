@@ -111,6 +111,11 @@ void run(const InfoArgs& a) {
         } else {
             std::printf("           each column from its own paths (baked before tail pooling)\n");
         }
+        std::printf("           %s\n",
+                    h.roulette_after_next_event
+                        ? "paths: Russian roulette after each segment's next event"
+                        : "paths: Russian roulette before each segment's next event (baked "
+                          "before the change: heavier tails)");
         if (h.check.done) {
             std::printf(
                 "           check of orders >= 2: mean %.2f %%, max %.2f %% of the total "

@@ -81,6 +81,10 @@ struct HigherOrderSettings {
     /// true: the lamp tables' coefficients odd about each node's half-plane are 0
     /// (LampFieldSettings::symmetric); false: as estimated (baked before it).
     bool lamp_symmetric = false;
+    /// true: Russian roulette comes after each path segment's next event, which then carries
+    /// the path's weight before the roulette (Transport::scattered_contributions); false: before
+    /// it (baked before the change: heavier tails, the same expected value).
+    bool roulette_after_next_event = false;
     HigherOrderCheck check;  ///< the bake's check of the interpolation
 };
 

@@ -6,8 +6,8 @@
 /// Method: backward paths from the viewer; every path segment connects to every lamp by
 /// equiangular sampling (Kulla & Fajardo 2012), which cancels the 1/d^2 of a point lamp, so
 /// the estimate stays finite next to the lamps; free flights are sampled with the smallest
-/// channel's attenuation and carry per-channel weights; Russian roulette ends paths without
-/// bias. Deterministic: results depend only on the seeds.
+/// channel's attenuation and carry per-channel weights; Russian roulette, after each segment's
+/// next event, ends paths without bias. Deterministic: results depend only on the seeds.
 
 #include <cstdint>
 #include <utility>

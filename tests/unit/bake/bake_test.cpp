@@ -350,27 +350,33 @@ TEST_F(BakeFile, MultipleScatteringRoundTripAndDamage) {
         EXPECT_EQ(bake_info_from_json(bake_info_to_json(before)).higher_orders.tail_above, 0.0);
         EXPECT_NE(input_hash(before), a.info.input_hash);  // bake-library re-bakes it
     }
-    // So are the threshold from the column's own mean and log-bilinear columns; an asset from
-    // before them (keys absent) reads as the single-scattering threshold and bilinear.
+    // So are the threshold from the column's own mean, log-bilinear columns and the roulette
+    // after each segment's next event; an asset from before them (keys absent) reads as the
+    // single-scattering threshold, bilinear and the roulette before it.
     EXPECT_EQ(ha.tail_of_mean, kMsTailOfMean);
     EXPECT_EQ(hb.tail_of_mean, ha.tail_of_mean);
     EXPECT_TRUE(ha.log_between);
     EXPECT_TRUE(hb.log_between);
     EXPECT_TRUE(ha.lamp_symmetric);
     EXPECT_TRUE(hb.lamp_symmetric);
+    EXPECT_TRUE(ha.roulette_after_next_event);
+    EXPECT_TRUE(hb.roulette_after_next_event);
     {
         BakeInfo before = a.info;
         before.higher_orders.tail_of_mean = 0.0;
         before.higher_orders.log_between = false;
         before.higher_orders.lamp_symmetric = false;
+        before.higher_orders.roulette_after_next_event = false;
         const std::string j = bake_info_to_json(before);
         EXPECT_EQ(j.find("of_mean"), std::string::npos);
         EXPECT_EQ(j.find("between_columns"), std::string::npos);
         EXPECT_EQ(j.find("lamp_symmetry"), std::string::npos);
+        EXPECT_EQ(j.find("roulette"), std::string::npos);
         const HigherOrderSettings read = bake_info_from_json(j).higher_orders;
         EXPECT_EQ(read.tail_of_mean, 0.0);
         EXPECT_FALSE(read.log_between);
         EXPECT_FALSE(read.lamp_symmetric);
+        EXPECT_FALSE(read.roulette_after_next_event);
         EXPECT_EQ(read.tail_above, ha.tail_above);
         EXPECT_NE(input_hash(before), a.info.input_hash);  // bake-library re-bakes it
         // A value it does not know is refused, naming the key.
@@ -383,6 +389,12 @@ TEST_F(BakeFile, MultipleScatteringRoundTripAndDamage) {
         } catch (const std::exception& e) {
             EXPECT_NE(std::string(e.what()).find("between_columns"), std::string::npos);
         }
+    }
+    // The roulette after each segment's next event alone is another estimate: another request.
+    {
+        BakeInfo before = a.info;
+        before.higher_orders.roulette_after_next_event = false;
+        EXPECT_NE(input_hash(before), a.info.input_hash);
     }
     // An asset from before the angular rule and its check (keys absent) still reads: spacing
     // unknown (0), not checked.
