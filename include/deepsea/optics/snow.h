@@ -4,6 +4,7 @@
 /// the thin-lens circle of confusion that blurs it. Pure functions on plain structs; the
 /// runtime's MarineSnow (runtime/marine_snow.h) places and draws the particles.
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -102,8 +103,13 @@ struct ThinLens {
 
 /// Diameter in pixels of the thin lens's circle of confusion for a point at distance z
 /// (metres): c = A |z - s| / z * f / (s - f) on the sensor, A = f / N the aperture, divided
-/// by the pixel pitch. Zero at z = s.
-double circle_of_confusion_px(const ThinLens& lens, double z);
+/// by the pixel pitch. Zero at z = s. (Inline: marine snow sizes every particle's disc with it.)
+inline double circle_of_confusion_px(const ThinLens& lens, double z) {
+    const double f = lens.focal_length_m(), s = lens.focus_distance_m;
+    const double aperture = f / lens.f_number;
+    const double c = aperture * std::fabs(z - s) / z * f / (s - f);
+    return c / (lens.pixel_pitch_um * 1e-6);
+}
 
 /// How a lamp lights a small sphere and turns toward the camera (particle_geometry's result).
 template <class T>
