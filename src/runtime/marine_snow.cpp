@@ -10,6 +10,7 @@
 #include "deepsea/core/random.h"
 #include "deepsea/optics/schema.h"
 #include "deepsea/optics/transmission.h"
+#include "deepsea/runtime/snow_light.h"
 #include "snow_place.h"
 
 namespace deepsea {
@@ -136,17 +137,26 @@ void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_ke
                             // centre, open water being none)
                             const double u = cam.fx * c.x / c.z + cam.cx,
                                          vv = cam.fy * c.y / c.z + cam.cy;
-                            const float zs = zdepth->row(std::clamp(iround(vv), 0, H - 1))
-                                                 [std::clamp(iround(u), 0, W - 1)];
+                            const float zs = zdepth->row(
+                                std::clamp(iround(vv), 0, H - 1))[std::clamp(iround(u), 0, W - 1)];
                             if (zs > 0.0f && zs <= float(c.z)) {
-                                out.push_back({c, 0.0, 0});
+                                out.push_back({c, -1.0, 0});  // no size: 0 below
                                 continue;
                             }
                         }
-                        // the stream's fourth number, drawn for particles in view only
-                        out.push_back({c, sizes(pr.uniform()), 0});
+                        // the stream's fourth number, drawn for particles in view only: the
+                        // quantile, made a diameter below
+                        out.push_back({c, pr.uniform(), 0});
                     }
                 }
+            // The slab's sizes in rows (vectorised, snow_diameters).
+            thread_local std::vector<double> qs;
+            qs.clear();
+            for (const SnowParticle& pt : out)
+                if (pt.diameter >= 0.0) qs.push_back(pt.diameter);
+            snow_diameters(sizes, qs.data(), int(qs.size()));
+            std::size_t m = 0;
+            for (SnowParticle& pt : out) pt.diameter = pt.diameter >= 0.0 ? qs[m++] : 0.0;
         }
     });
     // Joined in parallel: each slab's particles after the slabs before, ids 1, 2, ... in order.

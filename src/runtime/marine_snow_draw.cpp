@@ -1,7 +1,8 @@
-// MarineSnow::draw: the particles of a frame lit in float rows (snow_light.h), tested against
-// the surface and drawn into the image by bands of rows in parallel, each band taking its
-// particles in id order, so that the image and the ids are the same at any thread count. With
-// motion streaks each disc is swept along the particle's image motion over the exposure.
+// MarineSnow::draw: the particles of a frame placed with the surface's test (snow_place.h),
+// lit in float rows (snow_light.h) and drawn into the image by bands of rows in parallel, each
+// band taking its particles in id order, so that the image and the ids are the same at any
+// thread count. With motion streaks each disc is swept along the particle's image motion over
+// the exposure.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -374,7 +375,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             const SnowParticle& pt = particles[b + q];
             const Vec3& X = pt.position;
             Splat& s = splats[b + q];
-            s.id = 0;  // not drawn
+            s.id = 0;                          // not drawn
             if (pt.diameter == 0.0) continue;  // behind the surface at its pixel
             const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
             s.u = float(u);

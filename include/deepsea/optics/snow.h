@@ -76,6 +76,15 @@ public:
     explicit SnowSizes(const Snow& snow);
     double operator()(double q) const;
 
+    /// The form's constants, for a vectorised copy (runtime's snow_diameters): D = (ak + q (bk
+    /// - ak))^(1 / k) with a = d_min, b = d_max (metres), k = 1 - slope, ak = a^k, bk = b^k;
+    /// where |k| < 1e-9, D = a (b / a)^q.
+    double a() const { return m_a; }
+    double b() const { return m_b; }
+    double k() const { return m_k; }
+    double ak() const { return m_ak; }
+    double bk() const { return m_bk; }
+
 private:
     double m_a, m_b, m_k, m_ak, m_bk;
 };
