@@ -83,9 +83,4 @@ Vec3 to_world(const CameraPose& p, const Vec3& X) {
     return p.origin + p.right * X.x + p.down * X.y + p.forward * X.z;
 }
 
-Vec3 to_camera(const CameraPose& p, const Vec3& world) {
-    const Vec3 d = world - p.origin;
-    return {dot(d, p.right), dot(d, p.down), dot(d, p.forward)};
-}
-
 }  // namespace deepsea

@@ -115,13 +115,6 @@ double visible_volume(const Camera& c, const std::vector<float>& zdepth, double 
     return sum / (3.0 * c.fx * c.fy);
 }
 
-double circle_of_confusion_px(const ThinLens& lens, double z) {
-    const double f = lens.focal_length_m(), s = lens.focus_distance_m;
-    const double aperture = f / lens.f_number;
-    const double c = aperture * std::fabs(z - s) / z * f / (s - f);
-    return c / (lens.pixel_pitch_um * 1e-6);
-}
-
 namespace {
 
 /// lamp_term with no Lambert cosine (a sphere faces every lamp), per channel.

@@ -10,6 +10,8 @@
 #include "deepsea/core/random.h"
 #include "deepsea/optics/schema.h"
 #include "deepsea/optics/transmission.h"
+#include "deepsea/runtime/snow_light.h"
+#include "snow_place.h"
 
 namespace deepsea {
 
@@ -73,9 +75,9 @@ void validate(const SnowSettings& s) {
                           "must be in (0, 10000] frames per second (0: not given)");
 }
 
-std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& cam,
-                                         std::uint64_t frame_key,
-                                         const std::optional<CameraPose>& pose) {
+void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_key,
+                const std::optional<CameraPose>& pose, const Image* zdepth, SnowSlabs& slabs,
+                std::vector<SnowParticle>& all) {
     const Snow& snow = s.snow;
     const View v{cam.ray_x(-0.5), cam.ray_x(cam.width - 0.5),
                  cam.ray_y(-0.5), cam.ray_y(cam.height - 0.5),
@@ -103,13 +105,16 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
     const long long k0 = (long long)std::floor(lo.z / cell),
                     k1 = (long long)std::floor(hi.z / cell);
     const double r = cell * std::sqrt(3.0) / 2.0;
+    const int W = cam.width, H = cam.height;
+    if (zdepth) require_same_size(zdepth->width, zdepth->height, W, H, "marine snow's depth");
 
     const SnowSizes sizes(snow);
     // One list per slab of cells (i), joined in order: the same particles at any thread count.
-    std::vector<std::vector<SnowParticle>> slabs(std::size_t(i1 - i0 + 1));
+    slabs.resize(std::size_t(i1 - i0 + 1));
     tbb::parallel_for(tbb::blocked_range<long long>(i0, i1 + 1), [&](const auto& range) {
         for (long long i = range.begin(); i != range.end(); ++i) {
             std::vector<SnowParticle>& out = slabs[std::size_t(i - i0)];
+            out.clear();
             for (long long j = j0; j <= j1; ++j)
                 for (long long k = k0; k <= k1; ++k) {
                     const Vec3 centre{(double(i) + 0.5) * cell, (double(j) + 0.5) * cell,
@@ -127,27 +132,52 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
                         if (!(c.z >= v.z0 && c.z <= v.z1)) continue;
                         const double x = c.x / c.z, y = c.y / c.z;
                         if (x < v.xl || x >= v.xr || y < v.yt || y >= v.yb) continue;
-                        // the stream's fourth number, drawn for particles in view only
-                        out.push_back({c, sizes(pr.uniform()), 0});
+                        if (zdepth) {
+                            // MarineSnow::draw's pixel and test (a surface at or before the
+                            // centre, open water being none)
+                            const double u = cam.fx * c.x / c.z + cam.cx,
+                                         vv = cam.fy * c.y / c.z + cam.cy;
+                            const float zs = zdepth->row(
+                                std::clamp(iround(vv), 0, H - 1))[std::clamp(iround(u), 0, W - 1)];
+                            if (zs > 0.0f && zs <= float(c.z)) {
+                                out.push_back({c, -1.0, 0});  // no size: 0 below
+                                continue;
+                            }
+                        }
+                        // the stream's fourth number, drawn for particles in view only: the
+                        // quantile, made a diameter below
+                        out.push_back({c, pr.uniform(), 0});
                     }
                 }
+            // The slab's sizes in rows (vectorised, snow_diameters).
+            thread_local std::vector<double> qs;
+            qs.clear();
+            for (const SnowParticle& pt : out)
+                if (pt.diameter >= 0.0) qs.push_back(pt.diameter);
+            snow_diameters(sizes, qs.data(), int(qs.size()));
+            std::size_t m = 0;
+            for (SnowParticle& pt : out) pt.diameter = pt.diameter >= 0.0 ? qs[m++] : 0.0;
         }
     });
-    std::size_t total = 0;
-    for (const auto& slab : slabs) total += slab.size();
-    std::vector<SnowParticle> all;
-    all.reserve(total);
-    for (auto& slab : slabs) all.insert(all.end(), slab.begin(), slab.end());
-    for (std::size_t q = 0; q < all.size(); ++q) all[q].id = std::uint32_t(q + 1);
-    return all;
+    // Joined in parallel: each slab's particles after the slabs before, ids 1, 2, ... in order.
+    std::vector<std::size_t> at(slabs.size() + 1, 0);
+    for (std::size_t b = 0; b < slabs.size(); ++b) at[b + 1] = at[b] + slabs[b].size();
+    all.resize(at.back());
+    tbb::parallel_for(std::size_t(0), slabs.size(), [&](std::size_t b) {
+        for (std::size_t q = 0; q < slabs[b].size(); ++q) {
+            all[at[b] + q] = slabs[b][q];
+            all[at[b] + q].id = std::uint32_t(at[b] + q + 1);
+        }
+    });
 }
 
-double snow_disc_radius_px(const Camera& cam, const ThinLens& lens, const Vec3& X, double D) {
-    const double z = X.z, d2 = length(X);
-    // A sphere's image: pi (D/2)^2 fx fy d2 / z^3 pixels (its solid angle over a pixel's).
-    const double area = M_PI * 0.25 * D * D * cam.fx * cam.fy * d2 / (z * z * z);
-    const double radius = std::sqrt(area / M_PI) + 0.5 * circle_of_confusion_px(lens, z);
-    return std::clamp(radius, 0.5, kMaxSnowRadiusPx);
+std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& cam,
+                                         std::uint64_t frame_key,
+                                         const std::optional<CameraPose>& pose) {
+    SnowSlabs slabs;
+    std::vector<SnowParticle> all;
+    place_snow(s, cam, frame_key, pose, nullptr, slabs, all);
+    return all;
 }
 
 MarineSnow::MarineSnow(SnowSettings settings, const Rig& rig, const Water& water,

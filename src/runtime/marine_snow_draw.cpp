@@ -1,7 +1,8 @@
-// MarineSnow::draw: the particles of a frame lit in float rows (snow_light.h), tested against
-// the surface and drawn into the image by bands of rows in parallel, each band taking its
-// particles in id order, so that the image and the ids are the same at any thread count. With
-// motion streaks each disc is swept along the particle's image motion over the exposure.
+// MarineSnow::draw: the particles of a frame placed with the surface's test (snow_place.h),
+// lit in float rows (snow_light.h) and drawn into the image by bands of rows in parallel, each
+// band taking its particles in id order, so that the image and the ids are the same at any
+// thread count. With motion streaks each disc is swept along the particle's image motion over
+// the exposure.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,6 +12,7 @@
 
 #include "deepsea/runtime/marine_snow.h"
 #include "deepsea/runtime/snow_light.h"
+#include "snow_place.h"
 
 namespace deepsea {
 
@@ -34,8 +36,9 @@ struct Splat {
     float u, v, radius, z;
     float energy[3];
     float inv_cover;
-    int va, vb;        ///< rows touched
-    int iu, iv;        ///< the centre's pixel
+    int ua, va, vb;    ///< first column, rows touched
+    int ba, bb;        ///< bands touched (on the image)
+    bool dot;          ///< a still sub-pixel particle: a bilinear splat into four pixels
     std::uint32_t id;  ///< 0: not drawn
     /// A streak (len > 0): the disc swept from (ax, ay) along the unit (dx, dy) for len
     /// pixels, reaching rh pixels from the segment; a sub-pixel particle's as n bilinear
@@ -45,24 +48,6 @@ struct Splat {
 };
 
 bool open_water(float z) { return !(z > 0.0f) || !std::isfinite(z); }
-
-/// floor(x) and ceil(x) as int for |x| < 2^31, exactly: without SSE4.1 (this file is built
-/// for any x86-64) std::floor is a long call, and the drawing takes four or more per particle.
-inline int ifloor(float x) {
-    const int i = int(x);
-    return float(i) > x ? i - 1 : i;
-}
-inline int iceil(float x) {
-    const int i = int(x);
-    return float(i) < x ? i + 1 : i;
-}
-/// std::lround for |x| < 2^31, exactly (halves away from zero; x - i is exact): lround is a
-/// libm call.
-inline int iround(double x) {
-    const int i = int(x);
-    const double f = x - double(i);
-    return f >= 0.5 ? i + 1 : (f <= -0.5 ? i - 1 : i);
-}
 
 /// Coverage of pixel (x, y) by a disc of radius R centred at (u, v): linear over the last
 /// pixel.
@@ -190,6 +175,30 @@ struct Target {
         return sink;
     }
 
+    /// draw() of a still sub-pixel splat (s.dot) into `final` alone: the same steps and sums,
+    /// its window's two columns and rows written out.
+    void dot(const Splat& s, int y0, int y1) const {
+        const int xa = s.ua, ya = s.va;
+        const float fu = s.u - float(xa), fv = s.v - float(ya);
+        const int ylo = std::max(std::max(y0, ya), 0), yhi = std::min(std::min(y1, ya + 1), H - 1);
+        const bool left = xa >= 0, right = xa + 1 < W;
+        for (int y = ylo; y <= yhi; ++y) {
+            const float wy = y == ya ? 1.0f - fv : fv;
+            const float* d = zdepth.row(y);
+            float* f = final.row(y);
+            if (left) put(s, f + 3 * xa, d[xa], (1.0f - fu) * wy);
+            if (right) put(s, f + 3 * (xa + 1), d[xa + 1], fu * wy);
+        }
+    }
+    /// add() for `final` alone (a surface nearer than the particle: z > 0 and z <= s.z, s.z
+    /// being finite, is add()'s test).
+    static void put(const Splat& s, float* f, float z, float wt) {
+        if (!(wt > 0.0f) || (z > 0.0f && z <= s.z)) return;
+        f[0] += s.energy[0] * wt;
+        f[1] += s.energy[1] * wt;
+        f[2] += s.energy[2] * wt;
+    }
+
     /// Draws the rows y0..y1 of splat s.
     void draw(const Splat& s, int y0, int y1) const {
         const Window w = window(s);
@@ -238,24 +247,8 @@ struct Target {
         }
         if (s.radius <= 0.5f) {
             // A particle smaller than a pixel: its light shared bilinearly by four pixels.
+            // (with `final` alone, dot())
             const float fu = s.u - float(w.ua), fv = s.v - float(w.va);
-            if (!snow && !ids) {
-                // (add() for `final` alone, its steps in the same order: the same sums)
-                for (int y = y0; y <= y1; ++y) {
-                    const float wy = y == w.va ? 1.0f - fv : fv;
-                    float* fr = final.row(y);
-                    for (int x = x0; x <= x1; ++x) {
-                        const float wx = x == w.ua ? 1.0f - fu : fu, wt = wx * wy;
-                        const float z = zdepth.at(x, y);
-                        if (!(wt > 0.0f) || (!open_water(z) && z <= s.z)) continue;
-                        float* f = fr + 3 * x;
-                        f[0] += s.energy[0] * wt;
-                        f[1] += s.energy[1] * wt;
-                        f[2] += s.energy[2] * wt;
-                    }
-                }
-                return;
-            }
             for (int y = y0; y <= y1; ++y) {
                 const float wy = y == w.va ? 1.0f - fv : fv;
                 for (int x = x0; x <= x1; ++x) {
@@ -307,19 +300,56 @@ void set_streak(Splat& s, const Camera& cam, const CameraPose& pose, const Shutt
 
 }  // namespace
 
+/// MarineSnow::draw's buffers, kept from frame to frame.
+struct SnowScratch {
+    SnowSlabs slabs;
+    std::vector<SnowParticle> particles;
+    std::vector<Splat> splats;
+    std::vector<float> rows;  ///< the particles as float rows (snow_light.h)
+    std::vector<float> best;  ///< per pixel, the largest contribution so far
+    std::vector<std::uint32_t> at, start, order;
+    std::vector<int> off_drawn, band_drawn;
+    std::vector<float> sinks;
+};
+
+SnowScratchHolder::SnowScratchHolder() = default;
+SnowScratchHolder::SnowScratchHolder(const SnowScratchHolder&) {}
+SnowScratchHolder::~SnowScratchHolder() = default;
+
+SnowScratch& SnowScratchHolder::get() const {
+    if (!m_p) m_p = std::make_unique<SnowScratch>();
+    return *m_p;
+}
+
+namespace {
+
+/// v resized to n, its memory grown by a quarter more where it must grow (the particles'
+/// number changes from frame to frame).
+template <class T>
+void fit(std::vector<T>& v, std::size_t n) {
+    if (n > v.capacity()) v.reserve(n + n / 4);
+    v.resize(n);
+}
+
+}  // namespace
+
 void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Image* snow,
                       Image* ids) const {
-    const std::vector<SnowParticle> particles = snow_particles(m_settings, cam, m_key, m_pose);
+    SnowScratch& sc = m_scratch.get();
+    // Particles behind the surface at their pixel are placed unsized (diameter 0) and drawn not.
+    place_snow(m_settings, cam, m_key, m_pose, &zdepth, sc.slabs, sc.particles);
+    const std::vector<SnowParticle>& particles = sc.particles;
     const ThinLens lens{cam.fx, m_settings.pixel_pitch_um, m_settings.f_number,
                         m_settings.focus_distance_m};
     const int W = cam.width, H = cam.height;
     const std::size_t n = particles.size();
     const bool streaks = m_settings.streaks && m_pose && m_shutter;
-    if (ids) m_best.assign(std::size_t(W) * H, 0.0f);
-    std::vector<Splat> splats(n);
+    if (ids) sc.best.assign(std::size_t(W) * H, 0.0f);
+    fit(sc.splats, n);
+    std::vector<Splat>& splats = sc.splats;
     // Rows: x, y, z, 1/|X|, D, the three energies and five of scratch.
-    m_rows.resize(13 * n);
-    float* rows = m_rows.data();
+    fit(sc.rows, 13 * n);
+    float* rows = sc.rows.data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const auto& range) {
         const std::size_t b = range.begin(), m = range.end() - b;
         float* x = rows + b;
@@ -345,10 +375,9 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             const SnowParticle& pt = particles[b + q];
             const Vec3& X = pt.position;
             Splat& s = splats[b + q];
-            s.id = 0;  // not drawn
+            s.id = 0;                          // not drawn
+            if (pt.diameter == 0.0) continue;  // behind the surface at its pixel
             const double u = cam.fx * X.x / X.z + cam.cx, v = cam.fy * X.y / X.z + cam.cy;
-            s.iu = std::clamp(iround(u), 0, W - 1);
-            s.iv = std::clamp(iround(v), 0, H - 1);
             s.u = float(u);
             s.v = float(v);
             s.radius = float(snow_disc_radius_px(cam, lens, X, pt.diameter));
@@ -359,8 +388,12 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             s.len = 0.0f;
             if (streaks) set_streak(s, cam, *m_pose, *m_shutter, X, u, v);
             const Window w = window(s);
+            s.ua = w.ua;
             s.va = w.va;
             s.vb = w.vb;
+            s.ba = std::max(w.va, 0) / kBandRows;
+            s.bb = std::min(w.vb, H - 1) / kBandRows;
+            s.dot = s.len == 0.0f && s.radius <= 0.5f;
             s.inv_cover = 1.0f;
             if (s.len > 0.0f && s.radius <= 0.5f) {
                 s.inv_cover = 1.0f / float(s.n);  // each sample's bilinear weights sum to 1
@@ -388,82 +421,77 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
 
     // Each band's particles, in id order: a counting sort by band, in parallel over chunks of
     // particles (each chunk's entries in a band follow the chunk before's, so the order is the
-    // ids'). A particle whose centre lies behind the surface at its pixel is not drawn: tested
-    // as the chunk counts it (no pass of its own), it then joins no band.
+    // ids'). A particle whose centre lies behind the surface at its pixel was found as it was
+    // placed (no size, no disc) and joins no band.
     const int bands = (H + kBandRows - 1) / kBandRows;
-    const Target target{zdepth, final, snow, ids, m_best.data(), W, H};
-    std::vector<float> sinks(std::size_t(bands), 0.0f);
-    const auto hidden = [&](const Splat& s) {
-        const float zs = zdepth.row(s.iv)[s.iu];
-        return !open_water(zs) && zs <= s.z;
-    };
-    const auto band_span = [&](const Splat& s) {
-        return std::pair{std::max(s.va, 0) / kBandRows, std::min(s.vb, H - 1) / kBandRows};
-    };
+    const Target target{zdepth, final, snow, ids, sc.best.data(), W, H};
     const auto off_image = [&](const Splat& s) { return s.vb < 0 || s.va > H - 1; };
     const std::size_t chunks = (n + kBlock - 1) / kBlock, nb = std::size_t(bands);
     // per chunk: its entries in each band, then (after the scan) where they go in `order`;
     // its particles drawn off the image (counted in `drawn`, in no band)
-    std::vector<std::uint32_t> at(chunks * nb, 0);
-    std::vector<int> off_drawn(chunks, 0);
+    sc.at.assign(chunks * nb, 0);
+    sc.off_drawn.assign(chunks, 0);
+    std::uint32_t* const at = sc.at.data();
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-        std::uint32_t* count = at.data() + k * nb;
+        std::uint32_t* count = at + k * nb;
         for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
-            Splat& s = splats[q];
+            const Splat& s = splats[q];
             if (s.id == 0) continue;
-            if (hidden(s)) {
-                s.id = 0;  // behind the surface
-                continue;
-            }
             if (off_image(s)) {
-                ++off_drawn[k];
+                ++sc.off_drawn[k];
                 continue;
             }
-            const auto [b0, b1] = band_span(s);
-            for (int b = b0; b <= b1; ++b) ++count[b];
+            for (int b = s.ba; b <= s.bb; ++b) ++count[b];
         }
     });
-    std::vector<std::uint32_t> start(nb + 1, 0);
+    sc.start.assign(nb + 1, 0);
     for (std::size_t b = 0; b < nb; ++b) {
-        std::uint32_t next = start[b];
+        std::uint32_t next = sc.start[b];
         for (std::size_t k = 0; k < chunks; ++k) {
             const std::uint32_t c = at[k * nb + b];
             at[k * nb + b] = next;
             next += c;
         }
-        start[b + 1] = next;
+        sc.start[b + 1] = next;
     }
-    std::vector<std::uint32_t> order(start.back());
+    fit(sc.order, sc.start.back());
+    std::uint32_t* const order = sc.order.data();
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-        std::uint32_t* fill = at.data() + k * nb;
+        std::uint32_t* fill = at + k * nb;
         for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
             const Splat& s = splats[q];
             if (s.id == 0 || off_image(s)) continue;
-            const auto [b0, b1] = band_span(s);
-            for (int b = b0; b <= b1; ++b) order[fill[b]++] = std::uint32_t(q);
+            for (int b = s.ba; b <= s.bb; ++b) order[fill[b]++] = std::uint32_t(q);
         }
     });
     int drawn = 0;  // (counted per band below, at each particle's first band)
-    for (const int c : off_drawn) drawn += c;
-    std::vector<int> band_drawn(std::size_t(bands), 0);
+    for (const int c : sc.off_drawn) drawn += c;
+    sc.band_drawn.assign(nb, 0);
+    sc.sinks.assign(nb, 0.0f);
+    // Where neither the snow layer nor the ids are asked for, still sub-pixel particles take
+    // the short path (Target::dot).
+    const bool final_only = !snow && !ids;
 
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
         for (int b = range.begin(); b != range.end(); ++b) {
             const int y0 = b * kBandRows, y1 = std::min(H, y0 + kBandRows) - 1;
-            const std::uint32_t i0 = start[std::size_t(b)], i1 = start[std::size_t(b) + 1];
+            const std::uint32_t i0 = sc.start[std::size_t(b)], i1 = sc.start[std::size_t(b) + 1];
             // Warm when the particles would touch most of the band's cache lines anyway.
             if (std::int64_t(i1 - i0) * 64 > std::int64_t(y1 - y0 + 1) * W)
-                sinks[std::size_t(b)] = target.warm(y0, y1, true);
+                sc.sinks[std::size_t(b)] = target.warm(y0, y1, true);
             int count = 0;
             for (std::uint32_t i = i0; i < i1; ++i) {
                 const Splat& s = splats[order[i]];
-                count += band_span(s).first == b ? 1 : 0;
-                target.draw(s, y0, y1);
+                count += s.ba == b ? 1 : 0;
+                if (final_only && s.dot)
+                    target.dot(s, y0, y1);
+                else
+                    target.draw(s, y0, y1);
             }
-            band_drawn[std::size_t(b)] = count;
+            sc.band_drawn[std::size_t(b)] = count;
         }
     });
-    for (const int c : band_drawn) drawn += c;
+    for (const int c : sc.band_drawn) drawn += c;
     m_drawn = drawn;
 }
 

@@ -131,7 +131,26 @@ void scattered_particles(const Light& L, const LampField& field, float k1, float
     }
 }
 
+DEEPSEA_CLONES
+void power_diameters(double ak, double span, double inv_k, double* __restrict q, int n) {
+#pragma omp simd
+    for (int i = 0; i < n; ++i) q[i] = std::pow(ak + q[i] * span, inv_k);
+}
+
+DEEPSEA_CLONES
+void log_diameters(double a, double ratio, double* __restrict q, int n) {
+#pragma omp simd
+    for (int i = 0; i < n; ++i) q[i] = a * std::pow(ratio, q[i]);
+}
+
 }  // namespace
+
+void snow_diameters(const SnowSizes& sizes, double* q, int n) {
+    if (std::fabs(sizes.k()) < 1e-9)
+        log_diameters(sizes.a(), sizes.b() / sizes.a(), q, n);
+    else
+        power_diameters(sizes.ak(), sizes.bk() - sizes.ak(), 1.0 / sizes.k(), q, n);
+}
 
 void snow_light(const Rig& rig, const Water& water, const Snow& snow, double fx, double fy,
                 const ParticleRows& p, float* er, float* eg, float* eb, const SnowLightScratch& s,

@@ -28,7 +28,11 @@ Shutter shutter_poses(const CameraPose& pose, double t, const CameraPose& other,
 /// The point whose camera-frame coordinates under `pose` are X, in the world.
 Vec3 to_world(const CameraPose& pose, const Vec3& X);
 
-/// A world point's camera-frame coordinates under `pose`.
-Vec3 to_camera(const CameraPose& pose, const Vec3& world);
+/// A world point's camera-frame coordinates under `pose` (inline: marine snow places every
+/// particle with it).
+inline Vec3 to_camera(const CameraPose& pose, const Vec3& world) {
+    const Vec3 d = world - pose.origin;
+    return {dot(d, pose.right), dot(d, pose.down), dot(d, pose.forward)};
+}
 
 }  // namespace deepsea

@@ -4,6 +4,7 @@
 /// the thin-lens circle of confusion that blurs it. Pure functions on plain structs; the
 /// runtime's MarineSnow (runtime/marine_snow.h) places and draws the particles.
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -75,6 +76,15 @@ public:
     explicit SnowSizes(const Snow& snow);
     double operator()(double q) const;
 
+    /// The form's constants, for a vectorised copy (runtime's snow_diameters): D = (ak + q (bk
+    /// - ak))^(1 / k) with a = d_min, b = d_max (metres), k = 1 - slope, ak = a^k, bk = b^k;
+    /// where |k| < 1e-9, D = a (b / a)^q.
+    double a() const { return m_a; }
+    double b() const { return m_b; }
+    double k() const { return m_k; }
+    double ak() const { return m_ak; }
+    double bk() const { return m_bk; }
+
 private:
     double m_a, m_b, m_k, m_ak, m_bk;
 };
@@ -102,8 +112,13 @@ struct ThinLens {
 
 /// Diameter in pixels of the thin lens's circle of confusion for a point at distance z
 /// (metres): c = A |z - s| / z * f / (s - f) on the sensor, A = f / N the aperture, divided
-/// by the pixel pitch. Zero at z = s.
-double circle_of_confusion_px(const ThinLens& lens, double z);
+/// by the pixel pitch. Zero at z = s. (Inline: marine snow sizes every particle's disc with it.)
+inline double circle_of_confusion_px(const ThinLens& lens, double z) {
+    const double f = lens.focal_length_m(), s = lens.focus_distance_m;
+    const double aperture = f / lens.f_number;
+    const double c = aperture * std::fabs(z - s) / z * f / (s - f);
+    return c / (lens.pixel_pitch_um * 1e-6);
+}
 
 /// How a lamp lights a small sphere and turns toward the camera (particle_geometry's result).
 template <class T>

@@ -3,7 +3,10 @@
 /// the view up to the frame's surfaces, lit by the rig's lamps (optics/snow.h), drawn as discs of
 /// their projected size widened by the lens's circle of confusion.
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -69,8 +72,32 @@ std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& ca
 
 /// Radius (pixels) of the disc drawn for a particle of diameter D at camera-frame X: its
 /// projected radius plus half the circle of confusion, at least 0.5 (a pixel), at most
-/// kMaxSnowRadiusPx.
-double snow_disc_radius_px(const Camera& camera, const ThinLens& lens, const Vec3& X, double D);
+/// kMaxSnowRadiusPx. (Inline: every particle drawn takes one.)
+inline double snow_disc_radius_px(const Camera& camera, const ThinLens& lens, const Vec3& X,
+                                  double D) {
+    const double z = X.z, d2 = length(X);
+    // A sphere's image: pi (D/2)^2 fx fy d2 / z^3 pixels (its solid angle over a pixel's).
+    const double area = M_PI * 0.25 * D * D * camera.fx * camera.fy * d2 / (z * z * z);
+    const double radius = std::sqrt(area / M_PI) + 0.5 * circle_of_confusion_px(lens, z);
+    return std::clamp(radius, 0.5, kMaxSnowRadiusPx);
+}
+
+/// MarineSnow::draw's buffers (marine_snow_draw.cpp).
+struct SnowScratch;
+
+/// Keeps MarineSnow::draw's buffers from frame to frame (made on first use); a copy starts
+/// without any (they hold no state between frames).
+class SnowScratchHolder {
+public:
+    SnowScratchHolder();
+    SnowScratchHolder(const SnowScratchHolder&);
+    SnowScratchHolder& operator=(const SnowScratchHolder&) { return *this; }
+    ~SnowScratchHolder();
+    SnowScratch& get() const;
+
+private:
+    mutable std::unique_ptr<SnowScratch> m_p;
+};
 
 /// Draws marine snow into frames of one rig and water.
 class MarineSnow {
@@ -106,8 +133,7 @@ private:
     std::uint64_t m_key = 0;
     std::optional<CameraPose> m_pose;
     std::optional<Shutter> m_shutter;
-    mutable std::vector<float> m_best;  ///< per pixel, the largest contribution so far
-    mutable std::vector<float> m_rows;  ///< the particles as float rows (snow_light.h)
+    SnowScratchHolder m_scratch;
     mutable int m_drawn = 0;
 };
 

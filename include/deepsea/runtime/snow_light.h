@@ -43,4 +43,10 @@ void snow_light(const Rig& rig, const Water& water, const Snow& snow, double fx,
                 const ParticleRows& p, float* er, float* eg, float* eb,
                 const SnowLightScratch& scratch, const std::vector<LampField>& scattered = {});
 
+/// SnowSizes at n quantiles in [0, 1), in place (q[i] becomes the diameter, metres), vectorised
+/// (libmvec's pow, 4 ulp at most): within 1e-14 of SnowSizes relative for slopes up to 4 (the
+/// presets'), 1e-12 up to 6 (SnowSizes.RowsMatchScalar). The placing's one transcendental per
+/// particle.
+void snow_diameters(const SnowSizes& sizes, double* q, int n);
+
 }  // namespace deepsea
