@@ -19,12 +19,12 @@ namespace {
 
 constexpr std::size_t kBlock = 65535;  // input bytes a block: a stored block's most
 constexpr int kSymbols = 286;          // literals, end of block, lengths 3-258
-constexpr int kMaxBits = 12;  // four codes go out together (deflate allows 15)
-constexpr int kMinRun = 4;  // shorter runs cost more as a match than as literals
+constexpr int kMaxBits = 12;           // four codes go out together (deflate allows 15)
+constexpr int kMinRun = 4;             // shorter runs cost more as a match than as literals
 constexpr int kMaxRun = 258;
 
-constexpr std::array<int, 29> kLengthBase = {3,  4,  5,  6,  7,  8,  9,  10, 11,  13,
-                                             15, 17, 19, 23, 27, 31, 35, 43, 51,  59,
+constexpr std::array<int, 29> kLengthBase = {3,  4,  5,  6,   7,   8,   9,   10,  11, 13,
+                                             15, 17, 19, 23,  27,  31,  35,  43,  51, 59,
                                              67, 83, 99, 115, 131, 163, 195, 227, 258};
 constexpr std::array<int, 29> kLengthExtra = {0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2,
                                               2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0};
@@ -35,8 +35,7 @@ struct LengthTable {
     LengthTable() {
         for (int c = 0; c < 29; ++c)
             for (int l = kLengthBase[c]; l < (c < 28 ? kLengthBase[c + 1] : kMaxRun + 1); ++l)
-                code[l] = std::uint8_t(c);
-        code[kMaxRun] = 28;  // 258 has its own symbol (284 with all extra bits set is 257)
+                code[l] = std::uint8_t(c);  // 258 has its own symbol, 285 (284's reach 257)
     }
 };
 const LengthTable kLengths;
@@ -246,11 +245,13 @@ BitWriter put_block(BitWriter w, const std::uint8_t* in, std::size_t begin, std:
     w.put(kSymbols - 257, 5);
     w.put(2 - 1, 5);   // two distance codes of one bit (a complete code): only 0 is used
     w.put(19 - 4, 4);  // every code-length code length, in RFC 1951's order
-    static constexpr int kOrder[19] = {16, 17, 18, 0, 8, 7, 9, 6, 10, 5,
+    static constexpr int kOrder[19] = {16, 17, 18, 0, 8,  7, 9,  6, 10, 5,
                                        11, 4,  12, 3, 13, 2, 14, 1, 15};
     for (const int s : kOrder) w.put(s < 16 ? 4 : 0, 3);
     // Code length s as 4-bit canonical code s, bit-reversed.
-    const auto rev4 = [](unsigned s) { return (s & 1) << 3 | (s & 2) << 1 | (s & 4) >> 1 | s >> 3; };
+    const auto rev4 = [](unsigned s) {
+        return (s & 1) << 3 | (s & 2) << 1 | (s & 4) >> 1 | s >> 3;
+    };
     for (int s = 0; s < kSymbols; ++s) w.put(rev4(len[s]), 4);
     w.put(rev4(1), 4);
     w.put(rev4(1), 4);

@@ -11,8 +11,8 @@
 #include <utility>
 
 #include "codec_files.h"
-#include "deflate_runs.h"
 #include "deepsea/core/atomic_file.h"
+#include "deflate_runs.h"
 #include "fast_codecs.h"
 #include "file_checks.h"
 
@@ -170,8 +170,7 @@ void write_png(const std::string& path, int width, int height, int channels,
     std::memcpy(iend + 4, "IEND", 4);
     be32(iend + 8, libdeflate_crc32(0, iend + 4, 4));
     const std::size_t size = std::size_t(iend + 12 - png);
-    write_atomically(path,
-                     [&](const std::string& tmp) { write_bytes(tmp, png, size, path); });
+    write_atomically(path, [&](const std::string& tmp) { write_bytes(tmp, png, size, path); });
 }
 
 }  // namespace deepsea::io_detail

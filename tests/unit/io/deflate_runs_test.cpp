@@ -2,6 +2,8 @@
 // decoders (libdeflate, ISA-L) on inputs that reach each of its paths: noise (stored blocks),
 // skewed bytes (Huffman codes at the length limit), runs across blocks, tiny inputs.
 
+#include "deflate_runs.h"
+
 #include <gtest/gtest.h>
 #include <isa-l.h>
 #include <libdeflate.h>
@@ -12,8 +14,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include "deflate_runs.h"
 
 namespace deepsea {
 namespace {
