@@ -1,6 +1,6 @@
 #pragma once
-// The fast paths of image_io (private to deepsea_io): PNG decoded by libspng (png_decode.cpp)
-// and encoded by hand with libdeflate (png_encode.cpp), JPEG through libjpeg-turbo (jpeg.cpp),
+// The fast paths of image_io (private to deepsea_io): PNG decoded by libspng or libdeflate
+// (png_decode.cpp) and encoded by hand (png_encode.cpp), JPEG through libjpeg-turbo (jpeg.cpp),
 // EXR read and written through OpenEXR with its own thread pool (exr.cpp): the formats
 // datasets use, without OpenImageIO's per-call overhead and float conversions (docs/runtime.md,
 // "Where the time goes"). OpenImageIO stays for every other format. Every function here
@@ -53,8 +53,9 @@ bool has_png_signature(const std::string& path);
 
 /// Writes a PNG atomically: `channels` (1 or 3) interleaved samples per pixel, 8 bits
 /// (`pixels8`) or 16 bits (`pixels16`, host order); `meta` as tEXt chunks; an sRGB chunk.
-/// Rows are filtered with "up" and deflated by libdeflate at level 1 (docs/runtime.md has the
-/// measurements behind the choice). IoError naming `path`.
+/// Rows are filtered with "up"; 8-bit rows are coded as literals and runs (deflate_runs.h),
+/// 16-bit ones deflated by ISA-L at level 1 (docs/runtime.md, "Image I/O", has the measurements
+/// behind the choice). IoError naming `path`.
 void write_png(const std::string& path, int width, int height, int channels,
                const std::uint8_t* pixels8, const std::uint16_t* pixels16,
                const ImageMetadata& meta);

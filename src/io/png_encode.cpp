@@ -1,17 +1,18 @@
-// PNG encoding: rows filtered "up" and deflated by ISA-L's igzip at level 1 (libisal-dev). On
-// a rendered 800x800 frame it takes 0.64 of libdeflate level 1's time for a file 3 % larger,
-// and with sensor noise a third of its time for a file 1 % smaller (docs/runtime.md, "Image
-// I/O"); the CRCs are libdeflate's.
+// PNG encoding: rows filtered "up", then 8-bit images coded as literals and runs
+// (deflate_runs.h) and 16-bit ones deflated by ISA-L's igzip at level 1 (libisal-dev); the CRCs
+// are libdeflate's. docs/runtime.md, "Image I/O", has the measurements behind the choices.
 
 #include <isa-l.h>
 #include <libdeflate.h>
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <utility>
 
 #include "codec_files.h"
 #include "deepsea/core/atomic_file.h"
+#include "deflate_runs.h"
 #include "fast_codecs.h"
 #include "file_checks.h"
 
@@ -65,9 +66,24 @@ std::size_t deflate_zlib(const std::uint8_t* in, std::size_t size, std::uint8_t*
 /// blocks (5 bytes a 64 KiB block) where compressing would expand the data.
 std::size_t deflate_bound(std::size_t size) { return size + size / 8 + 1024; }
 
-/// write_png's scratch: the filtered rows and the file being built.
+/// Bytes that are written before they are read: grown without zeroing (a vector's resize
+/// would clear megabytes a frame).
+struct Bytes {
+    std::unique_ptr<std::uint8_t[]> data;
+    std::size_t capacity = 0;
+    std::uint8_t* at_least(std::size_t n) {
+        if (n > capacity) {
+            data.reset(new std::uint8_t[n]);
+            capacity = n;
+        }
+        return data.get();
+    }
+};
+
+/// write_png's scratch: the filtered rows, the chunks before the image data, the file.
 struct EncodeScratch {
-    std::vector<std::uint8_t> filtered, png;
+    Bytes filtered, file;
+    std::vector<std::uint8_t> head;
 };
 BufferPool<EncodeScratch> encode_scratch;
 
@@ -81,28 +97,37 @@ void write_png(const std::string& path, int width, int height, int channels,
     // Filter "up" (each byte minus the one above): the cheapest filter that helps, on rendered
     // frames as small as libpng's adaptive choice at a fraction of the time.
     const auto scratch = encode_scratch.take();
-    std::vector<std::uint8_t>& f = scratch->filtered;
-    f.resize((row + 1) * height);
-    std::vector<std::uint8_t> prev(row, 0), cur(row);
-    for (int y = 0; y < height; ++y) {
-        if (pixels16) {
+    const std::size_t filtered_size = (row + 1) * std::size_t(height);
+    std::uint8_t* const f = scratch->filtered.at_least(filtered_size);
+    if (pixels16) {
+        std::vector<std::uint8_t> prev(row, 0), cur(row);
+        for (int y = 0; y < height; ++y) {
             const std::uint16_t* s = pixels16 + std::size_t(y) * width * channels;
             for (std::size_t i = 0; i < row / 2; ++i) {
                 cur[2 * i] = std::uint8_t(s[i] >> 8);  // PNG samples are big-endian
                 cur[2 * i + 1] = std::uint8_t(s[i]);
             }
-        } else {
-            std::memcpy(cur.data(), pixels8 + std::size_t(y) * row, row);
+            std::uint8_t* d = f + std::size_t(y) * (row + 1);
+            d[0] = 2;  // up
+            for (std::size_t i = 0; i < row; ++i) d[1 + i] = std::uint8_t(cur[i] - prev[i]);
+            std::swap(prev, cur);
         }
-        std::uint8_t* d = f.data() + std::size_t(y) * (row + 1);
-        d[0] = 2;  // up
-        for (std::size_t i = 0; i < row; ++i) d[1 + i] = std::uint8_t(cur[i] - prev[i]);
-        std::swap(prev, cur);
+    } else {
+        for (int y = 0; y < height; ++y) {
+            const std::uint8_t* s = pixels8 + std::size_t(y) * row;
+            std::uint8_t* d = f + std::size_t(y) * (row + 1);
+            d[0] = 2;  // up
+            if (y == 0) {
+                std::memcpy(d + 1, s, row);
+            } else {
+                for (std::size_t i = 0; i < row; ++i) d[1 + i] = std::uint8_t(s[i] - s[i - row]);
+            }
+        }
     }
-    if (f.size() > 0x7fffffffu) io_fail(path, "image too large for one PNG stream");
-    std::vector<std::uint8_t>& png = scratch->png;
-    png.clear();
-    png.insert(png.end(), kPngSignature, kPngSignature + 8);
+    if (filtered_size > 0x7fffffffu) io_fail(path, "image too large for one PNG stream");
+    std::vector<std::uint8_t>& head = scratch->head;
+    head.clear();
+    head.insert(head.end(), kPngSignature, kPngSignature + 8);
     std::vector<std::uint8_t> ihdr;
     put32(ihdr, std::uint32_t(width));
     put32(ihdr, std::uint32_t(height));
@@ -111,23 +136,28 @@ void write_png(const std::string& path, int width, int height, int channels,
     ihdr.push_back(0);                      // deflate
     ihdr.push_back(0);                      // adaptive filtering
     ihdr.push_back(0);                      // not interlaced
-    chunk(png, "IHDR", ihdr.data(), ihdr.size());
+    chunk(head, "IHDR", ihdr.data(), ihdr.size());
     const std::uint8_t intent = 0;  // sRGB, perceptual
-    chunk(png, "sRGB", &intent, 1);
+    chunk(head, "sRGB", &intent, 1);
     for (const auto& [name, value] : meta) {
         std::vector<std::uint8_t> text(name.begin(),
                                        name.begin() + std::min<std::size_t>(79, name.size()));
         text.push_back(0);
         text.insert(text.end(), value.begin(), value.end());
-        chunk(png, "tEXt", text.data(), text.size());
+        chunk(head, "tEXt", text.data(), text.size());
     }
-    // One IDAT chunk holds the whole stream, compressed in place (no copy of the data).
-    const std::size_t bound = deflate_bound(f.size());
-    const std::size_t at = png.size();
-    png.resize(at + 8 + bound + 4);
-    const std::size_t z = deflate_zlib(f.data(), f.size(), png.data() + at + 8, bound);
+    // One IDAT chunk holds the whole stream, compressed in place after the chunks before it
+    // (no copy of the data). On 8-bit rows a search for matches finds little that runs do not
+    // (deflate_runs.h).
+    const std::size_t bound =
+        pixels16 ? deflate_bound(filtered_size) : deflate_runs_bound(filtered_size);
+    const std::size_t at = head.size();
+    std::uint8_t* const png = scratch->file.at_least(at + 8 + bound + 4 + 12);
+    std::memcpy(png, head.data(), at);
+    std::uint8_t* h = png + at;
+    const std::size_t z = pixels16 ? deflate_zlib(f, filtered_size, h + 8, bound)
+                                   : deflate_runs(f, filtered_size, h + 8);
     if (z == 0 || z > 0x7fffffff) io_fail(path, "deflate failed");
-    std::uint8_t* h = png.data() + at;
     const auto be32 = [](std::uint8_t* d, std::uint32_t x) {
         d[0] = std::uint8_t(x >> 24), d[1] = std::uint8_t(x >> 16), d[2] = std::uint8_t(x >> 8),
         d[3] = std::uint8_t(x);
@@ -135,10 +165,12 @@ void write_png(const std::string& path, int width, int height, int channels,
     be32(h, std::uint32_t(z));
     std::memcpy(h + 4, "IDAT", 4);
     be32(h + 8 + z, libdeflate_crc32(0, h + 4, z + 4));
-    png.resize(at + 8 + z + 4);
-    chunk(png, "IEND", nullptr, 0);
-    write_atomically(
-        path, [&](const std::string& tmp) { write_bytes(tmp, png.data(), png.size(), path); });
+    std::uint8_t* iend = h + 8 + z + 4;  // IEND: no data, its CRC
+    be32(iend, 0);
+    std::memcpy(iend + 4, "IEND", 4);
+    be32(iend + 8, libdeflate_crc32(0, iend + 4, 4));
+    const std::size_t size = std::size_t(iend + 12 - png);
+    write_atomically(path, [&](const std::string& tmp) { write_bytes(tmp, png, size, path); });
 }
 
 }  // namespace deepsea::io_detail
