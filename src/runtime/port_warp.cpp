@@ -12,6 +12,10 @@
 #include "clones.h"
 #include "float4.h"
 
+// (settle_hits' Float8 values live in registers inside it: no call passes one, so GCC's note that
+// AVX changes the ABI of such calls does not apply to its generic clone)
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace deepsea {
 
 namespace {
@@ -30,22 +34,28 @@ enum FastState : int {
 /// before a ray is left to the scalar march.
 constexpr int kFastMarchSteps = 8;
 
-/// port_detail::taps_at's value where its four pixels are one surface (the same arithmetic on
-/// the same clamped position; W, H >= 2); `one` is 0 where taps_at would take the nearest pixel
-/// or open water. NaN positions read pixel 0 (the ray is then left to the scalar march).
-inline float probe4(const float* __restrict inv, int W, int H, float u, float v, float& one) {
+/// The 2 x 2 cell that port_detail::taps_at reads at (u, v) (its clamped position; W, H >= 2):
+/// the index y0 W + x0 of its upper-left pixel (gather_cells' at), and the position's fractions
+/// fu, fv in it. NaN positions read pixel 0 (the ray is then left to the scalar march).
+inline int cell_at(int W, int H, float u, float v, float& fu, float& fv) {
     u = u > 0.0f ? u : 0.0f;
     u = u < float(W - 1) ? u : float(W - 1);
     v = v > 0.0f ? v : 0.0f;
     v = v < float(H - 1) ? v : float(H - 1);
     const int x0 = std::min(int(u), W - 2), y0 = std::min(int(v), H - 2);
-    const int i = y0 * W + x0;
-    const float s0 = inv[i], s1 = inv[i + 1], s2 = inv[i + W], s3 = inv[i + W + 1];
+    fu = u - float(x0);
+    fv = v - float(y0);
+    return y0 * W + x0;
+}
+
+/// taps_at's value from the cell's four inverse depths (cell_at's, in gather_cells' order) where
+/// they are one surface (the same arithmetic); `one` is 0 where taps_at would take the nearest
+/// pixel or open water.
+inline float cell_probe(float s0, float s1, float s2, float s3, float fu, float fv, float& one) {
     const float lo = std::min(std::min(s0, s1), std::min(s2, s3));
     const float hi = std::max(std::max(s0, s1), std::max(s2, s3));
     const float close = hi - lo <= float(kDepthDiscontinuity) * lo ? 1.0f : 0.0f;
     one = lo > 0.0f ? close : 0.0f;
-    const float fu = u - float(x0), fv = v - float(y0);
     const float w0 = (1 - fu) * (1 - fv), w1 = fu * (1 - fv), w2 = (1 - fu) * fv, w3 = fu * fv;
     return ((w0 * s0 + w1 * s1) + w2 * s2) + w3 * s3;
 }
@@ -71,19 +81,27 @@ struct Pinhole {
 };
 
 struct MarchScratch {
-    std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s, start, w;
-    std::vector<int> steps, state;
+    std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s, start, w, ok, fu[2], fv[2], c[8];
+    std::vector<int> steps, state, at[2];
     void fit(int n) {
-        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s, &start}) v->resize(n);
+        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s, &start, &ok})
+            v->resize(n);
+        for (auto& v : fu) v.resize(n);
+        for (auto& v : fv) v.resize(n);
+        for (auto& v : c) v.resize(n);
         w.resize(4 * std::size_t(n));
-        for (auto* v : {&steps, &state}) v->resize(n);
+        for (auto* v : {&steps, &state, &at[0], &at[1]}) v->resize(n);
     }
 };
 
-/// fast_march's scratch as plain pointers, for march_step.
+/// fast_march's scratch as plain pointers, for march_step: besides the march's state, two
+/// probes' cells (cell_at, gather_cells: at, fu, fv; c0-c3 the first's inverse depths, c4-c7
+/// the second's).
 struct MarchLanes {
     float *lo, *hi, *step, *ps, *ph, *as, *ah, *bs, *bh;
     int *steps, *state;
+    int* at[2];
+    float *fu[2], *fv[2], *c[8];
     explicit MarchLanes(MarchScratch& f)
         : lo(f.lo.data()),
           hi(f.hi.data()),
@@ -95,25 +113,43 @@ struct MarchLanes {
           bs(f.bs.data()),
           bh(f.bh.data()),
           steps(f.steps.data()),
-          state(f.state.data()) {}
+          state(f.state.data()) {
+        for (int k = 0; k < 2; ++k) {
+            at[k] = f.at[k].data();
+            fu[k] = f.fu[k].data();
+            fv[k] = f.fv[k].data();
+        }
+        for (int k = 0; k < 8; ++k) c[k] = f.c[k].data();
+    }
+    /// The inverse depth at probe k's position in lane u (cell_probe of its gathered cell).
+    float probe(int k, int u, float& one) const {
+        return cell_probe(c[4 * k][u], c[4 * k + 1][u], c[4 * k + 2][u], c[4 * k + 3][u], fu[k][u],
+                          fv[k][u], one);
+    }
+    /// The gather of probe k's cells (in c[4 k] .. c[4 k + 3]).
+    void gather(int k, int n, const float* inv, int W) const {
+        gather_cells(n, at[k], inv, W, c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]);
+    }
 };
 
-/// Step i of fast_march for lane u: the probe, and the bracket where it is the first behind the
-/// surface. kFirst (i = 1): no lane holds a bracket yet, so the bracket and the previous probe
-/// are written in every lane (those not marching never read them), plain stores instead of
-/// masked ones, which cost many times as much on some x86 cores. Returns 1 where the ray is
-/// still marching after it.
+/// Where step i of fast_march probes lane u's ray (the vanishing point's side of the view at the
+/// last step).
+__attribute__((always_inline)) inline float step_s(int u, int i, const MarchLanes& f) {
+    return i == f.steps[u] ? f.lo[u] : f.hi[u] - f.step[u] * float(i);
+}
+
+/// Step i of fast_march for lane u, at s = step_s with the inverse depth iz there (and `one`,
+/// cell_probe's): the bracket where it is the first probe behind the surface. kFirst (i = 1): no
+/// lane holds a bracket yet, so the bracket and the previous probe are written in every lane
+/// (those not marching never read them), plain stores instead of masked ones, which cost many
+/// times as much on some x86 cores. Returns 1 where the ray is still marching after it.
 template <bool kFirst>
-__attribute__((always_inline)) inline int march_step(int u, int i, const PortRays::MarchRow& m,
-                                                     const float* __restrict inv, int W, int H,
+__attribute__((always_inline)) inline int march_step(int u, int i, float s, float iz, float one,
                                                      const MarchLanes& f) {
     const int st = f.state[u];
     const int n_steps = f.steps[u];
     const bool last = i == n_steps;
     const bool marching = (st == kMarching) & (i <= n_steps);
-    const float s = last ? f.lo[u] : f.hi[u] - f.step[u] * float(i);
-    float one;
-    const float iz = probe4(inv, W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, one);
     const float h = s - iz;
     const bool cross = h <= 0.0f;
     const bool keep = !kFirst & !marching;
@@ -139,18 +175,25 @@ __attribute__((always_inline)) inline int march_step(int u, int i, const PortRay
 /// f.as, f.ah, behind at f.bs, f.bh), whose Illinois step settle_hits takes. Every other ray is
 /// marked kScalar. Each ray's march starts at port_start_s where port_start_window allows
 /// (`nearest`: window_nearest of inv), at s_near otherwise; the start is kept in f.start for
-/// the scalar march.
+/// the scalar march. Each probe in three loops: the positions and cells, their inverse depths
+/// (gather_cells), the rest; the start's probe and the first step's share their loops.
 DEEPSEA_CLONES
 void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
                 const float* __restrict nearest, int W, int H, float s_near, MarchScratch& f) {
     float* __restrict lo_ = f.lo.data();
     float* __restrict hi_ = f.hi.data();
     float* __restrict step_ = f.step.data();
-    float* __restrict ps = f.ps.data();
-    float* __restrict ph = f.ph.data();
+    float* __restrict ok = f.ok.data();
     int* __restrict steps_ = f.steps.data();
     int* __restrict state = f.state.data();
     float* __restrict start = f.start.data();
+    const MarchLanes lanes(f);
+    int* __restrict at0 = lanes.at[0];
+    int* __restrict at1 = lanes.at[1];
+    float* __restrict fu0 = lanes.fu[0];
+    float* __restrict fv0 = lanes.fv[0];
+    float* __restrict fu1 = lanes.fu[1];
+    float* __restrict fv1 = lanes.fv[1];
     const float inf = std::numeric_limits<float>::infinity();
     const float still = float(kPortStillPx);
     int marching = 0;  // (the rays still marching: counted in the loops, not by a scan of the row)
@@ -161,7 +204,8 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
         steps_[u] = port_start_window(m.u_inf[u], m.v_inf[u], m.du[u], m.dv[u], m.s_lo[u],
                                       m.s_hi[u], s_near, W, H);
     }
-#pragma omp simd reduction(+ : marching)
+    // The start, the steps, and the cells of the start's probe (0) and the first step's (1).
+#pragma omp simd
     for (int u = 0; u < n; ++u) {
         const int window = steps_[u];
         const float window_near = nearest[window >= 0 ? window : 0];
@@ -172,39 +216,56 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
         hi = m.s_hi[u] < hi ? m.s_hi[u] : hi;
         const float lo = m.s_lo[u];
         const float moved = (hi - lo) * rate_of(m.du[u], m.dv[u]);
-        float one;
-        const float zh =
-            probe4(inv, W, H, m.u_inf[u] + m.du[u] * hi, m.v_inf[u] + m.dv[u] * hi, one);
-        const float hh = hi - zh;
         // steps of at most a pixel of the projection: ceil(moved), at least 1
         float steps = std::ceil(moved);
         steps = steps > 1.0f ? steps : 1.0f;
         steps = steps < float(kFastMarchSteps) ? steps : float(kFastMarchSteps + 1);
         // (the flags as float factors: GCC vectorises their product, not a chain of ands)
-        const float simple = (m.s_origin[u] > 0.0f ? 1.0f : 0.0f) * (lo <= hi ? 1.0f : 0.0f) *
-                             (moved < still ? 0.0f : 1.0f) *
-                             (steps <= float(kFastMarchSteps) ? 1.0f : 0.0f) * one *
-                             (hh > 0.0f ? 1.0f : 0.0f);
-        state[u] = simple == 0.0f ? kScalar : kMarching;
-        marching += simple == 0.0f ? 0 : 1;
+        ok[u] = (m.s_origin[u] > 0.0f ? 1.0f : 0.0f) * (lo <= hi ? 1.0f : 0.0f) *
+                (moved < still ? 0.0f : 1.0f) * (steps <= float(kFastMarchSteps) ? 1.0f : 0.0f);
+        const float step = (hi - lo) / steps;
         lo_[u] = lo;
         hi_[u] = hi;
         steps_[u] = int(steps);
-        step_[u] = (hi - lo) / steps;
-        ps[u] = hi;
-        ph[u] = hh;
+        step_[u] = step;
+        at0[u] =
+            cell_at(W, H, m.u_inf[u] + m.du[u] * hi, m.v_inf[u] + m.dv[u] * hi, fu0[u], fv0[u]);
+        const float s1 = 1 == int(steps) ? lo : hi - step * float(1);  // (step_s's)
+        at1[u] =
+            cell_at(W, H, m.u_inf[u] + m.du[u] * s1, m.v_inf[u] + m.dv[u] * s1, fu1[u], fv1[u]);
     }
-    // Toward the vanishing point, a step at a time: the first probe behind the surface brackets
-    // the crossing with the one before it (in front).
-    const MarchLanes lanes(f);
-    for (int i = 1; i <= kFastMarchSteps && marching > 0; ++i) {
+    lanes.gather(0, n, inv, W);
+    lanes.gather(1, n, inv, W);
+    // The start's probe: the rays in front of the surface there march; then the first step
+    // toward the vanishing point, whose probe brackets the crossing with the start's where it is
+    // behind the surface.
+#pragma omp simd reduction(+ : marching)
+    for (int u = 0; u < n; ++u) {
+        float one;
+        const float hi = hi_[u], hh = hi - lanes.probe(0, u, one);
+        const float simple = ok[u] * one * (hh > 0.0f ? 1.0f : 0.0f);
+        state[u] = simple == 0.0f ? kScalar : kMarching;
+        lanes.ps[u] = hi;
+        lanes.ph[u] = hh;
+        float one1;
+        const float iz = lanes.probe(1, u, one1);
+        marching += march_step<true>(u, 1, step_s(u, 1, lanes), iz, one1, lanes);
+    }
+    // Toward the vanishing point, a step at a time (rarely more than one).
+    for (int i = 2; i <= kFastMarchSteps && marching > 0; ++i) {
         marching = 0;
-        if (i == 1) {
+#pragma omp simd
+        for (int u = 0; u < n; ++u) {
+            const float s = step_s(u, i, lanes);
+            at0[u] =
+                cell_at(W, H, m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, fu0[u], fv0[u]);
+        }
+        lanes.gather(0, n, inv, W);
 #pragma omp simd reduction(+ : marching)
-            for (int u = 0; u < n; ++u) marching += march_step<true>(u, i, m, inv, W, H, lanes);
-        } else {
-#pragma omp simd reduction(+ : marching)
-            for (int u = 0; u < n; ++u) marching += march_step<false>(u, i, m, inv, W, H, lanes);
+        for (int u = 0; u < n; ++u) {
+            float one;
+            const float iz = lanes.probe(0, u, one);
+            marching += march_step<false>(u, i, step_s(u, i, lanes), iz, one, lanes);
         }
     }
 }
@@ -214,10 +275,12 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
 /// from the port, and the normal and colour from the four input pixels around the hit, with the
 /// scalar code's arithmetic (port_row's; taps_at's weights). The step's probe reads its four
 /// inverse depths from the interleaved surface (slot 3, beside the normal), which the normal's
-/// and colour's taps load anyway: the same pixels, weights and sums as probe4, so the same value
-/// without a gather of its own. Rays the step does not settle become kScalar; lanes without a
-/// hit get zeros. Lane by lane the step's s and the taps' positions and weights, then per pixel
-/// two 4-float loads a tap, then lane by lane the step's outcome and the normals' lengths.
+/// and colour's taps load anyway: the same pixels, weights and sums as cell_probe, so the same
+/// value without a gather of its own. Rays the step does not settle become kScalar; lanes
+/// without a hit get zeros. Lane by lane the step's s and the taps' positions and weights, then
+/// per pixel one 8-float load a tap (Float8: normal, inverse depth and colour with the same
+/// products and sums as four floats at a time), then lane by lane the step's outcome and the
+/// normals' lengths.
 /// Returns the number of rays left to the scalar march.
 DEEPSEA_CLONES
 int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const float* __restrict in,
@@ -265,21 +328,21 @@ int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const floa
             __builtin_prefetch(in + at[u + kAhead]);
             __builtin_prefetch(in + at[u + kAhead] + row);
         }
-        const Float4 w0 = splat(w[4 * u]), w1 = splat(w[4 * u + 1]), w2 = splat(w[4 * u + 2]),
-                     w3 = splat(w[4 * u + 3]);
-        const Float4 t0 = load4(p), t1 = load4(p + C), t2 = load4(p + row), t3 = load4(p + row + C);
-        const Float4 N = ((w0 * t0 + w1 * t1) + w2 * t2) + w3 * t3;
-        const Float4 j = ((w0 * load4(p + 4) + w1 * load4(p + C + 4)) + w2 * load4(p + row + 4)) +
-                         w3 * load4(p + row + C + 4);
-        // (lane 3: the inverse depth, and the four pixels' least and largest for probe4's test
-        // of one surface; the weights are spent)
-        store4(w + 4 * u, N);
-        const Float4 lo = min4(min4(t0, t1), min4(t2, t3)), hi = max4(max4(t0, t1), max4(t2, t3));
-        lo_z[u] = lo[3];
-        hi_z[u] = hi[3];
-        J[3 * u] = j[0];
-        J[3 * u + 1] = j[1];
-        J[3 * u + 2] = j[2];
+        // (a tap's 8 floats as one vector: normal and inverse depth in lanes 0-3, colour in 4-6)
+        const Float4 wu = load4(w + 4 * u);
+        const Float8 w0 = splat8<0>(wu), w1 = splat8<1>(wu), w2 = splat8<2>(wu), w3 = splat8<3>(wu);
+        const Float8 t0 = load8(p), t1 = load8(p + C), t2 = load8(p + row), t3 = load8(p + row + C);
+        const Float8 N = ((w0 * t0 + w1 * t1) + w2 * t2) + w3 * t3;
+        // (lane 3: the inverse depth, and the four pixels' least and largest for cell_probe's
+        // test of one surface; the weights are spent)
+        store4(w + 4 * u, Float4{N[0], N[1], N[2], N[3]});
+        const float lo = std::min(std::min(t0[3], t1[3]), std::min(t2[3], t3[3]));
+        const float hi = std::max(std::max(t0[3], t1[3]), std::max(t2[3], t3[3]));
+        lo_z[u] = lo;
+        hi_z[u] = hi;
+        J[3 * u] = N[4];
+        J[3 * u + 1] = N[5];
+        J[3 * u + 2] = N[6];
     }
     const float tol = kPortHitToleranceFloat;
     int left = 0;

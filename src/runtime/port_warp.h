@@ -22,6 +22,12 @@ float port_depth_row(int W, const float* z, float* inv, float* window_row);
 void port_surface_row(int n, const float* nx, const float* ny, const float* nz, const float* J,
                       const float* inv, float* surface);
 
+/// The inverse depths of n rays' 2 x 2 cells (at[u] = y0 W + x0, x0 <= W - 2, y0 <= H - 2, in an
+/// image W pixels wide): c0, c1 the pixels (x0, y0) and (x0 + 1, y0), c2, c3 the row below. With
+/// AVX2 two 8-byte loads a lane (port_cells.cpp), the same floats.
+void gather_cells(int n, const int* at, const float* inv, int W, float* c0, float* c1, float* c2,
+                  float* c3);
+
 /// One output row's surface through the port (inv_depth: the frame's inverse_depth; nearest: its
 /// window_nearest, where each ray's march may start; surface: its rows by port_surface_row, whose
 /// inverse depth must be inv_depth's): for each pixel

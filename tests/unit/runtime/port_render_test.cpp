@@ -378,4 +378,28 @@ TEST(PortRender, MarchStartsOnlyWhereNothingNearerIsRead) {
     std::printf("%ld of %d rays start at their window's nearest surface\n", windows, 3 * W * H);
 }
 
+TEST(PortRender, GatherCellsReadsEachCellsFourPixels) {
+    // The march's probes read their cells in a pass of their own (gather_cells, with AVX2 two
+    // 8-byte loads a lane): each lane's four pixels, exactly, in groups of eight and in the tail.
+    const int W = 37, H = 6, n = 8 * 5 + 3;
+    Image inv(W, H, 1);
+    for (std::size_t i = 0; i < inv.data.size(); ++i) inv.data[i] = 0.25f + float(i) * 1e-3f;
+    std::vector<int> at(n);
+    std::srand(11);
+    for (int u = 0; u < n; ++u) at[u] = (std::rand() % (H - 1)) * W + std::rand() % (W - 1);
+    at[0] = 0;
+    at[n - 1] = (H - 2) * W + W - 2;  // the last cell
+    std::vector<float> c[4];
+    for (auto& v : c) v.assign(n, -1.0f);
+    gather_cells(n, at.data(), inv.data.data(), W, c[0].data(), c[1].data(), c[2].data(),
+                 c[3].data());
+    for (int u = 0; u < n; ++u) {
+        const float* p = inv.data.data() + at[u];
+        EXPECT_EQ(c[0][u], p[0]) << u;
+        EXPECT_EQ(c[1][u], p[1]) << u;
+        EXPECT_EQ(c[2][u], p[W]) << u;
+        EXPECT_EQ(c[3][u], p[W + 1]) << u;
+    }
+}
+
 }  // namespace deepsea
