@@ -107,6 +107,10 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
     }
 }
 
+void Compositor::set_exact(bool exact) {
+    if (m_psf_blur) m_psf_blur->set_block_distances(!exact);
+}
+
 double Compositor::forward_fx() const { return m_port ? m_port->water_fx() : m_camera.fx; }
 
 void Compositor::composite(Layers& dst, const ColorView& color, const Image& depth, LayerSet set) {

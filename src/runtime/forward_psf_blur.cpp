@@ -16,10 +16,12 @@
 namespace deepsea {
 
 using psf_rows::add_doubled;
+using psf_rows::block_rows;
 using psf_rows::expand_blocks;
 using psf_rows::f_row;
 using psf_rows::kMaxStride;
 using psf_rows::pair_sums;
+using psf_rows::weigh_block_pairs;
 using psf_rows::weigh_blocks;
 
 namespace {
@@ -292,21 +294,44 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     // Bands of rows as high as the widest group's blocks, so that every block is summed by
     // one task, straight into its level's planes.
     tbb::parallel_for(0, (H + f_max - 1) / f_max, [&](int t) {
-        thread_local std::vector<int> idx;
-        thread_local std::vector<float> frac, sums;
+        thread_local std::vector<int> idx, idx_b, bi;
+        thread_local std::vector<float> frac, frac_b, bt, sums;
         thread_local std::vector<float*> dst;
         idx.resize(W);
         frac.resize(W);
+        idx_b.resize(W);
+        frac_b.resize(W);
+        bi.resize(W / 2 + 1);
+        bt.resize(W / 2 + 1);
         sums.resize(at.back());
         for (int v = t * f_max; v < std::min(H, (t + 1) * f_max); ++v) {
-            table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
+            // Block distances: the finest level's blocks (2 x 2) weighed from two rows at once,
+            // at even rows; the odd row below then has its blocks complete.
+            const bool pairs = f0 == 2 && m_block_tol >= 0.0f && v % 2 == 0 && v + 1 < H;
+            const bool paired = f0 == 2 && m_block_tol >= 0.0f && v % 2 == 1;
+            if (!pairs && !paired)
+                table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
             int f = f0;
             for (std::size_t i = 0; i < group_at.size(); ++i, f *= 2) {
                 // level i takes a block row of level i - 1 (this image row for the finest)
                 // when that one is complete; the first it takes starts its sums
                 const bool first = i == 0 ? v % f == 0 : v % f < f / 2;
                 float* acc = sums.data() + at[i];
-                if (i == 0) {
+                if (i == 0 && pairs) {
+                    // the rows' own table positions only where some block needs them
+                    if (block_rows(W / 2, d2.row(v), d2.row(v + 1), inv_step, range, m_bins,
+                                   m_block_tol, bi.data(), bt.data()) > 0 ||
+                        W % 2) {
+                        table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
+                        table_rows(W, d2.row(v + 1), inv_step, range, m_bins, idx_b.data(),
+                                   frac_b.data());
+                    }
+                    weigh_block_pairs(W, stride, idx.data(), frac.data(), idx_b.data(),
+                                      frac_b.data(), bi.data(), bt.data(), m_table.data(),
+                                      surface.row(v), surface.row(v + 1), acc);
+                } else if (i == 0 && paired) {
+                    // summed with the row above
+                } else if (i == 0) {
                     weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(),
                                  surface.row(v), !first, acc);
                 } else {

@@ -51,6 +51,11 @@ public:
     void composite(Layers& dst, const ColorView& color, const Image& depth, const FinalRows& rows);
     void composite(Layers& dst, const Frame& frame, const FinalRows& rows);
 
+    /// Exact: the compositor's bounded approximations off (the forward scatter's block
+    /// distances, ForwardPsfBlur::set_block_distances; docs/model.md states their bounds), the
+    /// path the tests hold them against. Off by default.
+    void set_exact(bool exact);
+
 private:
     void run(Layers& dst, const ColorView& color, const Image& depth, LayerSet set,
              const FinalRows* rows);
