@@ -48,9 +48,11 @@ Water with_forward(const std::string& preset) {
 
 /// Worst differences of the approximate path from the exact one.
 struct Worst {
-    double forward = 0.0;  ///< max |diff| / the exact forward layer's max
+    double forward = 0.0;  ///< max |diff| / the exact forward layer's max (every layer)
     double direct = 0.0;   ///< the same for the direct layer
-    int codes = 0;         ///< max |diff| of the final image's 8-bit codes
+    double final = 0.0;    ///< the same for the image alone (LayerSet::Final)
+    int codes = 0;         ///< max |diff| of the final image's 8-bit codes, either layer set
+    double changed = 0.0;  ///< the fraction of the image's codes that differ
 };
 
 double relative(const Image& exact, const Image& approx) {
@@ -68,26 +70,38 @@ Worst compare(const Camera& cam, const Water& water, const Frame& frame) {
     const NoBackscatter none;
     Compositor exact(cam, water, lamps, none), approx(cam, water, lamps, none);
     exact.set_exact(true);
-    Layers a, b;
+    Layers a, b, only;
     exact.composite(a, frame);
     approx.composite(b, frame);
+    approx.composite(only, frame, LayerSet::Final);
     Worst w;
     w.forward = relative(a.forward, b.forward);
     w.direct = relative(a.direct, b.direct);
+    w.final = std::max(relative(a.final, b.final), relative(a.final, only.final));
     const double k = exposure_factor(Exposure{}, a.final);
     const std::size_t n = a.final.data.size();
     std::vector<std::uint8_t> ca(n), cb(n);
     srgb_encode(a.final.data.data(), n, k, ca.data());
-    srgb_encode(b.final.data.data(), n, k, cb.data());
-    for (std::size_t i = 0; i < n; ++i) w.codes = std::max(w.codes, std::abs(ca[i] - cb[i]));
+    std::size_t changed = 0;
+    for (const Image* im : {&b.final, &only.final}) {
+        srgb_encode(im->data.data(), n, k, cb.data());
+        for (std::size_t i = 0; i < n; ++i) {
+            w.codes = std::max(w.codes, std::abs(ca[i] - cb[i]));
+            changed += ca[i] != cb[i];
+        }
+    }
+    w.changed = double(changed) / double(2 * n);
     return w;
 }
 
 void expect_within_bounds(const Worst& w, const std::string& what) {
-    std::printf("%s: forward %.2e, direct %.2e of the layer's max, final %d code(s)\n",
-                what.c_str(), w.forward, w.direct, w.codes);
+    std::printf(
+        "%s: of the layer's max forward %.2e, direct %.2e, final %.2e; final codes %d (%.4f %% "
+        "changed)\n",
+        what.c_str(), w.forward, w.direct, w.final, w.codes, 100.0 * w.changed);
     EXPECT_LE(w.forward, 1e-3) << what;
     EXPECT_LE(w.direct, 1e-3) << what;
+    EXPECT_LE(w.final, 1e-3) << what;
     EXPECT_LE(w.codes, 1) << what;
 }
 
