@@ -484,11 +484,10 @@ void ForwardPsfBlur::rgb_row(int v, float* out, bool add, bool direct) const {
     const float* sharp = m_sharp.data() + (direct ? std::size_t(m_bins + 1) * 4 : 0);
     f_row(W, idx.data(), frac.data(), sharp, m_surface->row(v), m_full.empty() ? nullptr : full,
           m_grids.empty() ? nullptr : coarse.data(), add, out);
-    if (!direct) return;
+    if (!direct || beyond == 0) return;
     // Surfaces beyond the table (no forward scatter worth a table row): D alone, exactly.
     const float* d2 = m_d2->row(v);
     const float* L = m_surface->row(v);
-    if (beyond == 0) return;
     for (int u = 0; u < W; ++u) {
         if (idx[u] >= 0 || !(d2[u] > 0.0f)) continue;
         for (int c = 0; c < 3; ++c) {
