@@ -103,8 +103,14 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
         m_psf_blur.emplace(
             forward_table
                 ? ForwardPsf(*forward_table, water, forward_fx(), camera.width, camera.height)
-                : ForwardPsf(water, forward_fx(), camera.width, camera.height));
+                : ForwardPsf(water, forward_fx(), camera.width, camera.height),
+            water.c);
     }
+}
+
+void Compositor::set_exact(bool exact) {
+    m_exact = exact;
+    if (m_psf_blur) m_psf_blur->set_block_distances(!exact);
 }
 
 double Compositor::forward_fx() const { return m_port ? m_port->water_fx() : m_camera.fx; }
@@ -172,10 +178,17 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         float* out = rows ? s.out.data() : dst.final.row(v);
         m_backscatter.backscatter_row(v, W, z, out);
         if (all) std::copy(out, out + 3 * std::size_t(W), dst.backscatter.row(v));
-        kernels::direct_row(W, d2, m_c3.data(), L, s.dx.data(),
-                            all ? dst.transmission.row(v) : nullptr,
-                            all ? dst.direct.row(v) : nullptr, out);
-        if (psf && !all) {
+        // The image alone, approximations on: D and F's unblurred part from one table
+        // (ForwardPsfBlur::add_direct_row), no exponential a pixel.
+        const bool joined = psf && !all && !m_exact;
+        if (!joined) {
+            kernels::direct_row(W, d2, m_c3.data(), L, s.dx.data(),
+                                all ? dst.transmission.row(v) : nullptr,
+                                all ? dst.direct.row(v) : nullptr, out);
+        }
+        if (joined) {
+            m_psf_blur->add_direct_row(v, out);
+        } else if (psf && !all) {
             m_psf_blur->add_row(v, out);  // F straight into the image, no copy of it
         } else if (forward) {
             float* blurred = s.f.data();

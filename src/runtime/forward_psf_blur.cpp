@@ -10,16 +10,21 @@
 #include "clones.h"
 #include "column_basis.h"
 #include "deepsea/core/error.h"
+#include "deepsea/core/fast_math.h"
+#include "deepsea/optics/lamp.h"
+#include "deepsea/optics/transmission.h"
 #include "forward_psf_rows.h"
 #include "gaussian_planes.h"
 
 namespace deepsea {
 
 using psf_rows::add_doubled;
+using psf_rows::block_rows;
 using psf_rows::expand_blocks;
 using psf_rows::f_row;
 using psf_rows::kMaxStride;
 using psf_rows::pair_sums;
+using psf_rows::weigh_block_pairs;
 using psf_rows::weigh_blocks;
 
 namespace {
@@ -48,12 +53,13 @@ RowTaps doubled_row(int y, int h_lo) {
 /// Table rows and fractions of one row of distances,
 ///   d_u / step = i_u + t_u,  i_u = min(floor(d_u / step), bins - 1),
 /// and idx[u] = -1 where there is no surface (d <= 0) or the distance is beyond the table (its
-/// weights are negligible). AVX2 without fused multiply-adds (t_u from the rounded product, as
-/// in the generic clone).
+/// weights are negligible). Returns the number of surfaces beyond the table. AVX2 without fused
+/// multiply-adds (t_u from the rounded product, as in the generic clone).
 DEEPSEA_CLONES_NO_FMA
-void table_rows(int n, const float* __restrict d2, float inv_step, float range, int bins,
-                int* __restrict idx, float* __restrict frac) {
-#pragma omp simd
+int table_rows(int n, const float* __restrict d2, float inv_step, float range, int bins,
+               int* __restrict idx, float* __restrict frac) {
+    int beyond = 0;
+#pragma omp simd reduction(+ : beyond)
     for (int u = 0; u < n; ++u) {
         const float d = d2[u];
         const bool on = d > 0.0f && d < range;
@@ -61,7 +67,9 @@ void table_rows(int n, const float* __restrict d2, float inv_step, float range, 
         const int i = std::min(int(ti), bins - 1);
         idx[u] = on ? i : -1;
         frac[u] = ti - float(i);
+        beyond += d >= range ? 1 : 0;
     }
+    return beyond;
 }
 
 /// The variance resampling_variance gives, measured on an impulse at every place of a block.
@@ -93,7 +101,7 @@ double measured_resampling_variance(int factor) {
 
 }  // namespace
 
-ForwardPsfBlur::ForwardPsfBlur(ForwardPsf psf) : m_psf(std::move(psf)) {
+ForwardPsfBlur::ForwardPsfBlur(ForwardPsf psf, const Rgb& c) : m_psf(std::move(psf)), m_c(c) {
     if (m_psf.scales() > kMaxStride) throw ConfigError("forward scatter: too many scales");
 }
 
@@ -164,10 +172,16 @@ void ForwardPsfBlur::build_table(double d_max) {
             for (int c = 0; c < 3; ++c) w[(std::size_t(c) * S + j) * rows + i] = x[c];
         }
     });
-    m_sharp.assign(std::size_t(rows) * 4, 0.0f);
+    // W_0(d), then W_0(d) + exp(-c d): the unblurred scale with the direct signal's
+    // transmission (add_direct_row: D + F's unblurred part is L (T + W_0), one table).
+    m_sharp.assign(std::size_t(rows) * 8, 0.0f);
     for (int i = 0; i < rows; ++i) {
-        for (int c = 0; c < 3; ++c)
-            m_sharp[std::size_t(i) * 4 + c] = float(w[std::size_t(c) * S * rows + i]);
+        const Rgb T = transmission(m_c, i * m_step);
+        for (int c = 0; c < 3; ++c) {
+            const double w0 = w[std::size_t(c) * S * rows + i];
+            m_sharp[std::size_t(i) * 4 + c] = float(w0);
+            m_sharp[(std::size_t(rows) + i) * 4 + c] = float(w0 + T[c]);
+        }
     }
     // The blurred scales' weights are smooth in distance and nearly dependent (the same few
     // scattering orders mixed in different proportions): a few basis functions per channel
@@ -292,21 +306,44 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     // Bands of rows as high as the widest group's blocks, so that every block is summed by
     // one task, straight into its level's planes.
     tbb::parallel_for(0, (H + f_max - 1) / f_max, [&](int t) {
-        thread_local std::vector<int> idx;
-        thread_local std::vector<float> frac, sums;
+        thread_local std::vector<int> idx, idx_b, bi;
+        thread_local std::vector<float> frac, frac_b, bt, sums;
         thread_local std::vector<float*> dst;
         idx.resize(W);
         frac.resize(W);
+        idx_b.resize(W);
+        frac_b.resize(W);
+        bi.resize(W / 2 + 1);
+        bt.resize(W / 2 + 1);
         sums.resize(at.back());
         for (int v = t * f_max; v < std::min(H, (t + 1) * f_max); ++v) {
-            table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
+            // Block distances: the finest level's blocks (2 x 2) weighed from two rows at once,
+            // at even rows; the odd row below then has its blocks complete.
+            const bool pairs = f0 == 2 && m_block_tol >= 0.0f && v % 2 == 0 && v + 1 < H;
+            const bool paired = f0 == 2 && m_block_tol >= 0.0f && v % 2 == 1;
+            if (!pairs && !paired)
+                table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
             int f = f0;
             for (std::size_t i = 0; i < group_at.size(); ++i, f *= 2) {
                 // level i takes a block row of level i - 1 (this image row for the finest)
                 // when that one is complete; the first it takes starts its sums
                 const bool first = i == 0 ? v % f == 0 : v % f < f / 2;
                 float* acc = sums.data() + at[i];
-                if (i == 0) {
+                if (i == 0 && pairs) {
+                    // the rows' own table positions only where some block needs them
+                    if (block_rows(W / 2, d2.row(v), d2.row(v + 1), inv_step, range, m_bins,
+                                   m_block_tol, bi.data(), bt.data()) > 0 ||
+                        W % 2) {
+                        table_rows(W, d2.row(v), inv_step, range, m_bins, idx.data(), frac.data());
+                        table_rows(W, d2.row(v + 1), inv_step, range, m_bins, idx_b.data(),
+                                   frac_b.data());
+                    }
+                    weigh_block_pairs(W, stride, idx.data(), frac.data(), idx_b.data(),
+                                      frac_b.data(), bi.data(), bt.data(), m_table.data(),
+                                      surface.row(v), surface.row(v + 1), acc);
+                } else if (i == 0 && paired) {
+                    // summed with the row above
+                } else if (i == 0) {
                     weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(),
                                  surface.row(v), !first, acc);
                 } else {
@@ -419,14 +456,14 @@ ForwardPsfBlur::Grid& ForwardPsfBlur::grid_of(int factor) {
     throw Error("forward scatter: no grid of factor " + std::to_string(factor));
 }
 
-void ForwardPsfBlur::rgb_row(int v, float* out, bool add) const {
+void ForwardPsfBlur::rgb_row(int v, float* out, bool add, bool direct) const {
     const int W = m_width, H = m_height;
     thread_local std::vector<float> frac, coarse;
     thread_local std::vector<int> idx;
     idx.resize(W);
     frac.resize(W);
-    table_rows(W, m_d2->row(v), float(1.0 / m_step), float(m_bins * m_step), m_bins, idx.data(),
-               frac.data());
+    const int beyond = table_rows(W, m_d2->row(v), float(1.0 / m_step), float(m_bins * m_step),
+                                  m_bins, idx.data(), frac.data());
     const float* full[3] = {};
     for (int c = 0; c < 3 && !m_full.empty(); ++c)
         full[c] = m_full.data() + (std::size_t(c) * H + v) * W;
@@ -444,12 +481,28 @@ void ForwardPsfBlur::rgb_row(int v, float* out, bool add) const {
         std::copy_n(coarse.begin() + 4, 4, coarse.begin());
         std::copy_n(coarse.begin() + 4 * G.w, 4, coarse.begin() + 4 * (G.w + 1));
     }
-    f_row(W, idx.data(), frac.data(), m_sharp.data(), m_surface->row(v),
-          m_full.empty() ? nullptr : full, m_grids.empty() ? nullptr : coarse.data(), add, out);
+    const float* sharp = m_sharp.data() + (direct ? std::size_t(m_bins + 1) * 4 : 0);
+    f_row(W, idx.data(), frac.data(), sharp, m_surface->row(v), m_full.empty() ? nullptr : full,
+          m_grids.empty() ? nullptr : coarse.data(), add, out);
+    if (!direct || beyond == 0) return;
+    // Surfaces beyond the table (no forward scatter worth a table row): D alone, exactly.
+    const float* d2 = m_d2->row(v);
+    const float* L = m_surface->row(v);
+    for (int u = 0; u < W; ++u) {
+        if (idx[u] >= 0 || !(d2[u] > 0.0f)) continue;
+        for (int c = 0; c < 3; ++c) {
+            out[3 * u + c] +=
+                direct_signal(L[3 * u + c], transmission<FastMath>(float(m_c[c]), d2[u]));
+        }
+    }
 }
 
-void ForwardPsfBlur::row(int v, float* out_rgb) const { rgb_row(v, out_rgb, false); }
+void ForwardPsfBlur::row(int v, float* out_rgb) const { rgb_row(v, out_rgb, false, false); }
 
-void ForwardPsfBlur::add_row(int v, float* sum_rgb) const { rgb_row(v, sum_rgb, true); }
+void ForwardPsfBlur::add_row(int v, float* sum_rgb) const { rgb_row(v, sum_rgb, true, false); }
+
+void ForwardPsfBlur::add_direct_row(int v, float* sum_rgb) const {
+    rgb_row(v, sum_rgb, true, true);
+}
 
 }  // namespace deepsea

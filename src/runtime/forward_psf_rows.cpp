@@ -68,6 +68,71 @@ struct WeighBlocks {
     }
 };
 
+/// weigh_blocks over two rows (a, b) at once, blocks of two columns (the finest level, factor
+/// 2), with block distances (block_rows): a block on one smooth surface is weighed at its mean
+/// distance dbar_b,
+///   x_b[c][r] = phi_r(dbar_b) sum_(u in B_b) L_s(u)[c],
+/// one table row for four pixels (docs/model.md, "Forward scatter": within 0.1 % of the forward
+/// layer's maximum); other blocks pixel by pixel as weigh_blocks sums them (row a, then row b
+/// added: the same bits).
+struct WeighBlockPairs {
+    template <int S>
+    [[gnu::always_inline]] static void run(int n, const int* __restrict ia,
+                                           const float* __restrict fa, const int* __restrict ib,
+                                           const float* __restrict fb, const int* __restrict bi,
+                                           const float* __restrict bt, const float* __restrict tab,
+                                           const float* __restrict La, const float* __restrict Lb,
+                                           float* __restrict x) {
+        constexpr int lanes = 3 * S, V = S / 4;
+        // one pixel's basis weights times its radiance, added to acc (weigh_blocks' sum)
+        const auto add_pixel = [&](Float4* acc, int i, float t, const float* l) {
+            const bool on = i >= 0;
+            const float* ta = tab + std::size_t(on ? i : 0) * lanes;
+            const float* tb = ta + lanes;
+            for (int c = 0; c < 3; ++c) {
+                const float lc = on ? l[c] : 0.0f;
+                for (int k = 0; k < V; ++k) {
+                    const Float4 a = load4(ta + c * S + 4 * k), d = load4(tb + c * S + 4 * k) - a;
+                    acc[c * V + k] += (a + t * d) * lc;
+                }
+            }
+        };
+        // whole blocks before the row's last one, whose radiance loads would pass the row's end
+        const int safe = n / 2 - 1;
+        const auto sum4 = [](const float* p) {  // RGB of the two pixels at p, lanes 0-2
+            return Float4{p[0] + p[3], p[1] + p[4], p[2] + p[5], 0.0f};
+        };
+        for (int u0 = 0, b = 0; u0 < n; u0 += 2, ++b) {
+            float* out = x + std::size_t(b) * lanes;
+            if (b < n / 2 && bi[b] >= 0) {
+                // the block's summed radiance in lanes 0-2: pixel u0's RGB plus u0 + 1's
+                const float* la = La + 3 * u0;
+                const float* lb = Lb + 3 * u0;
+                const Float4 l = b < safe
+                                     ? (load4(la) + load4(la + 3)) + (load4(lb) + load4(lb + 3))
+                                     : sum4(la) + sum4(lb);
+                const float* ta = tab + std::size_t(bi[b]) * lanes;
+                const float* tb = ta + lanes;
+                const float t = bt[b];
+                for (int c = 0; c < 3; ++c) {
+                    const Float4 lc = splat(l[c]);
+                    for (int k = 0; k < V; ++k) {
+                        const Float4 a = load4(ta + c * S + 4 * k),
+                                     d = load4(tb + c * S + 4 * k) - a;
+                        store4(out + c * S + 4 * k, (a + t * d) * lc);
+                    }
+                }
+                continue;
+            }
+            const int u1 = std::min(u0 + 2, n);
+            Float4 acc_a[3 * V] = {}, acc_b[3 * V] = {};
+            for (int u = u0; u < u1; ++u) add_pixel(acc_a, ia[u], fa[u], La + 3 * u);
+            for (int u = u0; u < u1; ++u) add_pixel(acc_b, ib[u], fb[u], Lb + 3 * u);
+            for (int k = 0; k < 3 * V; ++k) store4(out + 4 * k, acc_a[k] + acc_b[k]);
+        }
+    }
+};
+
 /// expand_blocks for a stride S known at compile time: each scale's block mean from the basis
 /// sums, for scale j of the group, channel c and block b,
 ///   P_j[c][b] = s_b sum_r a_jr[c] x_b[c][r] = s_b sum_(u in B_b) W_j(d_u) L_s(u)[c],
@@ -134,6 +199,36 @@ DEEPSEA_CLONES
 void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
                   const float* L, bool add, float* x) {
     by_stride<WeighBlocks>(stride, n, block, idx, frac, tab, L, add, x);
+}
+
+/// Block distances of two rows (a, b), blocks of two columns: for every whole block b whose
+/// four distances all lie on the table (0 < d < range) and on one smooth surface (max - min <=
+/// tol min), its mean distance's table row and fraction (bi[b], bt[b]); bi[b] = -1 for any
+/// other block, which is weighed pixel by pixel. Returns the number of those.
+DEEPSEA_CLONES_NO_FMA
+int block_rows(int blocks, const float* __restrict da, const float* __restrict db, float inv_step,
+               float range, int bins, float tol, int* __restrict bi, float* __restrict bt) {
+    int apart = 0;
+#pragma omp simd reduction(+ : apart)
+    for (int b = 0; b < blocks; ++b) {
+        const float d0 = da[2 * b], d1 = da[2 * b + 1], d2 = db[2 * b], d3 = db[2 * b + 1];
+        const float lo = std::min(std::min(d0, d1), std::min(d2, d3));
+        const float hi = std::max(std::max(d0, d1), std::max(d2, d3));
+        const bool same = lo > 0.0f && hi < range && hi - lo <= tol * lo;
+        const float ti = 0.25f * ((d0 + d1) + (d2 + d3)) * inv_step;
+        const int i = std::min(int(ti), bins - 1);
+        bi[b] = same ? i : -1;
+        bt[b] = ti - float(i);
+        apart += same ? 0 : 1;
+    }
+    return apart;
+}
+
+DEEPSEA_CLONES
+void weigh_block_pairs(int n, int stride, const int* ia, const float* fa, const int* ib,
+                       const float* fb, const int* bi, const float* bt, const float* tab,
+                       const float* La, const float* Lb, float* x) {
+    by_stride<WeighBlockPairs>(stride, n, ia, fa, ib, fb, bi, bt, tab, La, Lb, x);
 }
 
 DEEPSEA_CLONES

@@ -33,6 +33,23 @@ void add_doubled(int n, const float* qp, float* dst);
 void weigh_blocks(int n, int block, int stride, const int* idx, const float* frac, const float* tab,
                   const float* L, bool add, float* x);
 
+/// Block distances of two rows of distances da, db, blocks of two columns: for each of the
+/// `blocks` whole blocks b whose four distances are on the table (0 < d < range) and within
+/// tol of its nearest (max - min <= tol min), the table row and fraction of its mean distance
+/// (bi[b], bt[b]: as table_rows' with inv_step and bins); bi[b] = -1 for the others. Returns
+/// the number of those, which weigh_block_pairs weighs pixel by pixel.
+int block_rows(int blocks, const float* da, const float* db, float inv_step, float range, int bins,
+               float tol, int* bi, float* bt);
+
+/// weigh_blocks for blocks of two columns over two rows a and b (radiance La, Lb), the block
+/// sums complete (not added): a block with bi[b] >= 0 (block_rows) once, at its mean distance,
+/// times its pixels' summed radiance; any other block (and the last column of an odd n) pixel
+/// by pixel from the rows' table rows and fractions ia, fa, ib, fb (table_rows; read only
+/// there), as weigh_blocks over row a and then row b.
+void weigh_block_pairs(int n, int stride, const int* ia, const float* fa, const int* ib,
+                       const float* fb, const int* bi, const float* bt, const float* tab,
+                       const float* La, const float* Lb, float* x);
+
 /// One row of a group's planes from its blocks' basis sums: for every block b, channel c and
 /// scale j of the group, dst[c * scales + j][b] = scale * sum_r coef[c * channel + j * stride
 /// + r] * acc[b * lanes + c * stride + r], the last block also times `edge` (coef: the

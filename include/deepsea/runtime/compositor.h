@@ -51,6 +51,13 @@ public:
     void composite(Layers& dst, const ColorView& color, const Image& depth, const FinalRows& rows);
     void composite(Layers& dst, const Frame& frame, const FinalRows& rows);
 
+    /// Exact: the compositor's bounded approximations off (docs/runtime.md, "Bounded
+    /// approximations"): the forward scatter's block distances (ForwardPsfBlur::
+    /// set_block_distances) and, for the image alone, the direct signal's transmission from the
+    /// point spread's table (ForwardPsfBlur::add_direct_row). The path the tests hold them
+    /// against. Off by default.
+    void set_exact(bool exact);
+
 private:
     void run(Layers& dst, const ColorView& color, const Image& depth, LayerSet set,
              const FinalRows* rows);
@@ -60,6 +67,7 @@ private:
 
     Camera m_camera;
     Water m_water;
+    bool m_exact = false;  ///< set_exact
     const IrradianceSource& m_lamps;
     const BackscatterSource& m_backscatter;
     ForwardBlur m_blur;                        ///< Jaffe-McGlamery forward scatter

@@ -54,7 +54,8 @@ inline int edge_falloff_step(int n) { return std::max(8, (n - 1 + 7) / 8); }
 /// row() then gives any row of F as an interleaved RGB row (thread-safe).
 class ForwardPsfBlur {
 public:
-    explicit ForwardPsfBlur(ForwardPsf psf);
+    /// c: the water's beam attenuation (1/m), for add_direct_row's transmission.
+    explicit ForwardPsfBlur(ForwardPsf psf, const Rgb& c = {});
 
     /// surface: J/pi E (3 channels); d2: camera-to-surface distance (1 channel, <= 0 for no
     /// surface, which sends no light). Both are read again by row(): they must stay unchanged
@@ -65,8 +66,21 @@ public:
     void row(int v, float* out_rgb) const;
     /// sum_rgb[3u + c] += F at (u, v): the same F as row(), added where it is wanted.
     void add_row(int v, float* sum_rgb) const;
+    /// sum_rgb[3u + c] += D + F at (u, v), D = L_s exp(-c d2) the direct signal: the
+    /// transmission taken from the unblurred scale's table, W_0(d) + exp(-c d) linear between
+    /// its rows (docs/model.md, "Forward scatter": within 1e-4 of D), so that the image alone
+    /// costs no exponential a pixel; surfaces beyond the table exactly.
+    void add_direct_row(int v, float* sum_rgb) const;
 
     const ForwardPsf& psf() const { return m_psf; }
+    /// Block distances (on by default): the finest grid's 2 x 2 blocks whose distances lie
+    /// within kBlockTolerance of each other are weighed once, at their mean distance, instead
+    /// of pixel by pixel (docs/model.md, "Forward scatter": within one 8-bit code and 0.1 % of
+    /// the forward layer's maximum). Off: every pixel at its own distance (the exact path the
+    /// tests compare with).
+    void set_block_distances(bool on) { m_block_tol = on ? kBlockTolerance : -1.0f; }
+    /// The largest spread of a block's distances, relative to its nearest, weighed at their mean.
+    static constexpr float kBlockTolerance = 0.02f;
     /// The weight of scale j at distance d (m) that the last prepare() applied: its tables'
     /// interpolation, the blurred scales through their basis (zero beyond the tables).
     Rgb applied_weight(int j, double d) const;
@@ -106,7 +120,7 @@ private:
     void resize(int W, int H);
     void weigh(const Image& surface, const Image& d2);
     /// F of row v, interleaved RGB, into out or added to it.
-    void rgb_row(int v, float* out, bool add) const;
+    void rgb_row(int v, float* out, bool add, bool direct) const;
 
     ForwardPsf m_psf;
     int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride basis functions
@@ -118,8 +132,12 @@ private:
     /// distance; W_j(d) of a blurred scale j = sum_r m_coef[(c * S + j) * stride + r] times
     /// that (column_basis.h).
     std::vector<float> m_table, m_coef;
-    std::vector<float> m_sharp;  ///< m_sharp[bin * 4 + c] = W_0(d), the unblurred scale
-    int m_rung = -1;             ///< ladder rung of the current table (-1: none yet)
+    /// m_sharp[bin * 4 + c] = W_0(d), the unblurred scale, then (from row bins + 1 on) the
+    /// same plus exp(-c d)
+    std::vector<float> m_sharp;
+    Rgb m_c;                              ///< the water's beam attenuation, 1/m
+    float m_block_tol = kBlockTolerance;  ///< block distances' tolerance, < 0: off
+    int m_rung = -1;                      ///< ladder rung of the current table (-1: none yet)
     /// Tables of other rungs that earlier frames needed, kept (a few kB each; at most one per
     /// rung up to the distance where every weight is negligible, about a hundred).
     struct KeptTable {

@@ -209,6 +209,17 @@ TEST(Compositor, FinalOnlyGivesTheSameImageWithoutTheOtherLayers) {
     comp.composite(out, Frame{f.scene.rgb, f.scene.depth});  // and back to all layers
     EXPECT_EQ(out.forward.data, all.forward.data);
     EXPECT_EQ(out.final.data, all.final.data);
+    // With the phase function's point spread the image alone takes D from the spread's table
+    // (a bounded approximation, approximations_test.cpp); the exact path gives the same bits.
+    const Fixture& p = fixture_psf();
+    const AnalyticLamps psf_lamps(p.rig, p.water);
+    const AssetBackscatter psf_bs(p.asset, p.cam);
+    Compositor exact(p.cam, p.water, psf_lamps, psf_bs);
+    exact.set_exact(true);
+    Layers every, alone;
+    exact.composite(every, Frame{p.scene.rgb, p.scene.depth});
+    exact.composite(alone, Frame{p.scene.rgb, p.scene.depth}, LayerSet::Final);
+    EXPECT_EQ(alone.final.data, every.final.data);
 }
 
 TEST(Compositor, RowsHandedOverAreTheFinalImageWhateverTheForwardScatter) {

@@ -1,0 +1,121 @@
+// The forward scatter's block distances (forward_psf_rows.h, weigh_block_pairs) against the
+// pixel-by-pixel weighing: blocks that are not on one surface keep its bits, blocks at one
+// distance its sums.
+
+#include "forward_psf_rows.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace deepsea::psf_rows {
+
+namespace {
+
+constexpr int kBins = 64;
+constexpr float kStep = 0.1f;  // metres between table rows: the table spans 6.4 m
+
+/// Two rows of n pixels: distances, their table positions (as table_rows makes them), radiance.
+struct Rows {
+    std::vector<float> d[2], frac[2], L[2];
+    std::vector<int> idx[2];
+};
+
+Rows make_rows(int n, std::mt19937& rng, bool one_distance_a_block) {
+    std::uniform_real_distribution<float> dist(0.5f, 6.0f), light(0.0f, 2.0f);
+    Rows r;
+    for (int row = 0; row < 2; ++row) {
+        r.d[row].resize(n);
+        r.frac[row].resize(n);
+        r.idx[row].resize(n);
+        r.L[row].resize(3 * std::size_t(n));
+        for (int u = 0; u < n; ++u) {
+            float d = dist(rng);
+            if (u % 11 == 7) d = 0.0f;  // open water
+            if (u % 13 == 5) d = 7.0f;  // beyond the table
+            r.d[row][u] = d;
+            for (int c = 0; c < 3; ++c) r.L[row][3 * u + c] = light(rng);
+        }
+    }
+    if (one_distance_a_block) {
+        for (int u = 0; u < n; ++u)
+            r.d[1][u] = r.d[0][u] =
+                r.d[0][u / 2 * 2] > 0.0f && r.d[0][u / 2 * 2] < 6.0f ? r.d[0][u / 2 * 2] : 3.0f;
+    }
+    for (int row = 0; row < 2; ++row) {
+        for (int u = 0; u < n; ++u) {
+            const float d = r.d[row][u];
+            const bool on = d > 0.0f && d < kBins * kStep;
+            const float ti = on ? d * (1.0f / kStep) : 0.0f;
+            const int i = std::min(int(ti), kBins - 1);
+            r.idx[row][u] = on ? i : -1;
+            r.frac[row][u] = ti - float(i);
+        }
+    }
+    return r;
+}
+
+std::vector<float> table(int stride, std::mt19937& rng) {
+    std::uniform_real_distribution<float> value(0.0f, 1.0f);
+    std::vector<float> t(std::size_t(kBins + 1) * 3 * stride);
+    for (float& x : t) x = value(rng);
+    return t;
+}
+
+/// weigh_block_pairs with block distances at tolerance tol.
+std::vector<float> paired(const Rows& r, int n, int stride, const std::vector<float>& tab,
+                          float tol) {
+    const int lanes = 3 * stride, blocks = (n + 1) / 2;
+    std::vector<int> bi(n / 2 + 1);
+    std::vector<float> bt(n / 2 + 1), x(std::size_t(blocks) * lanes, -1.0f);
+    block_rows(n / 2, r.d[0].data(), r.d[1].data(), 1.0f / kStep, kBins * kStep, kBins, tol,
+               bi.data(), bt.data());
+    weigh_block_pairs(n, stride, r.idx[0].data(), r.frac[0].data(), r.idx[1].data(),
+                      r.frac[1].data(), bi.data(), bt.data(), tab.data(), r.L[0].data(),
+                      r.L[1].data(), x.data());
+    return x;
+}
+
+}  // namespace
+
+TEST(BlockDistances, BlocksApartKeepThePixelByPixelBits) {
+    std::mt19937 rng(3);
+    for (const int stride : {4, 8}) {
+        for (const int n : {36, 37}) {
+            const Rows r = make_rows(n, rng, false);
+            const std::vector<float> tab = table(stride, rng);
+            const int lanes = 3 * stride, blocks = (n + 1) / 2;
+            std::vector<float> exact(std::size_t(blocks) * lanes);
+            weigh_blocks(n, 2, stride, r.idx[0].data(), r.frac[0].data(), tab.data(), r.L[0].data(),
+                         false, exact.data());
+            weigh_blocks(n, 2, stride, r.idx[1].data(), r.frac[1].data(), tab.data(), r.L[1].data(),
+                         true, exact.data());
+            // a negative tolerance: no block is on one surface
+            const std::vector<float> x = paired(r, n, stride, tab, -1.0f);
+            for (std::size_t i = 0; i < x.size(); ++i) ASSERT_EQ(x[i], exact[i]) << i;
+        }
+    }
+}
+
+TEST(BlockDistances, ABlockAtOneDistanceIsWeighedThere) {
+    std::mt19937 rng(5);
+    for (const int stride : {4, 8}) {
+        for (const int n : {36, 37}) {
+            const Rows r = make_rows(n, rng, true);
+            const std::vector<float> tab = table(stride, rng);
+            const int lanes = 3 * stride, blocks = (n + 1) / 2;
+            std::vector<float> exact(std::size_t(blocks) * lanes);
+            weigh_blocks(n, 2, stride, r.idx[0].data(), r.frac[0].data(), tab.data(), r.L[0].data(),
+                         false, exact.data());
+            weigh_blocks(n, 2, stride, r.idx[1].data(), r.frac[1].data(), tab.data(), r.L[1].data(),
+                         true, exact.data());
+            const std::vector<float> x = paired(r, n, stride, tab, 0.02f);
+            for (std::size_t i = 0; i < x.size(); ++i)
+                ASSERT_NEAR(x[i], exact[i], 1e-5f * std::fabs(exact[i]) + 1e-6f) << i;
+        }
+    }
+}
+
+}  // namespace deepsea::psf_rows
