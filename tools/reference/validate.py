@@ -4,6 +4,7 @@
 
 Usage: validate.py DEEPSEA WORK [--set table|wall|ci] [--rows a,b] [--paths-scale F]
                    [--threads N] [--keep-reference] [--reference-only] [--check] [--confirm F]
+                   [--bin N]
   table: the validation table's rows (waters, beams, rigs, cameras, phase functions)
   wall:  the surface's effect on the water light: planes at 1, 2, 3 m against empty water
          ending at the same depth (the path tracer's own water light, same seed), and deepsea's
@@ -12,7 +13,8 @@ Each row: deepsea bake --scattering multiple + render --layers, against deepsea 
 --scattering multiple. Prints a Markdown table: per layer (water = backscatter, surface =
 direct + forward, final) the largest channel difference in image sums, and the worst 4x4 bin
 of those the path tracer resolves (the bin's standard error <= 2.5 %; where fewer than half are,
-the smallest power-of-two bin with half resolved, named in the bin column). --confirm F: each
+the smallest power-of-two bin with half resolved, named in the bin column; --bin N: N x N bins
+whatever share is resolved). --confirm F: each
 resolved bin over the 10 % target path-traced again alone, in a window of the row's camera, with
 F times the paths (a bin's own error understates it where its paths missed the bright ones).
 Debian's python3, numpy, OIIO.
@@ -165,9 +167,9 @@ BIN_TARGET = 0.10  # per bin, of the path tracer's value
 RETRACE_SEED = 2  # --confirm: the windows' seed (the rows path-trace with seed 1)
 
 
-def compare(baked, pt, plane):
+def compare(baked, pt, plane, fixed_bin=0):
     """Per layer: (sum diff %, its SE %, worst resolved bin %, bin size, % of bins resolved),
-    the channel furthest off in sums."""
+    the channel furthest off in sums. fixed_bin: that bin size, whatever share is resolved."""
     out = {}
     for name, parts in LAYERS.items():
         if plane is None and name == "surface":
@@ -180,12 +182,12 @@ def compare(baked, pt, plane):
         worst = max(range(3), key=lambda c: abs(diff[c]))
         # Bins the path tracer resolves: its own standard error <= 2.5 % (its heavy tails leave
         # a few bins far off with errors of 10-40 %); 4x4, or larger while fewer than half are.
-        b = 4
+        b = fixed_bin or 4
         while True:
             bo, br, bv = bins(ours, b), bins(ref, b), bins(var, b)
             bse = np.sqrt(bv) / br
             ok = bse <= 0.025
-            if ok.mean() >= 0.5 or b * 2 > min(ours.shape[:2]) // 2:
+            if fixed_bin or ok.mean() >= 0.5 or b * 2 > min(ours.shape[:2]) // 2:
                 break
             b *= 2
         rel = np.abs(bo - br) / br
@@ -254,6 +256,8 @@ def main():
     ap.add_argument("--confirm", type=int, default=0, metavar="F",
                     help="path-trace each resolved bin over the 10 %% target again, alone in a "
                          "window, with F times the row's paths and seed 2")
+    ap.add_argument("--bin", type=int, default=0, metavar="N",
+                    help="compare N x N bins whatever share of them the path tracer resolves")
     ap.add_argument("--check", action="store_true",
                     help="exit 1 where a row misses 5 %% + 3 SE in image sums")
     a = ap.parse_args()
@@ -277,7 +281,7 @@ def main():
     retraced = {}
     for name, (baked, pt, plane) in results.items():
         wname, rig, size, fov, z, _ = rows[name]
-        layers = compare(baked, pt, plane)
+        layers = compare(baked, pt, plane, a.bin)
         for layer, (dd, se, wb, b, bse, _) in layers.items():
             print(f"| {name} | {wname} | {rig} | {size} {fov:g} deg | "
                   f"{f'{plane:g} m' if plane else 'none'} | {layer} | {dd:+.1f}% | {se:.1f}% | "
