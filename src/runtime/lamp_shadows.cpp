@@ -195,14 +195,29 @@ Camera transposed(const Camera& cam) {
     return c;
 }
 
-/// dst (h x w) = src (w x h) transposed, in tiles.
-void transpose(const float* src, int w, int h, float* dst) {
+/// Every step-th pixel of src along each axis (w x h of them), into `sub` (row-major, w x h;
+/// none where null) and `tr` (transposed, h x w: tr[u h + v] = src.row(v step)[u step]; none
+/// where null), in one pass: in tiles of kTile rows, so that the rows read stay in the cache
+/// while tr's rows are written.
+void subsample(const Image& src, int step, int w, int h, float* sub, float* tr) {
     constexpr int kTile = 32;
     tbb::parallel_for(0, (h + kTile - 1) / kTile, [&](int tv) {
-        for (int u0 = 0; u0 < w; u0 += kTile)
-            for (int v = tv * kTile; v < std::min(h, (tv + 1) * kTile); ++v)
-                for (int u = u0; u < std::min(w, u0 + kTile); ++u)
-                    dst[std::size_t(u) * h + v] = src[std::size_t(v) * w + u];
+        const int v0 = tv * kTile, n = std::min(h, v0 + kTile) - v0;
+        const float* rows[kTile];
+        for (int k = 0; k < n; ++k) rows[k] = src.row((v0 + k) * step);
+        if (sub) {
+            for (int k = 0; k < n; ++k) {
+                float* out = sub + std::size_t(v0 + k) * w;
+                const float* in = rows[k];
+                for (int u = 0; u < w; ++u) out[u] = in[std::size_t(u) * step];
+            }
+        }
+        if (!tr) return;
+        for (int u = 0; u < w; ++u) {
+            float* out = tr + std::size_t(u) * h + v0;
+            const std::size_t x = std::size_t(u) * step;
+            for (int k = 0; k < n; ++k) out[k] = rows[k][x];
+        }
     });
 }
 
@@ -213,7 +228,8 @@ LampShadows::~LampShadows() = default;
 LampShadows::LampShadows(LampShadows&&) noexcept = default;
 LampShadows& LampShadows::operator=(LampShadows&&) noexcept = default;
 
-void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, float thickness) {
+void LampShadows::sweep(const Camera& cam, const Rig& rig, float thickness, const Image& frame,
+                        int step) {
     const int W = cam.width, H = cam.height;
     const std::size_t N = std::size_t(W) * H;
     m_width = W;
@@ -246,10 +262,19 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
         for (int u = 0; u < W; ++u) m_rx[u] = float(cam.ray_x(u));
         for (int v = 0; v < H; ++v) m_ry[v] = float(cam.ray_y(v));
     }
+    // The depth swept (every step-th pixel's) and, where a lamp is swept in the transposed
+    // frame, its transpose: in one pass.
+    const bool transposed = std::any_of(m_lines_t.begin(), m_lines_t.end(),
+                                        [](const Lines& t) { return !t.families.empty(); });
+    if (step > 1 && (m_sub.width != W || m_sub.height != H)) m_sub = Image(W, H, 1);
+    if (transposed && (m_depth_t.width != H || m_depth_t.height != W)) m_depth_t = Image(H, W, 1);
+    if (step > 1 || transposed)
+        subsample(frame, step, W, H, step > 1 ? m_sub.data.data() : nullptr,
+                  transposed ? m_depth_t.data.data() : nullptr);
+    const Image& zdepth = step > 1 ? m_sub : frame;
     m_visibility.resize(rig.lights.size());
     m_ones.resize(rig.lights.size());
     for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
-    bool have_t = false;  // m_depth_t holds this frame's depth, transposed
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         const Vec3& L = rig.lights[l].position;
         const float R = float(rig.lights[l].radius);
@@ -265,11 +290,6 @@ void LampShadows::sweep(const Camera& cam, const Image& zdepth, const Rig& rig, 
                       ones.data());
             std::fill(ones.begin(), ones.end(), 0);  // (not known after the sweep)
             continue;
-        }
-        if (!have_t) {
-            if (m_depth_t.width != H || m_depth_t.height != W) m_depth_t = Image(H, W, 1);
-            transpose(zdepth.data.data(), W, H, m_depth_t.data.data());
-            have_t = true;
         }
         lamp_pass(camt, m_depth_t, Vec3{L.y, L.x, L.z}, R, m_lines_t[l], m_ry.data(), m_rx.data(),
                   thickness, vis, ones.data());

@@ -97,20 +97,14 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
     const float t = float(settings.thickness);
     const int s = settings.step;
     if (s == 1) {
-        sweep(cam, zdepth, rig, t);
+        sweep(cam, rig, t, zdepth, 1);
         return;
     }
     const Camera cc = coarse_camera(cam, s);
     const int W = cam.width, H = cam.height, Wc = cc.width, Hc = cc.height;
     if (!m_coarse) m_coarse = std::make_unique<LampShadows>();
-    if (m_coarse_depth.width != Wc || m_coarse_depth.height != Hc)
-        m_coarse_depth = Image(Wc, Hc, 1);
-    tbb::parallel_for(0, Hc, [&](int j) {
-        const float* src = zdepth.row(j * s);
-        float* dst = m_coarse_depth.row(j);
-        for (int i = 0; i < Wc; ++i) dst[i] = src[i * s];
-    });
-    m_coarse->sweep(cc, m_coarse_depth, rig, t);
+    m_coarse->sweep(cc, rig, t, zdepth, s);  // (its depth: m_coarse->m_sub)
+    const Image& coarse_depth = m_coarse->m_sub;
 
     m_width = W;
     m_height = H;
@@ -139,7 +133,7 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
             }
             const float ty = float(v - j0 * s) / float(s);
             upsample_row(W, Wc, s, ty, zdepth.row(v), m_coarse->row(l, j0), m_coarse->row(l, j1),
-                         m_coarse_depth.row(j0), m_coarse_depth.row(j1), vis.row(v));
+                         coarse_depth.row(j0), coarse_depth.row(j1), vis.row(v));
             ones[std::size_t(v)] = 0;
         });
     }

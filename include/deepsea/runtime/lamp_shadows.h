@@ -62,8 +62,11 @@ public:
     struct Lines;  ///< one lamp's epipolar lines for one camera (lamp_shadows.cpp)
 
 private:
-    /// The sweep on every pixel of `zdepth` into m_visibility (lamp_shadows.cpp).
-    void sweep(const Camera& camera, const Image& zdepth, const Rig& rig, float thickness);
+    /// The sweep into m_visibility (lamp_shadows.cpp) on every `step`-th pixel of the frame's
+    /// planar depth `frame` along each axis (step 1: every pixel), `camera` being the camera of
+    /// those pixels. The subsample (m_sub, step > 1) and the transposed depth that lines along
+    /// the rows are swept in are taken from `frame` in one pass.
+    void sweep(const Camera& camera, const Rig& rig, float thickness, const Image& frame, int step);
     /// One lamp (at L, radius R) swept along `lines` into `vis` (lamp_shadows.cpp): on the
     /// frame, or on the transposed frame and camera (rays rx, ry to match; parallel lines only,
     /// `vis` then still the frame's). `ones`: per row of `vis`, whether it holds only 1 already
@@ -77,12 +80,12 @@ private:
     std::vector<Lines> m_lines;  ///< per lamp, for m_camera and m_positions
     /// per lamp: its lines in the transposed frame where it is swept there (else none)
     std::vector<Lines> m_lines_t;
-    Image m_depth_t;                                             ///< the transposed frame's depth
+    Image m_depth_t;  ///< the swept depth, transposed
+    Image m_sub;      ///< the swept depth where step > 1: every step-th pixel's
     Camera m_camera;                                             ///< the lines' camera
     std::vector<Vec3> m_positions;                               ///< the lines' lamp positions
     std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
     std::unique_ptr<LampShadows> m_coarse;  ///< the sweep on every step-th pixel (step > 1)
-    Image m_coarse_depth;                   ///< its depth: every step-th pixel's
     /// per lamp and row of its visibility image: whether the row holds only 1 (fully lit), so
     /// that the next frame need not fill it again (most rows: shadows are sparse)
     std::vector<std::vector<unsigned char>> m_ones;
