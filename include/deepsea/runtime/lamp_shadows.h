@@ -80,10 +80,10 @@ private:
     std::vector<Lines> m_lines;  ///< per lamp, for m_camera and m_positions
     /// per lamp: its lines in the transposed frame where it is swept there (else none)
     std::vector<Lines> m_lines_t;
-    Image m_depth_t;  ///< the swept depth, transposed
-    Image m_sub;      ///< the swept depth where step > 1: every step-th pixel's
-    Camera m_camera;                                             ///< the lines' camera
-    std::vector<Vec3> m_positions;                               ///< the lines' lamp positions
+    Image m_depth_t;                ///< the swept depth, transposed
+    Image m_sub;                    ///< the swept depth where step > 1: every step-th pixel's
+    Camera m_camera;                ///< the lines' camera
+    std::vector<Vec3> m_positions;  ///< the lines' lamp positions
     std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
     std::unique_ptr<LampShadows> m_coarse;  ///< the sweep on every step-th pixel (step > 1)
     /// per lamp and row of its visibility image: whether the row holds only 1 (fully lit), so
