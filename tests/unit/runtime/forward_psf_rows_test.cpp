@@ -64,6 +64,17 @@ std::vector<float> table(int stride, std::mt19937& rng) {
     return t;
 }
 
+/// The two rows' blocks weighed pixel by pixel (weigh_blocks): the exact path.
+std::vector<float> pixel_by_pixel(const Rows& r, int n, int stride, const std::vector<float>& tab) {
+    const int lanes = 3 * stride, blocks = (n + 1) / 2;
+    std::vector<float> exact(std::size_t(blocks) * lanes);
+    weigh_blocks(n, 2, stride, r.idx[0].data(), r.frac[0].data(), tab.data(), r.L[0].data(), false,
+                 exact.data());
+    weigh_blocks(n, 2, stride, r.idx[1].data(), r.frac[1].data(), tab.data(), r.L[1].data(), true,
+                 exact.data());
+    return exact;
+}
+
 /// weigh_block_pairs with block distances at tolerance tol.
 std::vector<float> paired(const Rows& r, int n, int stride, const std::vector<float>& tab,
                           float tol) {
@@ -86,12 +97,7 @@ TEST(BlockDistances, BlocksApartKeepThePixelByPixelBits) {
         for (const int n : {36, 37}) {
             const Rows r = make_rows(n, rng, false);
             const std::vector<float> tab = table(stride, rng);
-            const int lanes = 3 * stride, blocks = (n + 1) / 2;
-            std::vector<float> exact(std::size_t(blocks) * lanes);
-            weigh_blocks(n, 2, stride, r.idx[0].data(), r.frac[0].data(), tab.data(), r.L[0].data(),
-                         false, exact.data());
-            weigh_blocks(n, 2, stride, r.idx[1].data(), r.frac[1].data(), tab.data(), r.L[1].data(),
-                         true, exact.data());
+            const std::vector<float> exact = pixel_by_pixel(r, n, stride, tab);
             // a negative tolerance: no block is on one surface
             const std::vector<float> x = paired(r, n, stride, tab, -1.0f);
             for (std::size_t i = 0; i < x.size(); ++i) ASSERT_EQ(x[i], exact[i]) << i;
@@ -105,12 +111,7 @@ TEST(BlockDistances, ABlockAtOneDistanceIsWeighedThere) {
         for (const int n : {36, 37}) {
             const Rows r = make_rows(n, rng, true);
             const std::vector<float> tab = table(stride, rng);
-            const int lanes = 3 * stride, blocks = (n + 1) / 2;
-            std::vector<float> exact(std::size_t(blocks) * lanes);
-            weigh_blocks(n, 2, stride, r.idx[0].data(), r.frac[0].data(), tab.data(), r.L[0].data(),
-                         false, exact.data());
-            weigh_blocks(n, 2, stride, r.idx[1].data(), r.frac[1].data(), tab.data(), r.L[1].data(),
-                         true, exact.data());
+            const std::vector<float> exact = pixel_by_pixel(r, n, stride, tab);
             const std::vector<float> x = paired(r, n, stride, tab, 0.02f);
             for (std::size_t i = 0; i < x.size(); ++i)
                 ASSERT_NEAR(x[i], exact[i], 1e-5f * std::fabs(exact[i]) + 1e-6f) << i;
