@@ -120,7 +120,8 @@ void write_png(const std::string& path, int width, int height, int channels,
             if (y == 0) {
                 std::memcpy(d + 1, s, row);
             } else {
-                for (std::size_t i = 0; i < row; ++i) d[1 + i] = std::uint8_t(s[i] - s[i - row]);
+                const std::uint8_t* up = s - row;  // the row above
+                for (std::size_t i = 0; i < row; ++i) d[1 + i] = std::uint8_t(s[i] - up[i]);
             }
         }
     }
