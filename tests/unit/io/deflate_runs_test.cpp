@@ -67,7 +67,10 @@ TEST(DeflateRuns, InflatesBackOnEveryKindOfInput) {
     std::vector<std::uint8_t> rows(150000);
     for (std::size_t i = 0; i < rows.size(); ++i) {
         // Filtered-row-like residuals with flat stretches: literals and runs of every length.
-        rows[i] = (i / 1000) % 3 == 0 ? std::uint8_t(i / 3000) : std::uint8_t(residual(rng));
+        // A negative residual wraps modulo 256, as a filtered byte does (through int: a float
+        // out of the byte's range has no defined conversion).
+        const int r = int(std::lround(residual(rng)));
+        rows[i] = (i / 1000) % 3 == 0 ? std::uint8_t(i / 3000) : std::uint8_t(r);
     }
     expect_round_trip(rows, "residuals and runs");
     // Byte b about 1.6^-b as often: Huffman's lengths pass the 12-bit limit and are folded.
