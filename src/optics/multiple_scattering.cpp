@@ -220,15 +220,22 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
     // With a tail: each path's start and total, to split the bright ones once the mean is known.
     thread_local std::vector<Rng> starts;
     thread_local std::vector<Rgb> totals;
+    // Filled path by path, not assigned whole: at the most paths they are hundreds of MB, whose
+    // first touch would keep a stop waiting.
     if (tail) {
-        starts.assign(std::size_t(mc.paths), rng);
-        totals.assign(std::size_t(mc.paths), Rgb());
+        starts.clear();
+        totals.clear();
+        starts.reserve(std::size_t(mc.paths));
+        totals.reserve(std::size_t(mc.paths));
     }
     for (int i = 0; i < mc.paths; ++i) {
         throw_if_stopped(stop);
-        if (tail) starts[std::size_t(i)] = rng;
+        if (tail) starts.push_back(rng);
         const std::size_t k0 = trace(i, rng);
-        if (k0 >= nk) continue;
+        if (k0 >= nk) {
+            if (tail) totals.push_back(Rgb());
+            continue;
+        }
         // This path's cumulative value at every sample from k0 on; its square for the errors.
         Rgb run;
         for (std::size_t k = k0; k < nk; ++k) {
@@ -236,7 +243,7 @@ Estimate higher_orders_cumulative(const Transport& tr, const Vec3& origin, const
             s1[k] += run;
             s2[k] += run * run;
         }
-        if (tail) totals[std::size_t(i)] = run;
+        if (tail) totals.push_back(run);
     }
     if (tail) {
         // The threshold per channel, then each path above it traced again (the same stream)
