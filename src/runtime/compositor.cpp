@@ -172,8 +172,9 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
                         float(m_water.forward.G.b)};
 
     // Row v of the image from its planar depth z (open water 0), distance d2 and surface
-    // radiance L: final = B + D + F, added in that order whatever the layer set, so that every
-    // set gives the same final bit for bit.
+    // radiance L: final = B + D + F, added in that order whatever the layer set, so that on the
+    // exact path every set gives the same final bit for bit (the image alone with the bounded
+    // approximations on is within one code of it: docs/runtime.md, "Bounded approximations").
     auto finish = [&](RowScratch& s, int v, const float* z, const float* d2, const float* L) {
         float* out = rows ? s.out.data() : dst.final.row(v);
         m_backscatter.backscatter_row(v, W, z, out);
