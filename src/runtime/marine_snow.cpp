@@ -75,8 +75,32 @@ void validate(const SnowSettings& s) {
                           "must be in (0, 10000] frames per second (0: not given)");
 }
 
+namespace {
+
+/// Cell (i, j, k)'s particles from its random numbers (keyed by `base` and the cell): a Poisson
+/// count, then per particle its own stream's first three numbers (the place) and fourth (the
+/// size spectrum's quantile).
+void generate_cell(std::uint64_t base, long long i, long long j, long long k, double cell,
+                   double lambda, std::vector<CellParticle>& out) {
+    const std::uint64_t key = mix_seed(base, pack(i, j, k));
+    Rng rng(key);
+    const int n = poisson(lambda, rng);
+    out.resize(std::size_t(n));
+    for (int q = 0; q < n; ++q) {
+        Rng pr(mix_seed(key, std::uint64_t(q) + 1));
+        CellParticle& c = out[std::size_t(q)];
+        // (three statements: the numbers in the order x, y, z)
+        c.x = (double(i) + pr.uniform()) * cell;
+        c.y = (double(j) + pr.uniform()) * cell;
+        c.z = (double(k) + pr.uniform()) * cell;
+        c.q = pr.uniform();
+    }
+}
+
+}  // namespace
+
 void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_key,
-                const std::optional<CameraPose>& pose, const Image* zdepth, SnowSlabs& slabs,
+                const std::optional<CameraPose>& pose, const Image* zdepth, SnowPlacing& placing,
                 std::vector<SnowParticle>& all) {
     const Snow& snow = s.snow;
     const View v{cam.ray_x(-0.5), cam.ray_x(cam.width - 0.5),
@@ -88,6 +112,18 @@ void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_ke
         mix_seed(s.seed ^ kSnowStream, pose ? 0x706f736564ull : frame_key, pose ? 1 : 2);
     const double cell = std::min(kMaxCell, std::cbrt(kMaxPerCell / snow.concentration));
     const double lambda = snow.concentration * cell * cell * cell;
+    // With a pose the cells are the world's and keep their particles from frame to frame;
+    // kept cells made with another key or edge are not these.
+    const bool keep = pose.has_value();
+    if (!keep || placing.base != base || placing.cell != cell) {
+        placing.index.clear();
+        placing.free.clear();
+        for (std::size_t slot = 0; slot < placing.slots.size(); ++slot)
+            placing.free.push_back(std::uint32_t(slot));
+        placing.base = base;
+        placing.cell = cell;
+    }
+    const std::uint32_t frame = ++placing.frame;
 
     // The world box of the view's corners, in cells.
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
@@ -110,25 +146,43 @@ void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_ke
 
     const SnowSizes sizes(snow);
     // One list per slab of cells (i), joined in order: the same particles at any thread count.
-    slabs.resize(std::size_t(i1 - i0 + 1));
+    const std::size_t nslabs = std::size_t(i1 - i0 + 1);
+    std::vector<std::vector<SnowParticle>>& slabs = placing.slabs;
+    slabs.resize(nslabs);
+    if (placing.fresh.size() < nslabs) placing.fresh.resize(nslabs);
+    if (placing.fresh_keys.size() < nslabs) placing.fresh_keys.resize(nslabs);
+    std::vector<std::size_t> made(nslabs, 0);  // per slab: cells generated this frame
     tbb::parallel_for(tbb::blocked_range<long long>(i0, i1 + 1), [&](const auto& range) {
         for (long long i = range.begin(); i != range.end(); ++i) {
-            std::vector<SnowParticle>& out = slabs[std::size_t(i - i0)];
+            const std::size_t b = std::size_t(i - i0);
+            std::vector<SnowParticle>& out = slabs[b];
+            std::vector<std::vector<CellParticle>>& fresh = placing.fresh[b];
+            std::vector<CellKey>& fresh_keys = placing.fresh_keys[b];
             out.clear();
+            fresh_keys.clear();
+            std::size_t nf = 0;
             for (long long j = j0; j <= j1; ++j)
                 for (long long k = k0; k <= k1; ++k) {
                     const Vec3 centre{(double(i) + 0.5) * cell, (double(j) + 0.5) * cell,
                                       (double(k) + 0.5) * cell};
                     if (!may_meet(v, to_camera(p, centre), r)) continue;
-                    const std::uint64_t key = mix_seed(base, pack(i, j, k));
-                    Rng rng(key);
-                    const int n = poisson(lambda, rng);
-                    for (int q = 0; q < n; ++q) {
-                        Rng pr(mix_seed(key, std::uint64_t(q) + 1));
-                        const Vec3 w{(double(i) + pr.uniform()) * cell,
-                                     (double(j) + pr.uniform()) * cell,
-                                     (double(k) + pr.uniform()) * cell};
-                        const Vec3 c = to_camera(p, w);
+                    // (the index is only read here; cells made now join it after the slabs)
+                    const std::vector<CellParticle>* cp = nullptr;
+                    if (keep) {
+                        const auto it = placing.index.find(CellKey{i, j, k});
+                        if (it != placing.index.end()) {
+                            placing.last_used[it->second] = frame;  // each slot one cell's
+                            cp = &placing.slots[it->second];
+                        }
+                    }
+                    if (!cp) {
+                        if (fresh.size() <= nf) fresh.resize(nf + 1);
+                        generate_cell(base, i, j, k, cell, lambda, fresh[nf]);
+                        if (keep) fresh_keys.push_back(CellKey{i, j, k});
+                        cp = &fresh[nf++];
+                    }
+                    for (const CellParticle& cq : *cp) {
+                        const Vec3 c = to_camera(p, Vec3{cq.x, cq.y, cq.z});
                         if (!(c.z >= v.z0 && c.z <= v.z1)) continue;
                         const double x = c.x / c.z, y = c.y / c.z;
                         if (x < v.xl || x >= v.xr || y < v.yt || y >= v.yb) continue;
@@ -144,11 +198,11 @@ void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_ke
                                 continue;
                             }
                         }
-                        // the stream's fourth number, drawn for particles in view only: the
-                        // quantile, made a diameter below
-                        out.push_back({c, pr.uniform(), 0});
+                        // the quantile, made a diameter below for particles in view only
+                        out.push_back({c, cq.q, 0});
                     }
                 }
+            made[b] = nf;
             // The slab's sizes in rows (vectorised, snow_diameters).
             thread_local std::vector<double> qs;
             qs.clear();
@@ -159,6 +213,33 @@ void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_ke
             for (SnowParticle& pt : out) pt.diameter = pt.diameter >= 0.0 ? qs[m++] : 0.0;
         }
     });
+    if (keep) {
+        // Cells the view no longer meets give their slots up; those made now take slots (their
+        // particles' memory swapped in, the slot's old memory left for the next cells made).
+        for (auto it = placing.index.begin(); it != placing.index.end();) {
+            if (placing.last_used[it->second] != frame) {
+                placing.free.push_back(it->second);
+                it = placing.index.erase(it);
+            } else {
+                ++it;
+            }
+        }
+        for (std::size_t b = 0; b < nslabs; ++b)
+            for (std::size_t f = 0; f < made[b]; ++f) {
+                std::uint32_t slot;
+                if (!placing.free.empty()) {
+                    slot = placing.free.back();
+                    placing.free.pop_back();
+                } else {
+                    slot = std::uint32_t(placing.slots.size());
+                    placing.slots.emplace_back();
+                    placing.last_used.push_back(0);
+                }
+                placing.slots[slot].swap(placing.fresh[b][f]);
+                placing.last_used[slot] = frame;
+                placing.index.emplace(placing.fresh_keys[b][f], slot);
+            }
+    }
     // Joined in parallel: each slab's particles after the slabs before, ids 1, 2, ... in order.
     std::vector<std::size_t> at(slabs.size() + 1, 0);
     for (std::size_t b = 0; b < slabs.size(); ++b) at[b + 1] = at[b] + slabs[b].size();
@@ -174,9 +255,9 @@ void place_snow(const SnowSettings& s, const Camera& cam, std::uint64_t frame_ke
 std::vector<SnowParticle> snow_particles(const SnowSettings& s, const Camera& cam,
                                          std::uint64_t frame_key,
                                          const std::optional<CameraPose>& pose) {
-    SnowSlabs slabs;
+    SnowPlacing placing;
     std::vector<SnowParticle> all;
-    place_snow(s, cam, frame_key, pose, nullptr, slabs, all);
+    place_snow(s, cam, frame_key, pose, nullptr, placing, all);
     return all;
 }
 

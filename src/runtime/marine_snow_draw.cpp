@@ -302,7 +302,7 @@ void set_streak(Splat& s, const Camera& cam, const CameraPose& pose, const Shutt
 
 /// MarineSnow::draw's buffers, kept from frame to frame.
 struct SnowScratch {
-    SnowSlabs slabs;
+    SnowPlacing placing;
     std::vector<SnowParticle> particles;
     std::vector<Splat> splats;
     std::vector<float> rows;  ///< the particles as float rows (snow_light.h)
@@ -337,7 +337,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                       Image* ids) const {
     SnowScratch& sc = m_scratch.get();
     // Particles behind the surface at their pixel are placed unsized (diameter 0) and drawn not.
-    place_snow(m_settings, cam, m_key, m_pose, &zdepth, sc.slabs, sc.particles);
+    place_snow(m_settings, cam, m_key, m_pose, &zdepth, sc.placing, sc.particles);
     const std::vector<SnowParticle>& particles = sc.particles;
     const ThinLens lens{cam.fx, m_settings.pixel_pitch_um, m_settings.f_number,
                         m_settings.focus_distance_m};

@@ -1,12 +1,14 @@
 // Marine snow's float rows and drawing (runtime/snow_light.h, marine_snow_draw.cpp): the rows
 // against optics' particle_radiance in double for every kind of lamp profile and phase
-// function, a sub-pixel particle's bilinear weights, and the same image at any thread count.
+// function, a sub-pixel particle's bilinear weights, the same image at any thread count, and
+// the same image from the cells kept across a flight as from a fresh start.
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -154,6 +156,43 @@ TEST(MarineSnowDraw, SameImageAtAnyThreadCount) {
     double sum = 0.0;
     for (float f : one[1].data) sum += f;
     EXPECT_GT(sum, 0.0);
+}
+
+// With a pose the placing keeps each cell's particles while the view meets it: along a flight
+// (moving, turning, jumping away and back, a frame without a pose between) every frame's
+// image, snow layer and ids are those of a MarineSnow made for that frame alone.
+TEST(MarineSnowDraw, KeptCellsGiveAFreshStartsImage) {
+    const Camera cam = testing::snow_camera();
+    SnowSettings s;
+    s.snow = snow_preset("plume");
+    const Rig rig = testing::snow_lamps(false);
+    MarineSnow kept(s, rig, testing::snow_water());
+    const Image depth = testing::slanted_floor(cam, 3.0);
+    const auto draw = [&](const MarineSnow& snow) {
+        std::vector<Image> out{Image(cam.width, cam.height, 3), Image(cam.width, cam.height, 3),
+                               Image(cam.width, cam.height, 1)};
+        snow.draw(cam, depth, out[0], &out[1], &out[2]);
+        return out;
+    };
+    const auto pose = [](double x, double yaw) {
+        CameraPose p;
+        p.origin = {x, 0.3 * x, -0.2 * x};
+        p.right = {std::cos(yaw), 0.0, -std::sin(yaw)};
+        p.forward = {std::sin(yaw), 0.0, std::cos(yaw)};
+        return p;
+    };
+    const std::vector<std::optional<CameraPose>> flight{
+        pose(0.0, 0.0),  pose(0.1, 0.0),  pose(0.25, 0.05), pose(0.4, 0.3), std::nullopt,
+        pose(0.45, 0.3), pose(40.0, 1.0), pose(0.5, 0.3),   pose(0.5, 0.3)};
+    for (std::size_t f = 0; f < flight.size(); ++f) {
+        kept.set_frame(f, flight[f]);
+        MarineSnow fresh(s, rig, testing::snow_water());
+        fresh.set_frame(f, flight[f]);
+        const auto a = draw(kept), b = draw(fresh);
+        EXPECT_GT(kept.drawn(), 100) << f;
+        EXPECT_EQ(kept.drawn(), fresh.drawn()) << f;
+        for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].data, b[i].data) << f << " " << i;
+    }
 }
 
 }  // namespace deepsea
