@@ -13,8 +13,11 @@
 #include "deepsea/runtime/marine_snow.h"
 #include "deepsea/runtime/snow_light.h"
 #include "snow_place.h"
+#include "snow_splat.h"
 
 namespace deepsea {
+
+using namespace snow_splat;
 
 namespace {
 
@@ -28,107 +31,6 @@ constexpr int kBandRows = 16;
 constexpr double kStreakNearM = 0.01;
 /// Columns a sub-pixel streak's row may touch at most: kMaxSnowStreakPx and its reach.
 constexpr int kRowBuffer = int(kMaxSnowStreakPx) + 8;
-
-/// A particle as drawn: pixel centre, disc radius (0.5: a bilinear splat into four pixels),
-/// planar depth, the light it brings (radiance times its image's area in pixels, per channel)
-/// and the disc's coverage normaliser.
-struct Splat {
-    float u, v, radius, z;
-    float energy[3];
-    float inv_cover;
-    int ua, va, vb;    ///< first column, rows touched
-    int ba, bb;        ///< bands touched (on the image)
-    bool dot;          ///< a still sub-pixel particle: a bilinear splat into four pixels
-    std::uint32_t id;  ///< 0: not drawn
-    /// A streak (len > 0): the disc swept from (ax, ay) along the unit (dx, dy) for len
-    /// pixels, reaching rh pixels from the segment; a sub-pixel particle's as n bilinear
-    /// splats at the midpoints of n equal steps.
-    float ax, ay, dx, dy, len, rh;
-    int n;
-};
-
-bool open_water(float z) { return !(z > 0.0f) || !std::isfinite(z); }
-
-/// Coverage of pixel (x, y) by a disc of radius R centred at (u, v): linear over the last
-/// pixel.
-inline float coverage(float u, float v, float R, int x, int y) {
-    const float dx = float(x) - u, dy = float(y) - v;
-    return std::clamp(R + 0.5f - std::sqrt(dx * dx + dy * dy), 0.0f, 1.0f);
-}
-
-/// Where a disc is drawn: every pixel it touches, also off the image (so that an edge
-/// particle loses what falls outside).
-struct Window {
-    int ua, ub, va, vb;
-};
-
-inline Window window(const Splat& s) {
-    if (s.len > 0.0f) {
-        const float bx = s.ax + s.len * s.dx, by = s.ay + s.len * s.dy;
-        return {ifloor(std::min(s.ax, bx) - s.rh), iceil(std::max(s.ax, bx) + s.rh),
-                ifloor(std::min(s.ay, by) - s.rh), iceil(std::max(s.ay, by) + s.rh)};
-    }
-    if (s.radius <= 0.5f) {
-        const int x0 = ifloor(s.u), y0 = ifloor(s.v);
-        return {x0, x0 + 1, y0, y0 + 1};
-    }
-    const float R = s.radius;
-    return {ifloor(s.u - R - 0.5f), iceil(s.u + R + 0.5f), ifloor(s.v - R - 0.5f),
-            iceil(s.v + R + 0.5f)};
-}
-
-/// Integral over s in [0, x] (x >= 0) of the still disc's coverage (coverage(): radius R, linear
-/// over the last pixel) along a line at distance h from its centre; ri2 = (R - 1/2)^2 - h^2,
-/// ro = R + 1/2, so = sqrt(ro^2 - h^2) > 0.
-inline float cover_integral(float x, float h2, float ri2, float ro, float so) {
-    const float si = ri2 > 0.0f ? std::sqrt(ri2) : 0.0f;
-    x = std::min(x, so);
-    if (x <= si) return x;
-    // Beyond si the coverage is ro - sqrt(h^2 + s^2): its integral from si to x.
-    const float r = std::sqrt(h2 + x * x), r_in = std::sqrt(h2 + si * si);
-    const float log_term = h2 > 1e-12f ? h2 * std::log((x + r) / (si + r_in)) : 0.0f;
-    return si + ro * (x - si) - 0.5f * (x * r - si * r_in + log_term);
-}
-
-/// Weight of pixel (x, y) under a streak of a disc wider than a pixel: the still disc's coverage
-/// of the pixel's centre integrated along the segment, that is the exposure time it covers it
-/// (in pixels of travel).
-inline float sweep(const Splat& s, int x, int y) {
-    const float px = float(x) - s.ax, py = float(y) - s.ay;
-    const float along = px * s.dx + py * s.dy, across = px * s.dy - py * s.dx;
-    const float h2 = across * across, ro = s.radius + 0.5f, so2 = ro * ro - h2;
-    if (!(so2 > 0.0f)) return 0.0f;
-    const float ri = s.radius - 0.5f, ri2 = ri * ri - h2, so = std::sqrt(so2);
-    // The coverage is even in s: the integral over [along - len, along] of it.
-    const auto G = [&](float t) {
-        const float g = cover_integral(std::fabs(t), h2, ri2, ro, so);
-        return t < 0.0f ? -g : g;
-    };
-    return std::max(0.0f, G(along) - G(along - s.len));
-}
-
-/// The part of a streak's segment within rh of row y: parameters [t0, t1] along it and the
-/// columns [ca, cb] it may touch (widened by rh); none when t0 > t1.
-struct RowSpan {
-    float t0, t1;
-    int ca, cb;
-};
-
-inline RowSpan row_span(const Splat& s, int y) {
-    float t0 = 0.0f, t1 = s.len;
-    const float ry = float(y) - s.ay;
-    if (std::fabs(s.dy) > 1e-6f) {
-        float ta = (ry - s.rh) / s.dy, tb = (ry + s.rh) / s.dy;
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-        if (t0 > t1) return {1.0f, 0.0f, 1, 0};
-    } else if (std::fabs(ry) > s.rh) {
-        return {1.0f, 0.0f, 1, 0};
-    }
-    const float xa = s.ax + t0 * s.dx, xb = s.ax + t1 * s.dx;
-    return {t0, t1, ifloor(std::min(xa, xb) - s.rh), iceil(std::max(xa, xb) + s.rh)};
-}
 
 /// The frame's outputs, shared by the bands (each writes only its rows).
 struct Target {
@@ -177,7 +79,8 @@ struct Target {
 
     /// draw() of a still sub-pixel splat (s.dot) into `final` alone: the same steps and sums,
     /// its window's two columns and rows written out.
-    void dot(const Splat& s, int y0, int y1) const {
+    template <class S>
+    void dot(const S& s, int y0, int y1) const {
         const int xa = s.ua, ya = s.va;
         const float fu = s.u - float(xa), fv = s.v - float(ya);
         const int ylo = std::max(std::max(y0, ya), 0), yhi = std::min(std::min(y1, ya + 1), H - 1);
@@ -192,7 +95,8 @@ struct Target {
     }
     /// add() for `final` alone (a surface nearer than the particle: z > 0 and z <= s.z, s.z
     /// being finite, is add()'s test).
-    static void put(const Splat& s, float* f, float z, float wt) {
+    template <class S>
+    static void put(const S& s, float* f, float z, float wt) {
         if (!(wt > 0.0f) || (z > 0.0f && z <= s.z)) return;
         f[0] += s.energy[0] * wt;
         f[1] += s.energy[1] * wt;
@@ -308,6 +212,7 @@ struct SnowScratch {
     std::vector<float> rows;  ///< the particles as float rows (snow_light.h)
     std::vector<float> best;  ///< per pixel, the largest contribution so far
     std::vector<std::uint32_t> at, start, order;
+    std::vector<DotEntry> entries;  ///< the bands' entries where only `final` is drawn
     std::vector<int> off_drawn, band_drawn;
     std::vector<float> sinks;
 };
@@ -454,23 +359,37 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         }
         sc.start[b + 1] = next;
     }
-    fit(sc.order, sc.start.back());
-    std::uint32_t* const order = sc.order.data();
+    // Where neither the snow layer nor the ids are asked for, still sub-pixel particles take
+    // the short path (Target::dot), their fields copied into the bands' entries.
+    const bool final_only = !snow && !ids;
+    std::uint32_t* order = nullptr;
+    DotEntry* entries = nullptr;
+    if (final_only) {
+        fit(sc.entries, sc.start.back());
+        entries = sc.entries.data();
+    } else {
+        fit(sc.order, sc.start.back());
+        order = sc.order.data();
+    }
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
         std::uint32_t* fill = at + k * nb;
         for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
             const Splat& s = splats[q];
             if (s.id == 0 || off_image(s)) continue;
-            for (int b = s.ba; b <= s.bb; ++b) order[fill[b]++] = std::uint32_t(q);
+            if (!final_only) {
+                for (int b = s.ba; b <= s.bb; ++b) order[fill[b]++] = std::uint32_t(q);
+                continue;
+            }
+            const DotEntry e =
+                s.dot ? DotEntry{s.u, s.v, s.z, {s.energy[0], s.energy[1], s.energy[2]}, s.ua, s.va}
+                      : DotEntry{0.0f, 0.0f, -1.0f, {0.0f, 0.0f, 0.0f}, int(q), 0};
+            for (int b = s.ba; b <= s.bb; ++b) entries[fill[b]++] = e;
         }
     });
     int drawn = 0;  // (counted per band below, at each particle's first band)
     for (const int c : sc.off_drawn) drawn += c;
     sc.band_drawn.assign(nb, 0);
     sc.sinks.assign(nb, 0.0f);
-    // Where neither the snow layer nor the ids are asked for, still sub-pixel particles take
-    // the short path (Target::dot).
-    const bool final_only = !snow && !ids;
 
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
         for (int b = range.begin(); b != range.end(); ++b) {
@@ -481,12 +400,15 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                 sc.sinks[std::size_t(b)] = target.warm(y0, y1, true);
             int count = 0;
             for (std::uint32_t i = i0; i < i1; ++i) {
-                const Splat& s = splats[order[i]];
+                if (final_only && entries[i].z > 0.0f) {
+                    const DotEntry& e = entries[i];
+                    count += std::max(e.va, 0) / kBandRows == b ? 1 : 0;  // its first band
+                    target.dot(e, y0, y1);
+                    continue;
+                }
+                const Splat& s = splats[final_only ? std::uint32_t(entries[i].ua) : order[i]];
                 count += s.ba == b ? 1 : 0;
-                if (final_only && s.dot)
-                    target.dot(s, y0, y1);
-                else
-                    target.draw(s, y0, y1);
+                target.draw(s, y0, y1);
             }
             sc.band_drawn[std::size_t(b)] = count;
         }

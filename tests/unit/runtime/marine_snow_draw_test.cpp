@@ -1,7 +1,8 @@
 // Marine snow's float rows and drawing (runtime/snow_light.h, marine_snow_draw.cpp): the rows
 // against optics' particle_radiance in double for every kind of lamp profile and phase
 // function, a sub-pixel particle's bilinear weights, the same image at any thread count, and
-// the same image from the cells kept across a flight as from a fresh start.
+// the same image from the cells kept across a flight as from a fresh start, and `final` drawn
+// alone (the bands' compact entries) the same as with the other layers.
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -192,6 +193,30 @@ TEST(MarineSnowDraw, KeptCellsGiveAFreshStartsImage) {
         EXPECT_GT(kept.drawn(), 100) << f;
         EXPECT_EQ(kept.drawn(), fresh.drawn()) << f;
         for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].data, b[i].data) << f << " " << i;
+    }
+}
+
+// Drawn alone, `final` takes the sub-pixel particles from the bands' compact entries and the
+// discs from their records, in the same order as with the snow layer and ids: the same bits,
+// with large soft discs among the splats and across the bands' edges.
+TEST(MarineSnowDraw, FinalAloneIsTheFinalDrawnWithTheLayers) {
+    const Camera cam = testing::snow_camera();
+    SnowSettings s;
+    s.snow = snow_preset("plume");
+    s.focus_distance_m = 1.5;
+    s.f_number = 1.4;
+    MarineSnow snow(s, testing::snow_lamps(true), testing::snow_water());
+    const Image depth = testing::slanted_floor(cam, 3.0);
+    for (std::uint64_t key = 0; key < 3; ++key) {
+        snow.set_frame(key, std::nullopt);
+        Image alone(cam.width, cam.height, 3), with(cam.width, cam.height, 3),
+            layer(cam.width, cam.height, 3), ids(cam.width, cam.height, 1);
+        snow.draw(cam, depth, alone, nullptr, nullptr);
+        const int drawn = snow.drawn();
+        snow.draw(cam, depth, with, &layer, &ids);
+        EXPECT_GT(drawn, 1000);
+        EXPECT_EQ(drawn, snow.drawn());
+        EXPECT_EQ(alone.data, with.data) << key;
     }
 }
 
