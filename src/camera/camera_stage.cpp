@@ -220,6 +220,9 @@ struct CameraStage::Recording {
         sp.poisson_below = float(poisson_below(s.dark_noise));
         sp.noise = s.noise;
         sp.keep_linear = layers.linear_dn;
+        // The chunk's raw DN are read by the raw layer, the meter, and the processing where
+        // the sensor's loop does not make the image (then it stores them whatever this says).
+        sp.keep_raw = keep_raw || layers.meter;
         sp.shot_key = temporal_key(s.seed, frame_key, NoiseStream::Shot);
         sp.read_key = temporal_key(s.seed, frame_key, NoiseStream::Read);
         for (int c = 0; c < 3; ++c) resp[c] = float(st.electrons_per_radiance(c, 1.0));

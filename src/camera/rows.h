@@ -64,6 +64,10 @@ struct SensorParams {
     float poisson_below = float(kGaussianShotNoiseFrom);
     bool noise = true;
     bool keep_linear = false;  ///< fill RowBuffers::linear (else it is not touched)
+    /// Fill RowBuffers::raw for every value. False: where the image is made in the sensor's
+    /// loop (RowBuffers::lut or code_lut), only the exact path's values (what the image's
+    /// fix-up reads); the others are not touched.
+    bool keep_raw = true;
     NoiseKey shot_key, read_key;
 };
 

@@ -79,8 +79,10 @@ __attribute__((target("avx2,fma"), always_inline)) inline void store(float* q, _
 /// 8 values from i on (kMasked: the `mask`ed ones, for a chunk's last values); returns the
 /// exact path's flags as the low 8 bits. kLinear: also store the linear DN (the clone of
 /// noisy_values<true, false>, whose skewness term GCC associates differently from
-/// noisy_values<false, false>'s).
-template <bool kLinear, Show kShow, bool kMasked>
+/// noisy_values<false, false>'s). kPoisson: flag means below SensorParams::poisson_below (where
+/// it is 0, as for a read noise of 2 e- or more, no mean lies below it: the test would flag
+/// nothing). kRaw: store every value's raw DN (else exact_values writes the exact path's alone).
+template <bool kLinear, Show kShow, bool kPoisson, bool kRaw, bool kMasked>
 __attribute__((target("avx2,fma"), always_inline)) inline int eight(const Params& p,
                                                                     const Arrays& a, int i,
                                                                     __m256i mask, int left) {
@@ -118,7 +120,7 @@ __attribute__((target("avx2,fma"), always_inline)) inline int eight(const Params
         dn = _mm256_fmadd_ps(e, p.K, p.black_half);  // + 0.5 folded, as GCC's
     }
     dn = _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(dn), zero), p.max_dn);
-    store<kMasked>(a.raw + i, mask, dn);
+    if constexpr (kRaw) store<kMasked>(a.raw + i, mask, dn);
     if constexpr (kShow != Show::None) {  // the table's entry 3 dn + c (lookup_row)
         const __m256i d = _mm256_cvttps_epi32(dn);
         const __m256i at =
@@ -135,8 +137,10 @@ __attribute__((target("avx2,fma"), always_inline)) inline int eight(const Params
             read_codes(a.code_lut, at, a.codes + i, kMasked ? left : 8);
         }
     }
-    const __m256 poisson = _mm256_cmp_ps(mean, p.poisson_below, _CMP_LT_OS);
-    const int flags = _mm256_movemask_ps(_mm256_or_ps(poisson, clip));
+    __m256 exact = clip;
+    if constexpr (kPoisson)
+        exact = _mm256_or_ps(exact, _mm256_cmp_ps(mean, p.poisson_below, _CMP_LT_OS));
+    const int flags = _mm256_movemask_ps(exact);
     if (flags) store<kMasked>(a.mean + i, mask, mean);  // the exact path reads these only
     return flags;
 }
@@ -149,7 +153,7 @@ inline void append(int bits, int i, std::int32_t* index, int& m) {
     }
 }
 
-template <bool kLinear, Show kShow>
+template <bool kLinear, Show kShow, bool kPoisson, bool kRaw>
 __attribute__((target("avx2,fma"))) int gaussian_values(const SensorParams& p, int n,
                                                         const RowBuffers& b) {
     const Params q = broadcast(p);
@@ -158,21 +162,34 @@ __attribute__((target("avx2,fma"))) int gaussian_values(const SensorParams& p, i
     std::int32_t* index = b.index;
     int m = 0, i = 0;
     for (; i + 8 <= n; i += 8)
-        if (const int bits = eight<kLinear, kShow, false>(q, a, i, __m256i(), 8))
+        if (const int bits = eight<kLinear, kShow, kPoisson, kRaw, false>(q, a, i, __m256i(), 8))
             append(bits, i, index, m);
     if (i < n) {
         const __m256i mask =
             _mm256_cmpgt_epi32(_mm256_set1_epi32(n - i), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-        append(eight<kLinear, kShow, true>(q, a, i, mask, n - i) & ((1 << (n - i)) - 1), i, index,
-               m);
+        append(eight<kLinear, kShow, kPoisson, kRaw, true>(q, a, i, mask, n - i) &
+                   ((1 << (n - i)) - 1),
+               i, index, m);
     }
     return m;
 }
 
+template <Show kShow, bool kPoisson, bool kRaw>
+int with_linear(const SensorParams& p, int n, const RowBuffers& b) {
+    return p.keep_linear ? gaussian_values<true, kShow, kPoisson, kRaw>(p, n, b)
+                         : gaussian_values<false, kShow, kPoisson, kRaw>(p, n, b);
+}
+
+template <Show kShow, bool kRaw>
+int with_poisson(const SensorParams& p, int n, const RowBuffers& b) {
+    return p.poisson_below > 0.0f ? with_linear<kShow, true, kRaw>(p, n, b)
+                                  : with_linear<kShow, false, kRaw>(p, n, b);
+}
+
+/// The loop for the image it makes in the loop, every raw DN stored unless !p.keep_raw.
 template <Show kShow>
-int gaussian_values_show(const SensorParams& p, int n, const RowBuffers& b) {
-    return p.keep_linear ? gaussian_values<true, kShow>(p, n, b)
-                         : gaussian_values<false, kShow>(p, n, b);
+int with_show(const SensorParams& p, int n, const RowBuffers& b) {
+    return p.keep_raw ? with_poisson<kShow, true>(p, n, b) : with_poisson<kShow, false>(p, n, b);
 }
 
 }  // namespace
@@ -180,9 +197,9 @@ int gaussian_values_show(const SensorParams& p, int n, const RowBuffers& b) {
 const bool kSensorAvx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 
 int gaussian_values_avx2(const SensorParams& p, int n, const RowBuffers& b) {
-    if (b.shown) return gaussian_values_show<Show::Display>(p, n, b);
-    if (b.codes) return gaussian_values_show<Show::Codes>(p, n, b);
-    return gaussian_values_show<Show::None>(p, n, b);
+    if (b.shown) return with_show<Show::Display>(p, n, b);
+    if (b.codes) return with_show<Show::Codes>(p, n, b);
+    return with_poisson<Show::None, true>(p, n, b);  // the image is made from the raw DN
 }
 
 #else

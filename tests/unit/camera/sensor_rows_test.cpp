@@ -1,8 +1,8 @@
 // The sensor kernel's rows (rows.h's sensor_row; with AVX2 and FMA, sensor_avx2.cpp): a value's
 // DN does not depend on where the radiance lies in memory or on how long the chunk is; the image
 // the kernel makes in its loop is the frame's table read at the DN it returns (the exact path's
-// values too); the Gaussian path's DN are those of the noise model in double; brightest_row
-// gives each pixel its histogram counter.
+// values too), and the same without the raw DN kept; the Gaussian path's DN are those of the
+// noise model in double; brightest_row gives each pixel its histogram counter.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -120,6 +120,54 @@ TEST(SensorRows, ImageMadeInTheLoopIsTheTableAtTheReturnedDn) {
             }
             EXPECT_GT(clipped, 0);  // values near the full well (the exact path) were checked
             EXPECT_GT(dark, 0);
+        }
+    }
+}
+
+TEST(SensorRows, WithoutRawDnTheImageIsTheSame) {
+    // SensorParams::keep_raw false (the image made in the loop, no raw layer or meter): the
+    // same display values and codes; the raw DN written are the exact path's alone, the same.
+    if (!camera_rows::kSensorAvx2) GTEST_SKIP() << "the image is made in the loop with AVX2 only";
+    std::vector<float> lut(3 * 4096);
+    std::vector<std::uint8_t> code_lut(lut.size());
+    for (std::size_t k = 0; k < lut.size(); ++k) {
+        lut[k] = float(double(k) / double(lut.size()));
+        code_lut[k] = std::uint8_t(k * 5 % 256);
+    }
+    for (const float read_noise : {1.5f, 2.5f}) {  // with and without the Poisson path
+        for (const int n : {kChunk, 225}) {
+            for (const bool codes : {false, true}) {
+                camera_rows::SensorParams p = sensor(read_noise);
+                Chunk all, part;
+                for (const Chunk* c : {&all, &part}) {
+                    fill(*c);
+                    std::fill(c->at(8), c->at(8) + kChunk, -1.0f);  // raw: not written
+                    camera_rows::RowBuffers b = c->rows(c->radiance + 1);
+                    if (codes) {
+                        b.code_lut = code_lut.data();
+                        b.codes = c->codes;
+                    } else {
+                        b.lut = lut.data();
+                        b.shown = c->shown;
+                    }
+                    p.keep_raw = c == &all;
+                    camera_rows::sensor_row(p, 901, n, b);
+                }
+                const std::size_t bytes = std::size_t(n) * (codes ? 1 : sizeof(float));
+                EXPECT_EQ(
+                    std::memcmp(codes ? static_cast<const void*>(all.codes) : all.shown,
+                                codes ? static_cast<const void*>(part.codes) : part.shown, bytes),
+                    0)
+                    << read_noise << " " << n << " " << codes;
+                int written = 0;
+                for (int i = 0; i < n; ++i) {
+                    if (part.raw()[i] < 0.0f) continue;
+                    ASSERT_EQ(part.raw()[i], all.raw()[i]) << read_noise << " " << n << " " << i;
+                    ++written;
+                }
+                EXPECT_GT(written, 0);  // the exact path's values (near the full well)
+                EXPECT_LT(written, n);  // and not the others
+            }
         }
     }
 }
