@@ -16,9 +16,10 @@ The table is Monte Carlo too (paths along the axis scored at 80 plane depths, li
 between them). The surface radiance L_s: from the direct lamp light at the plane (Gaussian
 RIDs, inverse square, incidence cosine, exp(-c R); no scattered lamp light), or from an EXR
 render with --layers of the same scene on a frame with the same fx centred on the same axis
-(direct / transmission), given as the third argument, or uniform (`uniform`).
+(direct / transmission), given as the third argument, or uniform (`uniform`). `bins8`: the
+lamps' direct light at the centres of the lower-right quadrant's 8x8 bins instead of the pixels.
 
-    /usr/bin/python3 tools/reference/oblique_forward.py PATHS [SCENE [WIDE.exr | uniform]]
+    /usr/bin/python3 tools/reference/oblique_forward.py PATHS [SCENE [WIDE.exr|uniform|bins8]]
 """
 import sys
 
@@ -115,10 +116,17 @@ def lamp_radiance(u, v):
 
 def main():
     n = int(sys.argv[1])
+    pixels = PIXELS
+    if len(sys.argv) > 3 and sys.argv[3] == "bins8":
+        # the centres of the 8x8 bins of the lower-right quadrant (the rigs are mirror-symmetric
+        # in green about the image's vertical axis; the two spots also about its horizontal)
+        cx, cy = 0.5 * (WIDTH - 1), 0.5 * (HEIGHT - 1)
+        pixels = [(cx + 4 + 8 * i, cy + 4 + 8 * j) for j in range(HEIGHT // 16)
+                  for i in range(WIDTH // 16)]
     if len(sys.argv) > 3 and sys.argv[3] == "uniform":
         def Ls(u, v):
             return np.ones(np.shape(u))
-    elif len(sys.argv) > 3:
+    elif len(sys.argv) > 3 and sys.argv[3] != "bins8":
         import OpenImageIO as oiio
         buf = oiio.ImageBuf(sys.argv[3])
         names = buf.spec().channelnames
@@ -154,7 +162,7 @@ def main():
     norm = np.sqrt(X2**2 + Y2**2 + dk**2)
     ox, oy, oz = X2 / norm, Y2 / norm, dk / norm
     psi, phi = np.arccos(oz), np.arctan2(Y2, X2)
-    for col, row in PIXELS:
+    for col, row in pixels:
         up, vp = col - 0.5 * (WIDTH - 1), row - 0.5 * (HEIGHT - 1)
         v = np.array([up, vp, FX])
         v /= np.linalg.norm(v)
@@ -178,7 +186,7 @@ def main():
         leans = (lean(FX * X / Z, FX * Y / Z, Wt, up, vp), lean(up + du, vp + dv, hat * W2, up, vp),
                  lean(uu, vv, hat3 * W2, up, vp))
         off = np.degrees(np.arctan(np.hypot(up, vp) / FX))
-        print(f"pixel ({col},{row}) {off:4.1f} deg: forward / L_s: pt {f_pt / lp:.4f}, "
+        print(f"pixel ({col:g},{row:g}) {off:4.1f} deg: forward / L_s: pt {f_pt / lp:.4f}, "
               f"runtime {f_rt / lp:.4f} ({100 * (f_rt / f_pt - 1):+.1f} %), "
               f"true-angles {f_ta / lp:.4f} ({100 * (f_ta / f_pt - 1):+.1f} %); shares from > 4 px "
               f"towards / away from the centre: " +
