@@ -20,10 +20,13 @@ namespace deepsea {
 
 using psf_rows::add_doubled;
 using psf_rows::block_rows;
+using psf_rows::doubled_row;
 using psf_rows::expand_blocks;
 using psf_rows::f_row;
 using psf_rows::kMaxStride;
+using psf_rows::padded_row;
 using psf_rows::pair_sums;
+using psf_rows::RowTaps;
 using psf_rows::weigh_block_pairs;
 using psf_rows::weigh_blocks;
 
@@ -37,18 +40,6 @@ constexpr double kBasisTolerance = 1e-6;
 /// light, and weights linear between 32 depths are far from the few smooth functions the
 /// small-angle model's are (spanning them to 1e-6 took every scale, and 50 % more time).
 constexpr double kTableBasisTolerance = 1e-3;
-
-/// The two coarse rows that full row y samples, and the weight of the second (upsampling by
-/// two: forward_psf_rows.h).
-struct RowTaps {
-    int y0, y1;
-    float w;
-};
-RowTaps doubled_row(int y, int h_lo) {
-    const float fy = (y + 0.5f) / 2.0f - 0.5f;
-    const int y0 = std::clamp(int(std::floor(fy)), 0, h_lo - 1);
-    return {y0, std::min(y0 + 1, h_lo - 1), std::clamp(fy - y0, 0.0f, 1.0f)};
-}
 
 /// Table rows and fractions of one row of distances,
 ///   d_u / step = i_u + t_u,  i_u = min(floor(d_u / step), bins - 1),
@@ -429,22 +420,20 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
                             fade.reach > 0 ? &fade : nullptr);
     }
 
-    // Coarse to fine: each grid holds its own scales plus the next coarser grid upsampled.
+    // Coarse to fine: each grid holds its own scales plus the next coarser grid upsampled
+    // (carried beyond its outer cells where the scene continues: doubled_row).
+    const bool extend = m_psf.from_transport();
     for (int k = int(m_grids.size()) - 2; k >= 0; --k) {
         Grid& G = m_grids[k];
         const Grid& coarser = m_grids[k + 1];
         tbb::parallel_for(0, 3 * G.h, [&](int prow) {
             const int c = prow / G.h, y = prow % G.h;
-            const RowTaps t = doubled_row(y, coarser.h);
+            const RowTaps t = doubled_row(y, coarser.h, extend);
             const float* plane = coarser.acc.data() + std::size_t(c) * coarser.w * coarser.h;
-            const float* r0 = plane + std::size_t(t.y0) * coarser.w;
-            const float* r1 = plane + std::size_t(t.y1) * coarser.w;
-            // the coarser grid between its rows y0 and y1: q[y0] + w (q[y1] - q[y0]), padded
             thread_local std::vector<float> padded;
             padded.resize(coarser.w + 2);
-            for (int x = 0; x < coarser.w; ++x) padded[x + 1] = r0[x] + t.w * (r1[x] - r0[x]);
-            padded[0] = padded[1];
-            padded[coarser.w + 1] = padded[coarser.w];
+            padded_row(coarser.w, plane + std::size_t(t.y0) * coarser.w,
+                       plane + std::size_t(t.y1) * coarser.w, t.w, 1, extend, padded.data());
             add_doubled(G.w, padded.data(), G.acc.data() + std::size_t(prow) * G.w);
         });
     }
@@ -470,16 +459,14 @@ void ForwardPsfBlur::rgb_row(int v, float* out, bool add, bool direct) const {
     if (!m_grids.empty()) {
         // The factor-2 grid's row at v: its two grid rows blended, interleaved and padded.
         const Grid& G = m_grids[0];
-        const RowTaps t = doubled_row(v, G.h);
+        const bool extend = m_psf.from_transport();
+        const RowTaps t = doubled_row(v, G.h, extend);
         coarse.assign(4 * std::size_t(G.w + 2), 0.0f);
         for (int c = 0; c < 3; ++c) {
             const float* plane = G.acc.data() + std::size_t(c) * G.w * G.h;
-            const float* r0 = plane + std::size_t(t.y0) * G.w;
-            const float* r1 = plane + std::size_t(t.y1) * G.w;
-            for (int x = 0; x < G.w; ++x) coarse[4 * (x + 1) + c] = r0[x] + t.w * (r1[x] - r0[x]);
+            padded_row(G.w, plane + std::size_t(t.y0) * G.w, plane + std::size_t(t.y1) * G.w, t.w,
+                       4, extend, coarse.data() + c);
         }
-        std::copy_n(coarse.begin() + 4, 4, coarse.begin());
-        std::copy_n(coarse.begin() + 4 * G.w, 4, coarse.begin() + 4 * (G.w + 1));
     }
     const float* sharp = m_sharp.data() + (direct ? std::size_t(m_bins + 1) * 4 : 0);
     f_row(W, idx.data(), frac.data(), sharp, m_surface->row(v), m_full.empty() ? nullptr : full,

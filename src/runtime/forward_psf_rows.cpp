@@ -4,6 +4,7 @@
 #include "forward_psf_rows.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "clones.h"
 #include "float4.h"
@@ -183,7 +184,34 @@ struct ExpandBlocks {
 /// Bilinear upsampling by two, one grid row q into the next finer grid (the cascade):
 ///   dst[x] += q[i_x] + a_x (q[i_x + 1] - q[i_x]),  i_x = floor(p_x), a_x = p_x - i_x,
 ///   p_x = (x + 1/2) / 2 - 1/2,
-/// so a_x = 3/4 for even x and 1/4 for odd x; q is clamped at its ends (qp[j + 1] = q[j]).
+/// so a_x = 3/4 for even x and 1/4 for odd x; qp[j + 1] = q[j], its ends from pad_ends.
+RowTaps doubled_row(int y, int h_lo, bool extend) {
+    const float fy = (y + 0.5f) / 2.0f - 0.5f;
+    if (extend && h_lo > 1) {
+        const int y0 = std::clamp(int(std::floor(fy)), 0, h_lo - 2);
+        return {y0, y0 + 1, fy - float(y0)};
+    }
+    const int y0 = std::clamp(int(std::floor(fy)), 0, h_lo - 1);
+    return {y0, std::min(y0 + 1, h_lo - 1), std::clamp(fy - y0, 0.0f, 1.0f)};
+}
+
+void padded_row(int n, const float* r0, const float* r1, float w, int lanes, bool extend,
+                float* padded) {
+    const bool beyond = w < 0.0f || w > 1.0f;
+    for (int x = 0; x < n; ++x) {
+        const float q = r0[x] + w * (r1[x] - r0[x]);
+        padded[std::size_t(x + 1) * lanes] = beyond ? std::max(0.0f, q) : q;
+    }
+    const float* first = padded + lanes;
+    float* last = padded + std::size_t(n) * lanes;
+    padded[0] = first[0];
+    last[lanes] = last[0];
+    if (extend && n > 1) {
+        padded[0] = std::max(0.0f, 2.0f * first[0] - first[lanes]);
+        last[lanes] = std::max(0.0f, 2.0f * last[0] - last[-lanes]);
+    }
+}
+
 DEEPSEA_CLONES
 void add_doubled(int n, const float* __restrict qp, float* __restrict dst) {
     const int pairs = n / 2;

@@ -19,10 +19,27 @@ namespace deepsea::psf_rows {
 inline constexpr int kMaxStride = 32;
 
 /// Upsampling by two, as the grids are built: output column (or row) x samples the grid twice
-/// as coarse at (x + 0.5) / 2 - 0.5, clamped to its n_lo columns. That is 3/4 of the way from
+/// as coarse at (x + 0.5) / 2 - 0.5, its ends as padded_row says. That is 3/4 of the way from
 /// column x/2 - 1 to x/2 for even x, 1/4 from (x - 1)/2 to (x + 1)/2 for odd x. With the
-/// coarse row padded (one column repeated at each end: qp[j + 1] = q[j]), output x reads qp at
+/// coarse row padded (one column at each end: qp[j + 1] = q[j]), output x reads qp at
 /// x/2 + (x odd) and the next, edges included, without branches or gathers.
+
+/// The two coarse rows that full row y samples, and the weight of the second (upsampling by
+/// two, as add_doubled). Clamped at the grid's edges, or with `extend` the outer rows' line
+/// carried a quarter cell beyond them (a scene that continues beyond the frame is blurred
+/// there too: held flat, the outer half-cell of every grid took its neighbour's light inward).
+struct RowTaps {
+    int y0, y1;
+    float w;
+};
+RowTaps doubled_row(int y, int h_lo, bool extend);
+
+/// A coarse row between rows r0 and r1 (n cells), r0 + w (r1 - r0), every `lanes`-th float of
+/// padded from padded[lanes] on, padded at each end for add_doubled: its outer cell repeated,
+/// or with `extend` its outer pair's line continued one cell (see doubled_row); light carried
+/// beyond the grid's cells (w outside [0, 1], or the ends with `extend`) is held >= 0.
+void padded_row(int n, const float* r0, const float* r1, float w, int lanes, bool extend,
+                float* padded);
 
 /// dst[x] += the padded coarse row qp upsampled at x, for n columns.
 void add_doubled(int n, const float* qp, float* dst);
