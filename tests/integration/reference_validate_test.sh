@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The validation table's reduced version (docs/model.md, "Validation against the path tracer"):
+# The validation table's reduced version (docs/validation.md):
 # tools/reference/validate.py --set ci bakes, renders and path-traces a clear plane at 3 m and a
 # turbid plane at 2 m on a 16x12 camera, and fails where water, surface or final misses the
 # 5 % target in image sums by more than 3 of the path tracer's standard errors.

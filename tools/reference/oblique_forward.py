@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Why turbid-plane's and coastal-auv's forward layers are low towards the image border
-(docs/model.md, "Validation against the path tracer"): the forward light of a few pixels of
+(docs/validation.md): the forward light of a few pixels of
 validate.py's row (turbid-plane: 64x48, 64.5 deg, plane at 2 m facing the camera, two spots;
 coastal-auv: 160x120, plane at 3 m, the auv rig), green channel, three ways:
 

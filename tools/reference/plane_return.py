@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
-"""A candidate for turbid-plane's `direct` layer low towards the image border (docs/model.md,
-"Validation against the path tracer"): the lamp light that reaches the plane after scattering,
+"""A candidate for turbid-plane's `direct` layer low towards the image border (docs/validation.md): the lamp light that reaches the plane after scattering,
 the path tracer's way (the plane is there: a path that meets it again stops and brings the
 plane's reflected lamp light, albedo 0.55; no water beyond it) against the lamp field's (baked
 in water without the plane). Green; cosine-weighted backward paths from the surface point in

@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
-"""deepsea against its own all-order path tracer over the range of real use (docs/model.md,
-"Validation against the path tracer").
+"""deepsea against its own all-order path tracer over the range of real use (docs/validation.md).
 
 Usage: validate.py DEEPSEA WORK [--set table|wall|ci] [--rows a,b] [--paths-scale F]
                    [--threads N] [--keep-reference] [--reference-only] [--check] [--confirm F]
@@ -211,8 +210,7 @@ def retrace(a, name, row, baked, plane, layers):
     """Each resolved bin over the target, path-traced again in a window of its own (the same
     rays: camera(window=...)) with a.confirm times the row's paths and another seed: a bin's
     own standard error understates its error where its paths missed the rare bright ones, so
-    the bins that look worst are those that missed most (docs/model.md, "Validation against
-    the path tracer"). Returns per layer [(bin row, bin column, size, first %, its SE %,
+    the bins that look worst are those that missed most (docs/validation.md). Returns per layer [(bin row, bin column, size, first %, its SE %,
     re-traced %, its SE %, paths per pixel)]."""
     wname, rig, size, fov, z, paths = row
     w, h = map(int, size.split("x"))
