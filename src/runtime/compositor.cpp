@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -79,6 +81,14 @@ void row_normals(const Camera& cam, const Image& depth, int v, const float* rx, 
         std::fill(s.irregular.begin(), s.irregular.end(), 1);
     }
     for (int u = 0; u < W; ++u) {
+        // most pixels are regular: eight flags a test (a test a pixel was 6 % of the frame's
+        // instructions)
+        std::uint64_t eight = 1;
+        if (u + 8 <= W) std::memcpy(&eight, s.irregular.data() + u, sizeof eight);
+        if (eight == 0) {
+            u += 7;
+            continue;
+        }
         if (!s.irregular[u]) continue;
         if (!has_surface(zr[u])) {
             s.nx[u] = s.ny[u] = s.nz[u] = 0.0f;
