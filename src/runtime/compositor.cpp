@@ -169,6 +169,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     // be finished; without it each row is finished where it is shaded, from row buffers.
     if (forward && (m_d2.width != W || m_d2.height != H)) m_d2 = Image(W, H, 1);
     if (forward && (m_surface.width != W || m_surface.height != H)) m_surface = Image(W, H, 3);
+    if (psf) m_row_far.resize(H);
     if (int(m_rx.size()) != W) {
         m_rx.resize(W);
         for (int u = 0; u < W; ++u) m_rx[u] = float(cam.ray_x(u));
@@ -288,6 +289,8 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             if (all) std::copy(s.mask.begin(), s.mask.begin() + W, dst.mask.row(v));
             if (forward) std::copy(s.z.begin(), s.z.begin() + W, m_hit_z.row(v));
         }
+        // the row's farthest surface, while d2 is in cache (the point spread's table length)
+        if (psf) m_row_far[v] = *std::max_element(d2, d2 + W);
         if (all) {
             float* N = dst.normal.row(v);
             for (int u = 0; u < W; ++u) {
@@ -309,7 +312,9 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         // through a port, whose rays the border pixels do not continue)
         const bool fade = !port && m_psf_blur->psf().from_transport();
         if (fade) edge_falloff(cam, depth, m_lamps, m_psf_blur->psf(), m_beyond);
-        m_psf_blur->prepare(m_surface, m_d2, fade ? &m_beyond : nullptr);
+        const float far = *std::max_element(m_row_far.begin(), m_row_far.end());
+        m_psf_blur->prepare(m_surface, m_d2, fade ? &m_beyond : nullptr,
+                            std::max(0.0, double(far)));
     } else {
         m_blur.prepare(m_surface, m_d2,
                        float(forward_sigma_px(m_water.forward, forward_fx(), 1.0)));

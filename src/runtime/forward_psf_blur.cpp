@@ -320,20 +320,24 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     });
 }
 
-void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond) {
+void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond,
+                             double farthest) {
     const int W = surface.width, H = surface.height;
     // The frame's farthest surface, but no farther than where every weight is below 1e-17 of
     // a surface's radiance.
-    const double d_frame = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, H), 0.0,
-        [&](const tbb::blocked_range<int>& r, double m) {
-            for (int v = r.begin(); v < r.end(); ++v) {
-                const float* d = d2.row(v);
-                for (int u = 0; u < W; ++u) m = std::max(m, double(d[u]));
-            }
-            return m;
-        },
-        [](double a, double b) { return std::max(a, b); });
+    double d_frame = farthest;
+    if (d_frame < 0.0) {
+        d_frame = tbb::parallel_reduce(
+            tbb::blocked_range<int>(0, H), 0.0,
+            [&](const tbb::blocked_range<int>& r, double m) {
+                for (int v = r.begin(); v < r.end(); ++v) {
+                    const float* d = d2.row(v);
+                    for (int u = 0; u < W; ++u) m = std::max(m, double(d[u]));
+                }
+                return m;
+            },
+            [](double a, double b) { return std::max(a, b); });
+    }
     // The table spans the first length of a fixed ladder (1 m, then steps of 2^(1/4)) beyond
     // this frame's farthest surface, so that a frame's F depends on that frame alone, never on
     // the frames a renderer saw before it (a resumed or sharded sequence gives the same bits).
