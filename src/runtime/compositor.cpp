@@ -290,7 +290,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             if (forward) std::copy(s.z.begin(), s.z.begin() + W, m_hit_z.row(v));
         }
         // the row's farthest surface, while d2 is in cache (the point spread's table length)
-        if (psf) m_row_far[v] = *std::max_element(d2, d2 + W);
+        if (psf) m_row_far[v] = kernels::row_max(W, d2);
         if (all) {
             float* N = dst.normal.row(v);
             for (int u = 0; u < W; ++u) {
