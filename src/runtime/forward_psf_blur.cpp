@@ -63,61 +63,10 @@ int table_rows(int n, const float* __restrict d2, float inv_step, float range, i
     return beyond;
 }
 
-/// The variance resampling_variance gives, measured on an impulse at every place of a block.
-double measured_resampling_variance(int factor) {
-    // One row of 16 blocks; an impulse at each place p of block 8 is box-averaged into its
-    // block, upsampled by two until full resolution, and the spread about p measured.
-    const int n = 16 * factor;
-    double sum = 0.0;
-    for (int p = 0; p < factor; ++p) {
-        const int x = 8 * factor + p;
-        std::vector<double> g(16, 0.0);
-        g[x / factor] = 1.0 / factor;
-        while (int(g.size()) < n) {
-            const int lo = int(g.size());
-            std::vector<double> fine(2 * g.size());
-            for (int i = 0; i < 2 * lo; ++i) {
-                const double fx = (i + 0.5) / 2.0 - 0.5;
-                const int a = std::clamp(int(std::floor(fx)), 0, lo - 1);
-                const int b = std::min(a + 1, lo - 1);
-                const double t = std::clamp(fx - a, 0.0, 1.0);
-                fine[i] = g[a] + t * (g[b] - g[a]);
-            }
-            g.swap(fine);
-        }
-        for (int u = 0; u < n; ++u) sum += g[u] * double(u - x) * double(u - x);
-    }
-    return sum / factor;
-}
-
 }  // namespace
 
 ForwardPsfBlur::ForwardPsfBlur(ForwardPsf psf, const Rgb& c) : m_psf(std::move(psf)), m_c(c) {
     if (m_psf.scales() > kMaxStride) throw ConfigError("forward scatter: too many scales");
-}
-
-int ForwardPsfBlur::level_factor(double sigma, int width, int height) {
-    int f = 1;
-    while (f < 128 && std::min(width, height) / (2 * f) >= 8 &&
-           resampling_variance(2 * f) <= sigma * sigma * (1.0 + 1e-9)) {
-        f *= 2;
-    }
-    return f;
-}
-
-double ForwardPsfBlur::resampling_variance(int factor) {
-    if (factor <= 1) return 0.0;
-    // Factors 2 .. 128, all that level_factor and resize ask for, measured once a process (the
-    // measurement takes 1.6 ms at 128, and a frame size's first frame asked for it a dozen
-    // times).
-    static const std::array<double, 8> known = [] {
-        std::array<double, 8> v{};
-        for (int k = 1; k < 8; ++k) v[k] = measured_resampling_variance(1 << k);
-        return v;
-    }();
-    for (int k = 1; k < 8; ++k)
-        if (factor == 1 << k) return known[k];
-    return measured_resampling_variance(factor);
 }
 
 double ForwardPsfBlur::table_span(int rung) { return std::pow(2.0, 0.25 * rung); }
@@ -362,20 +311,24 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
     });
 }
 
-void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond) {
+void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond,
+                             double farthest) {
     const int W = surface.width, H = surface.height;
     // The frame's farthest surface, but no farther than where every weight is below 1e-17 of
     // a surface's radiance.
-    const double d_frame = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, H), 0.0,
-        [&](const tbb::blocked_range<int>& r, double m) {
-            for (int v = r.begin(); v < r.end(); ++v) {
-                const float* d = d2.row(v);
-                for (int u = 0; u < W; ++u) m = std::max(m, double(d[u]));
-            }
-            return m;
-        },
-        [](double a, double b) { return std::max(a, b); });
+    double d_frame = farthest;
+    if (d_frame < 0.0) {
+        d_frame = tbb::parallel_reduce(
+            tbb::blocked_range<int>(0, H), 0.0,
+            [&](const tbb::blocked_range<int>& r, double m) {
+                for (int v = r.begin(); v < r.end(); ++v) {
+                    const float* d = d2.row(v);
+                    for (int u = 0; u < W; ++u) m = std::max(m, double(d[u]));
+                }
+                return m;
+            },
+            [](double a, double b) { return std::max(a, b); });
+    }
     // The table spans the first length of a fixed ladder (1 m, then steps of 2^(1/4)) beyond
     // this frame's farthest surface, so that a frame's F depends on that frame alone, never on
     // the frames a renderer saw before it (a resumed or sharded sequence gives the same bits).
@@ -461,7 +414,8 @@ void ForwardPsfBlur::rgb_row(int v, float* out, bool add, bool direct) const {
         const Grid& G = m_grids[0];
         const bool extend = m_psf.from_transport();
         const RowTaps t = doubled_row(v, G.h, extend);
-        coarse.assign(4 * std::size_t(G.w + 2), 0.0f);
+        // (lane 3 of each pixel is never written: zeroed once, when the buffer grows)
+        if (coarse.size() < 4 * std::size_t(G.w + 2)) coarse.assign(4 * std::size_t(G.w + 2), 0.0f);
         for (int c = 0; c < 3; ++c) {
             const float* plane = G.acc.data() + std::size_t(c) * G.w * G.h;
             padded_row(G.w, plane + std::size_t(t.y0) * G.w, plane + std::size_t(t.y1) * G.w, t.w,

@@ -5,9 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "clones.h"
 #include "float4.h"
+
+// (f_row's Float8 values live in registers inside it, its lambdas inlined: no call passes one,
+// so GCC's note that AVX changes the ABI of such calls does not apply to its generic clone)
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace deepsea::psf_rows {
 
@@ -313,24 +318,40 @@ void f_row(int n, const int* __restrict idx, const float* __restrict frac,
     };
     int u = 0;
     if (!full && coarse) {
-        // Four pixels at a time: their twelve interleaved floats as three whole vectors.
+        // Four pixels at a time, two to an eight-lane vector: each lane's arithmetic is that of
+        // weights() and grid() (the same bits), their twelve interleaved floats stored as two
+        // whole vectors. A pixel's sharp weights, where it has none, from a row of zeros.
+        static const float zeros[8] = {};
+        const auto cat = [](Float4 a, Float4 b) {
+            return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+        };
+        const auto weights2 = [&](int u) {
+            const float* ta = idx[u] >= 0 ? sharp + std::size_t(idx[u]) * 4 : zeros;
+            const float* tb = idx[u + 1] >= 0 ? sharp + std::size_t(idx[u + 1]) * 4 : zeros;
+            const Float8 a = cat(load4(ta), load4(tb)), b = cat(load4(ta + 4), load4(tb + 4));
+            return a + cat(splat(frac[u]), splat(frac[u + 1])) * (b - a);
+        };
+        // pixels u (even) and u + 1 read the padded grid at u/2, u/2 + 1 and u/2 + 2
+        const Float8 quarter = {0.75f, 0.75f, 0.75f, 0.75f, 0.25f, 0.25f, 0.25f, 0.25f};
+        const auto grid2 = [&](int u) {
+            const float* q = coarse + 4 * std::size_t(u >> 1);
+            const Float8 q0 = load8(q), q1 = load8(q + 4);
+            return q0 + quarter * (q1 - q0);
+        };
         for (; u + 4 <= n; u += 4) {
-            const Float4 w0 = weights(u), w1 = weights(u + 1), w2 = weights(u + 2),
-                         w3 = weights(u + 3);
-            const Float4 g0 = grid(u), g1 = grid(u + 1), g2 = grid(u + 2), g3 = grid(u + 3);
-            // [r0 g0 b0 r1] [g1 b1 r2 g2] [b2 r3 g3 b3]
-            const Float4 wa = __builtin_shufflevector(w0, w1, 0, 1, 2, 4),
-                         wb = __builtin_shufflevector(w1, w2, 1, 2, 4, 5),
-                         wc = __builtin_shufflevector(w2, w3, 2, 4, 5, 6);
-            const Float4 ga = __builtin_shufflevector(g0, g1, 0, 1, 2, 4),
-                         gb = __builtin_shufflevector(g1, g2, 1, 2, 4, 5),
-                         gc = __builtin_shufflevector(g2, g3, 2, 4, 5, 6);
+            const Float8 w01 = weights2(u), w23 = weights2(u + 2);
+            const Float8 g01 = grid2(u), g23 = grid2(u + 2);
+            // [r0 g0 b0 r1 g1 b1 r2 g2] [b2 r3 g3 b3]
+            const Float8 wa = __builtin_shufflevector(w01, w23, 0, 1, 2, 4, 5, 6, 8, 9);
+            const Float4 wc = __builtin_shufflevector(w23, w23, 2, 4, 5, 6);
+            const Float8 ga = __builtin_shufflevector(g01, g23, 0, 1, 2, 4, 5, 6, 8, 9);
+            const Float4 gc = __builtin_shufflevector(g23, g23, 2, 4, 5, 6);
             float* o = out + 3 * std::size_t(u);
             const float* l = L + 3 * std::size_t(u);
-            const Float4 fa = wa * load4(l) + ga, fb = wb * load4(l + 4) + gb,
-                         fc = wc * load4(l + 8) + gc;
-            store4(o, add ? load4(o) + fa : fa);
-            store4(o + 4, add ? load4(o + 4) + fb : fb);
+            const Float8 fa = wa * load8(l) + ga;
+            const Float4 fc = wc * load4(l + 8) + gc;
+            const Float8 sa = add ? load8(o) + fa : fa;
+            std::memcpy(o, &sa, sizeof sa);
             store4(o + 8, add ? load4(o + 8) + fc : fc);
         }
     }

@@ -1,6 +1,8 @@
 #include "kernels.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "clones.h"
 #include "deepsea/optics/forward.h"
@@ -110,6 +112,24 @@ void normals_row(int n, const float* __restrict rx, float ry_up, float ry, float
 }  // namespace deepsea::kernels
 
 namespace deepsea::kernels {
+
+DEEPSEA_CLONES
+float row_max(int n, const float* __restrict d) {
+    // Eight lanes of maxima, then the lanes and the rest: the maximum is exact in any order
+    // (an omp simd reduction stays scalar here, under -fno-associative-math).
+    typedef float Lanes __attribute__((vector_size(32)));
+    Lanes m = {};
+    int u = 0;
+    for (; u + 8 <= n; u += 8) {
+        Lanes x;
+        std::memcpy(&x, d + u, sizeof x);
+        m = x > m ? x : m;
+    }
+    float r = 0.0f;
+    for (int i = 0; i < 8; ++i) r = std::max(r, m[i]);
+    for (; u < n; ++u) r = std::max(r, d[u]);
+    return r;
+}
 
 DEEPSEA_CLONES
 void interleave(int n, const float* __restrict planes, float* __restrict rgb) {

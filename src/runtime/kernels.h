@@ -44,6 +44,9 @@ void normals_row(int n, const float* rx, float ry_up, float ry, float ry_down, c
 
 namespace deepsea::kernels {
 
+/// The largest of n values and 0 (a row's farthest surface; values never NaN).
+float row_max(int n, const float* d);
+
 /// Planar RGB (planes[c * n + u]) to interleaved rgb[3 * u + c].
 void interleave(int n, const float* planes, float* rgb);
 

@@ -78,6 +78,7 @@ private:
     // With forward scatter on (without, rows keep their own):
     Image m_d2;       ///< camera-to-surface distance per pixel, metres (0 for open water)
     Image m_surface;  ///< surface radiance J/pi E: what the blur spreads
+    std::vector<float> m_row_far;  ///< each row's largest d2 (the point spread's table length)
     // Through a port:
     const PortRays* m_port = nullptr;
     Image m_in_surface;  ///< the frame's normal and linear colour per input pixel (port_warp.h)

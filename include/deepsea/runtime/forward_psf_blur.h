@@ -61,7 +61,10 @@ public:
     /// surface, which sends no light). Both are read again by row(): they must stay unchanged
     /// until the frame's rows are taken. beyond (transport tables only, may be null: the
     /// borders continued unchanged): how the scene dims beyond the frame, of this frame's size.
-    void prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond = nullptr);
+    /// farthest: d2's largest value where the caller has it (the compositor, from its rows:
+    /// no pass over d2 here), < 0 to have it found here.
+    void prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond = nullptr,
+                 double farthest = -1.0);
     /// out_rgb[3u + c] = F at (u, v).
     void row(int v, float* out_rgb) const;
     /// sum_rgb[3u + c] += F at (u, v): the same F as row(), added where it is wanted.

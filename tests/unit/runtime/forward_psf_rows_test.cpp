@@ -1,6 +1,6 @@
 // The forward scatter's block distances (forward_psf_rows.h, weigh_block_pairs) against the
 // pixel-by-pixel weighing: blocks that are not on one surface keep its bits, blocks at one
-// distance its sums.
+// distance its sums. And f_row's four pixels at a time against its pixel-by-pixel end.
 
 #include "forward_psf_rows.h"
 
@@ -115,6 +115,49 @@ TEST(BlockDistances, ABlockAtOneDistanceIsWeighedThere) {
             const std::vector<float> x = paired(r, n, stride, tab, 0.02f);
             for (std::size_t i = 0; i < x.size(); ++i)
                 ASSERT_NEAR(x[i], exact[i], 1e-5f * std::fabs(exact[i]) + 1e-6f) << i;
+        }
+    }
+}
+
+TEST(FRow, EveryPixelIsItsWeightTimesItsRadianceAndTheGridUpsampled) {
+    // f_row runs rows four pixels at a time (two to a vector, their twelve values shuffled into
+    // three) and the last n % 4 one by one: each pixel against its definition in double (the
+    // rounding of a fused multiply-add, or not, is all that may differ).
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> value(0.0f, 1.0f);
+    for (const int n : {36, 37, 38, 39}) {
+        const Rows r = make_rows(n, rng, false);
+        std::vector<float> sharp(std::size_t(kBins + 1) * 4);
+        for (float& x : sharp) x = value(rng);
+        const int gw = (n + 1) / 2;
+        std::vector<float> coarse(4 * std::size_t(gw + 2), 0.0f);  // padded as f_row reads it
+        for (int x = 0; x < gw; ++x)
+            for (int c = 0; c < 3; ++c) coarse[4 * (x + 1) + c] = value(rng);
+        for (int c = 0; c < 3; ++c) {
+            coarse[c] = coarse[4 + c];
+            coarse[4 * (gw + 1) + c] = coarse[4 * gw + c];
+        }
+        std::vector<float> start(3 * std::size_t(n));
+        for (float& x : start) x = value(rng);
+        for (const bool add : {false, true}) {
+            std::vector<float> out = start;
+            f_row(n, r.idx[0].data(), r.frac[0].data(), sharp.data(), r.L[0].data(), nullptr,
+                  coarse.data(), add, out.data());
+            for (int u = 0; u < n; ++u) {
+                const int i = r.idx[0][u], odd = u & 1, q = (u >> 1) + odd;
+                for (int c = 0; c < 3; ++c) {
+                    const double w =
+                        i < 0 ? 0.0
+                              : sharp[4 * i + c] + double(r.frac[0][u]) *
+                                                       (sharp[4 * (i + 1) + c] - sharp[4 * i + c]);
+                    const double g0 = coarse[4 * q + c], g1 = coarse[4 * (q + 1) + c];
+                    const double want = (add ? double(start[3 * u + c]) : 0.0) +
+                                        w * r.L[0][3 * u + c] + g0 +
+                                        (odd ? 0.25 : 0.75) * (g1 - g0);
+                    ASSERT_NEAR(out[3 * u + c], want, 1e-6 * std::fabs(want))
+                        << "pixel " << u << ", channel " << c << (add ? ", added" : "");
+                }
+            }
         }
     }
 }
