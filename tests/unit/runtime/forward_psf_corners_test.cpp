@@ -11,18 +11,10 @@
 #include "deepsea/optics/lamp_field.h"
 #include "deepsea/runtime/forward_psf_blur.h"
 #include "deepsea/runtime/lamps.h"
+#include "runtime_fixtures.h"
 
 namespace deepsea {
 namespace {
-
-Water turbid() {
-    Water w;
-    w.c = Rgb(1.0, 0.95, 1.05);
-    w.b = Rgb(0.8, 0.78, 0.82);
-    w.phase = {PhaseKind::HenyeyGreenstein, 0.85};
-    w.forward = phase_function_forward_scatter();
-    return w;
-}
 
 /// validate.py's two spots: sigma 35 degrees, toed in 30.7 degrees.
 Rig two_spots() {
@@ -139,7 +131,7 @@ TEST(ForwardPsfCorners, AFrameLitByTwoSpotsSeesWhatAWiderFrameSees) {
     // validate.py's turbid-plane scene: the plane 2 m away, 64 x 48. The corners' 8 x 8 bins
     // were +1.8 % and their pixels +12 %, the other border pixels +5-7 %, while the upsampling
     // held every grid flat beyond its outer cells.
-    const Worst worst = framed_against_wider(turbid(), two_spots(), 64, 48, 2.0);
+    const Worst worst = framed_against_wider(testing::turbid_water(), two_spots(), 64, 48, 2.0);
     std::printf("8x8 bins within %.2f %%, pixels within %.2f %%\n", 100 * worst.bin8,
                 100 * worst.pixel);
     EXPECT_LT(worst.bin8, 0.01);    // 0.4 %

@@ -18,15 +18,6 @@
 namespace deepsea {
 namespace {
 
-Water turbid() {
-    Water w;
-    w.c = Rgb(1.0, 0.95, 1.05);
-    w.b = Rgb(0.8, 0.78, 0.82);
-    w.phase = {PhaseKind::HenyeyGreenstein, 0.85};
-    w.forward = phase_function_forward_scatter();
-    return w;
-}
-
 /// Sums of F over the W x H window at (x0, y0) of a frame's surface radiance and distance:
 /// the whole window, and its outer ring 4 pixels wide.
 struct Sums {
@@ -57,7 +48,7 @@ TEST(ForwardPsfEdges, AFrameWithItsFalloffSeesWhatAWiderFrameSees) {
     // 16 px, its border 0.14-0.32 of the centre): the 64 x 48 frame's forward scatter against
     // the same pixels of a 192 x 144 frame around it. fx = 24, so that the widest Gaussian
     // (2.6 rad) is below both frames' cap and both blur with the same scales.
-    const Water w = turbid();
+    const Water w = testing::turbid_water();
     ForwardTransportSettings s;
     s.paths = 1 << 12;
     const ForwardPsfTable table = trace_forward_psf(w, forward_psf_depths(8.0, 16), s);
@@ -133,7 +124,7 @@ TEST(ForwardPsfEdges, TheLampsFalloffIsTheIrradianceOfTheContinuedSurface) {
     // those between are linear between them.
     const Camera cam = testing::small_camera();
     const Rig rig = testing::two_lamps();
-    const Water w = turbid();
+    const Water w = testing::turbid_water();
     ForwardTransportSettings s;
     s.paths = 1 << 10;
     const ForwardPsf psf(trace_forward_psf(w, forward_psf_depths(8.0, 16), s), w, cam.fx, cam.width,

@@ -37,6 +37,17 @@ inline Water ib_with_forward() {
     return w;
 }
 
+/// validate.py's turbid water (c about 1, b about 0.8, HG 0.85), forward scatter from the phase
+/// function: the forward-scatter tests' scene beyond the frame.
+inline Water turbid_water() {
+    Water w;
+    w.c = Rgb(1.0, 0.95, 1.05);
+    w.b = Rgb(0.8, 0.78, 0.82);
+    w.phase = {PhaseKind::HenyeyGreenstein, 0.85};
+    w.forward = phase_function_forward_scatter();
+    return w;
+}
+
 /// A tilted plane z = z0 + a x with a step onto a nearer box in one corner, a patch of open
 /// water (NaN, inf, negative, zero), and an albedo pattern.
 struct PlaneScene {
