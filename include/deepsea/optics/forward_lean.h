@@ -1,11 +1,11 @@
 #pragma once
 /// \file The lean of the camera-side forward scatter on a surface tilted to the ray
-/// (docs/model.md, "Forward scatter from transport", *Tilted surfaces*). The transport table
-/// holds what a ray gathers from a plane facing it. A source seen psi away on a plane tilted by
-/// alpha is counted there by the paths that cross the tilted plane, not the facing one: per
-/// unit of image solid angle they number (cos(alpha) + beta_n sin(alpha)) / (cos(alpha) +
-/// psi_n sin(alpha)) times as many, beta the paths' direction where they arrive and _n the
-/// component towards the surface's near side. With beta = rho psi on average,
+/// (docs/forward-lean.md). The transport table holds what a ray gathers from a plane facing it. A
+/// source seen psi away on a plane tilted by alpha is counted there by the paths that cross the
+/// tilted plane, not the facing one: per unit of image solid angle they number (cos(alpha) + beta_n
+/// sin(alpha)) / (cos(alpha) + psi_n sin(alpha)) times as many, beta the paths' direction where
+/// they arrive and _n the component towards the surface's near side. With beta = rho psi on
+/// average,
 ///     K_tilted(psi) = K(psi) (1 + (rho - 1) tan(alpha) psi_n),
 /// and tan(alpha) psi_n = -(ln r(q) - ln r(p)) to first order, r the surface's range along the
 /// rays. rho = 3/2 both for one scattering uniformly along the ray (psi = theta (r - t) / r,

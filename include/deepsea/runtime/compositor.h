@@ -58,9 +58,8 @@ public:
     /// against. Off by default.
     void set_exact(bool exact);
     /// The forward scatter's lean on surfaces tilted to the ray (transport tables, not through
-    /// a port: docs/model.md, "Forward scatter from transport", *Tilted surfaces*). On by
-    /// default; off: the facing plane's symmetric kernel everywhere, as assets were rendered
-    /// before it.
+    /// a port: docs/forward-lean.md). On by default; off: the facing plane's symmetric kernel
+    /// everywhere, as assets were rendered before it.
     void set_forward_lean(bool on) { m_forward_lean = on; }
 
 private:

@@ -114,10 +114,10 @@ TEST(ForwardPsfBlur, ALeanMovesLightWithoutMakingIt) {
         for (int j = 1; j < psf.scales(); ++j)
             second += psf.weight(j, d)[c] * psf.sigma_px(j) * psf.sigma_px(j);
         const double total = psf.total(d)[c];
-        std::printf("channel %d: light with / without the lean %.5f; centroid moved (%.3f, %.3f) "
-                    "px, expected (%.3f, %.3f)\n",
-                    c, s_on / s_off, mu / s_off, mv / s_off, -lu * second / total,
-                    -lv * second / total);
+        std::printf(
+            "channel %d: light with / without the lean %.5f; centroid moved (%.3f, %.3f) "
+            "px, expected (%.3f, %.3f)\n",
+            c, s_on / s_off, mu / s_off, mv / s_off, -lu * second / total, -lv * second / total);
         // the light beyond the frame's edges (the widest scales) is not counted in either
         EXPECT_NEAR(s_on / s_off, 1.0, 1e-4) << c;
         EXPECT_NEAR(mu / s_off, -lu * second / total, 0.02 * lu * second / total) << c;
