@@ -170,6 +170,11 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     if (forward && (m_d2.width != W || m_d2.height != H)) m_d2 = Image(W, H, 1);
     if (forward && (m_surface.width != W || m_surface.height != H)) m_surface = Image(W, H, 3);
     if (psf) m_row_far.resize(H);
+    // surfaces tilted to the ray: the transport table's kernel leans (not through a port,
+    // whose rays are not the pinhole's)
+    const bool lean = psf && m_forward_lean && !m_port && m_psf_blur->psf().from_transport();
+    if (lean && (m_lean.width != W || m_lean.height != H)) m_lean = Image(W, H, 2);
+    const bool lean_all_rows = ForwardPsfBlur::level_factor(1.0, W, H) == 1;
     if (int(m_rx.size()) != W) {
         m_rx.resize(W);
         for (int u = 0; u < W; ++u) m_rx[u] = float(cam.ray_x(u));
@@ -289,6 +294,11 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             if (all) std::copy(s.mask.begin(), s.mask.begin() + W, dst.mask.row(v));
             if (forward) std::copy(s.z.begin(), s.z.begin() + W, m_hit_z.row(v));
         }
+        // (on the even rows only where the blur reads it there: ForwardPsfBlur::prepare)
+        if (lean && (v % 2 == 0 || lean_all_rows)) {
+            kernels::lean_row(W, m_rx.data(), float(cam.ray_y(v)), s.nx.data(), s.ny.data(),
+                              s.nz.data(), float(cam.fx), float(cam.fy), m_lean.row(v));
+        }
         // the row's farthest surface, while d2 is in cache (the point spread's table length)
         if (psf) m_row_far[v] = kernels::row_max(W, d2);
         if (all) {
@@ -313,8 +323,8 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         const bool fade = !port && m_psf_blur->psf().from_transport();
         if (fade) edge_falloff(cam, depth, m_lamps, m_psf_blur->psf(), m_beyond);
         const float far = *std::max_element(m_row_far.begin(), m_row_far.end());
-        m_psf_blur->prepare(m_surface, m_d2, fade ? &m_beyond : nullptr,
-                            std::max(0.0, double(far)));
+        m_psf_blur->prepare(m_surface, m_d2, fade ? &m_beyond : nullptr, std::max(0.0, double(far)),
+                            lean ? &m_lean : nullptr);
     } else {
         m_blur.prepare(m_surface, m_d2,
                        float(forward_sigma_px(m_water.forward, forward_fx(), 1.0)));

@@ -312,7 +312,7 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
 }
 
 void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond,
-                             double farthest) {
+                             double farthest, const Image* lean) {
     const int W = surface.width, H = surface.height;
     // The frame's farthest surface, but no farther than where every weight is below 1e-17 of
     // a surface's radiance.
@@ -341,6 +341,14 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
     weigh(surface, d2);
     m_surface = &surface;
     m_d2 = &d2;
+    m_lean = m_psf.from_transport() && lean && lean->width == W && lean->height == H &&
+                     lean->channels == 2
+                 ? lean
+                 : nullptr;
+    if (m_lean) {
+        m_full_mom.assign(m_full.size(), 0.0f);
+        for (Grid& G : m_grids) G.mom.assign(G.acc.size(), 0.0f);
+    }
 
     // Each scale's blur at its group's grid, added into that grid (or the full-resolution sum):
     // box downsampling and the upsampling cascade spread the light already
@@ -367,10 +375,22 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
             fade.top = m_fade[2].data();
             fade.bottom = m_fade[3].data();
         }
-        planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), sum, rest, m_kernel,
-                            m_norm_x, m_norm_y, planes::Store::Add,
-                            m_psf.from_transport() ? planes::Edge::Clamp : planes::Edge::Normalise,
+        const planes::Edge edge =
+            m_psf.from_transport() ? planes::Edge::Clamp : planes::Edge::Normalise;
+        if (!m_lean) {
+            planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), sum, rest, m_kernel,
+                                m_norm_x, m_norm_y, planes::Store::Add, edge,
+                                fade.reach > 0 ? &fade : nullptr);
+            continue;
+        }
+        // with a lean, each level's blur also into its grid's moments, times sigma^2
+        const std::size_t n = std::size_t(3) * g.w * g.h;
+        m_blurred.resize(n);
+        planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), m_blurred.data(), rest,
+                            m_kernel, m_norm_x, m_norm_y, planes::Store::Set, edge,
                             fade.reach > 0 ? &fade : nullptr);
+        float* mom = g.factor == 1 ? m_full_mom.data() : grid_of(g.factor).mom.data();
+        add_level(n, m_blurred.data(), float(sigma * sigma), sum, mom);
     }
 
     // Coarse to fine: each grid holds its own scales plus the next coarser grid upsampled
@@ -388,8 +408,14 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
             padded_row(coarser.w, plane + std::size_t(t.y0) * coarser.w,
                        plane + std::size_t(t.y1) * coarser.w, t.w, 1, extend, padded.data());
             add_doubled(G.w, padded.data(), G.acc.data() + std::size_t(prow) * G.w);
+            if (!m_lean) return;
+            const float* mp = coarser.mom.data() + std::size_t(c) * coarser.w * coarser.h;
+            padded_row(coarser.w, mp + std::size_t(t.y0) * coarser.w,
+                       mp + std::size_t(t.y1) * coarser.w, t.w, 1, extend, padded.data());
+            add_doubled(G.w, padded.data(), G.mom.data() + std::size_t(prow) * G.w);
         });
     }
+    if (m_lean) add_lean();
 }
 
 ForwardPsfBlur::Grid& ForwardPsfBlur::grid_of(int factor) {

@@ -6,6 +6,7 @@
 
 #include "clones.h"
 #include "deepsea/optics/forward.h"
+#include "deepsea/optics/forward_lean.h"
 #include "deepsea/optics/lamp.h"
 #include "deepsea/optics/normals.h"
 
@@ -112,6 +113,15 @@ void normals_row(int n, const float* __restrict rx, float ry_up, float ry, float
 }  // namespace deepsea::kernels
 
 namespace deepsea::kernels {
+
+DEEPSEA_CLONES
+void lean_row(int n, const float* __restrict rx, float ry, const float* __restrict nx,
+              const float* __restrict ny, const float* __restrict nz, float fx, float fy,
+              float* __restrict lean) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u)
+        forward_lean(rx[u], ry, nx[u], ny[u], nz[u], fx, fy, lean[2 * u], lean[2 * u + 1]);
+}
 
 DEEPSEA_CLONES
 float row_max(int n, const float* __restrict d) {

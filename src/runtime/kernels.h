@@ -44,6 +44,11 @@ void normals_row(int n, const float* rx, float ry_up, float ry, float ry_down, c
 
 namespace deepsea::kernels {
 
+/// The forward kernel's lean (optics/forward_lean.h) of a row's pixels, interleaved (lu, lv)
+/// in lean[2u], lean[2u + 1]: rays (rx[u], ry, 1), normals nx, ny, nz (0: no surface).
+void lean_row(int n, const float* rx, float ry, const float* nx, const float* ny, const float* nz,
+              float fx, float fy, float* lean);
+
 /// The largest of n values and 0 (a row's farthest surface; values never NaN).
 float row_max(int n, const float* d);
 

@@ -10,6 +10,7 @@
 #include "deepsea/asset/asset_json.h"
 #include "deepsea/core/error.h"
 #include "deepsea/core/parallel.h"
+#include "deepsea/optics/forward_lean.h"
 
 namespace deepsea::cli {
 
@@ -150,6 +151,11 @@ void run(const InfoArgs& a) {
                 "light\n",
                 t->depths(), t->depth.back(), t->rings(), t->paths,
                 static_cast<unsigned long long>(t->seed), 100.0 * se);
+            // the runtime's, not the asset's: every transport table gets it (not through a port)
+            std::printf(
+                "           tilted surfaces: the kernel leans to the near side, 1 + "
+                "(rho - 1) tan(alpha) psi, rho %g (derived, not baked)\n",
+                double(kForwardLeanRho));
         } else {
             std::printf("forward    small-angle model (no transport table in this asset)\n");
         }

@@ -10,7 +10,10 @@ coastal-auv: 160x120, plane at 3 m, the auv rig), green channel, three ways:
 - runtime: the transport table's model as the runtime applies it: planes facing the ray
   (forward_transport.h), a source at range r_q seen psi away weighed as the plane at depth
   r_q cos(psi), psi the pixel distance / fx (the blur shift-invariant in pixel space);
-- true-angles: the same table with true angles and the true image position of each direction.
+- true-angles: the same table with true angles and the true image position of each direction;
+- runtime+lean, true-angles+lean: the two above with the kernel's lean on a surface tilted to
+  the ray (optics/forward_lean.h): each source q weighed 1 - (rho - 1) (ln r(q) - ln r(p)), the
+  range's change to first order, rho = 3/2.
 
 The table is Monte Carlo too (paths along the axis scored at 80 plane depths, linear in depth
 between them). The surface radiance L_s: from the direct lamp light at the plane (Gaussian
@@ -40,6 +43,7 @@ SCENES = {
 scene = sys.argv[2] if len(sys.argv) > 2 else "turbid-plane"
 (c, b, g), Z, WIDTH, HEIGHT, LAMPS, PIXELS = SCENES[scene]
 FX = 0.5 * WIDTH / np.tan(np.radians(0.5 * 64.5))
+RHO = 1.5  # the scattered light's mean arrival direction over its angle (forward_lean.h)
 
 
 def hg(d, rng):
@@ -182,13 +186,25 @@ def main():
         uu = np.where(front, FX * om[:, 0] / omz, np.inf)
         vv = np.where(front, FX * om[:, 1] / omz, np.inf)
         f_ta = gather(uu, vv, hat3 * W2)
+        # the lean: ln r of the plane z = Z to first order about the pixel's ray, in pixels for
+        # the runtime (its gradient x / |v|^2 per unit of x = u / fx), along the gnomonic
+        # offset for true angles
+        x, y = up / FX, vp / FX
+        v2 = 1.0 + x * x + y * y
+        lean_rt = 1.0 + (RHO - 1.0) * (-(x * du + y * dv) / (FX * v2))
+        ow = om / np.where(front, om @ v, 1.0)[:, None]
+        lean_ta = np.where(front, 1.0 + (RHO - 1.0) * (ow[:, 2] - v[2]) / v[2], 0.0)
+        f_rl = gather(up + du, vp + dv, hat * W2 * np.clip(lean_rt, 0, None))
+        f_tl = gather(uu, vv, hat3 * W2 * np.clip(lean_ta, 0, None))
         lp = Ls(np.array([up]), np.array([vp]))[0]
         leans = (lean(FX * X / Z, FX * Y / Z, Wt, up, vp), lean(up + du, vp + dv, hat * W2, up, vp),
                  lean(uu, vv, hat3 * W2, up, vp))
         off = np.degrees(np.arctan(np.hypot(up, vp) / FX))
         print(f"pixel ({col:g},{row:g}) {off:4.1f} deg: forward / L_s: pt {f_pt / lp:.4f}, "
               f"runtime {f_rt / lp:.4f} ({100 * (f_rt / f_pt - 1):+.1f} %), "
-              f"true-angles {f_ta / lp:.4f} ({100 * (f_ta / f_pt - 1):+.1f} %); shares from > 4 px "
+              f"true-angles {f_ta / lp:.4f} ({100 * (f_ta / f_pt - 1):+.1f} %); with the lean: "
+              f"runtime {100 * (f_rl / f_pt - 1):+.1f} %, true-angles {100 * (f_tl / f_pt - 1):+.1f} %"
+              f"; shares from > 4 px "
               f"towards / away from the centre: " +
               ", ".join(f"{a:.3f} / {o:.3f}" for a, o in leans), flush=True)
 

@@ -57,6 +57,10 @@ public:
     /// point spread's table (ForwardPsfBlur::add_direct_row). The path the tests hold them
     /// against. Off by default.
     void set_exact(bool exact);
+    /// The forward scatter's lean on surfaces tilted to the ray (transport tables, not through
+    /// a port: docs/forward-lean.md). On by default; off: the facing plane's symmetric kernel
+    /// everywhere, as assets were rendered before it.
+    void set_forward_lean(bool on) { m_forward_lean = on; }
 
 private:
     void run(Layers& dst, const ColorView& color, const Image& depth, LayerSet set,
@@ -67,7 +71,8 @@ private:
 
     Camera m_camera;
     Water m_water;
-    bool m_exact = false;  ///< set_exact
+    bool m_exact = false;        ///< set_exact
+    bool m_forward_lean = true;  ///< set_forward_lean
     const IrradianceSource& m_lamps;
     const BackscatterSource& m_backscatter;
     ForwardBlur m_blur;                        ///< Jaffe-McGlamery forward scatter
@@ -78,6 +83,7 @@ private:
     // With forward scatter on (without, rows keep their own):
     Image m_d2;       ///< camera-to-surface distance per pixel, metres (0 for open water)
     Image m_surface;  ///< surface radiance J/pi E: what the blur spreads
+    Image m_lean;     ///< the forward kernel's lean per pixel (forward_lean), 2 channels
     std::vector<float> m_row_far;  ///< each row's largest d2 (the point spread's table length)
     // Through a port:
     const PortRays* m_port = nullptr;

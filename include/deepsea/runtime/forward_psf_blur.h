@@ -62,9 +62,15 @@ public:
     /// until the frame's rows are taken. beyond (transport tables only, may be null: the
     /// borders continued unchanged): how the scene dims beyond the frame, of this frame's size.
     /// farthest: d2's largest value where the caller has it (the compositor, from its rows:
-    /// no pass over d2 here), < 0 to have it found here.
+    /// no pass over d2 here), < 0 to have it found here. lean (transport tables only, may be
+    /// null: no lean): 2 channels, each pixel's kernel lean (lu, lv) in 1/px
+    /// (optics/forward_lean.h): F at p gathers sum_q K(p - q) (1 + l_p . (q - p)) W L(q), added
+    /// as l_p . grad M(p), M = sum_j sigma_j^2 (G_j * W_j L) (for a Gaussian, sum_q G(p - q)
+    /// (q - p) S(q) = sigma^2 grad (G * S)(p)), held within the blurred light's own value. Only
+    /// its even rows are read, unless level_factor(1, W, H) is 1 (scales blurred at full
+    /// resolution, on images under 16 px a side).
     void prepare(const Image& surface, const Image& d2, const EdgeFalloff* beyond = nullptr,
-                 double farthest = -1.0);
+                 double farthest = -1.0, const Image* lean = nullptr);
     /// out_rgb[3u + c] = F at (u, v).
     void row(int v, float* out_rgb) const;
     /// sum_rgb[3u + c] += F at (u, v): the same F as row(), added where it is wanted.
@@ -104,6 +110,7 @@ private:
     struct Grid {
         int factor = 2, w = 0, h = 0;
         std::vector<float> acc;  ///< 3 planes: this grid's blurred scales + coarser grids
+        std::vector<float> mom;  ///< the same times sigma_j^2 (px^2), with a lean only
     };
     /// Scales sharing one downsampling factor.
     struct Group {
@@ -124,6 +131,14 @@ private:
     void weigh(const Image& surface, const Image& d2);
     /// F of row v, interleaved RGB, into out or added to it.
     void rgb_row(int v, float* out, bool add, bool direct) const;
+    /// Adds the lean, l . grad M (prepare), into the finest blurred light: the factor-2 grid's
+    /// cells (each block's mean lean, M's differences between cells) and the scales blurred at
+    /// full resolution (forward_psf_lean.cpp). The lean is smooth where it matters (M is the
+    /// blurred light), so the grid's cells carry it as they carry the light.
+    void add_lean();
+    /// Adds one level's blurred planes (n floats) into a grid's acc and, times sigma^2, mom.
+    static void add_level(std::size_t n, const float* blurred, float sigma2, float* acc,
+                          float* mom);
 
     ForwardPsf m_psf;
     int m_lanes = 0;  ///< table lanes per distance: 3 channels x m_stride basis functions
@@ -151,7 +166,11 @@ private:
     std::map<int, KeptTable> m_kept;
     const Image* m_surface = nullptr;  ///< prepare()'s frame, for scale 0 (unblurred)
     const Image* m_d2 = nullptr;
-    std::vector<float> m_full;  ///< scales blurred at full resolution (tiny images): 3 planes
+    std::vector<float> m_full;       ///< scales blurred at full resolution (tiny images): 3 planes
+    std::vector<float> m_full_mom;   ///< the same times sigma_j^2, with a lean only
+    const Image* m_lean = nullptr;   ///< prepare()'s lean (null: none)
+    std::vector<float> m_blurred;    ///< one level's blur, with a lean
+    std::vector<float> m_cell_lean;  ///< the factor-2 grid's cells' mean lean, 2 floats each
     std::vector<Group> m_groups;
     std::vector<Level> m_levels;  ///< scales 1 .. S-1
     std::vector<Grid> m_grids;    ///< factors 2, 4, .. up to the widest group's
