@@ -7,13 +7,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "backscatter_lookup.h"
 #include "clones.h"
 #include "depth_slabs.h"
-#include "float4.h"
-
-// (lookup_row's Float8 values live in registers inside it, its lambdas inlined: no call passes
-// one, so GCC's note that AVX changes the ABI of such calls does not apply to its generic clone)
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace deepsea {
 
@@ -62,60 +58,6 @@ void blend_rows(int m0, int m1, const float* __restrict a, const float* __restri
     for (int m = m0; m < m1; ++m) out[m] = lerp(a[m], b[m], w);
 }
 
-/// B for one image row from its slice (blend_rows), interleaved RGB out: linear between the
-/// two lattice columns of each pixel and between the samples of its slab (depth_cells),
-///   B(u, v, z_u) = L(L(S_i0[k], S_i0[k + 1], wz_u), L(S_i1[k], S_i1[k + 1], wz_u), w_u),
-/// L(a, b, w) = a + w (b - a), k = k_u: docs/model.md's cumulative backscatter
-/// B(z) = sum_l integral_0^(t(z)) beta I_l exp(-c (d1' + t)) / d1'^2 dt as the asset samples it,
-/// bilinear in (u, v) and linear in z (DESIGN.md section 3). A
-/// sample's three channels to a vector (the fourth lane, the next sample's first channel, is
-/// carried along and dropped; the slice has a float of room at its end for it). Two pixels to
-/// an eight-lane vector, four pixels' twelve values stored as two whole vectors: the same
-/// operations on each lane as one pixel at a time (the same bits), 40 % fewer instructions.
-DEEPSEA_CLONES
-void lookup_row(int n, const float* __restrict slice, const int* __restrict col0,
-                const int* __restrict col1, const float* __restrict colw,
-                const int* __restrict slab, const float* __restrict wzs, float* __restrict out) {
-    const auto pixel = [&](int u) {
-        const int k = slab[u];
-        const Float4 wz = splat(wzs[u]);
-        const float* p0 = slice + col0[u] + 3 * k;
-        const float* p1 = slice + col1[u] + 3 * k;
-        return lerp(lerp(load4(p0), load4(p0 + 3), wz), lerp(load4(p1), load4(p1 + 3), wz),
-                    splat(colw[u]));
-    };
-    // pixels u and u + 1: [R G B - | R G B -], lerp's arithmetic lane by lane
-    const auto lerp8 = [](Float8 a, Float8 b, Float8 w) { return a + w * (b - a); };
-    const auto pair = [&](int u) {
-        const auto cat = [](Float4 a, Float4 b) {
-            return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
-        };
-        const float* p0 = slice + col0[u] + 3 * slab[u];
-        const float* p1 = slice + col1[u] + 3 * slab[u];
-        const float* q0 = slice + col0[u + 1] + 3 * slab[u + 1];
-        const float* q1 = slice + col1[u + 1] + 3 * slab[u + 1];
-        const Float8 wz = cat(splat(wzs[u]), splat(wzs[u + 1]));
-        const Float8 cw = cat(splat(colw[u]), splat(colw[u + 1]));
-        return lerp8(lerp8(cat(load4(p0), load4(q0)), cat(load4(p0 + 3), load4(q0 + 3)), wz),
-                     lerp8(cat(load4(p1), load4(q1)), cat(load4(p1 + 3), load4(q1 + 3)), wz), cw);
-    };
-    int u = 0;
-    for (; u + 4 <= n; u += 4) {
-        const Float8 a = pair(u), b = pair(u + 2);
-        float* o = out + 3 * std::size_t(u);
-        const Float8 head = __builtin_shufflevector(a, b, 0, 1, 2, 4, 5, 6, 8, 9);
-        const Float4 tail = __builtin_shufflevector(b, b, 2, 4, 5, 6);
-        std::memcpy(o, &head, sizeof head);
-        store4(o + 8, tail);
-    }
-    for (; u < n; ++u) {
-        const Float4 b = pixel(u);
-        out[3 * u] = b[0];
-        out[3 * u + 1] = b[1];
-        out[3 * u + 2] = b[2];
-    }
-}
-
 }  // namespace
 
 AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m_asset(asset) {
@@ -147,6 +89,7 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
         }
         m_spans.back().end = u + 1;
     }
+    for (const Span& sp : m_spans) m_span_end.push_back(sp.end);
 
     m_slabs = std::make_shared<const DepthSlabs>(l.z);
 }
@@ -187,8 +130,9 @@ void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out_
         blend_rows(3 * s.lo[i], 3 * (s.hi[i] + 2), a + i * stride, b + i * stride, t.w,
                    s.slice.data() + std::size_t(i) * block);
     }
-    lookup_row(n, s.slice.data(), m_col0.data(), m_col1.data(), m_colw.data(), s.slab.data(),
-               s.wz.data(), out_rgb);
+    const LookupColumns cols{m_col0.data(), m_col1.data(), m_colw.data(), m_span_end.data(),
+                             int(m_span_end.size())};
+    lookup_row(n, s.slice.data(), cols, s.slab.data(), s.wz.data(), out_rgb);
 }
 
 }  // namespace deepsea

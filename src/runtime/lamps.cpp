@@ -34,14 +34,17 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
-/// Adds one lamp's irradiance to the planar RGB row: with its Gaussian RID (one exponential a
-/// channel, lamp.h's gaussian_lamp_term), or with RID 1 (tabulated RIDs: the caller scales by
-/// the RID at scratch_theta). Shadowed: times the lamp's visibility per pixel (vis). Inlined
-/// into each clone below. The exponentials and arc cosines are core/fast_math.h's, inline
-/// (libmvec's, called per 8 values, were 8.5 % of a JPEG sequence's CPU time): within a few
+/// Adds one lamp's irradiance to the planar RGB row (First: writes it, so that the row needs no
+/// zeroing pass; a lamp's term is +0 or positive, and 0 + x is x; unshadowed rows only: a
+/// second instantiation in the shadowed clone changed GCC's fused multiply-adds there, and with
+/// every lamp lit it must give the unshadowed row's bits): with its Gaussian RID (one
+/// exponential a channel, lamp.h's gaussian_lamp_term), or with RID 1 (tabulated RIDs: the
+/// caller scales by the RID at scratch_theta). Shadowed: times the lamp's visibility per pixel
+/// (vis). Inlined into each clone below. The exponentials and arc cosines are core/fast_math.h's,
+/// inline (libmvec's, called per 8 values, were 8.5 % of a JPEG sequence's CPU time): within a few
 /// float roundings of the exact (tests/unit/core/fast_math_test.cpp; the rows against optics in
 /// double to 1e-5: AnalyticLamps.GaussianLampsMatchOptics).
-template <bool Gaussian, bool Shadowed>
+template <bool Gaussian, bool Shadowed, bool First = false>
 [[gnu::always_inline]] inline void lamp_rows(const Light& L, const Rgb& c, const RowGeometry& g,
                                              const float* __restrict vis, float* __restrict e,
                                              float* __restrict scratch_theta) {
@@ -70,7 +73,11 @@ template <bool Gaussian, bool Shadowed>
         float spread = pz[u] > 0.0f ? lamp_spread(lg.d1, lg.cos_n) : 0.0f;
         spread = theta > cutoff ? 0.0f : spread;
         if constexpr (Shadowed) spread *= vis[u];
-        if constexpr (Gaussian) {
+        if constexpr (Gaussian && First) {
+            er[u] = gaussian_lamp_term<FastMath>(ir, theta, sig, spread, cr, lg.d1);
+            eg[u] = gaussian_lamp_term<FastMath>(ig, theta, sig, spread, cg, lg.d1);
+            eb[u] = gaussian_lamp_term<FastMath>(ib, theta, sig, spread, cb, lg.d1);
+        } else if constexpr (Gaussian) {
             er[u] += gaussian_lamp_term<FastMath>(ir, theta, sig, spread, cr, lg.d1);
             eg[u] += gaussian_lamp_term<FastMath>(ig, theta, sig, spread, cg, lg.d1);
             eb[u] += gaussian_lamp_term<FastMath>(ib, theta, sig, spread, cb, lg.d1);
@@ -84,8 +91,12 @@ template <bool Gaussian, bool Shadowed>
 }
 
 DEEPSEA_CLONES
-void add_gaussian_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* e) {
-    lamp_rows<true, false>(L, c, g, nullptr, e, nullptr);
+void add_gaussian_lamp(const Light& L, const Rgb& c, const RowGeometry& g, float* e, bool first) {
+    if (first) {
+        lamp_rows<true, false, true>(L, c, g, nullptr, e, nullptr);
+    } else {
+        lamp_rows<true, false>(L, c, g, nullptr, e, nullptr);
+    }
 }
 
 DEEPSEA_CLONES
@@ -291,11 +302,14 @@ void AnalyticLamps::add_scattered(const RowGeometry& g, float* out) const {
 
 void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
     const int n = g.n;
-    for (int i = 0; i < 3 * n; ++i) out[i] = 0.0f;
     thread_local std::vector<float> theta, part;
     theta.resize(n);
     const bool shadowed = m_shadow_settings.enabled && m_shadows.width() == n && g.v >= 0 &&
                           g.v < m_shadows.height() && m_shadows.lamps() == m_rig.lights.size();
+    // An unshadowed Gaussian first lamp writes the row; otherwise it starts from zero.
+    const bool written =
+        !m_rig.lights.empty() && m_rig.lights[0].rid.kind == Rid::Kind::Gaussian && !shadowed;
+    if (!written) std::fill(out, out + 3 * std::size_t(n), 0.0f);
     for (std::size_t l = 0; l < m_rig.lights.size(); ++l) {
         const Light& L = m_rig.lights[l];
         const float* vis = shadowed ? m_shadows.row(l, g.v) : nullptr;
@@ -303,7 +317,7 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
             if (vis) {
                 add_shadowed_gaussian_lamp(L, m_water.c, g, vis, out);
             } else {
-                add_gaussian_lamp(L, m_water.c, g, out);
+                add_gaussian_lamp(L, m_water.c, g, out, l == 0);
             }
         } else {
             part.assign(3 * std::size_t(n), 0.0f);

@@ -35,6 +35,7 @@ private:
         int begin, end, i0, i1;
     };
     std::vector<Span> m_spans;
+    std::vector<int> m_span_end;  ///< each span's end, for the lookup (backscatter_lookup.h)
     /// Each depth's slab without a log or a search per pixel (depth_slabs.h).
     std::shared_ptr<const DepthSlabs> m_slabs;
 };
