@@ -14,13 +14,17 @@
 #include "deepsea/camera/sensor.h"
 #include "deepsea/core/codes.h"
 #include "deepsea/optics/schema.h"
+#include "display_tables.h"
 #include "rows.h"
 
 namespace deepsea {
 
 using camera_rows::AlignedBytes;
+using camera_rows::DisplayTables;
 using camera_rows::line_bytes;
+using camera_rows::processing_params;
 using camera_rows::Scratch;
+using camera_rows::uses_table;
 
 namespace {
 
@@ -67,23 +71,6 @@ void check_exposure(const FrameExposure& e) {
         throw SchemaError(
             "camera.sensor.system_gain",
             "must be > 0 and at most 1e6 DN per electron, got " + std::to_string(e.system_gain));
-}
-
-/// The display value of every whole DN in [0, levels) per channel, interleaved (entry 3 dn + c),
-/// by the processing kernel itself (chunk by chunk, as a frame's rows).
-std::vector<float> display_table(const camera_rows::ProcessParams& pp, const float scale[3],
-                                 int levels) {
-    std::vector<float> lut(3 * std::size_t(levels));
-    Scratch t(0, false);
-    t.scales(scale);
-    const int n = 3 * levels;
-    for (int c0 = 0; c0 < n; c0 += camera_rows::kChunk) {
-        const int len = std::min(camera_rows::kChunk, n - c0);
-        for (int i = 0; i < len; ++i) t.raw[i] = float((c0 + i) / 3);
-        camera_rows::process_row(pp, len, t.scale, t.raw, t.tmp, t.image);
-        copy(t.image, lut.data() + c0, len);
-    }
-    return lut;
 }
 
 }  // namespace
@@ -152,6 +139,13 @@ CameraStage::CameraStage(const CameraModel& model, const Camera& intrinsics,
     m_response = response;
     m_dsnu = dsnu;
     m_port_factor = port_factor;
+    if (uses_table(m_model) && m_model.processing.white_balance != WhiteBalance::GreyWorld) {
+        camera_rows::ProcessParams pp;
+        float scale[3];
+        Rgb wb;
+        processing_params(m_model, pp, scale, wb);
+        m_tables = std::make_shared<const DisplayTables>(pp, scale, int(max_dn(s)) + 1);
+    }
 }
 
 float CameraStage::port_factor(int u, int v, int c) const {
@@ -187,8 +181,11 @@ struct CameraStage::Recording {
     camera_rows::ProcessParams pp;
     float resp[3], scale[3];  // resp: the noise-free image's response, no PRNU
     double range;
-    std::vector<float> lut;
-    std::vector<std::uint8_t> code_lut;  // with codes8: the table's values as 8-bit codes
+    // The display values and 8-bit codes of every DN: the stage's tables, or with grey world
+    // this frame's (`own`, made in finish()).
+    std::shared_ptr<const DisplayTables> tables;
+    const float* lut = nullptr;
+    const std::uint8_t* code_lut = nullptr;
     std::size_t record_row;
     AlignedBytes record;
     std::vector<double> row_sums;
@@ -227,20 +224,11 @@ struct CameraStage::Recording {
         sp.read_key = temporal_key(s.seed, frame_key, NoiseStream::Read);
         for (int c = 0; c < 3; ++c) resp[c] = float(st.electrons_per_radiance(c, 1.0));
 
-        pp.black = sp.black;
-        const Rgb wb = proc.white_balance == WhiteBalance::Gains ? proc.gains : Rgb(1.0);
+        Rgb wb;
+        processing_params(st.m_model, pp, scale, wb);
         range = max_dn(s) - black_level(s);
-        for (int c = 0; c < 3; ++c) scale[c] = float(wb[c] / range);
-        if (proc.matrix) {
-            pp.matrix = true;
-            for (int i = 0; i < 9; ++i) pp.m[i] = float((*proc.matrix)[i]);
-        }
-        pp.curve = proc.curve;
-        pp.inv_gamma = float(1.0 / proc.gamma);
-        // Without a matrix a channel's display value is a function of its raw DN alone, and raw
-        // DN are whole numbers: one table per frame replaces the curve's arithmetic per value
-        // (up to 12 bits: 48 KB, built from 4096 pixels' processing, a fraction of a frame's).
-        table = !proc.matrix && s.bits <= 12 && !mosaic;
+        // A table of every DN replaces the curve's arithmetic per value (uses_table).
+        table = uses_table(st.m_model);
         // With a mosaic, which values each chunk's pixels record: 1 or 0 per value, for even
         // and odd rows (chunks start at even pixels).
         record_row = line_bytes<std::int32_t>(camera_rows::kChunk) / 4;
@@ -266,21 +254,20 @@ struct CameraStage::Recording {
         out.exposure = exposure;
         out.white_balance = wb;
         row_sums.assign(grey ? 3 * std::size_t(h) : 0, 0.0);
-        if (table && !two_pass) make_tables();
+        if (table && !two_pass) use(st.m_tables);
     }
 
-    void make_tables() {
-        lut = display_table(pp, scale, int(sp.max_dn) + 1);
-        if (!layers.codes8) return;
-        code_lut.resize(lut.size());
-        quantise8(lut.data(), lut.size(), code_lut.data());
+    void use(std::shared_ptr<const DisplayTables> t) {
+        tables = std::move(t);
+        lut = tables->lut.data();
+        code_lut = tables->codes8.data();
     }
 
     /// Display values of `len` DN into dst, both passes: whole DN (`whole`) through this frame's
     /// table where there is one, else (and always for the noise-free DN) the processing kernel.
     void display(Scratch& t, int len, const float* dn, float* dst, bool whole) const {
         if (whole && table) {
-            camera_rows::lookup_row(lut.data(), len, dn, dst);
+            camera_rows::lookup_row(lut, len, dn, dst);
             return;
         }
         camera_rows::process_row(pp, len, t.scale, dn, t.tmp, t.image);
@@ -291,7 +278,7 @@ struct CameraStage::Recording {
     void show(Scratch& t, int v, int c0, int len, const float* dn) const {
         if (!layers.codes8) return display(t, len, dn, out.image.row(v) + c0, true);
         std::uint8_t* codes = out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0;
-        if (table) return camera_rows::lookup_codes_row(code_lut.data(), len, dn, codes);
+        if (table) return camera_rows::lookup_codes_row(code_lut, len, dn, codes);
         display(t, len, dn, t.shown, true);
         quantise8(t.shown, len, codes);
     }
@@ -326,10 +313,10 @@ struct CameraStage::Recording {
                 t.rows(rad, st.m_response.get() + at, st.m_dsnu ? st.m_dsnu.get() + at : t.zeros,
                        mosaic ? record.at<std::int32_t>(0) + (v & 1) * record_row : nullptr);
             if (in_loop && layers.codes8) {
-                rb.code_lut = code_lut.data();
+                rb.code_lut = code_lut;
                 rb.codes = out.codes8.data() + 3 * std::size_t(w) * std::size_t(v) + c0;
             } else if (in_loop) {
-                rb.lut = lut.data();
+                rb.lut = lut;
                 rb.shown = out.image.row(v) + c0;
             }
             camera_rows::sensor_row(sp, base + std::uint32_t(c0), len, rb);
@@ -383,7 +370,7 @@ struct CameraStage::Recording {
             out.white_balance = grey_world_gains(means);
             for (int c = 0; c < 3; ++c) scale[c] = float(out.white_balance[c] / range);
         }
-        if (table) make_tables();
+        if (table) use(std::make_shared<const DisplayTables>(pp, scale, int(sp.max_dn) + 1));
         parallel_for(
             std::size_t(h),
             [&](std::size_t v0, std::size_t v1) {

@@ -77,6 +77,10 @@ struct CameraOutput {
 /// response (falloff x PRNU, and DSNU: 8 bytes per pixel and channel, 15 MB at 800 x 800)
 /// built once; apply() is const and may run for several frames at once from different
 /// threads (each its own output).
+namespace camera_rows {
+struct DisplayTables;  // every whole DN's display value and 8-bit code (src/camera)
+}
+
 class CameraStage {
 public:
     /// validate(model), validate(intrinsics) (optics/schema.h) and check_distortion: throws
@@ -137,6 +141,10 @@ private:
     // DSNU in electrons (null without DSNU); per value the port's radiance factor (null
     // without a port), already in m_response.
     std::shared_ptr<const float> m_x2, m_response, m_dsnu, m_port_factor;
+    // Where a frame's image comes from a table of every DN and the table depends on the model
+    // alone (no grey world: its gains are the frame's), the table, made once here instead of
+    // per frame (null otherwise).
+    std::shared_ptr<const camera_rows::DisplayTables> m_tables;
 };
 
 }  // namespace deepsea
