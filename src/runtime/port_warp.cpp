@@ -441,9 +441,10 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
     int left = W;
     if (fast) {
-        fast_march(W, rays.march_row(v), inv_depth.data.data(), nearest.data.data(),
-                   inv_depth.width, inv_depth.height, s_near, f);
-        left = settle_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
+        const PortRays::MarchRow m = rays.march_row(v, s_near);
+        fast_march(W, m, inv_depth.data.data(), nearest.data.data(), inv_depth.width,
+                   inv_depth.height, s_near, f);
+        left = settle_hits(W, m, cam, in, inv_depth.width, inv_depth.height, f, o);
     }
     // The rest, one by one (rare: depth edges, open water, long marches), up to the last of them
     const int* state = f.state.data();
