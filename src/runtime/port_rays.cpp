@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "deepsea/core/error.h"
@@ -75,6 +76,11 @@ PortRays::PortRays(const Port& port, const Camera& camera)
         }
         m_row_hi[v] = hi;
     }
+    const float* oz = march_row(0).oz;
+    bool same_oz = true;
+    for (std::size_t i = 1; i < n && same_oz; ++i)
+        same_oz = std::memcmp(oz + i, oz, sizeof(float)) == 0;
+    if (same_oz) m_oz_row.assign(W, oz[0]);
     m_u_lo = m_v_lo = std::numeric_limits<double>::infinity();
     m_u_hi = m_v_hi = -m_u_lo;
     bool finite = true;
@@ -99,6 +105,7 @@ PortRays::MarchRow PortRays::march_row(int v, float s_near) const {
         m.s_lo = m_zero_row.data();
         m.s_origin = m.s_hi = m_inf_row.data();
     }
+    if (!m_oz_row.empty()) m.oz = m_oz_row.data();
     return m;
 }
 

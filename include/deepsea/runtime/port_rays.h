@@ -68,7 +68,9 @@ public:
     /// s_lo = 0 (it sees the input up to its vanishing point), as behind an ordinary flat port,
     /// the march takes the same values from rows of constants (s_lo 0, s_origin and s_hi +inf:
     /// each min with them picks what it picks with the true values, or an equal float), which
-    /// stay in cache, instead of three planes of the table: the rows read 6 floats a ray, not 9.
+    /// stay in cache, instead of three planes of the table; and where every ray's oz has the same
+    /// bits (a flat port facing along the axis: its outer surface is the plane z = distance +
+    /// glass_thickness), oz from a row of that value: the rows read 5 floats a ray, not 9.
     MarchRow march_row(int v, float s_near) const;
     /// Where pixel (u, v)'s ray meets the frame's surface, given its inverse planar depth
     /// (optics' inverse_depth) and nearest surface depth z_near (+inf: no surface): the float
@@ -102,6 +104,7 @@ private:
     std::vector<float> m_row_hi;
     std::vector<char> m_row_lo_zero;
     std::vector<float> m_zero_row, m_inf_row;
+    std::vector<float> m_oz_row;  ///< every ray's oz where they all have the same bits, else empty
     double m_water_fx = 0.0;
     /// reach()'s bounds: the vanishing points' box (input pixels) and the largest |du|, |dv|
     double m_u_lo = 0.0, m_u_hi = 0.0, m_v_lo = 0.0, m_v_hi = 0.0, m_du = 0.0, m_dv = 0.0;
