@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "deepsea/core/error.h"
@@ -59,6 +60,27 @@ PortRays::PortRays(const Port& port, const Camera& camera)
         }
     });
     const float* f = m_march_soa.data();
+    const int W = camera.width, H = camera.height;
+    m_row_hi.assign(H, std::numeric_limits<float>::infinity());
+    m_row_lo_zero.assign(H, 1);
+    m_zero_row.assign(W, 0.0f);
+    m_inf_row.assign(W, std::numeric_limits<float>::infinity());
+    for (int v = 0; v < H; ++v) {
+        const MarchRow m = march_row(v);
+        float hi = m_row_hi[v];
+        for (int u = 0; u < W; ++u) {
+            // (written so that a NaN takes hi's place: no row with one uses the constants)
+            hi = !(m.s_origin[u] >= hi) ? m.s_origin[u] : hi;
+            hi = !(m.s_hi[u] >= hi) ? m.s_hi[u] : hi;
+            if (!(m.s_lo[u] == 0.0f && !std::signbit(m.s_lo[u]))) m_row_lo_zero[v] = 0;
+        }
+        m_row_hi[v] = hi;
+    }
+    const float* oz = march_row(0).oz;
+    bool same_oz = true;
+    for (std::size_t i = 1; i < n && same_oz; ++i)
+        same_oz = std::memcmp(oz + i, oz, sizeof(float)) == 0;
+    if (same_oz) m_oz_row.assign(W, oz[0]);
     m_u_lo = m_v_lo = std::numeric_limits<double>::infinity();
     m_u_hi = m_v_hi = -m_u_lo;
     bool finite = true;
@@ -75,6 +97,16 @@ PortRays::PortRays(const Port& port, const Camera& camera)
         m_dv = std::max(m_dv, dv);
     }
     if (!finite) m_u_lo = -std::numeric_limits<double>::infinity();  // reach: the whole image
+}
+
+PortRays::MarchRow PortRays::march_row(int v, float s_near) const {
+    MarchRow m = march_row(v);
+    if (m_row_lo_zero[v] && m_row_hi[v] > 0.0f && s_near <= m_row_hi[v]) {
+        m.s_lo = m_zero_row.data();
+        m.s_origin = m.s_hi = m_inf_row.data();
+    }
+    if (!m_oz_row.empty()) m.oz = m_oz_row.data();
+    return m;
 }
 
 PortRays::PixelBox PortRays::reach(double s_max) const {

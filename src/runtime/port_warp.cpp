@@ -270,6 +270,41 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
     }
 }
 
+/// The four lanes of a Float8: its first (lo) or its last (hi).
+inline Float4 low4(Float8 v) { return __builtin_shufflevector(v, v, 0, 1, 2, 3); }
+inline Float4 high4(Float8 v) { return __builtin_shufflevector(v, v, 4, 5, 6, 7); }
+/// Lane k of each half of v in that half (one in-lane permute).
+template <int k>
+inline Float8 splat_halves(Float8 v) {
+    return __builtin_shufflevector(v, v, k, k, k, k, k + 4, k + 4, k + 4, k + 4);
+}
+
+/// settle_hits' taps of lane u: one 8-float load a tap from the interleaved surface at p (the
+/// 2 x 2 pixels from p, `row` floats a row), weighted by the four weights at w[4 u]. The sums'
+/// lanes 0-3 (the normal and the inverse depth) replace the weights, the four pixels' least and
+/// largest inverse depth (lane 3: cell_probe's test of one surface) go to lo_z[u], hi_z[u]; the
+/// colour's sums (lanes 4-7; 7 is the surface's 0) are returned. The products and sums are
+/// four-float arithmetic's, lane by lane, so the same floats as the scalar march's taps.
+__attribute__((always_inline)) inline Float4 settle_taps(const float* p, std::size_t row, int u,
+                                                         float* w, float* lo_z, float* hi_z) {
+    constexpr std::size_t C = kPortSurfaceChannels;
+    const Float8 t0 = load8(p), t1 = load8(p + C), t2 = load8(p + row), t3 = load8(p + row + C);
+    // (the weights in both halves, one load, then each broadcast by an in-lane permute: GCC
+    // makes a broadcast of lane k > 0 of a Float4 from two shuffles, of a float from three)
+    const Float4 wu = load4(w + 4 * u);
+    const Float8 w8 = __builtin_shufflevector(wu, wu, 0, 1, 2, 3, 0, 1, 2, 3);
+    const Float8 N =
+        ((splat_halves<0>(w8) * t0 + splat_halves<1>(w8) * t1) + splat_halves<2>(w8) * t2) +
+        splat_halves<3>(w8) * t3;
+    store4(w + 4 * u, low4(N));
+    // (std::min's and std::max's order, four lanes at a time, of which lane 3 is kept: three
+    // vector instructions each instead of extracting four lanes and comparing them one by one)
+    const Float4 a0 = low4(t0), a1 = low4(t1), a2 = low4(t2), a3 = low4(t3);
+    lo_z[u] = min4(min4(a0, a1), min4(a2, a3))[3];
+    hi_z[u] = max4(max4(a0, a1), max4(a2, a3))[3];
+    return high4(N);
+}
+
 /// The Illinois step of the rays that fast_march bracketed (kActive), the same as the scalar
 /// march's first, and the hits that it settles on one surface (kSurface): the point, the path
 /// from the port, and the normal and colour from the four input pixels around the hit, with the
@@ -278,8 +313,7 @@ void fast_march(int n, const PortRays::MarchRow m, const float* __restrict inv,
 /// and colour's taps load anyway: the same pixels, weights and sums as cell_probe, so the same
 /// value without a gather of its own. Rays the step does not settle become kScalar; lanes
 /// without a hit get zeros. Lane by lane the step's s and the taps' positions and weights, then
-/// per pixel one 8-float load a tap (Float8: normal, inverse depth and colour with the same
-/// products and sums as four floats at a time), then lane by lane the step's outcome and the
+/// per pixel one 8-float load a tap (settle_taps), then lane by lane the step's outcome and the
 /// normals' lengths.
 /// Returns the number of rays left to the scalar march.
 DEEPSEA_CLONES
@@ -294,7 +328,7 @@ int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const floa
     int* __restrict at = f.steps.data();   // (spent by now)
     float* __restrict lo_z = f.ps.data();  // (likewise)
     float* __restrict hi_z = f.ph.data();  // (likewise)
-    float* __restrict w = f.w.data();
+    float* __restrict w = f.w.data();      // (the taps' weights, then their sums: 4 a pixel)
     float* __restrict x = o.x, * __restrict y = o.y, * __restrict z = o.z, * __restrict t = o.t;
     float* __restrict nx = o.nx, * __restrict ny = o.ny, * __restrict nz = o.nz;
     float* __restrict J = o.J, * __restrict mask = o.mask;
@@ -319,32 +353,24 @@ int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const floa
         w[4 * u + 2] = active ? (1 - fu) * fv : 0.0f;
         w[4 * u + 3] = active ? fu * fv : 0.0f;
     }
-    const std::size_t row = std::size_t(W) * kPortSurfaceChannels, C = kPortSurfaceChannels;
-    const float edge = float(kDepthDiscontinuity);
+    const std::size_t row = std::size_t(W) * kPortSurfaceChannels;
     constexpr int kAhead = 16;
-    for (int u = 0; u < n; ++u) {
-        const float* p = in + at[u];
-        if (u + kAhead < n) {
-            __builtin_prefetch(in + at[u + kAhead]);
-            __builtin_prefetch(in + at[u + kAhead] + row);
-        }
-        // (a tap's 8 floats as one vector: normal and inverse depth in lanes 0-3, colour in 4-6)
-        const Float4 wu = load4(w + 4 * u);
-        const Float8 w0 = splat8<0>(wu), w1 = splat8<1>(wu), w2 = splat8<2>(wu), w3 = splat8<3>(wu);
-        const Float8 t0 = load8(p), t1 = load8(p + C), t2 = load8(p + row), t3 = load8(p + row + C);
-        const Float8 N = ((w0 * t0 + w1 * t1) + w2 * t2) + w3 * t3;
-        // (lane 3: the inverse depth, and the four pixels' least and largest for cell_probe's
-        // test of one surface; the weights are spent)
-        store4(w + 4 * u, Float4{N[0], N[1], N[2], N[3]});
-        const float lo = std::min(std::min(t0[3], t1[3]), std::min(t2[3], t3[3]));
-        const float hi = std::max(std::max(t0[3], t1[3]), std::max(t2[3], t3[3]));
-        lo_z[u] = lo;
-        hi_z[u] = hi;
-        J[3 * u] = N[4];
-        J[3 * u + 1] = N[5];
-        J[3 * u + 2] = N[6];
+    // (the loop split where the prefetch ends, so that no pixel tests whether it prefetches; the
+    // colour stored four floats at a time, the fourth overwritten by the next pixel's red, but for
+    // the row's last pixel, whose fourth would lie beyond the row)
+    const int ahead_end = std::max(n - kAhead, 0);
+    for (int u = 0; u < ahead_end; ++u) {
+        __builtin_prefetch(in + at[u + kAhead]);
+        __builtin_prefetch(in + at[u + kAhead] + row);
+        store4(J + 3 * u, settle_taps(in + at[u], row, u, w, lo_z, hi_z));
     }
-    const float tol = kPortHitToleranceFloat;
+    for (int u = ahead_end; u < n - 1; ++u)
+        store4(J + 3 * u, settle_taps(in + at[u], row, u, w, lo_z, hi_z));
+    if (n > 0) {
+        const Float4 j = settle_taps(in + at[n - 1], row, n - 1, w, lo_z, hi_z);
+        for (int c = 0; c < 3; ++c) J[3 * (n - 1) + c] = j[c];
+    }
+    const float edge = float(kDepthDiscontinuity), tol = kPortHitToleranceFloat;
     int left = 0;
 #pragma omp simd reduction(+ : left)
     for (int u = 0; u < n; ++u) {
@@ -415,9 +441,10 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
     int left = W;
     if (fast) {
-        fast_march(W, rays.march_row(v), inv_depth.data.data(), nearest.data.data(),
-                   inv_depth.width, inv_depth.height, s_near, f);
-        left = settle_hits(W, rays.march_row(v), cam, in, inv_depth.width, inv_depth.height, f, o);
+        const PortRays::MarchRow m = rays.march_row(v, s_near);
+        fast_march(W, m, inv_depth.data.data(), nearest.data.data(), inv_depth.width,
+                   inv_depth.height, s_near, f);
+        left = settle_hits(W, m, cam, in, inv_depth.width, inv_depth.height, f, o);
     }
     // The rest, one by one (rare: depth edges, open water, long marches), up to the last of them
     const int* state = f.state.data();

@@ -62,6 +62,16 @@ public:
         return {f,         f + n,     f + 2 * n, f + 3 * n, f + 4 * n,
                 f + 5 * n, f + 6 * n, f + 7 * n, f + 8 * n};
     }
+    /// march_row(v) for marches that start at s <= s_near (the compositor's rows: 1.001 / z_near,
+    /// z_near the frame's nearest surface). Where every ray of the row has s_near <= s_origin and
+    /// s_near <= s_hi (its march starts in front of its origin and of its view's near end) and
+    /// s_lo = 0 (it sees the input up to its vanishing point), as behind an ordinary flat port,
+    /// the march takes the same values from rows of constants (s_lo 0, s_origin and s_hi +inf:
+    /// each min with them picks what it picks with the true values, or an equal float), which
+    /// stay in cache, instead of three planes of the table; and where every ray's oz has the same
+    /// bits (a flat port facing along the axis: its outer surface is the plane z = distance +
+    /// glass_thickness), oz from a row of that value: the rows read 5 floats a ray, not 9.
+    MarchRow march_row(int v, float s_near) const;
     /// Where pixel (u, v)'s ray meets the frame's surface, given its inverse planar depth
     /// (optics' inverse_depth) and nearest surface depth z_near (+inf: no surface): the float
     /// march of the compositor's rows (march_port_ray, from port_start_s where
@@ -89,6 +99,12 @@ private:
     Camera m_camera;
     std::vector<Ray> m_rays;
     std::vector<float> m_march_soa;  ///< march_row's fields, width x height planes each
+    /// Per row: the least s_origin and s_hi (NaN if any is), whether every s_lo is +0; and the
+    /// rows of constants for march_row(v, s_near) (width floats each)
+    std::vector<float> m_row_hi;
+    std::vector<char> m_row_lo_zero;
+    std::vector<float> m_zero_row, m_inf_row;
+    std::vector<float> m_oz_row;  ///< every ray's oz where they all have the same bits, else empty
     double m_water_fx = 0.0;
     /// reach()'s bounds: the vanishing points' box (input pixels) and the largest |du|, |dv|
     double m_u_lo = 0.0, m_u_hi = 0.0, m_v_lo = 0.0, m_v_hi = 0.0, m_du = 0.0, m_dv = 0.0;

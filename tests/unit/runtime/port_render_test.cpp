@@ -378,6 +378,51 @@ TEST(PortRender, MarchStartsOnlyWhereNothingNearerIsRead) {
     std::printf("%ld of %d rays start at their window's nearest surface\n", windows, 3 * W * H);
 }
 
+TEST(PortRender, MarchRowTakesConstantsOnlyWhereTheyPickTheSame) {
+    // The compositor's rows read s_lo, s_origin and s_hi from rows of constants (0, +inf, +inf)
+    // where each ray's march picks the same with them (PortRays::march_row(v, s_near)): in a row
+    // whose every ray has s_lo = +0 and s_near <= s_origin, s_hi. CompositorRowsGiveTheScalarMarchs
+    // Hits checks the hits; this checks which rows take the constants. Where every ray's origin
+    // depth oz has the same bits, the rows read it from a row of that value.
+    const Camera cam = test_camera();
+    const Port ports[] = {flat_port({0, 0, 1}, 0.03, 0.012), flat_port({1, 0, 1}, 0.03, 0.012),
+                          dome_port({0.004, -0.003, 0.002}, 0.05, 0.008)};
+    int constant_rows[3] = {0, 0, 0}, oz_rows[3] = {0, 0, 0}, k = 0;
+    for (const Port& port : ports) {
+        const PortRays rays(port, cam);
+        for (const float s_near : {0.0f, 0.4f, 100.0f}) {
+            for (int v = 0; v < cam.height; ++v) {
+                const PortRays::MarchRow m = rays.march_row(v), c = rays.march_row(v, s_near);
+                bool same = true;
+                for (int u = 0; u < cam.width; ++u)
+                    same = same && m.s_lo[u] == 0.0f && !std::signbit(m.s_lo[u]) &&
+                           s_near <= m.s_origin[u] && s_near <= m.s_hi[u] && m.s_origin[u] > 0.0f;
+                const bool constants = c.s_lo != m.s_lo;
+                EXPECT_EQ(constants, same) << port.name() << " row " << v << " s_near " << s_near;
+                if (constants) {
+                    EXPECT_EQ(c.s_origin, c.s_hi);
+                    EXPECT_EQ(c.s_lo[cam.width - 1], 0.0f);
+                    EXPECT_EQ(c.s_hi[cam.width - 1], std::numeric_limits<float>::infinity());
+                }
+                EXPECT_EQ(c.u_inf, m.u_inf);
+                EXPECT_EQ(c.dz, m.dz);
+                for (int u = 0; u < cam.width; ++u) EXPECT_EQ(c.oz[u], m.oz[u]);
+                constant_rows[k] += constants && s_near == 0.4f;
+                oz_rows[k] += c.oz != m.oz && s_near == 0.4f;
+            }
+        }
+        ++k;
+    }
+    // (the flat port on the axis at a frame's ordinary depths: every row; tilted 45 degrees,
+    // beyond the half field of view, part of its rays leave the view before their vanishing point)
+    EXPECT_EQ(constant_rows[0], cam.height);
+    EXPECT_EQ(oz_rows[0], cam.height);  // (its outer surface is a plane z = const)
+    EXPECT_EQ(oz_rows[2], 0);
+    EXPECT_LT(constant_rows[1], cam.height);
+    std::printf("rows with constants at s_near 0.4: flat %d, tilted flat %d, dome %d of %d\n",
+                constant_rows[0], constant_rows[1], constant_rows[2], cam.height);
+}
+
 TEST(PortRender, GatherCellsReadsEachCellsFourPixels) {
     // The march's probes read their cells in a pass of their own (gather_cells, with AVX2 two
     // 8-byte loads a lane): each lane's four pixels, exactly, in groups of eight and in the tail.
