@@ -272,8 +272,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         if (port) {
             port_row(*m_port, v, m_inv_depth, m_nearest, m_in_surface, z_near,
                      {s.x.data(), s.y.data(), s.z.data(), s.t.data(), s.nx.data(), s.ny.data(),
-                      s.nz.data(), s.j.data(), s.mask.data()},
-                     m_exact);
+                      s.nz.data(), s.j.data(), s.mask.data()});
             J = s.j.data();
         } else {
             // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.

@@ -1,8 +1,8 @@
 #pragma once
-// Internal: what the port's row kernels share (port_warp.cpp, port_march_rows.cpp,
-// port_between.cpp): the vectorised march's lane states and scratch, and the hit's taps. All
-// three files are compiled with -fopenmp-simd, -ffp-contract=off and -fno-trapping-math, not
-// fast-math (see CMakeLists.txt), so that their lanes do the scalar march's float arithmetic.
+// Internal: what the port's row kernels share (port_warp.cpp, port_march_rows.cpp): the
+// vectorised march's lane states and scratch, and the hit's taps. Both files are compiled with
+// -fopenmp-simd, -ffp-contract=off and -fno-trapping-math, not fast-math (see CMakeLists.txt), so
+// that their lanes do the scalar march's float arithmetic.
 
 #include <algorithm>
 #include <cmath>
@@ -50,28 +50,18 @@ inline float rate_of(float du, float dv) {
 }
 
 /// The rows' scratch, one a thread, sized for a row: the vectorised march's state (fast_march,
-/// settle_hits) and the approximation's (port_between.cpp).
+/// settle_hits).
 struct MarchScratch {
     std::vector<float> lo, hi, step, ps, ph, as, ah, bs, bh, s, start, w, ok, fu[2], fv[2], c[8];
     std::vector<int> steps, state, at[2];
-    /// port_between.cpp: the even pixels' march inputs (compacted), the row's probe s a pixel,
-    /// the taps' cells, each pixel's state, and the march's start a pixel
-    std::vector<float> even[PortRays::kMarchRowFields], s_px, cell, fu_px, fv_px, start_px;
-    std::vector<int> state_px, retry;
-    std::vector<float> retry_out;  ///< the retried pixels' outputs (PortRow: 11 floats a pixel)
     void fit(int n) {
-        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s, &start, &s_px, &fu_px,
-                        &fv_px, &start_px})
+        for (auto* v : {&lo, &hi, &step, &ps, &ph, &as, &ah, &bs, &bh, &s, &start, &ok})
             v->resize(n);
         for (auto& v : fu) v.resize(n);
         for (auto& v : fv) v.resize(n);
         for (auto& v : c) v.resize(n);
-        ok.resize(std::size_t(n) + 2);  // (port_between.cpp's: a place either side)
-        for (auto& v : even) v.resize(n / 2 + 1);
         w.resize(4 * std::size_t(n));
-        cell.resize(4 * std::size_t(n));
-        for (auto* v : {&steps, &state, &at[0], &at[1], &state_px, &retry}) v->resize(n);
-        retry_out.resize(11 * std::size_t(n));
+        for (auto* v : {&steps, &state, &at[0], &at[1]}) v->resize(n);
     }
 };
 
@@ -100,13 +90,11 @@ inline Float8 splat_halves(Float8 v) {
 /// The hit's taps of lane u: one 8-float load a tap from the interleaved surface at p (the
 /// 2 x 2 pixels from p, `row` floats a row), weighted by the four weights at w[4 u]. The sums'
 /// lanes 0-3 (the normal and the inverse depth) replace the weights, the four pixels' least and
-/// largest inverse depth (lane 3: cell_probe's test of one surface) go to lo_z[u], hi_z[u]; with
-/// `cell`, the four inverse depths themselves to cell[4 u] (the approximation's Newton step);
-/// the colour's sums (lanes 4-7; 7 is the surface's 0) are returned. The products and sums are
+/// largest inverse depth (lane 3: cell_probe's test of one surface) go to lo_z[u], hi_z[u]; the
+/// colour's sums (lanes 4-7; 7 is the surface's 0) are returned. The products and sums are
 /// four-float arithmetic's, lane by lane, so the same floats as the scalar march's taps.
 __attribute__((always_inline)) inline Float4 settle_taps(const float* p, std::size_t row, int u,
-                                                         float* w, float* lo_z, float* hi_z,
-                                                         float* cell = nullptr) {
+                                                         float* w, float* lo_z, float* hi_z) {
     constexpr std::size_t C = kPortSurfaceChannels;
     const Float8 t0 = load8(p), t1 = load8(p + C), t2 = load8(p + row), t3 = load8(p + row + C);
     // (the weights in both halves, one load, then each broadcast by an in-lane permute: GCC
@@ -122,12 +110,6 @@ __attribute__((always_inline)) inline Float4 settle_taps(const float* p, std::si
     const Float4 a0 = low4(t0), a1 = low4(t1), a2 = low4(t2), a3 = low4(t3);
     lo_z[u] = min4(min4(a0, a1), min4(a2, a3))[3];
     hi_z[u] = max4(max4(a0, a1), max4(a2, a3))[3];
-    if (cell) {
-        // lane 3 of each tap: (a0[2], a1[2], a0[3], a1[3]), likewise a2, a3, then their highs
-        const Float4 x = __builtin_shufflevector(a0, a1, 2, 6, 3, 7);
-        const Float4 y = __builtin_shufflevector(a2, a3, 2, 6, 3, 7);
-        store4(cell + 4 * u, __builtin_shufflevector(x, y, 2, 3, 6, 7));
-    }
     return high4(N);
 }
 
@@ -191,39 +173,22 @@ inline void unit_normal(const float* N, float& nx, float& ny, float& nz) {
 /// kAhead pixels ahead, the loop split where the prefetch ends, so that no pixel tests whether it
 /// prefetches; the colour stored four floats at a time, the fourth overwritten by the next
 /// pixel's red, but for the last pixel, whose fourth would lie beyond the row.
-template <bool kCell>
 __attribute__((always_inline)) inline void taps_row(int n, const float* in, const int* at,
                                                     std::size_t row, float* w, float* lo_z,
-                                                    float* hi_z, float* cell, float* J) {
+                                                    float* hi_z, float* J) {
     constexpr int kAhead = 16;
-    float* c = kCell ? cell : nullptr;
     const int ahead_end = n > kAhead ? n - kAhead : 0;
     for (int u = 0; u < ahead_end; ++u) {
         __builtin_prefetch(in + at[u + kAhead]);
         __builtin_prefetch(in + at[u + kAhead] + row);
-        store4(J + 3 * u, settle_taps(in + at[u], row, u, w, lo_z, hi_z, c));
+        store4(J + 3 * u, settle_taps(in + at[u], row, u, w, lo_z, hi_z));
     }
     for (int u = ahead_end; u < n - 1; ++u)
-        store4(J + 3 * u, settle_taps(in + at[u], row, u, w, lo_z, hi_z, c));
+        store4(J + 3 * u, settle_taps(in + at[u], row, u, w, lo_z, hi_z));
     if (n > 0) {
-        const Float4 j = settle_taps(in + at[n - 1], row, n - 1, w, lo_z, hi_z, c);
+        const Float4 j = settle_taps(in + at[n - 1], row, n - 1, w, lo_z, hi_z);
         for (int k = 0; k < 3; ++k) J[3 * (n - 1) + k] = j[k];
     }
 }
-
-/// The approximate path of port_row (Compositor::set_exact(false); docs/ports.md, "Speed"):
-/// the exact march on the even pixels of row v (fast_march), each odd pixel's hit from its
-/// neighbours' by one Newton step on its own cell where both lie on one surface and the step
-/// moves its position by at most kBetweenShiftPx, and their taps. Every pixel it does not settle
-/// gets state_px kScalar (or kOpen, kUnseen for even pixels whose march says so, with their
-/// outputs set), and start_px its march's start (< 0: from the window); returns their number.
-int between_row(const PortRays& rays, int v, float s_near, const Pinhole& cam, const float* in,
-                const float* inv, const float* nearest, int W, int H, MarchScratch& f,
-                const PortRow& o);
-
-/// The largest move, in input pixels, of an interpolated pixel's hit by its Newton step: its
-/// normal and colour are read where it starts, so they are those of a point at most this far
-/// from the hit (each within this share of its four pixels' range: docs/ports.md, "Speed").
-inline constexpr float kBetweenShiftPx = 2.5e-4f;
 
 }  // namespace deepsea::port_lanes

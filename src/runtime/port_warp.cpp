@@ -50,7 +50,7 @@ int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const floa
         place_taps(m.u_inf[u] + m.du[u] * s, m.v_inf[u] + m.dv[u] * s, W, H, active, at[u],
                    w + 4 * u, fu, fv);
     }
-    taps_row<false>(n, in, at, std::size_t(W) * kPortSurfaceChannels, w, lo_z, hi_z, nullptr, J);
+    taps_row(n, in, at, std::size_t(W) * kPortSurfaceChannels, w, lo_z, hi_z, J);
     int left = 0;
 #pragma omp simd reduction(+ : left)
     for (int u = 0; u < n; ++u) {
@@ -104,7 +104,7 @@ void port_surface_row(int n, const float* __restrict nx, const float* __restrict
 }
 
 void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
-              const Image& surface, double z_near, const PortRow& o, bool exact) {
+              const Image& surface, double z_near, const PortRow& o) {
     const int W = rays.camera().width;
     const Pinhole cam(rays.camera());
     const float s_near = float(1.001 / z_near);
@@ -112,32 +112,27 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
     thread_local MarchScratch scratch;
     MarchScratch& f = scratch;  // (one look-up of the thread's scratch, not one a pixel)
     f.fit(W);
-    const int IW = inv_depth.width, IH = inv_depth.height;
-    const bool fast = IW >= 2 && IH >= 2;
-    const bool between = fast && !exact && W >= 4;
+    const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
     int left = W;
-    if (between) {
-        left = between_row(rays, v, s_near, cam, in, inv_depth.data.data(), nearest.data.data(), IW,
-                           IH, f, o);
-    } else if (fast) {
+    if (fast) {
         const PortRays::MarchRow m = rays.march_row(v, s_near);
-        fast_march(W, m, inv_depth.data.data(), nearest.data.data(), IW, IH, s_near, f);
-        left = settle_hits(W, m, cam, in, IW, IH, f, o);
+        fast_march(W, m, inv_depth.data.data(), nearest.data.data(), inv_depth.width,
+                   inv_depth.height, s_near, f);
+        left = settle_hits(W, m, cam, in, inv_depth.width, inv_depth.height, f, o);
     }
     // The rest, one by one (rare: depth edges, open water, long marches), up to the last of them
-    const int* state = between ? f.state_px.data() : f.state.data();
-    const float* starts = between ? f.start_px.data() : f.start.data();
+    const int* state = f.state.data();
     for (int u = 0; u < W && left > 0; ++u) {
         const int st = fast ? state[u] : kScalar;
         if (st == kSurface || st == kOpen || st == kUnseen) continue;  // (done above)
         --left;
         // (kActive and kMarching too: not settled in the fast steps; the scalar march starts
-        // again, where the fast march started it, or from its window)
+        // again)
         const PortMarch<float> m = rays.march(u, v);
         float start = s_near;
-        if (fast && starts[u] >= 0.0f) {
-            start = starts[u];
-        } else if (const int w = port_start_window(m, s_near, W, IH); w >= 0) {
+        if (fast) {
+            start = f.start[u];
+        } else if (const int w = port_start_window(m, s_near, W, inv_depth.height); w >= 0) {
             start = port_start_s(s_near, nearest.data[w]);
         }
         const PortCrossing<float> h = march_port_ray(inv_depth, m, start);

@@ -37,14 +37,11 @@ void gather_cells(int n, const int* at, const float* inv, int W, float* c0, floa
 /// the input's per-pixel normals and linear colour (`surface`, kPortSurfaceChannels), taken as
 /// optics' surface_taps says (bilinear on one surface, nearest across an edge; the normal
 /// renormalised), and the mask: 1 where the input shows what the ray meets (a surface or open
-/// water), 0 where it does not (PortHitKind::Unseen). `exact`: every pixel's ray marched (the
-/// scalar march's hits bit for bit); otherwise every other pixel's, and the pixels between
-/// interpolated where their neighbours lie on one surface (docs/ports.md, "Speed": the
-/// approximation's bound).
+/// water), 0 where it does not (PortHitKind::Unseen).
 struct PortRow {
     float *x, *y, *z, *t, *nx, *ny, *nz, *J, *mask;
 };
 void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
-              const Image& surface, double z_near, const PortRow& out, bool exact = true);
+              const Image& surface, double z_near, const PortRow& out);
 
 }  // namespace deepsea
