@@ -173,10 +173,9 @@ inline void unit_normal(const float* N, float& nx, float& ny, float& nz) {
 /// kAhead pixels ahead, the loop split where the prefetch ends, so that no pixel tests whether it
 /// prefetches; the colour stored four floats at a time, the fourth overwritten by the next
 /// pixel's red, but for the last pixel, whose fourth would lie beyond the row.
-__attribute__((always_inline)) inline void taps_row(int n, const float* __restrict in,
-                                                    const int* __restrict at, std::size_t row,
-                                                    float* __restrict w, float* __restrict lo_z,
-                                                    float* __restrict hi_z, float* __restrict J) {
+__attribute__((always_inline)) inline void taps_row(int n, const float* in, const int* at,
+                                                    std::size_t row, float* w, float* lo_z,
+                                                    float* hi_z, float* J) {
     constexpr int kAhead = 16;
     const int ahead_end = n > kAhead ? n - kAhead : 0;
     for (int u = 0; u < ahead_end; ++u) {

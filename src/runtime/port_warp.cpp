@@ -103,19 +103,27 @@ void port_surface_row(int n, const float* __restrict nx, const float* __restrict
     }
 }
 
-namespace {
-
-/// The rays of pixels u0 .. u0 + n - 1 of row v that the vectorised march left (`left` of them;
-/// f's state and start lane by lane from u0, or none where !fast), one by one (rare: depth edges,
-/// open water, long marches), up to the last of them.
-void scalar_tail(const PortRays& rays, int v, int u0, int n, int left, bool fast,
-                 const Image& inv_depth, const Image& nearest, const float* in, float s_near,
-                 const Pinhole& cam, const MarchScratch& f, const PortRow& o) {
+void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
+              const Image& surface, double z_near, const PortRow& o) {
     const int W = rays.camera().width;
+    const Pinhole cam(rays.camera());
+    const float s_near = float(1.001 / z_near);
+    const float* in = surface.data.data();
+    thread_local MarchScratch scratch;
+    MarchScratch& f = scratch;  // (one look-up of the thread's scratch, not one a pixel)
+    f.fit(W);
+    const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
+    int left = W;
+    if (fast) {
+        const PortRays::MarchRow m = rays.march_row(v, s_near);
+        fast_march(W, m, inv_depth.data.data(), nearest.data.data(), inv_depth.width,
+                   inv_depth.height, s_near, f);
+        left = settle_hits(W, m, cam, in, inv_depth.width, inv_depth.height, f, o);
+    }
+    // The rest, one by one (rare: depth edges, open water, long marches), up to the last of them
     const int* state = f.state.data();
-    for (int k = 0; k < n && left > 0; ++k) {
-        const int u = u0 + k;
-        const int st = fast ? state[k] : kScalar;
+    for (int u = 0; u < W && left > 0; ++u) {
+        const int st = fast ? state[u] : kScalar;
         if (st == kSurface || st == kOpen || st == kUnseen) continue;  // (done above)
         --left;
         // (kActive and kMarching too: not settled in the fast steps; the scalar march starts
@@ -123,7 +131,7 @@ void scalar_tail(const PortRays& rays, int v, int u0, int n, int left, bool fast
         const PortMarch<float> m = rays.march(u, v);
         float start = s_near;
         if (fast) {
-            start = f.start[k];
+            start = f.start[u];
         } else if (const int w = port_start_window(m, s_near, W, inv_depth.height); w >= 0) {
             start = port_start_s(s_near, nearest.data[w]);
         }
@@ -149,46 +157,6 @@ void scalar_tail(const PortRays& rays, int v, int u0, int n, int left, bool fast
         const float N[3] = {n[0], n[1], n[2]};
         unit_normal(N, o.nx[u], o.ny[u], o.nz[u]);
         for (int c = 0; c < 3; ++c) o.J[3 * u + c] = j[c];
-    }
-}
-
-/// Pixels of a row that the vectorised march and the hits take at a time: their scratch (about
-/// 36 floats a pixel, 18 KB) stays in the first-level cache between the passes, where a whole
-/// row's (110 KB at 800 pixels) streams through it in each. The lanes are independent, so the
-/// hits are the same.
-constexpr int kPortChunk = 128;
-
-/// m's fields from pixel u0 on.
-PortRays::MarchRow shifted(const PortRays::MarchRow& m, int u0) {
-    return {m.u_inf + u0, m.v_inf + u0, m.du + u0, m.dv + u0, m.s_origin + u0,
-            m.s_lo + u0,  m.s_hi + u0,  m.oz + u0, m.dz + u0};
-}
-
-}  // namespace
-
-void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& nearest,
-              const Image& surface, double z_near, const PortRow& o) {
-    const int W = rays.camera().width;
-    const Pinhole cam(rays.camera());
-    const float s_near = float(1.001 / z_near);
-    const float* in = surface.data.data();
-    thread_local MarchScratch scratch;
-    MarchScratch& f = scratch;  // (one look-up of the thread's scratch, not one a pixel)
-    f.fit(std::min(W, kPortChunk));
-    const bool fast = inv_depth.width >= 2 && inv_depth.height >= 2;
-    const PortRays::MarchRow row = rays.march_row(v, s_near);
-    for (int u0 = 0; u0 < W; u0 += kPortChunk) {
-        const int n = std::min(kPortChunk, W - u0);
-        const PortRow c{o.x + u0,  o.y + u0,  o.z + u0,     o.t + u0,   o.nx + u0,
-                        o.ny + u0, o.nz + u0, o.J + 3 * u0, o.mask + u0};
-        int left = n;
-        if (fast) {
-            const PortRays::MarchRow m = shifted(row, u0);
-            fast_march(n, m, inv_depth.data.data(), nearest.data.data(), inv_depth.width,
-                       inv_depth.height, s_near, f);
-            left = settle_hits(n, m, cam, in, inv_depth.width, inv_depth.height, f, c);
-        }
-        scalar_tail(rays, v, u0, n, left, fast, inv_depth, nearest, in, s_near, cam, f, o);
     }
 }
 
