@@ -160,13 +160,13 @@ inline void hit_point(float hu, float hv, float s, float oz, float dz, const Pin
     y = back_project(hv, cam.cy, cam.ky, z);
 }
 
-/// The taps' normal sums N[0..2] made a unit vector (0 where they are 0).
-inline void unit_normal(const float* N, float& nx, float& ny, float& nz) {
-    const float len = std::sqrt(N[0] * N[0] + N[1] * N[1] + N[2] * N[2]);
+/// The taps' normal sums (Nx, Ny, Nz) made a unit vector (0 where they are 0).
+inline void unit_normal(float Nx, float Ny, float Nz, float& nx, float& ny, float& nz) {
+    const float len = std::sqrt(Nx * Nx + Ny * Ny + Nz * Nz);
     const float inv = len > 0.0f ? 1.0f / len : 0.0f;
-    nx = N[0] * inv;
-    ny = N[1] * inv;
-    nz = N[2] * inv;
+    nx = Nx * inv;
+    ny = Ny * inv;
+    nz = Nz * inv;
 }
 
 /// The taps of n pixels (settle_taps at in + at[u]), the colour into J (3 a pixel): prefetched

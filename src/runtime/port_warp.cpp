@@ -70,7 +70,7 @@ int settle_hits(int n, const PortRays::MarchRow m, const Pinhole cam, const floa
         z[u] = hit ? zh : 0.0f;
         t[u] = hit ? th : 0.0f;
         mask[u] = (hit | (st == kOpen)) ? 1.0f : 0.0f;
-        unit_normal(w + 4 * u, nx[u], ny[u], nz[u]);
+        unit_normal(w[4 * u], w[4 * u + 1], w[4 * u + 2], nx[u], ny[u], nz[u]);
     }
     return left;
 }
@@ -154,8 +154,7 @@ void port_row(const PortRays& rays, int v, const Image& inv_depth, const Image& 
             n += splat(taps.w[i]) * load4(p);
             j += splat(taps.w[i]) * load4(p + 4);
         }
-        const float N[3] = {n[0], n[1], n[2]};
-        unit_normal(N, o.nx[u], o.ny[u], o.nz[u]);
+        unit_normal(n[0], n[1], n[2], o.nx[u], o.ny[u], o.nz[u]);
         for (int c = 0; c < 3; ++c) o.J[3 * u + c] = j[c];
     }
 }
