@@ -262,19 +262,29 @@ void LampShadows::sweep(const Camera& cam, const Rig& rig, float thickness, cons
         for (int u = 0; u < W; ++u) m_rx[u] = float(cam.ray_x(u));
         for (int v = 0; v < H; ++v) m_ry[v] = float(cam.ray_y(v));
     }
-    // The depth swept (every step-th pixel's) and, where a lamp is swept in the transposed
-    // frame, its transpose: in one pass.
-    const bool transposed = std::any_of(m_lines_t.begin(), m_lines_t.end(),
-                                        [](const Lines& t) { return !t.families.empty(); });
-    if (step > 1 && (m_sub.width != W || m_sub.height != H)) m_sub = Image(W, H, 1);
+    // The depth swept (every step-th pixel's) where a lamp is swept in the frame itself and,
+    // where one is swept in the transposed frame, its transpose: in one pass. (With the demo's
+    // lamps, both swept transposed, the subsample is not written: the upsampling reads the
+    // samples' depths from the frame.)
+    bool transposed = false, direct = false, radial = false;
+    for (std::size_t l = 0; l < m_lines.size(); ++l) {
+        const bool t = !m_lines_t[l].families.empty();
+        transposed |= t;
+        direct |= !t;
+        radial |= !t && m_lines[l].families[0].radial;
+    }
+    const bool sub = step > 1 && direct;
+    if (sub && (m_sub.width != W || m_sub.height != H)) m_sub = Image(W, H, 1);
     if (transposed && (m_depth_t.width != H || m_depth_t.height != W)) m_depth_t = Image(H, W, 1);
-    if (step > 1 || transposed)
-        subsample(frame, step, W, H, step > 1 ? m_sub.data.data() : nullptr,
+    if (sub || transposed)
+        subsample(frame, step, W, H, sub ? m_sub.data.data() : nullptr,
                   transposed ? m_depth_t.data.data() : nullptr);
     const Image& zdepth = step > 1 ? m_sub : frame;
     m_visibility.resize(rig.lights.size());
     m_ones.resize(rig.lights.size());
-    for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
+    // the per-pixel terms of the scalar sweep (radial lines only)
+    if (radial)
+        for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         const Vec3& L = rig.lights[l].position;
         const float R = float(rig.lights[l].radius);

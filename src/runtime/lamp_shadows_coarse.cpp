@@ -34,7 +34,8 @@ Camera coarse_camera(const Camera& cam, int step) {
 }
 
 /// Row v of the full-resolution visibility from the coarse rows j0 and j1 (the samples above
-/// and below it, j1 = j0 at the last row; ty: v's fraction of the way from j0 to j1). A pixel
+/// and below it, j1 = j0 at the last row; ty: v's fraction of the way from j0 to j1; za, zb:
+/// the frame's rows j0 step and j1 step, the samples' depths every step-th value). A pixel
 /// takes the bilinear mean of the four samples around it that lie on its own surface
 /// (same_surface); where none does (a surface narrower than the step, or an edge between
 /// samples), the sample nearest it in depth. Wherever all four samples are fully lit the row
@@ -61,7 +62,7 @@ void upsample_row(int W, int Wc, int step, float ty, const float* z, const float
         const int i1 = std::min(i0 + 1, Wc - 1);
         if (!dark[i0] && !dark[i1]) continue;
         const float vk[4] = {va[i0], va[i1], vb[i0], vb[i1]};
-        const float zk[4] = {za[i0], za[i1], zb[i0], zb[i1]};
+        const float zk[4] = {za[i0 * step], za[i1 * step], zb[i0 * step], zb[i1 * step]};
         const int u_end = std::min(W, (i0 + 1) * step);
         for (int u = i0 * step; u < u_end; ++u) {
             const float zp = z[u];
@@ -103,8 +104,7 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
     const Camera cc = coarse_camera(cam, s);
     const int W = cam.width, H = cam.height, Wc = cc.width, Hc = cc.height;
     if (!m_coarse) m_coarse = std::make_unique<LampShadows>();
-    m_coarse->sweep(cc, rig, t, zdepth, s);  // (its depth: m_coarse->m_sub)
-    const Image& coarse_depth = m_coarse->m_sub;
+    m_coarse->sweep(cc, rig, t, zdepth, s);
 
     m_width = W;
     m_height = H;
@@ -133,7 +133,7 @@ void LampShadows::compute(const Camera& cam, const Image& zdepth, const Rig& rig
             }
             const float ty = float(v - j0 * s) / float(s);
             upsample_row(W, Wc, s, ty, zdepth.row(v), m_coarse->row(l, j0), m_coarse->row(l, j1),
-                         coarse_depth.row(j0), coarse_depth.row(j1), vis.row(v));
+                         zdepth.row(j0 * s), zdepth.row(j1 * s), vis.row(v));
             ones[std::size_t(v)] = 0;
         });
     }

@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 #include "clones.h"
@@ -27,32 +29,27 @@ namespace {
 constexpr int kLanes = 16;
 constexpr int kAhead = 8;  ///< steps between a prefetch and its use
 
-/// The penumbra's argument at P (shadow coordinate gp, scale k, position p) of the edge at
-/// (eg, e, es = its distance to the lamp): lamp_shadows.cpp's penumbra_at without its
-/// branches. Where that returns 1 (the whole disc seen) this is at least 1, which counts the
-/// same; an edge point at P itself (never swept: edges are other pixels') would give +-1 there
-/// and a large +-value here.
-inline float penumbra_lane(float gp, float k, float px, float py, float pz, float eg, float ex,
-                           float ey, float ez, float es, float R) {
-    const float delta = gp - eg;
-    const float dx = px - ex, dy = py - ey, dz = pz - ez;
-    const float d2 = dx * dx + dy * dy + dz * dz;
-    return delta * k * es / (R * std::sqrt(d2 > 1e-30f ? d2 : 1e-30f));
-}
-
 /// A sample per lane: valid (1, else 0), depth, shadow coordinates, lamp distance, position.
 struct Samples {
     alignas(64) float valid[kLanes], z[kLanes], gf[kLanes], gh[kLanes], gb[kLanes], k[kLanes],
         d1[kLanes], x[kLanes], y[kLanes];
 };
 
-/// Each lane's running horizon (lamp_shadows.cpp's Horizon): the edges e (eg, ex, ey, ez, es:
-/// shadow coordinate, position, lamp distance) and e2 (fg, ...), lo, whether e and e2 exist
-/// (hq, hq2) and the step e was swept at (kq).
+/// Each lane's running horizon (lamp_shadows.cpp's Horizon): the edge e (eg, ex, ey, ez, es:
+/// shadow coordinate, position, lamp distance), lo, whether e exists (hq) and the step it was
+/// swept at (kq).
 struct HorizonLanes {
-    alignas(64) float eg[kLanes], ex[kLanes], ey[kLanes], ez[kLanes], es[kLanes], fg[kLanes],
-        fx[kLanes], fy[kLanes], fz[kLanes], fs[kLanes], lo[kLanes], hq[kLanes], hq2[kLanes],
-        kq[kLanes];
+    alignas(64) float eg[kLanes], ex[kLanes], ey[kLanes], ez[kLanes], es[kLanes], lo[kLanes],
+        hq[kLanes], kq[kLanes];
+};
+
+/// Each lane's second edge e2 (fg, fx, fy, fz, fs as e's) and whether it exists (hq2): it
+/// changes only where a new edge does not continue the surface of the last (rarely: on a lit
+/// surface every sample continues it), so it is rewritten only at steps where some lane's
+/// changes, into the other of two copies (written in place, its selects became masked loads
+/// and stores).
+struct SecondEdges {
+    alignas(64) float fg[kLanes], fx[kLanes], fy[kLanes], fz[kLanes], fs[kLanes], hq2[kLanes];
 };
 
 /// Lines i0 .. i_end - 1 (at most kLanes) of the parallel family f.
@@ -62,6 +59,7 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
     const int step = f.dir, first = step > 0 ? 0 : A - 1;
     const float R = s.R, kd = float(kDepthDiscontinuity);
     const double slope = f.slope;
+    const bool level = slope == 0.0;
     const bool swap = f.swap;
     const int W = s.W, line0 = int(i0), lanes = int(i_end - i0);
     const float *zz = s.z, *rx = s.rx, *ry = s.ry;
@@ -72,18 +70,27 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
     // other at each step, so that its update is a select and a plain store (kept in one array,
     // GCC made it masked stores, slow on AMD)
     HorizonLanes hz[2];
+    SecondEdges e2s[2];
+    const SecondEdges* e2p = &e2s[0];  // the current copy; the other is written when it changes
     {
+        SecondEdges& e2 = e2s[0];
         HorizonLanes& h = hz[0];
         for (int j = 0; j < kLanes; ++j) {
-            h.eg[j] = h.fg[j] = -FLT_MAX;
-            h.ex[j] = h.ey[j] = h.ez[j] = h.es[j] = h.fx[j] = h.fy[j] = h.fz[j] = h.fs[j] = 0.0f;
+            h.eg[j] = e2.fg[j] = -FLT_MAX;
+            h.ex[j] = h.ey[j] = h.ez[j] = h.es[j] = 0.0f;
+            e2.fx[j] = e2.fy[j] = e2.fz[j] = e2.fs[j] = 0.0f;
             h.lo[j] = FLT_MAX;
-            h.hq[j] = h.hq2[j] = h.kq[j] = 0.0f;
+            h.hq[j] = e2.hq2[j] = h.kq[j] = 0.0f;
         }
     }
+    alignas(64) int shifts[kLanes];  // per lane, whether e2 takes e at this step
+    // penumbra_past's bound (R^2 (1 + 2^-10)), where R is far from float's limits
+    const float R2m = penumbra_past_scale(R);
+    const bool quick = penumbra_past_applies(R);
     alignas(64) float arg[kLanes];
-    // the last column's sample and this column's (in turn), the pixel evaluated
-    Samples buf[2] = {}, p{};
+    // the last column's sample and this column's (in turn), the pixel evaluated where it is
+    // not the sample (buf[2])
+    Samples buf[3] = {};
     // per lane: the sample's pixel index and column, row (0 where none: a safe address; the
     // sample is then marked invalid), and the pixel evaluated where it is another (see below)
     alignas(64) int qi[kLanes], qu[kLanes], qv[kLanes], qok[kLanes], pi[kLanes], pok[kLanes];
@@ -96,19 +103,28 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
         Samples& q = buf[P];
         const Samples& prev = buf[P ^ 1];
         const HorizonLanes& hc = hz[P];
+        const SecondEdges& e2 = *e2p;
         HorizonLanes& nh = hz[P ^ 1];
         // Line i's sample in this column is in row i + off, that row's own pixel, but where
         // the lines run exactly between two rows (the row below is then their own); a line
         // is inside the image for i in [i_lo, i_hi].
-        const double base = slope * a;
-        const int off = int(std::floor(base + 0.5));
-        const int between = double(off) - base == 0.5 ? 1 : 0;
-        const int i_lo = int(std::ceil(-1.0 - base)), i_hi = int(std::floor(double(B) - base));
+        // (lines along an image axis, as the demo's lamps give: the same at every step)
+        int off = 0, between = 0, i_lo = -1, i_hi = B;
+        if (!level) {
+            const double base = slope * a;
+            off = int(std::floor(base + 0.5));
+            between = double(off) - base == 0.5 ? 1 : 0;
+            i_lo = int(std::ceil(-1.0 - base));
+            i_hi = int(std::floor(double(B) - base));
+        }
         const int r_first = line0 + off;
-        if (swap && lanes == kLanes && between == 0 && line0 >= i_lo &&
-            line0 + kLanes - 1 <= i_hi && r_first >= 0 && r_first + kLanes <= B) {
-            // (nearly always) the eight samples side by side in row a: plain vector loads
-            const int o0 = a * W + r_first;
+        // (nearly always) the sixteen samples side by side in row a, each lane's pixel its
+        // sample's: plain vector loads, and the pixels evaluated are the samples (read from q,
+        // not copied into p)
+        const bool fast = swap && lanes == kLanes && between == 0 && line0 >= i_lo &&
+                          line0 + kLanes - 1 <= i_hi && r_first >= 0 && r_first + kLanes <= B;
+        const int o0 = a * W + r_first;
+        if (fast) {
             // the depth a few steps ahead (the lanes read 32 bytes a row, rows apart)
             // (both cache lines the sixteen depths may span)
             if (c + kAhead < A) {
@@ -133,16 +149,10 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                 q.d1[j] = ok ? d : 0.0f;
                 q.x[j] = ok ? rxa[j] * z : 0.0f;
                 q.y[j] = ok ? ya * z : 0.0f;
-                p.valid[j] = q.valid[j];
-                p.gf[j] = q.gf[j];
-                p.z[j] = q.z[j];
-                p.k[j] = ok ? k : 0.0f;
-                p.x[j] = q.x[j];
-                p.y[j] = q.y[j];
-                pi[j] = o;
-                pok[j] = 1;
+                q.k[j] = ok ? k : 0.0f;
             }
         } else {
+            Samples& p = buf[2];
             bool other = false;  // whether any lane evaluates a pixel other than its sample
 #pragma omp simd reduction(| : other)
             for (int j = 0; j < kLanes; ++j) {
@@ -200,12 +210,29 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
             }
         }
         // P's visibility under the horizon (Sweep::visible); the disc's fraction after. Where
-        // every lane is lit (most steps) nothing is written: the penumbra is not evaluated.
+        // every lane is lit, below the horizon's interval or surely past both penumbra edges
+        // (nearly every step on a lit floor, whose samples lie within the interval that the
+        // samples before them open), nothing is written and the penumbra is not evaluated.
+        const Samples& p = fast ? q : buf[2];
         int unlit = 0;
+        if (quick) {
 #pragma omp simd reduction(| : unlit)
-        for (int j = 0; j < kLanes; ++j) {
-            const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (p.gf[j] < hc.lo[j]);
-            unlit |= lit ? 0 : 1;
+            for (int j = 0; j < kLanes; ++j) {
+                const float gp = p.gf[j];
+                const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (gp < hc.lo[j]);
+                const bool past1 = penumbra_past(gp, p.k[j], p.x[j], p.y[j], p.z[j], hc.eg[j],
+                                                 hc.ex[j], hc.ey[j], hc.ez[j], hc.es[j], R2m);
+                const bool past2 = penumbra_past(gp, p.k[j], p.x[j], p.y[j], p.z[j], e2.fg[j],
+                                                 e2.fx[j], e2.fy[j], e2.fz[j], e2.fs[j], R2m);
+                const bool seen = lit | (past1 & ((e2.hq2[j] <= 0.0f) | past2));
+                unlit |= seen ? 0 : 1;
+            }
+        } else {
+#pragma omp simd reduction(| : unlit)
+            for (int j = 0; j < kLanes; ++j) {
+                const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (p.gf[j] < hc.lo[j]);
+                unlit |= lit ? 0 : 1;
+            }
         }
         if (unlit && R > 0.0f) {
 #pragma omp simd
@@ -214,9 +241,9 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                 const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (gp < hc.lo[j]);
                 const float a1 = penumbra_lane(gp, p.k[j], p.x[j], p.y[j], p.z[j], hc.eg[j],
                                                hc.ex[j], hc.ey[j], hc.ez[j], hc.es[j], R);
-                const float a2 = penumbra_lane(gp, p.k[j], p.x[j], p.y[j], p.z[j], hc.fg[j],
-                                               hc.fx[j], hc.fy[j], hc.fz[j], hc.fs[j], R);
-                const bool both = (hc.hq2[j] > 0.0f) & (a1 > -1.0f) & (a2 < a1);
+                const float a2 = penumbra_lane(gp, p.k[j], p.x[j], p.y[j], p.z[j], e2.fg[j],
+                                               e2.fx[j], e2.fy[j], e2.fz[j], e2.fs[j], R);
+                const bool both = (e2.hq2[j] > 0.0f) & (a1 > -1.0f) & (a2 < a1);
                 const float m = both ? a2 : a1;
                 arg[j] = lit ? 1.0f : m;
             }
@@ -235,41 +262,68 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
             for (int j = 0; j < kLanes; ++j) least = arg[j] < least ? arg[j] : least;
         }
         for (int j = 0; least < 1.0f && j < kLanes; ++j) {
-            if (!pok[j] || !(p.valid[j] > 0.0f) || arg[j] >= 1.0f) continue;
-            const int o = s.out_transposed ? (pi[j] % W) * s.H + pi[j] / W : pi[j];
+            const int pj = fast ? o0 + j : pi[j];
+            if (!(fast || pok[j]) || !(p.valid[j] > 0.0f) || arg[j] >= 1.0f) continue;
+            const int o = s.out_transposed ? (pj % W) * s.H + pj / W : pj;
             s.out[o] = disc_visible_fraction(arg[j]);
         }
-        // the last column's sample joins the horizon, its edge toward this one (Sweep::take)
+        // the last column's sample joins the horizon, its edge toward this one (Sweep::take).
+        // Every field is read into a local before the selects: written as `up ? a[j] : b[j]`,
+        // GCC made each select two masked loads and a masked store, which read the stores of
+        // the step before (no store forwarding: a third of the sweep's time on AMD).
         const float kp = float(c - 1);
-#pragma omp simd
+        int any_shift = 0;
+#pragma omp simd reduction(| : any_shift)
         for (int j = 0; j < kLanes; ++j) {
-            const bool has = prev.valid[j] > 0.0f;
-            const float zq = prev.z[j];
-            const bool chord = (q.valid[j] > 0.0f) & (std::fabs(zq - q.z[j]) <= kd * q.z[j]);
-            const float ge = chord ? 0.5f * (prev.gf[j] + q.gf[j]) : prev.gh[j];
-            const float b = prev.gb[j];
-            const float eg = hc.eg[j], lo = hc.lo[j], hq = hc.hq[j];
+            const float eg = hc.eg[j], ex = hc.ex[j], ey = hc.ey[j], ez = hc.ez[j], es = hc.es[j];
+            const float lo = hc.lo[j], hq = hc.hq[j], kq = hc.kq[j];
+            const float pv = prev.valid[j], zq = prev.z[j], pg = prev.gf[j], ph = prev.gh[j];
+            const float b = prev.gb[j], px = prev.x[j], py = prev.y[j], pd = prev.d1[j];
+            const float qv = q.valid[j], qz = q.z[j], qg = q.gf[j];
+            const bool has = pv > 0.0f;
+            const bool chord = (qv > 0.0f) & (std::fabs(zq - qz) <= kd * qz);
+            const float ge = chord ? 0.5f * (pg + qg) : ph;
             const bool up = has & (ge > eg);
             const bool mid = has & !up & (ge >= lo);
-            const bool goes_on =
-                (hq > 0.0f) & (kp - hc.kq[j] <= 2.0f) & (std::fabs(hc.ez[j] - zq) <= kd * zq);
+            const bool goes_on = (hq > 0.0f) & (kp - kq <= 2.0f) & (std::fabs(ez - zq) <= kd * zq);
             const bool shift = up & !goes_on;
             const float lo_min = b < lo ? b : lo;
             const float lo_up = b <= eg ? lo_min : b;
             nh.lo[j] = up ? lo_up : (mid ? lo_min : lo);
-            nh.fg[j] = shift ? eg : hc.fg[j];
-            nh.fx[j] = shift ? hc.ex[j] : hc.fx[j];
-            nh.fy[j] = shift ? hc.ey[j] : hc.fy[j];
-            nh.fz[j] = shift ? hc.ez[j] : hc.fz[j];
-            nh.fs[j] = shift ? hc.es[j] : hc.fs[j];
-            nh.hq2[j] = shift ? hq : hc.hq2[j];
+            shifts[j] = shift ? 1 : 0;
+            any_shift |= shift ? 1 : 0;
             nh.eg[j] = up ? ge : eg;
-            nh.ex[j] = up ? prev.x[j] : hc.ex[j];
-            nh.ey[j] = up ? prev.y[j] : hc.ey[j];
-            nh.ez[j] = up ? zq : hc.ez[j];
-            nh.es[j] = up ? prev.d1[j] : hc.es[j];
+            nh.ex[j] = up ? px : ex;
+            nh.ey[j] = up ? py : ey;
+            nh.ez[j] = up ? zq : ez;
+            nh.es[j] = up ? pd : es;
             nh.hq[j] = up ? 1.0f : hq;
-            nh.kq[j] = up ? kp : hc.kq[j];
+            nh.kq[j] = up ? kp : kq;
+        }
+        if (any_shift) {  // e2 takes the old e (hc's) where e moves on to a new surface
+            SecondEdges& ne = e2s[e2p == &e2s[0] ? 1 : 0];
+            // (each select a blend of bits: written as `shift ? a : b`, GCC loaded a and b
+            // with masked loads)
+            const auto blend = [](int m, float a, float b) __attribute__((always_inline)) {
+                std::uint32_t ua, ub;
+                std::memcpy(&ua, &a, 4);
+                std::memcpy(&ub, &b, 4);
+                const std::uint32_t u = (ua & std::uint32_t(m)) | (ub & ~std::uint32_t(m));
+                float r;
+                std::memcpy(&r, &u, 4);
+                return r;
+            };
+#pragma omp simd
+            for (int j = 0; j < kLanes; ++j) {
+                const int m = -shifts[j];  // all bits where e2 takes e
+                ne.fg[j] = blend(m, hc.eg[j], e2.fg[j]);
+                ne.fx[j] = blend(m, hc.ex[j], e2.fx[j]);
+                ne.fy[j] = blend(m, hc.ey[j], e2.fy[j]);
+                ne.fz[j] = blend(m, hc.ez[j], e2.fz[j]);
+                ne.fs[j] = blend(m, hc.es[j], e2.fs[j]);
+                ne.hq2[j] = blend(m, hc.hq[j], e2.hq2[j]);
+            }
+            e2p = &ne;
         }
     };
     int c = 0;

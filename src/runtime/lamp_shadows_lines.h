@@ -105,6 +105,42 @@ struct RowParams {
     gb = surf * ((dl - s * qa) * inv / s) + none;
 }
 
+/// The penumbra's argument at P (shadow coordinate gp, scale k, position p) of the edge at
+/// (eg, e, es = its distance to the lamp): lamp_shadows.cpp's penumbra_at without its
+/// branches. Where that returns 1 (the whole disc seen) this is at least 1, which counts the
+/// same; an edge point at P itself (never swept: edges are other pixels') would give +-1 there
+/// and a large +-value here.
+inline float penumbra_lane(float gp, float k, float px, float py, float pz, float eg, float ex,
+                           float ey, float ez, float es, float R) {
+    const float delta = gp - eg;
+    const float dx = px - ex, dy = py - ey, dz = pz - ez;
+    const float d2 = dx * dx + dy * dy + dz * dz;
+    return delta * k * es / (R * std::sqrt(d2 > 1e-30f ? d2 : 1e-30f));
+}
+
+/// Whether penumbra_lane(gp, k, p, e, R) is surely at least 1 (the whole disc seen past the
+/// edge), without its square root and division: where its numerator's square is at least
+/// R^2 d2 (1 + 2^-10) = R2m d2, h is at least 1 + 2^-11 in exact arithmetic, far above the
+/// rounding of either form and the vector square root's and reciprocal's error (a few 1e-7).
+/// num is clamped down and d2 up (to 1e15 and 1e-20: either only makes the test harder), so
+/// that num^2 is finite and R2m d2 normal for R in [1e-5, 1e5] m; where R2m d2 overflows the
+/// test fails.
+inline bool penumbra_past(float gp, float k, float px, float py, float pz, float eg, float ex,
+                          float ey, float ez, float es, float R2m) {
+    const float num_raw = (gp - eg) * k * es;
+    const float num = num_raw < 1e15f ? num_raw : 1e15f;
+    const float dx = px - ex, dy = py - ey, dz = pz - ez;
+    const float d2_raw = dx * dx + dy * dy + dz * dz;
+    const float d2 = d2_raw > 1e-20f ? d2_raw : 1e-20f;
+    return (num > 0.0f) & (num * num >= R2m * d2);
+}
+
+/// penumbra_past's R2m for a lamp of radius R (m).
+inline float penumbra_past_scale(float R) { return R * R * (1.0f + 1.0f / 1024.0f); }
+
+/// Whether penumbra_past holds for a lamp of radius R (m) (else the penumbra is evaluated).
+inline bool penumbra_past_applies(float R) { return R >= 1e-5f && R <= 1e5f; }
+
 /// One lamp's inputs for the sweep of parallel lines and its visibility image (filled with 1
 /// before: only shadowed pixels are written): the frame's planar depth, the rays' x per column
 /// and y per row, the lamp's radius R and sample_terms' parameters; `out_transposed`: the

@@ -64,8 +64,9 @@ public:
 private:
     /// The sweep into m_visibility (lamp_shadows.cpp) on every `step`-th pixel of the frame's
     /// planar depth `frame` along each axis (step 1: every pixel), `camera` being the camera of
-    /// those pixels. The subsample (m_sub, step > 1) and the transposed depth that lines along
-    /// the rows are swept in are taken from `frame` in one pass.
+    /// those pixels. The subsample (m_sub, step > 1, where a lamp is swept in the frame itself)
+    /// and the transposed depth that lines along the rows are swept in are taken from `frame`
+    /// in one pass.
     void sweep(const Camera& camera, const Rig& rig, float thickness, const Image& frame, int step);
     /// One lamp (at L, radius R) swept along `lines` into `vis` (lamp_shadows.cpp): on the
     /// frame, or on the transposed frame and camera (rays rx, ry to match; parallel lines only,
@@ -81,7 +82,7 @@ private:
     /// per lamp: its lines in the transposed frame where it is swept there (else none)
     std::vector<Lines> m_lines_t;
     Image m_depth_t;                ///< the swept depth, transposed
-    Image m_sub;                    ///< the swept depth where step > 1: every step-th pixel's
+    Image m_sub;                    ///< step > 1, a lamp swept in the frame: every step-th pixel's
     Camera m_camera;                ///< the lines' camera
     std::vector<Vec3> m_positions;  ///< the lines' lamp positions
     std::vector<float> m_gf, m_gh, m_gb, m_k, m_d1, m_rx, m_ry;  ///< per pixel of the current lamp
