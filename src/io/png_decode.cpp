@@ -1,10 +1,12 @@
 // PNG decoding through libspng, and for the commonest dataset PNGs (RGB at 8 or 16 bits, not
-// interlaced) the stream inflated by libdeflate and unfiltered here.
+// interlaced) the stream inflated by ISA-L and unfiltered here.
 
+#include <isa-l.h>
 #include <libdeflate.h>
 #include <spng.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -52,6 +54,27 @@ spng_ihdr png_header(const std::string& path, SpngCtx& c, const std::vector<std:
 
 std::uint32_t be32_at(const std::uint8_t* p) {
     return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 | p[3];
+}
+
+/// ISA-L's inflate state (85 KB), kept from frame to frame by the threads that decode.
+BufferPool<inflate_state> inflate_states;
+
+/// Inflates the zlib stream `in` into exactly `size` bytes at `out`, its Adler-32 checked;
+/// false for a stream that is damaged, needs a preset dictionary, or does not end at `size`.
+/// ISA-L, not libdeflate: a PNG's rows are mostly literals with short codes, which ISA-L's
+/// tables decode several at a time (docs/runtime.md, "Image I/O", has the measurements).
+bool inflate_zlib(const std::uint8_t* in, std::size_t in_size, std::uint8_t* out,
+                  std::size_t size) {
+    if (in_size > UINT32_MAX || size > UINT32_MAX) return false;
+    const auto state = inflate_states.take();
+    isal_inflate_init(&*state);
+    state->crc_flag = ISAL_ZLIB;
+    state->next_in = const_cast<std::uint8_t*>(in);
+    state->avail_in = std::uint32_t(in_size);
+    state->next_out = out;
+    state->avail_out = std::uint32_t(size);
+    return isal_inflate(&*state) == ISAL_DECOMP_OK && state->block_state == ISAL_BLOCK_FINISH &&
+           state->total_out == size;
 }
 
 /// Undoes PNG's row filters: `rows` rows of n bytes, each after its filter byte in src, into
@@ -109,8 +132,8 @@ bool unfilter_rows(const std::uint8_t* src, int rows, std::size_t n, int bpp, st
 }
 
 /// decode_png_rgb's path for the commonest dataset PNG, RGB at 8 or 16 bits and not interlaced:
-/// the IDAT stream inflated whole by libdeflate (about twice zlib's speed; libspng inflates
-/// with zlib) and unfiltered straight into `out`. False, for libspng to decode the file or
+/// the IDAT stream inflated whole by ISA-L (inflate_zlib; libspng inflates with zlib) and
+/// unfiltered straight into `out`. False, for libspng to decode the file or
 /// name its fault, for anything else: another colour type, a critical chunk with a bad CRC or
 /// of another kind, IDAT chunks apart, no IEND, a stream that is not the image's size.
 bool decode_png_rgb_direct(DecodeScratch& s, const spng_ihdr& ihdr, PngRgb& out) {
@@ -148,12 +171,9 @@ bool decode_png_rgb_direct(DecodeScratch& s, const spng_ihdr& ihdr, PngRgb& out)
     if (idat_data.empty()) return false;
     const int w = int(ihdr.width), h = int(ihdr.height), bytes = ihdr.bit_depth / 8;
     const std::size_t row = std::size_t(w) * 3 * bytes, expect = (row + 1) * std::size_t(h);
-    thread_local Decompressor inflater;
-    if (!inflater.d) return false;
     // 8 bits: inflated into the codes' own buffer and unfiltered there (no second image).
     std::vector<std::uint8_t>& inflated = bytes == 1 ? out.rgb8 : s.inflated;
     inflated.resize(expect);
-    std::size_t got = 0;
     const std::uint8_t* stream = idat_data[0].first;
     std::size_t stream_size = idat_data[0].second;
     if (idat_data.size() > 1) {
@@ -162,11 +182,7 @@ bool decode_png_rgb_direct(DecodeScratch& s, const spng_ihdr& ihdr, PngRgb& out)
         stream = s.idat.data();
         stream_size = s.idat.size();
     }
-    if (libdeflate_zlib_decompress(inflater.d, stream, stream_size, inflated.data(), expect,
-                                   &got) != LIBDEFLATE_SUCCESS ||
-        got != expect) {
-        return false;
-    }
+    if (!inflate_zlib(stream, stream_size, inflated.data(), expect)) return false;
     const std::size_t n = std::size_t(w) * h * 3;
     if (bytes == 1) {
         if (!unfilter_rows(out.rgb8.data(), h, row, 3, out.rgb8.data())) return false;

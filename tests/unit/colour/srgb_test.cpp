@@ -91,5 +91,37 @@ TEST(SrgbEncode, ValuesOutsideZeroToOneAndAnExposureGetTheCodesOfTheFormula) {
     }
 }
 
+TEST(SrgbEncode, FloatsAroundEveryEightBitBoundaryGetTheCodeOfTheFormula) {
+    // The vector path reads each value's bucket entry (its start code and where its one
+    // threshold lies): every float within 300 ulps of each code's first float, where the
+    // entry's comparison decides, and the buckets' own first floats. A mistake in the
+    // entry's threshold bits or in its comparison moves a code at these values.
+    const auto code = [](float v) { return int(linear_to_srgb(v) * 255.0f + 0.5f); };
+    std::vector<float> linear;
+    for (int k = 1; k <= 255; ++k) {
+        std::uint32_t lo = 0, hi = 0x3f800000u;  // code(lo) < k <= code(hi)
+        while (hi - lo > 1) {
+            const std::uint32_t mid = lo + (hi - lo) / 2;
+            float f;
+            std::memcpy(&f, &mid, 4);
+            (code(f) >= k ? hi : lo) = mid;
+        }
+        for (std::uint32_t b = hi - 300; b <= hi + 300 && b < 0x3f800000u; ++b) {
+            float f;
+            std::memcpy(&f, &b, 4);
+            linear.push_back(f);
+        }
+    }
+    for (std::uint32_t b = 0x38000000u; b < 0x3f800000u; b += 1u << 15) {
+        float f;
+        std::memcpy(&f, &b, 4);
+        linear.push_back(f);
+    }
+    std::vector<std::uint8_t> codes(linear.size());
+    srgb_encode(linear.data(), linear.size(), 1.0, codes.data());
+    for (std::size_t i = 0; i < linear.size(); ++i)
+        ASSERT_EQ(int(codes[i]), code(linear[i])) << "value " << linear[i];
+}
+
 }  // namespace
 }  // namespace deepsea
