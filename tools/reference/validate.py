@@ -3,7 +3,7 @@
 
 Usage: validate.py DEEPSEA WORK [--set table|wall|ci] [--rows a,b] [--paths-scale F]
                    [--threads N] [--keep-reference] [--reference-only] [--check] [--confirm F]
-                   [--confirm-over P] [--bin N]
+                   [--confirm-over P] [--bin N] [--min-paths N]
   table: the validation table's rows (waters, beams, rigs, cameras, phase functions)
   wall:  the surface's effect on the water light: planes at 1, 2, 3 m against empty water
          ending at the same depth (the path tracer's own water light, same seed), and deepsea's
@@ -167,10 +167,13 @@ BIN_TARGET = 0.10  # per bin, of the path tracer's value
 RETRACE_SEED = 2  # --confirm: the windows' seed (the rows path-trace with seed 1)
 
 
-def compare(baked, pt, plane, fixed_bin=0, over_at=BIN_TARGET):
+def compare(baked, pt, plane, fixed_bin=0, over_at=BIN_TARGET, min_paths=0):
     """Per layer: (sum diff %, its SE %, worst resolved bin %, bin size, % of bins resolved),
     the channel furthest off in sums. fixed_bin: that bin size, whatever share is resolved;
-    over_at: the bins listed for --confirm are the resolved ones off by more than this."""
+    over_at: the bins listed for --confirm are the resolved ones off by more than this;
+    min_paths: only bins whose pixels had this many paths on average (combine_traces.py's
+    `paths` layer: a trace pooled from windows) count as resolved."""
+    traced = read_layer(pt, "paths")[:, :, :1] if min_paths else None
     out = {}
     for name, parts in LAYERS.items():
         if plane is None and name == "surface":
@@ -188,6 +191,8 @@ def compare(baked, pt, plane, fixed_bin=0, over_at=BIN_TARGET):
             bo, br, bv = bins(ours, b), bins(ref, b), bins(var, b)
             bse = np.sqrt(bv) / br
             ok = bse <= 0.025
+            if min_paths:
+                ok &= bins(np.repeat(traced, 3, axis=2), b) >= min_paths * b * b
             if fixed_bin or ok.mean() >= 0.5 or b * 2 > min(ours.shape[:2]) // 2:
                 break
             b *= 2
@@ -256,6 +261,9 @@ def main():
     ap.add_argument("--confirm", type=int, default=0, metavar="F",
                     help="path-trace each resolved bin over the 10 %% target again, alone in a "
                          "window, with F times the row's paths and seed 2")
+    ap.add_argument("--min-paths", type=int, default=0, metavar="N",
+                    help="count a bin as resolved only where the path tracer ran N paths per "
+                         "pixel there (a trace pooled by combine_traces.py from windows)")
     ap.add_argument("--confirm-over", type=float, default=100 * BIN_TARGET, metavar="P",
                     help="--confirm re-traces the resolved bins off by more than P %% (default: "
                          "the 10 %% target; lower where the worst bin left is near the target)")
@@ -284,7 +292,7 @@ def main():
     retraced = {}
     for name, (baked, pt, plane) in results.items():
         wname, rig, size, fov, z, _ = rows[name]
-        layers = compare(baked, pt, plane, a.bin, a.confirm_over / 100)
+        layers = compare(baked, pt, plane, a.bin, a.confirm_over / 100, a.min_paths)
         for layer, (dd, se, wb, b, bse, _) in layers.items():
             print(f"| {name} | {wname} | {rig} | {size} {fov:g} deg | "
                   f"{f'{plane:g} m' if plane else 'none'} | {layer} | {dd:+.1f}% | {se:.1f}% | "
