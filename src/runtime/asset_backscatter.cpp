@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "backscatter_lookup.h"
+#include "backscatter_rows.h"
 #include "clones.h"
 #include "depth_slabs.h"
 
@@ -92,6 +93,51 @@ AssetBackscatter::AssetBackscatter(const Asset& asset, const Camera& camera) : m
     for (const Span& sp : m_spans) m_span_end.push_back(sp.end);
 
     m_slabs = std::make_shared<const DepthSlabs>(l.z);
+    // (to half the allowed 1e-3 of B: the rest is the other approximations' share)
+    BackscatterRowBounds rb =
+        backscatter_row_bounds(l, asset.values.data(), l.step * camera.fy / ac.fy,
+                               backscatter_row_stride(camera.fy), 5e-4);
+    // B is linear in v between lattice rows: a pair of looked-up rows whose lattice coordinates
+    // (as taps' above) have no lattice row strictly between them, within the lattice, has no
+    // kink between them.
+    const int H = camera.height, R = rb.stride;
+    for (int v0 = 0; v0 < H - 1; v0 += R) {
+        const int v1 = std::min(v0 + R, H - 1);
+        const auto x = [&](int v) {
+            return (ac.cy + (v - camera.cy) * ac.fy / camera.fy) / l.step;
+        };
+        const double x0 = x(v0), x1 = x(v1);
+        const bool inside = x0 >= 0.0 && x1 <= l.nj - 1;
+        rb.kinked.push_back(!(inside && x1 <= std::floor(x0) + 1.0));
+    }
+    m_row_bounds = std::make_shared<const BackscatterRowBounds>(std::move(rb));
+}
+
+void AssetBackscatter::backscatter_pixels(int v, int n, const float* z, int count, const int* cols,
+                                          float* out) const {
+    const Lattice& l = m_asset.lattice();
+    const LatticeCell<float> t = m_rows[v];
+    const int block = 3 * l.nk();
+    const std::size_t stride = std::size_t(l.nj) * block;
+    const float* a = m_asset.values.data() + std::size_t(t.i0) * block;
+    const float* b = m_asset.values.data() + std::size_t(t.i1) * block;
+    for (int q = 0; q < count; ++q) {
+        const int u = cols[q];
+        if (u < 0 || u >= n) continue;
+        int k;
+        float wz;
+        depth_cells_each(1, z + u, *m_slabs, &k, &wz);
+        // as backscatter_row: the lattice rows blended first, then depth, then columns
+        const std::size_t i0 = std::size_t(m_col0[u] / block) * stride + 3 * k;
+        const std::size_t i1 = std::size_t(m_col1[u] / block) * stride + 3 * k;
+        for (int c = 0; c < 3; ++c) {
+            const float p0 = lerp(a[i0 + c], b[i0 + c], t.w);
+            const float q0 = lerp(a[i0 + 3 + c], b[i0 + 3 + c], t.w);
+            const float p1 = lerp(a[i1 + c], b[i1 + c], t.w);
+            const float q1 = lerp(a[i1 + 3 + c], b[i1 + 3 + c], t.w);
+            out[3 * u + c] = lerp(lerp(p0, q0, wz), lerp(p1, q1, wz), m_colw[u]);
+        }
+    }
 }
 
 void AssetBackscatter::backscatter_row(int v, int n, const float* z, float* out_rgb) const {

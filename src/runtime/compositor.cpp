@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "backscatter_rows.h"
 #include "clones.h"
 #include "deepsea/colour/srgb.h"
 #include "deepsea/core/error.h"
@@ -29,10 +30,12 @@ struct RowScratch {
     std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d2, l, d, f, out, dx, t, mask, j;
     ColorRowBuffer color;  ///< the row's colour, where it is not already linear floats
     std::vector<unsigned char> irregular;
+    std::vector<int> left;  ///< pixels the backscatter's rows leave to be looked up
     void fit(int n) {
         for (auto* v : {&x, &y, &z, &nx, &ny, &nz, &d2, &t, &mask}) v->resize(n);
         for (auto* v : {&e, &l, &d, &f, &out, &dx, &j}) v->resize(3 * std::size_t(n));
         irregular.resize(n);
+        left.resize(n);
     }
 };
 
@@ -182,6 +185,27 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         for (std::size_t k = 0; k < m_c3.size(); ++k) m_c3[k] = float(m_water.c[int(k % 3)]);
     }
 
+    // The image alone, approximations on: B looked up on every `stride`-th row (and the last)
+    // in the first pass, the rows between interpolated where the source's bounds allow
+    // (backscatter_rows.h). Where the image alone already has a shortcut (the point spread's
+    // second pass, which the rows between need), with pinhole rays.
+    const BackscatterRowBounds* between =
+        !all && psf && !m_exact && !m_port ? m_backscatter.row_bounds() : nullptr;
+    // (bounds made for another camera's rows: none)
+    if (between && H > 1 && int(between->kinked.size()) != (H - 2) / between->stride + 1)
+        between = nullptr;
+    const int stride = between ? between->stride : 1;
+    const auto key_row = [&](int v) {  // a looked-up row's index in m_back, or -1
+        return v % stride == 0 ? v / stride : v == H - 1 ? (H - 1) / stride + 1 : -1;
+    };
+    if (between) {
+        const int keys = key_row(H - 1) + 1;
+        if (m_back.width != W || m_back.height != keys) {
+            m_back = Image(W, keys, 3);
+            m_back_z = Image(W, keys, 1);
+        }
+    }
+
     static tbb::enumerable_thread_specific<RowScratch> scratch;
     const float c[3] = {float(m_water.c.r), float(m_water.c.g), float(m_water.c.b)};
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
@@ -193,7 +217,19 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     // approximations on is within one code of it: docs/runtime.md, "Bounded approximations").
     auto finish = [&](RowScratch& s, int v, const float* z, const float* d2, const float* L) {
         float* out = rows ? s.out.data() : dst.final.row(v);
-        m_backscatter.backscatter_row(v, W, z, out);
+        if (!between) {
+            m_backscatter.backscatter_row(v, W, z, out);
+        } else if (const int key = key_row(v); key >= 0) {
+            std::copy(m_back.row(key), m_back.row(key) + 3 * std::size_t(W), out);
+        } else {
+            const int v0 = v - v % stride, v1 = std::min(v0 + stride, H - 1);
+            const int k0 = key_row(v0), k1 = key_row(v1);
+            const int left = interpolate_backscatter_row(
+                W, float(v - v0) / float(v1 - v0), m_back_z.row(k0), m_back_z.row(k1), z,
+                m_back.row(k0), m_back.row(k1), *between, between->kinked[v0 / stride], out,
+                s.left.data());
+            if (left > 0) m_backscatter.backscatter_pixels(v, W, z, left, s.left.data(), out);
+        }
         if (all) std::copy(out, out + 3 * std::size_t(W), dst.backscatter.row(v));
         // The image alone, approximations on: D and F's unblurred part from one table
         // (ForwardPsfBlur::add_direct_row), no exponential a pixel.
@@ -280,6 +316,10 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
                              s.y.data(), s.z.data());
             row_normals(cam, depth, v, m_rx.data(), s);
             J = color_row(color, v, s.color);
+            if (const int key = between ? key_row(v) : -1; key >= 0) {
+                m_backscatter.backscatter_row(v, W, s.z.data(), m_back.row(key));
+                std::copy(s.z.begin(), s.z.begin() + W, m_back_z.row(key));
+            }
         }
         const RowGeometry g{v,          W,           s.x.data(),  s.y.data(),
                             s.z.data(), s.nx.data(), s.ny.data(), s.nz.data()};

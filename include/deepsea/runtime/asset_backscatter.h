@@ -13,6 +13,7 @@
 namespace deepsea {
 
 struct DepthSlabs;
+struct BackscatterRowBounds;
 
 /// Looks B(u, v, z) up in an asset for frames of `camera`: bilinear in (u, v), linear in z,
 /// constant beyond z_max (also for open water). The camera must be the asset's or the same
@@ -22,6 +23,12 @@ class AssetBackscatter final : public BackscatterSource {
 public:
     AssetBackscatter(const Asset& asset, const Camera& camera);
     void backscatter_row(int v, int n, const float* z, float* out_rgb) const override;
+    /// Pixel by pixel, the same interpolation as backscatter_row (within float rounding).
+    void backscatter_pixels(int v, int n, const float* z, int count, const int* cols,
+                            float* out_rgb) const override;
+    /// The lattice's bounds for rows interpolated between looked-up rows (8 apart at the
+    /// demo's focal length), to 5e-4 of B (docs/runtime.md, "Bounded approximations").
+    const BackscatterRowBounds* row_bounds() const override { return m_row_bounds.get(); }
 
 private:
     const Asset& m_asset;
@@ -38,6 +45,7 @@ private:
     std::vector<int> m_span_end;  ///< each span's end, for the lookup (backscatter_lookup.h)
     /// Each depth's slab without a log or a search per pixel (depth_slabs.h).
     std::shared_ptr<const DepthSlabs> m_slabs;
+    std::shared_ptr<const BackscatterRowBounds> m_row_bounds;
 };
 
 }  // namespace deepsea

@@ -54,7 +54,8 @@ public:
     /// Exact: the compositor's bounded approximations off (docs/runtime.md, "Bounded
     /// approximations"): the forward scatter's block distances (ForwardPsfBlur::
     /// set_block_distances) and, for the image alone, the direct signal's transmission from the
-    /// point spread's table (ForwardPsfBlur::add_direct_row). The path the tests hold them
+    /// point spread's table (ForwardPsfBlur::add_direct_row) and the backscatter of rows
+    /// between looked-up rows (BackscatterSource::row_bounds). The path the tests hold them
     /// against. Off by default.
     void set_exact(bool exact);
     /// The forward scatter's lean on surfaces tilted to the ray (transport tables, not through
@@ -85,6 +86,8 @@ private:
     Image m_surface;  ///< surface radiance J/pi E: what the blur spreads
     Image m_lean;     ///< the forward kernel's lean per pixel (forward_lean), 2 channels
     std::vector<float> m_row_far;  ///< each row's largest d2 (the point spread's table length)
+    // The image alone with its approximations: the looked-up rows' B and sanitised depth.
+    Image m_back, m_back_z;
     // Through a port:
     const PortRays* m_port = nullptr;
     Image m_in_surface;  ///< the frame's normal and linear colour per input pixel (port_warp.h)

@@ -9,6 +9,8 @@
 
 namespace deepsea {
 
+struct BackscatterRowBounds;
+
 /// One image row's surface geometry in structure-of-arrays form (camera frame, metres).
 struct RowGeometry {
     int v = 0;                 ///< image row
@@ -39,6 +41,14 @@ class BackscatterSource {
 public:
     virtual ~BackscatterSource() = default;
     virtual void backscatter_row(int v, int n, const float* z, float* out_rgb) const = 0;
+    /// B of `count` pixels (columns cols[i], increasing) of row v, n pixels long, written to
+    /// their places in out_rgb (others untouched): for pixels between looked-up rows that
+    /// row_bounds does not let the compositor interpolate. The default looks the row up.
+    virtual void backscatter_pixels(int v, int n, const float* z, int count, const int* cols,
+                                    float* out_rgb) const;
+    /// When rows between looked-up rows may be interpolated (backscatter_rows.h: the bound on
+    /// the error that B's smoothness in the source allows), or nullptr: never. The default.
+    virtual const BackscatterRowBounds* row_bounds() const { return nullptr; }
 };
 
 }  // namespace deepsea

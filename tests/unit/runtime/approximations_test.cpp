@@ -11,13 +11,17 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "deepsea/asset/asset_file.h"
+#include "deepsea/bake/bake.h"
 #include "deepsea/colour/srgb.h"
 #include "deepsea/io/image_io.h"
 #include "deepsea/optics/water_presets.h"
+#include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/exposure.h"
 #include "deepsea/runtime/lamps.h"
@@ -34,6 +38,15 @@ class NoBackscatter : public BackscatterSource {
 public:
     void backscatter_row(int, int n, const float*, float* out) const override {
         std::fill(out, out + 3 * n, 0.0f);
+    }
+};
+
+/// No lamp light on surfaces: the image is B alone, so that its error per pixel is the
+/// backscatter rows' own.
+class NoLamps : public IrradianceSource {
+public:
+    void irradiance_row(const RowGeometry& g, float* out) const override {
+        std::fill(out, out + 3 * std::size_t(g.n), 0.0f);
     }
 };
 
@@ -64,11 +77,13 @@ double relative(const Image& exact, const Image& approx) {
     return peak > 0.0 ? diff / peak : diff;
 }
 
-Worst compare(const Camera& cam, const Water& water, const Frame& frame) {
-    const Rig rig = testing::two_lamps();
+Worst compare(const Camera& cam, const Water& water, const Frame& frame,
+              const BackscatterSource* backscatter = nullptr,
+              const Rig& rig = testing::two_lamps()) {
     const AnalyticLamps lamps(rig, water);
     const NoBackscatter none;
-    Compositor exact(cam, water, lamps, none), approx(cam, water, lamps, none);
+    const BackscatterSource& bs = backscatter ? *backscatter : none;
+    Compositor exact(cam, water, lamps, bs), approx(cam, water, lamps, bs);
     exact.set_exact(true);
     Layers a, b, only;
     exact.composite(a, frame);
@@ -141,6 +156,145 @@ TEST(Approximations, RealFramesStayWithinTheirBounds) {
         frame.depth = read_depth((dir / (std::string(name) + "_depth.exr")).string());
         expect_within_bounds(compare(demo_camera(), with_forward("deep:clear"), frame),
                              std::string("real ") + name + ", deep:clear");
+    }
+}
+
+namespace {
+
+/// The backscatter rows' worst error relative to each pixel's own B (the bound in
+/// backscatter_rows.h is 5e-4), and the fraction of values they changed (so that a test knows
+/// the rows were interpolated at all).
+struct RowsWorst {
+    double relative = 0.0;
+    double changed = 0.0;
+};
+
+RowsWorst compare_rows(const Camera& cam, const Water& water, const Frame& frame,
+                       const BackscatterSource& bs) {
+    const NoLamps dark;
+    Compositor exact(cam, water, dark, bs), approx(cam, water, dark, bs);
+    exact.set_exact(true);
+    Layers a, b;
+    exact.composite(a, frame, LayerSet::Final);
+    approx.composite(b, frame, LayerSet::Final);
+    RowsWorst w;
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < a.final.data.size(); ++i) {
+        const double e = a.final.data[i], d = std::fabs(e - double(b.final.data[i]));
+        changed += d > 0.0;
+        if (d > 0.0) w.relative = std::max(w.relative, e > 0.0 ? d / e : 1.0);
+    }
+    w.changed = double(changed) / double(a.final.data.size());
+    return w;
+}
+
+/// Both comparisons: B alone against its bound (plus float rounding), and the image with the
+/// lamps against issue 23's (one code, 0.1 % of the layers' maxima).
+void expect_rows_within_bounds(const Camera& cam, const Rig& rig, const Water& water,
+                               const Asset& asset, const Frame& frame, const std::string& what,
+                               double min_changed = 0.0) {
+    const AssetBackscatter bs(asset, cam);
+    const RowsWorst r = compare_rows(cam, water, frame, bs);
+    std::printf("%s: backscatter rows %.2e of B (%.1f %% of values changed)\n", what.c_str(),
+                r.relative, 100.0 * r.changed);
+    EXPECT_LE(r.relative, 5e-4 + 1e-6) << what;
+    EXPECT_GE(r.changed, min_changed) << what;
+    expect_within_bounds(compare(cam, water, frame, &bs, rig), what + ", lamps");
+}
+
+Asset bake_for(const Camera& cam, const Rig& rig, const Water& water) {
+    BakeSettings s;
+    s.step = std::max(2, cam.width / 50);  // the demo's 16 px at 800 px, scaled
+    s.check = false;
+    return bake(cam, rig, water, s);
+}
+
+}  // namespace
+
+TEST(Approximations, BackscatterRowsStayWithinTheirBoundOnSeafloorFrames) {
+    // the demo's view at 200 px (rows interpolated two apart), looking down in clear water and
+    // ahead over a rougher floor in coastal water
+    struct View {
+        double pitch, altitude, relief;
+        const char* water;
+    };
+    FlightParams fp;
+    fp.camera = Camera{200, 200, 150.0, 150.0, 100.0, 100.0};
+    const Rig rig = testing::two_lamps();
+    for (const View view : {View{0.0, 3.0, 1.0, "deep:clear"}, View{50.0, 1.5, 2.5, "jerlov:3C"}}) {
+        const Water w = with_forward(view.water);
+        fp.pitch_deg = view.pitch;
+        fp.altitude = view.altitude;
+        fp.relief = view.relief;
+        // (at least a tenth of the values interpolated: 19-49 % in these views and waters)
+        expect_rows_within_bounds(
+            fp.camera, rig, w, bake_for(fp.camera, rig, w), render_flight_frame(fp, 1),
+            "seafloor pitch " + std::to_string(int(view.pitch)) + ", " + view.water, 0.1);
+    }
+}
+
+TEST(Approximations, BackscatterRowsStayWithinTheirBoundOnHostileFrames) {
+    const Water w = with_forward("deep:clear");
+    const Camera cam = testing::small_camera();
+    const Rig rig = testing::two_lamps();
+    const Asset asset = bake_for(cam, rig, w);
+    // a tilted plane with a depth step and every kind of open water; the same 0.3 m away
+    for (const double z0 : {3.0, 0.3}) {
+        const testing::PlaneScene s = testing::plane_scene(cam, z0);
+        Frame frame;
+        frame.rgb = s.rgb;
+        frame.depth = s.depth;
+        expect_rows_within_bounds(cam, rig, w, asset, frame,
+                                  "plane with a step at " + std::to_string(z0) + " m");
+    }
+    // horizontal stripes of surface and open water four rows apart (every looked-up row meets
+    // the other kind), and a frame of open water alone
+    Frame stripes;
+    stripes.rgb = Image(cam.width, cam.height, 3, 0.4f);
+    stripes.depth = Image(cam.width, cam.height, 1);
+    for (int v = 0; v < cam.height; ++v)
+        for (int u = 0; u < cam.width; ++u) stripes.depth.at(u, v) = (v / 2) % 2 ? 2.0f : 0.0f;
+    expect_rows_within_bounds(cam, rig, w, asset, stripes, "stripes of open water");
+    Frame open = stripes;
+    std::fill(open.depth.data.begin(), open.depth.data.end(), 0.0f);
+    expect_rows_within_bounds(cam, rig, w, asset, open, "open water", 0.0);
+    // a 64x48 camera (the last rows fewer apart), with the demo's lamps and with pencil beams
+    // (3 degree lamps), whose backscatter changes fast across the frame
+    const Camera tiny{64, 48, 48.0, 48.0, 31.5, 23.5};
+    Rig pencil = rig;
+    for (Light& l : pencil.lights) l.rid.sigma_deg = 3.0;
+    for (const Rig* r : {&rig, static_cast<const Rig*>(&pencil)}) {
+        const testing::PlaneScene t = testing::plane_scene(tiny, 2.0, 0.6);
+        Frame f;
+        f.rgb = t.rgb;
+        f.depth = t.depth;
+        expect_rows_within_bounds(tiny, *r, w, bake_for(tiny, *r, w), f,
+                                  r == &rig ? "64x48 camera" : "64x48 camera, pencil beams");
+    }
+}
+
+TEST(Approximations, BackscatterRowsOnAGivenAssetAndFrames) {
+    // Measures the bound on large frames (docs/runtime.md, "Bounded approximations"): an
+    // asset and a folder of its camera's frames (name.png beside name_depth.exr).
+    const char* path = std::getenv("DEEPSEA_APPROX_ASSET");
+    const char* dir = std::getenv("DEEPSEA_APPROX_FRAMES");
+    if (!path || !dir) GTEST_SKIP() << "set DEEPSEA_APPROX_ASSET and DEEPSEA_APPROX_FRAMES";
+    const Asset asset = load_asset(path);
+    std::vector<std::filesystem::path> colour;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        const std::string name = e.path().filename().string();
+        if (e.path().extension() == ".png" && name.find("_depth") == std::string::npos)
+            colour.push_back(e.path());
+    }
+    std::sort(colour.begin(), colour.end());
+    ASSERT_FALSE(colour.empty()) << dir;
+    for (const auto& png : colour) {
+        Frame frame;
+        frame.rgb = read_color(png.string());
+        frame.depth =
+            read_depth((png.parent_path() / (png.stem().string() + "_depth.exr")).string());
+        expect_rows_within_bounds(asset.info.camera, asset.info.rig, asset.info.water, asset, frame,
+                                  png.filename().string());
     }
 }
 
