@@ -1,5 +1,5 @@
 // The port's rows' probes read each ray's 2 x 2 cell of the inverse depth in a pass of their own
-// (docs/ports.md, "Speed"): with AVX2, two 8-byte loads a lane (a pixel pair of each row) and
+// (docs/port-speed.md): with AVX2, two 8-byte loads a lane (a pixel pair of each row) and
 // shuffles, instead of the four scalar loads and inserts a lane that GCC emulates a gather with.
 // Loads only: every path gives the same floats (DEEPSEA_NO_CLONES builds the generic loop alone, as
 // it does the runtime's clones).

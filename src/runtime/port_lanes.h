@@ -31,7 +31,7 @@ enum FastState : int {
 
 /// The hit point's x or y from where it projects in the input (pixel p, centre c, focal length
 /// f as k = 1 / f) and its planar depth z: the point on the ray at depth z projects there, so this
-/// is ray origin + t direction, without reading the ray (docs/ports.md, "Speed": within 1.5e-7 z of
+/// is ray origin + t direction, without reading the ray (docs/port-speed.md: within 1.5e-7 z of
 /// the double trace's point).
 inline float back_project(float p, float c, float k, float z) { return ((p - c) * k) * z; }
 

@@ -1,4 +1,4 @@
-// The march's common case vectorised across a row (docs/ports.md, "Speed", item 2): compiled
+// The march's common case vectorised across a row (docs/port-speed.md, item 2): compiled
 // with -fopenmp-simd, -ffp-contract=off and -fno-trapping-math (see CMakeLists.txt), not
 // fast-math, so that its lanes do the scalar march's float arithmetic exactly and give the same
 // hits.

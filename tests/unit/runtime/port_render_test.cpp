@@ -198,7 +198,7 @@ TEST(PortRender, FloatMarchAgreesWithTheDoubleMarch) {
 }
 
 TEST(PortRender, CompositorRowsGiveTheScalarMarchsHits) {
-    // port_row settles most rays in a march vectorised across the row (docs/ports.md, "Speed")
+    // port_row settles most rays in a march vectorised across the row (docs/port-speed.md)
     // and leaves the rest to the scalar march: its hit points must be the scalar march's
     // (PortRays::hit, what the tests above measure) bit for bit, with the same mask, on smooth
     // scenes and on one with depth edges and open water. Its x and y come from where the hit
@@ -324,7 +324,7 @@ namespace deepsea {
 
 TEST(PortRender, MarchStartsOnlyWhereNothingNearerIsRead) {
     // A ray's march starts at its window's nearest surface (optics' port_start_window,
-    // docs/ports.md "Speed"): every input pixel its march can read must lie in that window, and
+    // docs/port-speed.md): every input pixel its march can read must lie in that window, and
     // window_nearest must be the window's largest inverse depth. Checked on every pixel's ray of
     // three ports, the march's stretch of s sampled at 64 points (and its ends), each probe's
     // four taps (floor and floor + 1 of the clamped position, a thousandth of a pixel either
