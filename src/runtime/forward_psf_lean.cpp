@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "deepsea/runtime/forward_psf_blur.h"
+#include "equidistant.h"
 
 namespace deepsea {
 
@@ -80,6 +81,18 @@ void ForwardPsfBlur::add_lean() {
         // (a block of one column at an odd frame's right edge: its own pixel)
         if (whole < G.w) {
             for (int k = 0; k < 2; ++k) out[2 * whole + k] = r0[4 * whole + k];
+        }
+        // at true angles the kernel's covariance in pixels is J J^T sigma^2 (equidistant.h)
+        if (m_warp == 0) return;
+        const float ifx = float(1.0 / m_cam[0]), b = float((2 * y + 0.5 - m_cam[3]) / m_cam[1]);
+        const float a0 = float((0.5 - m_cam[2]) / m_cam[0]);
+#pragma omp simd
+        for (int x = 0; x < G.w; ++x) {
+            float xx = 1.0f, xy = 0.0f, yy = 1.0f;
+            equidistant::stretch(a0 + 2.0f * ifx * float(x), b, xx, xy, yy);
+            const float lu = out[2 * x], lv = out[2 * x + 1];
+            out[2 * x] = xx * lu + xy * lv;
+            out[2 * x + 1] = xy * lu + yy * lv;
         }
     });
     for (int c = 0; c < 3; ++c) {
