@@ -118,6 +118,9 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
                 ? ForwardPsf(*forward_table, water, forward_fx(), camera.width, camera.height)
                 : ForwardPsf(water, forward_fx(), camera.width, camera.height),
             water.c);
+        // the wide scales at true angles off axis; a port's rays keep the pinhole's grids
+        if (forward_table && !port)
+            m_psf_blur->set_camera(camera.fx, camera.fy, camera.cx, camera.cy);
     }
 }
 

@@ -221,6 +221,7 @@ void ForwardPsfBlur::resize(int W, int H) {
         G.acc.assign(std::size_t(3) * G.w * G.h, 0.0f);
         m_grids.push_back(std::move(G));
     }
+    build_warp();
 }
 
 void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
@@ -355,12 +356,17 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
     // (resampling_variance); the Gaussian supplies the rest.
     std::fill(m_full.begin(), m_full.end(), 0.0f);
     for (Grid& G : m_grids) std::fill(G.acc.begin(), G.acc.end(), 0.0f);
+    m_faded_group = -1;
     for (std::size_t i = 0; i < m_levels.size(); ++i) {
         Level& L = m_levels[i];
         const Group& g = m_groups[L.group];
         const double sigma = m_psf.sigma_px(int(i) + 1);
         const double rest = std::sqrt(std::max(sigma * sigma - g.spent, 0.09)) / g.factor;
         float* sum = g.factor == 1 ? m_full.data() : grid_of(g.factor).acc.data();
+        // (the wide scales at true angles: in the equidistant image, set_camera)
+        const bool warped = m_warp > 0 && g.factor >= m_warp;
+        const float* src =
+            warped ? warp_level(L.planes, g.factor, g.w, g.h, beyond) : L.planes.data();
         // Beyond the frame: a transport table's scene continues as its borders (its wide
         // scales reach across small images), fading as `beyond` says (lamp-lit scenes are
         // dimmer outside than in); the small-angle model's as the in-image mean, as it always
@@ -369,7 +375,11 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
         if (m_psf.from_transport() && beyond && beyond->width == m_width &&
             beyond->height == m_height && beyond->samples() > 0) {
             fade.reach = planes::radius(rest);
-            fade_grid(*beyond, g.factor, g.w, g.h, fade.reach);
+            if (warped) {
+                fade.reach = fade_equidistant(beyond, L.group);
+            } else {
+                fade_grid(*beyond, g.factor, g.w, g.h, fade.reach);
+            }
             fade.left = m_fade[0].data();
             fade.right = m_fade[1].data();
             fade.top = m_fade[2].data();
@@ -378,16 +388,16 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
         const planes::Edge edge =
             m_psf.from_transport() ? planes::Edge::Clamp : planes::Edge::Normalise;
         if (!m_lean) {
-            planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), sum, rest, m_kernel,
-                                m_norm_x, m_norm_y, planes::Store::Add, edge,
+            planes::blur_planes(planes::planar(src, g.w, g.h), sum, rest, m_kernel, m_norm_x,
+                                m_norm_y, planes::Store::Add, edge,
                                 fade.reach > 0 ? &fade : nullptr);
             continue;
         }
         // with a lean, each level's blur also into its grid's moments, times sigma^2
         const std::size_t n = std::size_t(3) * g.w * g.h;
         m_blurred.resize(n);
-        planes::blur_planes(planes::planar(L.planes.data(), g.w, g.h), m_blurred.data(), rest,
-                            m_kernel, m_norm_x, m_norm_y, planes::Store::Set, edge,
+        planes::blur_planes(planes::planar(src, g.w, g.h), m_blurred.data(), rest, m_kernel,
+                            m_norm_x, m_norm_y, planes::Store::Set, edge,
                             fade.reach > 0 ? &fade : nullptr);
         float* mom = g.factor == 1 ? m_full_mom.data() : grid_of(g.factor).mom.data();
         add_level(n, m_blurred.data(), float(sigma * sigma), sum, mom);
@@ -399,6 +409,10 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
     for (int k = int(m_grids.size()) - 2; k >= 0; --k) {
         Grid& G = m_grids[k];
         const Grid& coarser = m_grids[k + 1];
+        if (m_warp > 0 && 2 * G.factor == m_warp) {
+            add_unwarped(G, coarser);
+            continue;
+        }
         tbb::parallel_for(0, 3 * G.h, [&](int prow) {
             const int c = prow / G.h, y = prow % G.h;
             const RowTaps t = doubled_row(y, coarser.h, extend);

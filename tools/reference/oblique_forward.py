@@ -13,7 +13,11 @@ coastal-auv: 160x120, plane at 3 m, the auv rig), green channel, three ways:
 - true-angles: the same table with true angles and the true image position of each direction;
 - runtime+lean, true-angles+lean: the two above with the kernel's lean on a surface tilted to
   the ray (optics/forward_lean.h): each source q weighed 1 - (rho - 1) (ln r(q) - ln r(p)), the
-  range's change to first order, rho = 3/2.
+  range's change to first order, rho = 3/2;
+- equidistant+lean: the runtime's blur in the equidistant image (forward_psf_warp.cpp): the
+  pixel p moved to rho_p = fx atan(|p| / fx) along its radius, the source psi fx from there in
+  the direction of the scattering, and back to the image by the inverse map, with the lean as
+  runtime+lean (every scale warped here; the runtime keeps the narrowest in the image).
 
 The table is Monte Carlo too (paths along the axis scored at 80 plane depths, linear in depth
 between them). The surface radiance L_s: from the direct lamp light at the plane (Gaussian
@@ -195,6 +199,18 @@ def main():
         ow = om / np.where(front, om @ v, 1.0)[:, None]
         lean_ta = np.where(front, 1.0 + (RHO - 1.0) * (ow[:, 2] - v[2]) / v[2], 0.0)
         f_rl = gather(up + du, vp + dv, hat * W2 * np.clip(lean_rt, 0, None))
+        # the equidistant image: radius fx atan(r / fx), the table's angle psi at psi fx there
+        rp = np.hypot(up, vp)
+        sp = np.arctan(rp / FX) * FX / rp if rp > 0 else 1.0
+        eu, ev = sp * up + du, sp * vp + dv
+        th = np.hypot(eu, ev) / FX
+        inside = th < 0.5 * np.pi - 1e-6
+        back = np.where(inside & (th > 0), np.tan(np.minimum(th, 1.5)) / np.maximum(th, 1e-12), 1.0)
+        qu, qv = np.where(inside, eu * back, np.inf), np.where(inside, ev * back, np.inf)
+        rqe = Z * np.sqrt(1 + (np.where(inside, qu, 0) ** 2 + np.where(inside, qv, 0) ** 2) / FX**2)
+        hate = np.where(inside, np.clip(1 - np.abs(rqe * oz - dk) / step, 0, 1), 0)
+        lean_eq = 1.0 + (RHO - 1.0) * (-(x * (qu - up) + y * (qv - vp)) / (FX * v2))
+        f_el = gather(qu, qv, hate * W2 * np.clip(np.where(inside, lean_eq, 0), 0, None))
         f_tl = gather(uu, vv, hat3 * W2 * np.clip(lean_ta, 0, None))
         lp = Ls(np.array([up]), np.array([vp]))[0]
         leans = (lean(FX * X / Z, FX * Y / Z, Wt, up, vp), lean(up + du, vp + dv, hat * W2, up, vp),
@@ -203,7 +219,8 @@ def main():
         print(f"pixel ({col:g},{row:g}) {off:4.1f} deg: forward / L_s: pt {f_pt / lp:.4f}, "
               f"runtime {f_rt / lp:.4f} ({100 * (f_rt / f_pt - 1):+.1f} %), "
               f"true-angles {f_ta / lp:.4f} ({100 * (f_ta / f_pt - 1):+.1f} %); with the lean: "
-              f"runtime {100 * (f_rl / f_pt - 1):+.1f} %, true-angles {100 * (f_tl / f_pt - 1):+.1f} %"
+              f"runtime {100 * (f_rl / f_pt - 1):+.1f} %, true-angles {100 * (f_tl / f_pt - 1):+.1f} %, "
+              f"equidistant {100 * (f_el / f_pt - 1):+.1f} %"
               f"; shares from > 4 px "
               f"towards / away from the centre: " +
               ", ".join(f"{a:.3f} / {o:.3f}" for a, o in leans), flush=True)

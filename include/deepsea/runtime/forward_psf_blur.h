@@ -82,6 +82,13 @@ public:
     void add_direct_row(int v, float* sum_rgb) const;
 
     const ForwardPsf& psf() const { return m_psf; }
+    /// True angles off axis (transport tables only; fx <= 0: off, the default): the grids of
+    /// the scales 1/40 rad wide and wider (factor >= 4) hold the equidistant image, rho = fx
+    /// atan(r / fx) along each radius, so that their Gaussians span equal angles everywhere (a
+    /// pinhole pixel spans cos^2 / fx radians radially off axis, cos / fx across); the
+    /// narrower scales stay in the pinhole image. Across a radius the equidistant image is
+    /// theta / sin(theta) too wide (1.08 at 38 degrees). forward_psf_warp.cpp.
+    void set_camera(double fx, double fy, double cx, double cy);
     /// Block distances (on by default): the finest grid's 2 x 2 blocks whose distances lie
     /// within kBlockTolerance of each other are weighed once, at their mean distance, instead
     /// of pixel by pixel (docs/model.md, "Forward scatter": within one 8-bit code and 0.1 % of
@@ -179,6 +186,33 @@ private:
     /// Fills m_fade for one grid (factor f, w x h) and kernel radius r from `beyond`.
     void fade_grid(const EdgeFalloff& beyond, int f, int w, int h, int r);
     std::vector<float> m_fade[4];  ///< left, right, top, bottom of the grid being blurred
+
+    /// The equidistant grids (set_camera; forward_psf_warp.cpp).
+    struct WarpMap {
+        std::vector<float> ex, ey;  ///< each pinhole cell's place in the equidistant grid
+        std::vector<float> norm;    ///< each equidistant cell's 1 / splatted weight (0: none)
+        std::vector<int> margin;    ///< equidistant cells beyond the frame
+    };
+    double m_cam[4] = {0.0, 0.0, 0.0, 0.0};  ///< fx, fy, cx, cy (fx <= 0: no warp)
+    int m_warp = 0;                          ///< the finest equidistant grid's factor (0: none)
+    std::map<int, WarpMap> m_warp_maps;      ///< by factor
+    std::vector<float> m_warp_x, m_warp_y;   ///< factor m_warp / 2 cells' equidistant places
+    std::vector<float> m_eq;                 ///< one level's equidistant planes
+    void build_warp();
+    /// The pixel (u, v) (pinhole) of the equidistant point (ue, ve), and back.
+    void from_equidistant(double ue, double ve, double& u, double& v) const;
+    void to_equidistant(double u, double v, double& ue, double& ve) const;
+    /// The level's planes (grid factor f) splatted into m_eq, the cells beyond the frame the
+    /// border continued as `beyond` says (null: unchanged); returns m_eq.
+    const float* warp_level(const std::vector<float>& planes, int f, int w, int h,
+                            const EdgeFalloff* beyond);
+    /// m_fade for group g's equidistant grid, each continued cell's falloff over the border
+    /// cell's, as far as its widest scale reaches (once a frame per group); returns that reach.
+    int fade_equidistant(const EdgeFalloff* beyond, int g);
+    int m_faded_group = -1, m_faded_reach = 0;
+    std::vector<float> m_fade_border;  ///< fade_equidistant's border cells' own falloffs
+    /// Grid G (factor m_warp / 2, pinhole) += the equidistant grid above it sampled at G's cells.
+    void add_unwarped(Grid& G, const Grid& coarser) const;
 };
 
 }  // namespace deepsea
