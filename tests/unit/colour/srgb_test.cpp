@@ -123,5 +123,52 @@ TEST(SrgbEncode, FloatsAroundEveryEightBitBoundaryGetTheCodeOfTheFormula) {
         ASSERT_EQ(int(codes[i]), code(linear[i])) << "value " << linear[i];
 }
 
+TEST(SrgbEncode, FloatsAroundEveryBoundaryOfAnExposedCodeGetTheCodeOfTheFormula) {
+    // With an exposure, the vector path tables the codes on the input's own bits (the 255
+    // inputs where float(v * exposure)'s code steps up, found here again by bisection with the
+    // formula): every float within 300 ulps of each, of the first input whose product is
+    // infinite, and a spread of the rest, at exposures from tiny to huge.
+    const auto code = [](float v, double exposure) {
+        const float x = float(v * exposure);
+        return !std::isfinite(x) || x <= 0.0f ? 0
+               : x >= 1.0f                    ? 255
+                                              : int(linear_to_srgb(x) * 255.0f + 0.5f);
+    };
+    const auto from = [](std::uint32_t b) {
+        float f;
+        std::memcpy(&f, &b, 4);
+        return f;
+    };
+    for (const double exposure : {1.0, 0.37, 17.25, 3100.0, 1e-3, 2.5e30, 1e-30, 0.999}) {
+        std::vector<std::uint32_t> edges;
+        for (int k = 1; k <= 256; ++k) {  // 256: the first input whose product is infinite
+            std::uint32_t lo = 0, hi = 0x7f800000u;
+            while (hi - lo > 1) {
+                const std::uint32_t mid = lo + (hi - lo) / 2;
+                const bool past = k == 256 ? std::isinf(float(from(mid) * exposure))
+                                           : code(from(mid), exposure) >= k;
+                (past ? hi : lo) = mid;
+            }
+            edges.push_back(hi);
+        }
+        std::vector<float> linear;
+        for (const std::uint32_t e : edges)
+            for (std::uint32_t b = e > 300 ? e - 300 : 0; b <= e + 300 && b < 0x7f800000u; ++b)
+                linear.push_back(from(b));
+        for (std::uint32_t b = 0; b < 0x7f800000u; b += 0x7f800000u / 4099)
+            linear.push_back(from(b));
+        for (std::uint32_t b = 0x80000000u; b < 0xff800000u; b += 0x7f800000u / 97)
+            linear.push_back(from(b));
+        for (const std::uint32_t b : {0x7f800000u, 0xff800000u, 0x7fc00000u, 0x80000000u})
+            linear.push_back(from(b));
+        while (linear.size() % 8) linear.push_back(0.5f);
+        std::vector<std::uint8_t> codes(linear.size());
+        srgb_encode(linear.data(), linear.size(), exposure, codes.data());
+        for (std::size_t i = 0; i < linear.size(); ++i)
+            ASSERT_EQ(int(codes[i]), code(linear[i], exposure))
+                << "value " << linear[i] << " times " << exposure;
+    }
+}
+
 }  // namespace
 }  // namespace deepsea
