@@ -200,7 +200,7 @@ private:
 
     /// The Exposed table of `exposure` (8 bits), made on first use and kept: a sequence encodes
     /// every row with one exposure. Null where there is none (see Exposed::ok), for exposures
-    /// that are not finite and positive, and past 16 exposures (each table is about 14 KB).
+    /// that are not finite and positive, and past 16 exposures (each table is about 13 KB).
     const Exposed* exposed(double exposure) const {
         if (!(exposure > 0.0) || !std::isfinite(exposure)) return nullptr;
         thread_local const Exposed* last = nullptr;
