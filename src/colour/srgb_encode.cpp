@@ -1,6 +1,9 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "deepsea/colour/srgb.h"
@@ -14,6 +17,8 @@ namespace deepsea {
 
 namespace {
 
+constexpr int kShift8 = 15;  ///< the 8-bit table's buckets: floats with the same bits >> 15
+
 /// The integer code OpenImageIO stores for a linear value v in [0, 1]: linear_to_srgb, then
 /// scaled and rounded in float as its float-to-integer conversion does.
 int srgb_code(float v, int codes) { return int(linear_to_srgb(v) * float(codes) + 0.5f); }
@@ -24,7 +29,7 @@ int srgb_code(float v, int codes) { return int(linear_to_srgb(v) * float(codes) 
 /// start of its bucket, from which at most a few thresholds are stepped over.
 class SrgbEncoder {
 public:
-    explicit SrgbEncoder(int codes) : m_codes(codes), m_shift(codes > 255 ? 10 : 15) {
+    explicit SrgbEncoder(int codes) : m_codes(codes), m_shift(codes > 255 ? 10 : kShift8) {
         m_threshold.resize(std::size_t(codes) + 2);
         const std::uint32_t one = 0x3f800000u;
         m_threshold[0] = 0;
@@ -90,7 +95,10 @@ public:
                               std::uint8_t* out) const {
 #if defined(DEEPSEA_AVX2_ENCODER)
         static const bool avx2 = __builtin_cpu_supports("avx2");
-        if (avx2 && m_steps == 1 && m_codes == 255) return encode8_avx2(in, n, exposure, out);
+        if (avx2 && m_steps == 1 && m_codes == 255) {
+            if (const Exposed* t = exposed(exposure)) return t->encode_avx2(in, n, out);
+            return encode8_avx2(in, n, exposure, out);
+        }
 #endif
         (void)in, (void)n, (void)exposure, (void)out;
         return 0;
@@ -98,6 +106,118 @@ public:
 
 private:
 #if defined(DEEPSEA_AVX2_ENCODER)
+    /// The 8-bit encoder for one exposure e, on the input's bits u (not on float(v * e)'s): the
+    /// code of float(double(v) * e) is monotone in u from 0 up to `inf`, the first u whose
+    /// product is infinite (code 0 from there on, as NaNs and negative values), so its 255
+    /// thresholds in u are found by bisection and tabled per bucket of u as the encoder's own
+    /// are. The same codes as encode8_avx2 without its conversions to double and back, which
+    /// cost about a fifth of its time (docs/io-speed.md has the measurements and the check on
+    /// all 2^32 floats). `ok` is false where a bucket would hold two thresholds or the top
+    /// code is never reached (an exposure below about 3e-39): encode8_avx2 does those.
+    struct Exposed {
+        double exposure = 0.0;
+        bool ok = false;
+        std::uint32_t first = 0, top = 0, inf = 0;  ///< u of code 1, of code 255, of inf
+        std::uint32_t base = 0;                     ///< the bucket of `first`
+        std::vector<std::uint32_t> entry;           ///< per bucket from `base`, as m_entry
+
+        Exposed(const SrgbEncoder& enc, double e) : exposure(e) {
+            const auto product = [e](std::uint32_t u) { return float(double(from_bits(u)) * e); };
+            const auto code = [&](std::uint32_t u) { return enc(product(u)); };
+            std::uint32_t lo = 0, hi = 0x7f800000u;  // finite(product(lo)), not at hi
+            if (std::isinf(product(hi - 1))) {
+                while (hi - lo > 1) {
+                    const std::uint32_t mid = lo + (hi - lo) / 2;
+                    (std::isinf(product(mid)) ? hi : lo) = mid;
+                }
+            }
+            inf = hi;
+            if (inf == 0 || code(inf - 1) < enc.m_codes) return;
+            std::vector<std::uint32_t> u(std::size_t(enc.m_codes) + 2, inf);
+            for (int k = 1; k <= enc.m_codes; ++k) {
+                std::uint32_t a = 0, b = inf - 1;  // code(a) < k <= code(b)
+                if (code(a) >= k) return;
+                while (b - a > 1) {
+                    const std::uint32_t mid = a + (b - a) / 2;
+                    (code(mid) >= k ? b : a) = mid;
+                }
+                u[k] = b;
+            }
+            first = u[1];
+            top = u[std::size_t(enc.m_codes)];
+            const int shift = enc.m_shift;
+            const std::uint32_t inside = (1u << shift) - 1;
+            base = first >> shift;
+            entry.resize((top >> shift) - base + 1);
+            std::size_t k = 0;  // thresholds u[1 .. k] lie at or before the bucket's start
+            for (std::uint32_t b = base; b <= top >> shift; ++b) {
+                const std::uint32_t start = b << shift;
+                while (k < std::size_t(enc.m_codes) && u[k + 1] <= start) ++k;
+                if (k + 2 <= std::size_t(enc.m_codes) && u[k + 2] >> shift == b) return;
+                const std::uint32_t next = u[k + 1];
+                const std::uint32_t low = next >> shift == b ? next & inside : inside + 1;
+                entry[b - base] = std::uint32_t(k) << 16 | low;
+            }
+            ok = true;
+        }
+
+        /// As encode8_avx2, for this table's exposure.
+        __attribute__((target("avx2"))) std::size_t encode_avx2(const float* in, std::size_t n,
+                                                                std::uint8_t* out) const {
+            const __m256i one = _mm256_set1_epi32(1), top_code = _mm256_set1_epi32(255);
+            const __m256i below_first = _mm256_set1_epi32(int(first - 1));
+            const __m256i below_top = _mm256_set1_epi32(int(top - 1));
+            const __m256i top_end = _mm256_set1_epi32(int(inf));
+            const __m256i top_start = _mm256_set1_epi32(int(top));
+            const __m256i bucket0 = _mm256_set1_epi32(int(base));
+            const __m256i low16 = _mm256_set1_epi32(0xffff);
+            const __m256i inside = _mm256_set1_epi32((1 << kShift8) - 1);
+            const int* e = reinterpret_cast<const int*>(entry.data());
+            std::size_t i = 0;
+            for (; i + 8 <= n; i += 8) {
+                // Signed comparisons: a negative float's bits are a negative int (code 0).
+                const __m256i u = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in + i));
+                const __m256i mid = _mm256_and_si256(_mm256_cmpgt_epi32(u, below_first),
+                                                     _mm256_cmpgt_epi32(top_start, u));
+                const __m256i top_lanes = _mm256_and_si256(_mm256_cmpgt_epi32(u, below_top),
+                                                           _mm256_cmpgt_epi32(top_end, u));
+                const __m256i at =
+                    _mm256_and_si256(mid, _mm256_sub_epi32(_mm256_srli_epi32(u, kShift8), bucket0));
+                const __m256i en = _mm256_i32gather_epi32(e, at, 4);
+                const __m256i below =
+                    _mm256_cmpgt_epi32(_mm256_and_si256(en, low16), _mm256_and_si256(u, inside));
+                __m256i k =
+                    _mm256_add_epi32(_mm256_srli_epi32(en, 16), _mm256_andnot_si256(below, one));
+                k = _mm256_or_si256(_mm256_and_si256(k, mid),
+                                    _mm256_and_si256(top_lanes, top_code));
+                const __m128i k16 =
+                    _mm_packus_epi32(_mm256_castsi256_si128(k), _mm256_extracti128_si256(k, 1));
+                _mm_storel_epi64(reinterpret_cast<__m128i*>(out + i), _mm_packus_epi16(k16, k16));
+            }
+            return i;
+        }
+    };
+
+    /// The Exposed table of `exposure` (8 bits), made on first use and kept: a sequence encodes
+    /// every row with one exposure. Null where there is none (see Exposed::ok), for exposures
+    /// that are not finite and positive, and past 16 exposures (each table is about 13 KB).
+    const Exposed* exposed(double exposure) const {
+        if (!(exposure > 0.0) || !std::isfinite(exposure)) return nullptr;
+        thread_local const Exposed* last = nullptr;
+        if (last && last->exposure == exposure) return last->ok ? last : nullptr;
+        std::lock_guard<std::mutex> lock(m_mutex);
+        const Exposed* found = nullptr;
+        for (const auto& t : m_exposed)
+            if (t->exposure == exposure) found = t.get();
+        if (!found) {
+            if (m_exposed.size() >= 16) return nullptr;
+            m_exposed.push_back(std::make_unique<Exposed>(*this, exposure));
+            found = m_exposed.back().get();
+        }
+        last = found;
+        return found->ok ? found : nullptr;
+    }
+
     __attribute__((target("avx2"))) std::size_t encode8_avx2(const float* in, std::size_t n,
                                                              double exposure,
                                                              std::uint8_t* out) const {
@@ -149,6 +269,10 @@ private:
     /// Per bucket, where m_steps is 1: its start code << 16 | its threshold's lower m_shift
     /// bits (1 << m_shift where the next threshold lies in a later bucket).
     std::vector<std::uint32_t> m_entry;
+#if defined(DEEPSEA_AVX2_ENCODER)
+    mutable std::mutex m_mutex;
+    mutable std::vector<std::unique_ptr<Exposed>> m_exposed;
+#endif
 };
 
 const SrgbEncoder& srgb_encoder(int bits) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -121,6 +122,84 @@ TEST(SrgbEncode, FloatsAroundEveryEightBitBoundaryGetTheCodeOfTheFormula) {
     srgb_encode(linear.data(), linear.size(), 1.0, codes.data());
     for (std::size_t i = 0; i < linear.size(); ++i)
         ASSERT_EQ(int(codes[i]), code(linear[i])) << "value " << linear[i];
+}
+
+TEST(SrgbEncode, FloatsAroundEveryBoundaryOfAnExposedCodeGetTheCodeOfTheFormula) {
+    // With an exposure, the vector path tables the codes on the input's own bits (the 255
+    // inputs where float(v * exposure)'s code steps up, found here again by bisection with the
+    // formula): every float within 300 ulps of each, of the first input whose product is
+    // infinite, and a spread of the rest, at exposures from tiny to huge.
+    const auto code = [](float v, double exposure) {
+        const float x = float(v * exposure);
+        return !std::isfinite(x) || x <= 0.0f ? 0
+               : x >= 1.0f                    ? 255
+                                              : int(linear_to_srgb(x) * 255.0f + 0.5f);
+    };
+    const auto from = [](std::uint32_t b) {
+        float f;
+        std::memcpy(&f, &b, 4);
+        return f;
+    };
+    for (const double exposure : {1.0, 0.37, 17.25, 3100.0, 1e-3, 2.5e30, 1e-30, 0.999}) {
+        std::vector<std::uint32_t> edges;
+        for (int k = 1; k <= 256; ++k) {  // 256: the first input whose product is infinite
+            std::uint32_t lo = 0, hi = 0x7f800000u;
+            while (hi - lo > 1) {
+                const std::uint32_t mid = lo + (hi - lo) / 2;
+                const bool past = k == 256 ? std::isinf(float(from(mid) * exposure))
+                                           : code(from(mid), exposure) >= k;
+                (past ? hi : lo) = mid;
+            }
+            edges.push_back(hi);
+        }
+        std::vector<float> linear;
+        for (const std::uint32_t e : edges)
+            for (std::uint32_t b = e > 300 ? e - 300 : 0; b <= e + 300 && b < 0x7f800000u; ++b)
+                linear.push_back(from(b));
+        for (std::uint32_t b = 0; b < 0x7f800000u; b += 0x7f800000u / 4099)
+            linear.push_back(from(b));
+        for (std::uint32_t b = 0x80000000u; b < 0xff800000u; b += 0x7f800000u / 97)
+            linear.push_back(from(b));
+        for (const std::uint32_t b : {0x7f800000u, 0xff800000u, 0x7fc00000u, 0x80000000u})
+            linear.push_back(from(b));
+        while (linear.size() % 8) linear.push_back(0.5f);
+        std::vector<std::uint8_t> codes(linear.size());
+        srgb_encode(linear.data(), linear.size(), exposure, codes.data());
+        for (std::size_t i = 0; i < linear.size(); ++i)
+            ASSERT_EQ(int(codes[i]), code(linear[i], exposure))
+                << "value " << linear[i] << " times " << exposure;
+    }
+}
+
+TEST(SrgbEncode, EveryFloatAtTheGivenExposuresGetsTheCodeOfTheScalarPath) {
+    // All 2^32 float bit patterns through the vector path (whole buffers) against the scalar
+    // path (srgb_encode of one value, which the vector path leaves to it), at the exposures in
+    // DEEPSEA_SRGB_EXPOSURES (comma-separated; about a minute each on one core).
+    const char* list = std::getenv("DEEPSEA_SRGB_EXPOSURES");
+    if (!list) GTEST_SKIP() << "set DEEPSEA_SRGB_EXPOSURES, e.g. 1,0.37,3100,2.5e30,1e-30";
+    std::vector<double> exposures;
+    for (const char* p = list; *p;) {
+        char* end = nullptr;
+        exposures.push_back(std::strtod(p, &end));
+        ASSERT_NE(end, p) << list;
+        p = *end == ',' ? end + 1 : end;
+    }
+    std::vector<float> linear(1 << 20);
+    std::vector<std::uint8_t> codes(linear.size());
+    for (const double exposure : exposures) {
+        for (std::uint64_t first = 0; first < (std::uint64_t(1) << 32); first += linear.size()) {
+            for (std::size_t i = 0; i < linear.size(); ++i) {
+                const std::uint32_t b = std::uint32_t(first + i);
+                std::memcpy(&linear[i], &b, 4);
+            }
+            srgb_encode(linear.data(), linear.size(), exposure, codes.data());
+            for (std::size_t i = 0; i < linear.size(); ++i) {
+                std::uint8_t one = 0;
+                srgb_encode(&linear[i], 1, exposure, &one);
+                ASSERT_EQ(codes[i], one) << "bits " << first + i << " times " << exposure;
+            }
+        }
+    }
 }
 
 }  // namespace
