@@ -25,11 +25,6 @@ namespace deepsea {
 
 namespace {
 
-/// The lamps' share of the image's error bound between key rows, relative to each pixel's E
-/// (and so to its D and F): with the backscatter rows' 5e-4 of B and the other shortcuts' 1e-4
-/// of the layers' maxima, the image stays within 1e-3 of its maximum.
-constexpr float kLampTolerance = 4e-4f;
-
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
     std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d2, l, d, f, out, dx, t, mask, j;
@@ -212,32 +207,6 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
     }
 
     static tbb::enumerable_thread_specific<RowScratch> scratch;
-
-    // The image alone, approximations on: the lamps' light from key rows (every lamp_stride-th
-    // and the last), computed before the rows, and interpolated between them where the lamps'
-    // bound allows (lamp_rows.h); pinhole rays, as the backscatter's rows.
-    const int key_floats = !all && psf && !m_exact && !m_port ? m_lamps.key_row_floats(W) : 0;
-    const int lamp_stride = key_floats > 0 ? backscatter_row_stride(cam.fy) : 1;
-    const auto lamp_key = [&](int v) {  // a key row's index in m_lamp_keys, or -1
-        return v % lamp_stride == 0 ? v / lamp_stride : v == H - 1 ? (H - 1) / lamp_stride + 1 : -1;
-    };
-    const auto keys_of = [&](int key) {
-        return m_lamp_keys.data() + std::size_t(key) * key_floats;
-    };
-    if (key_floats > 0) {
-        const int keys = lamp_key(H - 1) + 1;
-        m_lamp_keys.resize(std::size_t(keys) * key_floats);
-        tbb::parallel_for(0, keys, [&](int key) {
-            RowScratch& s = scratch.local();
-            s.fit(W);
-            const int v = std::min(key * lamp_stride, H - 1);
-            back_project_row(W, depth.row(v), m_rx.data(), float(cam.ray_y(v)), s.x.data(),
-                             s.y.data(), s.z.data());
-            const RowGeometry g{v,          W,       s.x.data(), s.y.data(),
-                                s.z.data(), nullptr, nullptr,    nullptr};
-            m_lamps.key_row(g, keys_of(key));
-        });
-    }
     const float c[3] = {float(m_water.c.r), float(m_water.c.g), float(m_water.c.b)};
     const float G[3] = {float(m_water.forward.G.r), float(m_water.forward.G.g),
                         float(m_water.forward.G.b)};
@@ -354,16 +323,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         }
         const RowGeometry g{v,          W,           s.x.data(),  s.y.data(),
                             s.z.data(), s.nx.data(), s.ny.data(), s.nz.data()};
-        if (key_floats == 0) {
-            m_lamps.irradiance_row(g, s.e.data());
-        } else if (const int key = lamp_key(v); key >= 0) {
-            m_lamps.irradiance_between(g, 0.0f, keys_of(key), keys_of(key), kLampTolerance,
-                                       s.e.data());
-        } else {
-            const int v0 = v - v % lamp_stride, v1 = std::min(v0 + lamp_stride, H - 1);
-            m_lamps.irradiance_between(g, float(v - v0) / float(v1 - v0), keys_of(lamp_key(v0)),
-                                       keys_of(lamp_key(v1)), kLampTolerance, s.e.data());
-        }
+        m_lamps.irradiance_row(g, s.e.data());
 
         float* d2 = forward ? m_d2.row(v) : s.d2.data();
         float* L = forward ? m_surface.row(v) : s.l.data();

@@ -14,7 +14,6 @@
 #include "deepsea/optics/lamp.h"
 #include "deepsea/optics/normals.h"
 #include "lamp_field_rows.h"
-#include "lamp_rows.h"
 
 namespace deepsea {
 
@@ -29,7 +28,6 @@ AnalyticLamps::AnalyticLamps(const Rig& rig, const Water& water, std::vector<Lam
         throw AssetError("multiple scattering: " + std::to_string(m_scattered.size()) +
                          " lamp fields for " + std::to_string(m_rig.lights.size()) + " lamps");
     }
-    for (const Light& L : m_rig.lights) m_row_bounds.push_back(lamp_row_bound(L, m_water.c));
 }
 
 namespace {
@@ -335,63 +333,6 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
                 out[2 * n + u] += s * part[2 * n + u];
             }
         }
-    }
-    if (!m_scattered.empty()) add_scattered(g, out);
-}
-
-int AnalyticLamps::key_row_floats(int n) const {
-    if (m_shadow_settings.enabled || m_rig.lights.empty()) return 0;
-    for (const Light& L : m_rig.lights)
-        if (L.rid.kind != Rid::Kind::Gaussian) return 0;
-    return kLampKeyPlanes * int(m_rig.lights.size()) * n;
-}
-
-void AnalyticLamps::key_row(const RowGeometry& g, float* keys) const {
-    for (std::size_t l = 0; l < m_rig.lights.size(); ++l)
-        lamp_key_row(m_rig.lights[l], m_water.c, g, keys + l * kLampKeyPlanes * std::size_t(g.n));
-}
-
-void AnalyticLamps::irradiance_between(const RowGeometry& g, float t, const float* k0,
-                                       const float* k1, float tol, float* out) const {
-    const int n = g.n;
-    const std::size_t per_lamp = kLampKeyPlanes * std::size_t(n);
-    thread_local std::vector<int> fail;
-    fail.assign(n, 0);
-    for (std::size_t l = 0; l < m_rig.lights.size(); ++l) {
-        lamp_between_row(m_rig.lights[l], m_water.c, m_row_bounds[l], tol, g, t, k0 + l * per_lamp,
-                         k1 + l * per_lamp, out, l == 0, fail.data());
-    }
-    // Pixels the bound leaves out: every lamp's light, exactly, on a row of those pixels alone.
-    thread_local std::vector<float> x, y, z, nx, ny, nz, e;
-    thread_local std::vector<int> cols;
-    cols.clear();
-    for (int u = 0; u < n; ++u) {
-        // most pixels pass: eight flags a test
-        if (u + 8 <= n) {
-            int any = 0;
-            for (int k = 0; k < 8; ++k) any |= fail[u + k];
-            if (!any) {
-                u += 7;
-                continue;
-            }
-        }
-        if (fail[u]) cols.push_back(u);
-    }
-    const int m = int(cols.size());
-    if (m > 0) {
-        for (auto* v : {&x, &y, &z, &nx, &ny, &nz}) v->resize(m);
-        e.resize(3 * std::size_t(m));
-        for (int i = 0; i < m; ++i) {
-            const int u = cols[i];
-            x[i] = g.x[u], y[i] = g.y[u], z[i] = g.z[u];
-            nx[i] = g.nx[u], ny[i] = g.ny[u], nz[i] = g.nz[u];
-        }
-        const RowGeometry few{g.v,      m,         x.data(),  y.data(),
-                              z.data(), nx.data(), ny.data(), nz.data()};
-        for (std::size_t l = 0; l < m_rig.lights.size(); ++l)
-            add_gaussian_lamp(m_rig.lights[l], m_water.c, few, e.data(), l == 0);
-        for (int i = 0; i < m; ++i)
-            for (int c = 0; c < 3; ++c) out[c * n + cols[i]] = e[c * std::size_t(m) + i];
     }
     if (!m_scattered.empty()) add_scattered(g, out);
 }

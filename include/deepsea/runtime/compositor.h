@@ -88,7 +88,6 @@ private:
     std::vector<float> m_row_far;  ///< each row's largest d2 (the point spread's table length)
     // The image alone with its approximations: the looked-up rows' B and sanitised depth.
     Image m_back, m_back_z;
-    std::vector<float> m_lamp_keys;  ///< the lamps' key rows (IrradianceSource::key_row)
     // Through a port:
     const PortRays* m_port = nullptr;
     Image m_in_surface;  ///< the frame's normal and linear colour per input pixel (port_warp.h)

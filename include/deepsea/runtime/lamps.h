@@ -11,15 +11,6 @@
 
 namespace deepsea {
 
-/// A Gaussian lamp's constants for the rows between key rows (src/runtime/lamp_rows.h): bounds
-/// of d ln K / d cos(theta) and its first two derivatives, where cos(theta) >= ct_min (2:
-/// never), and the largest channel's attenuation c (1/m).
-struct LampRowBound {
-    float a1 = 0.0f, a2 = 0.0f, a3 = 0.0f;
-    float ct_min = 2.0f;
-    float c = 0.0f;
-};
-
 /// The rig's spotlights evaluated analytically, row by row, in structure-of-arrays form.
 /// The per-pixel terms are optics' lamp.h, as in lamp_irradiance; this adds the float rows
 /// (the tests check a row against lamp_irradiance to 1e-5). Given a multiple-scattering
@@ -38,11 +29,6 @@ public:
     /// With shadows on: every lamp's visibility for the frame; rows of another size, or
     /// without a begin_frame, are unshadowed.
     void begin_frame(const Camera& camera, const Image& zdepth) const override;
-    /// Key rows (lamp_rows.h) where every lamp is Gaussian and unshadowed.
-    int key_row_floats(int n) const override;
-    void key_row(const RowGeometry& row, float* keys) const override;
-    void irradiance_between(const RowGeometry& row, float t, const float* k0, const float* k1,
-                            float tol, float* out_rgb_planar) const override;
 
     /// The shadows of the last begin_frame (empty with shadows off).
     const LampShadows& shadows() const { return m_shadows; }
@@ -55,8 +41,6 @@ private:
     Water m_water;
     std::vector<LampField> m_scattered;
     ShadowSettings m_shadow_settings;
-    /// Per lamp: the bound's constants between key rows (lamp_rows.h).
-    std::vector<LampRowBound> m_row_bounds;
     mutable LampShadows m_shadows;
     // The frame's coefficient grid (begin_frame): planes [(j * 30 + q) * m_kx + i] and the
     // planar depth at each point [j * m_kx + i] (0: open water).

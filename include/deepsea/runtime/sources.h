@@ -33,16 +33,6 @@ public:
     /// planar depth (open water where has_surface says so): a source may share work between
     /// rows here. One frame at a time per source. The default does nothing.
     virtual void begin_frame(const Camera& camera, const Image& zdepth) const {}
-    /// Rows between key rows (the compositor's image alone, docs/runtime-approximations.md):
-    /// floats a key row of n pixels needs, or 0: never (the default).
-    virtual int key_row_floats(int n) const { return 0; }
-    /// A key row's values (only the row's points are read: x, y, z).
-    virtual void key_row(const RowGeometry& row, float* keys) const {}
-    /// E of a row at weight t between key rows k0 and k1 (t = 0: the key row k0 itself),
-    /// within `tol` of the exact E relative to it, per channel; pixels where the source's bound
-    /// does not allow it are computed exactly.
-    virtual void irradiance_between(const RowGeometry& row, float t, const float* k0,
-                                    const float* k1, float tol, float* out_rgb_planar) const {}
 };
 
 /// Water light added along pixel rays up to planar depth z (z_max for open water), radiance

@@ -16,12 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "backscatter_rows.h"
 #include "deepsea/asset/asset_file.h"
 #include "deepsea/bake/bake.h"
 #include "deepsea/colour/srgb.h"
 #include "deepsea/io/image_io.h"
-#include "deepsea/optics/normals.h"
 #include "deepsea/optics/water_presets.h"
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
@@ -273,115 +271,6 @@ TEST(Approximations, BackscatterRowsStayWithinTheirBoundOnHostileFrames) {
         expect_rows_within_bounds(tiny, *r, w, bake_for(tiny, *r, w), f,
                                   r == &rig ? "64x48 camera" : "64x48 camera, pencil beams");
     }
-}
-
-namespace {
-
-/// The lamps' rows between key rows (lamp_rows.h) against AnalyticLamps' exact rows on a
-/// frame, as the compositor uses them (every backscatter_row_stride-th row and the last a key
-/// row): the worst error relative to each pixel's own E, and the fraction of lit pixels
-/// interpolated (their E not bit for bit the exact one).
-struct LampRowsWorst {
-    double relative = 0.0;
-    double interpolated = 0.0;
-};
-
-LampRowsWorst compare_lamp_rows(const Camera& cam, const Rig& rig, const Water& water,
-                                const Image& depth) {
-    const AnalyticLamps lamps(rig, water);
-    const int W = cam.width, H = cam.height, stride = backscatter_row_stride(cam.fy);
-    const int floats = lamps.key_row_floats(W);
-    EXPECT_GT(floats, 0);
-    std::vector<float> x(W), y(W), z(W), nx(W), ny(W), nz(W), e(3 * W), ex(3 * W);
-    const auto row = [&](int v) {
-        for (int u = 0; u < W; ++u) {
-            const float d = depth.at(u, v);
-            z[u] = has_surface(d) ? d : 0.0f;
-            x[u] = float(cam.ray_x(u)) * z[u];
-            y[u] = float(cam.ray_y(v)) * z[u];
-            const Vec3 n = has_surface(d) ? surface_normal(cam, depth, u, v) : Vec3{};
-            nx[u] = float(n.x), ny[u] = float(n.y), nz[u] = float(n.z);
-        }
-        return RowGeometry{v, W, x.data(), y.data(), z.data(), nx.data(), ny.data(), nz.data()};
-    };
-    const auto key_v = [&](int v) { return v % stride == 0 || v == H - 1; };
-    std::vector<std::vector<float>> keys(H);
-    for (int v = 0; v < H; ++v) {
-        if (!key_v(v)) continue;
-        keys[v].resize(floats);
-        lamps.key_row(row(v), keys[v].data());
-    }
-    LampRowsWorst w;
-    long lit = 0, interpolated = 0;
-    for (int v = 0; v < H; ++v) {
-        const RowGeometry g = row(v);
-        lamps.irradiance_row(g, ex.data());
-        const int v0 = key_v(v) ? v : v - v % stride,
-                  v1 = key_v(v) ? v : std::min(v0 + stride, H - 1);
-        const float t = v1 > v0 ? float(v - v0) / float(v1 - v0) : 0.0f;
-        lamps.irradiance_between(g, t, keys[v0].data(), keys[v1].data(), 4e-4f, e.data());
-        for (int u = 0; u < W; ++u) {
-            bool any = false, same = true;
-            for (int c = 0; c < 3; ++c) {
-                const double a = ex[c * W + u], b = e[c * W + u];
-                any = any || a > 0.0;
-                same = same && a == b;
-                if (a > 0.0) w.relative = std::max(w.relative, std::fabs(b - a) / a);
-                if (a == 0.0) {
-                    EXPECT_EQ(b, 0.0) << u << " " << v;
-                }
-            }
-            lit += any;
-            interpolated += any && !same;
-        }
-    }
-    w.interpolated = lit > 0 ? double(interpolated) / double(lit) : 0.0;
-    return w;
-}
-
-/// The lamps' rows within their bound (4e-4 of each pixel's own E, and float rounding), and
-/// at least `min_interpolated` of the lit pixels interpolated.
-void expect_lamp_rows(const Camera& cam, const Rig& rig, const Image& depth,
-                      const std::string& what, double min_interpolated) {
-    const LampRowsWorst r = compare_lamp_rows(cam, rig, with_forward("deep:clear"), depth);
-    std::printf("%s: lamp rows %.2e of E, %.1f %% of lit pixels interpolated\n", what.c_str(),
-                r.relative, 100.0 * r.interpolated);
-    EXPECT_LE(r.relative, 4e-4 + 1e-5) << what;
-    EXPECT_GE(r.interpolated, min_interpolated) << what;
-}
-
-}  // namespace
-
-TEST(Approximations, LampRowsStayWithinTheirBound) {
-    const Rig rig = testing::two_lamps();
-    // the demo's view at 400 px, looking down, and ahead over a rougher floor
-    FlightParams fp;
-    fp.camera = Camera{400, 400, 300.0, 300.0, 200.0, 200.0};
-    for (const double pitch : {0.0, 50.0}) {
-        fp.pitch_deg = pitch;
-        fp.altitude = pitch > 0.0 ? 1.5 : 3.0;
-        fp.relief = pitch > 0.0 ? 2.5 : 1.0;
-        expect_lamp_rows(fp.camera, rig, render_flight_frame(fp, 1).depth,
-                         "seafloor pitch " + std::to_string(int(pitch)), 0.5);
-    }
-    // hostile: a tilted plane with a depth step and open water, 3 m and 0.3 m away; pencil
-    // beams (6 degrees) and a lamp beside the lens; a 64x48 and a 1920x1080 camera
-    const Camera cam = testing::small_camera();
-    for (const double z0 : {3.0, 0.3})
-        expect_lamp_rows(cam, rig, testing::plane_scene(cam, z0).depth,
-                         "plane with a step at " + std::to_string(z0) + " m", 0.2);
-    Rig pencil = rig, beside = rig;
-    for (Light& l : pencil.lights) l.rid.sigma_deg = 6.0;
-    beside.lights.resize(1);
-    beside.lights[0].position = {0.05, 0.0, 0.0};
-    beside.lights[0].direction = {0.0, 0.0, 1.0};
-    expect_lamp_rows(cam, pencil, testing::plane_scene(cam, 3.0).depth, "pencil beams", 0.0);
-    expect_lamp_rows(cam, beside, testing::plane_scene(cam, 0.3).depth, "lamp beside the lens",
-                     0.2);
-    const Camera tiny{64, 48, 48.0, 48.0, 31.5, 23.5};
-    expect_lamp_rows(tiny, rig, testing::plane_scene(tiny, 2.0, 0.6).depth, "64x48 camera", 0.2);
-    const Camera hd{1920, 1080, 1440.0, 1440.0, 960.0, 540.0};
-    expect_lamp_rows(hd, rig, testing::plane_scene(hd, 3.0).depth, "1920x1080 camera", 0.5);
 }
 
 TEST(Approximations, BackscatterRowsOnAGivenAssetAndFrames) {
