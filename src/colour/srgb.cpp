@@ -38,7 +38,10 @@ const float* srgb_decode_table(int codes) {
 void srgb_decode(const std::uint8_t* codes, std::size_t n, float* linear) {
     const float* lut = srgb_decode_table(255);
     // (a frame's colour is decoded row by row here: unrolled, the loop's count and branch no
-    // longer double its loads and stores)
+    // longer double its loads and stores. An AVX2 gather of 8 entries at a time runs 1.0
+    // instruction a value instead of 3.6, but took 1.3-1.4 times this loop's thread CPU time
+    // on the AMD EPYC (Zen 3) of the speed figures: an 800x800 frame's codes, medians of 41
+    // runs alternated with this loop, three runs; so it stays scalar.)
 #pragma GCC unroll 8
     for (std::size_t i = 0; i < n; ++i) linear[i] = lut[codes[i]];
 }
