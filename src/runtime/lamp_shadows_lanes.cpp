@@ -354,12 +354,20 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
 
 }  // namespace
 
-void sweep_parallel_lines(const Family& f, const SweepArrays& s) {
-    if (f.i_max < f.i_min) return;
-    const long blocks = (f.i_max - f.i_min + kLanes) / kLanes;
-    tbb::parallel_for(0L, blocks, [&](long k) {
-        const long i0 = f.i_min + k * kLanes;
-        sweep_block(f, i0, std::min(i0 + kLanes, f.i_max + 1), s);
+void sweep_parallel_lines(const std::vector<LampShadows::ParallelSweep>& sweeps) {
+    // block b of the whole list is block b - first[l] of lamp l
+    std::vector<long> first(sweeps.size() + 1, 0);
+    for (std::size_t l = 0; l < sweeps.size(); ++l) {
+        const Family& f = sweeps[l].f;
+        const long blocks = f.i_max < f.i_min ? 0 : (f.i_max - f.i_min + kLanes) / kLanes;
+        first[l + 1] = first[l] + blocks;
+    }
+    tbb::parallel_for(0L, first.back(), [&](long b) {
+        const std::size_t l =
+            std::size_t(std::upper_bound(first.begin(), first.end(), b) - first.begin()) - 1;
+        const Family& f = sweeps[l].f;
+        const long i0 = f.i_min + (b - first[l]) * kLanes;
+        sweep_block(f, i0, std::min(i0 + kLanes, f.i_max + 1), sweeps[l].s);
     });
 }
 
