@@ -78,22 +78,6 @@ struct Target {
         return sink;
     }
 
-    /// draw() of a still sub-pixel splat (s.dot) into `final` alone: the same steps and sums,
-    /// its window's two columns and rows written out.
-    template <class S>
-    void dot(const S& s, int y0, int y1) const {
-        const int xa = s.ua, ya = s.va;
-        const float fu = s.u - float(xa), fv = s.v - float(ya);
-        const int ylo = std::max(std::max(y0, ya), 0), yhi = std::min(std::min(y1, ya + 1), H - 1);
-        const bool left = xa >= 0, right = xa + 1 < W;
-        for (int y = ylo; y <= yhi; ++y) {
-            const float wy = y == ya ? 1.0f - fv : fv;
-            const float* d = zdepth.row(y);
-            float* f = final.row(y);
-            if (left) put(s, f + 3 * xa, d[xa], (1.0f - fu) * wy);
-            if (right) put(s, f + 3 * (xa + 1), d[xa + 1], fu * wy);
-        }
-    }
     /// add() for `final` alone (a surface nearer than the particle: z > 0 and z <= s.z, s.z
     /// being finite, is add()'s test).
     template <class S>
@@ -170,6 +154,23 @@ struct Target {
             }
     }
 };
+
+/// draw() of a still sub-pixel splat (s.dot) into `final` alone, rows y0..y1 of a band: the same
+/// steps and sums, its window's two columns and rows written out. The images' pixels (z: depth,
+/// W a row; f: final, 3 W a row) are the band's locals, not read from the images per particle.
+inline void dot(const DotEntry& s, const float* z, float* f, int W, int H, int y0, int y1) {
+    const int xa = s.ua, ya = s.va;
+    const float fu = s.u - float(xa), fv = s.v - float(ya);
+    const int ylo = std::max(std::max(y0, ya), 0), yhi = std::min(std::min(y1, ya + 1), H - 1);
+    const bool left = xa >= 0, right = xa + 1 < W;
+    for (int y = ylo; y <= yhi; ++y) {
+        const float wy = y == ya ? 1.0f - fv : fv;
+        const float* d = z + std::size_t(y) * std::size_t(W);
+        float* out = f + std::size_t(y) * std::size_t(3 * W);
+        if (left) Target::put(s, out + 3 * xa, d[xa], (1.0f - fu) * wy);
+        if (right) Target::put(s, out + 3 * (xa + 1), d[xa + 1], fu * wy);
+    }
+}
 
 /// Sets splat s's streak for the particle at camera-frame X (pose `pose`), seen at pixel
 /// (u, v): from where it is seen when the shutter opens to where it is seen when it closes.
@@ -320,7 +321,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
     const std::size_t chunks = sc.ends.size() - 1, nb = std::size_t(bands);
     const auto off_image = [&](const Splat& s) { return s.vb < 0 || s.va > H - 1; };
     // Where neither the snow layer nor the ids are asked for, still sub-pixel particles take
-    // the short path (Target::dot), their fields copied into the bands' entries; every other
+    // the short path (dot()), their fields copied into the bands' entries; every other
     // entry names its splat.
     const bool final_only = !snow && !ids;
     sc.at.assign(chunks * (nb + 1), 0);
@@ -434,6 +435,8 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
             if (entries * 64 > std::int64_t(y1 - y0 + 1) * W)
                 sc.sinks[band] = target.warm(y0, y1, true);
             int count = 0;
+            const float* zpix = zdepth.data.data();
+            float* fpix = final.data.data();
             for (std::size_t k = 0; k < chunks; ++k) {
                 const DotEntry* list = sc.lists[k].data();
                 const std::uint32_t i1 = at[k * (nb + 1) + band + 1];
@@ -441,7 +444,7 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                     const DotEntry& e = list[i];
                     if (e.z > 0.0f) {
                         count += std::max(e.va, 0) / kBandRows == b ? 1 : 0;  // its first band
-                        target.dot(e, y0, y1);
+                        dot(e, zpix, fpix, W, H, y0, y1);
                         continue;
                     }
                     const Splat& s = splats[std::uint32_t(e.ua)];
