@@ -285,6 +285,7 @@ void LampShadows::sweep(const Camera& cam, const Rig& rig, float thickness, cons
     // the per-pixel terms of the scalar sweep (radial lines only)
     if (radial)
         for (auto* a : {&m_gf, &m_gh, &m_gb, &m_k, &m_d1}) a->resize(N);
+    std::vector<ParallelSweep> parallel;  // (swept after the loop, every lamp's at once)
     for (std::size_t l = 0; l < rig.lights.size(); ++l) {
         const Vec3& L = rig.lights[l].position;
         const float R = float(rig.lights[l].radius);
@@ -297,19 +298,21 @@ void LampShadows::sweep(const Camera& cam, const Rig& rig, float thickness, cons
         ones.resize(std::size_t(H), 0);
         if (m_lines_t[l].families.empty()) {
             lamp_pass(cam, zdepth, L, R, m_lines[l], m_rx.data(), m_ry.data(), thickness, vis,
-                      ones.data());
+                      ones.data(), parallel);
             std::fill(ones.begin(), ones.end(), 0);  // (not known after the sweep)
             continue;
         }
         lamp_pass(camt, m_depth_t, Vec3{L.y, L.x, L.z}, R, m_lines_t[l], m_ry.data(), m_rx.data(),
-                  thickness, vis, ones.data());
+                  thickness, vis, ones.data(), parallel);
         std::fill(ones.begin(), ones.end(), 0);
     }
+    sweep_parallel_lines(parallel);
 }
 
 void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& L, float R,
                             const Lines& lines, const float* rx, const float* ry, float t,
-                            Image& vis, const unsigned char* ones) {
+                            Image& vis, const unsigned char* ones,
+                            std::vector<ParallelSweep>& parallel) {
     const int W = cam.width, H = cam.height;
     thread_local std::vector<float> zrow;
     {
@@ -335,14 +338,15 @@ void LampShadows::lamp_pass(const Camera& cam, const Image& zdepth, const Vec3& 
                             t,
                             f0.radial};
         if (!f0.radial) {
-            // parallel lines: eight at a time in vector lanes, each sample's terms computed
-            // there (lamp_shadows_lanes.cpp)
+            // parallel lines: sixteen at a time in vector lanes, each sample's terms computed
+            // there (lamp_shadows_lanes.cpp), swept with the other lamps' after the loop
             // (vis is the frame's, this image's transpose where their sizes differ)
             tbb::parallel_for(0, vis.height, [&](int v) {
                 if (!ones[v]) std::fill_n(vis.row(v), vis.width, 1.0f);
             });
-            sweep_parallel_lines(f0, SweepArrays{zdepth.data.data(), rx, ry, vis.data.data(), W, H,
-                                                 R, prm, vis.width != W});
+            parallel.push_back(
+                ParallelSweep{f0, SweepArrays{zdepth.data.data(), rx, ry, vis.data.data(), W, H, R,
+                                              prm, vis.width != W}});
             return;
         }
         tbb::parallel_for(0, H, [&](int v) {

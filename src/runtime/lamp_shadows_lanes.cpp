@@ -72,6 +72,11 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
     HorizonLanes hz[2];
     SecondEdges e2s[2];
     const SecondEdges* e2p = &e2s[0];  // the current copy; the other is written when it changes
+    // Whether some lane of *e2p holds a second edge (hq2 > 0). On a continuous surface none
+    // does (each new edge continues the last), and the lit test then skips e2's terms, which
+    // cannot change a lane's result where no lane has one. (The penumbra keeps its loop: the
+    // same loop without e2 rounded a1 otherwise, fast-math choosing other instructions.)
+    bool any_e2 = false;
     {
         SecondEdges& e2 = e2s[0];
         HorizonLanes& h = hz[0];
@@ -215,7 +220,7 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
         // samples before them open), nothing is written and the penumbra is not evaluated.
         const Samples& p = fast ? q : buf[2];
         int unlit = 0;
-        if (quick) {
+        if (quick && any_e2) {
 #pragma omp simd reduction(| : unlit)
             for (int j = 0; j < kLanes; ++j) {
                 const float gp = p.gf[j];
@@ -226,6 +231,15 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                                                  e2.fx[j], e2.fy[j], e2.fz[j], e2.fs[j], R2m);
                 const bool seen = lit | (past1 & ((e2.hq2[j] <= 0.0f) | past2));
                 unlit |= seen ? 0 : 1;
+            }
+        } else if (quick) {  // (no lane has e2: the test above without it)
+#pragma omp simd reduction(| : unlit)
+            for (int j = 0; j < kLanes; ++j) {
+                const float gp = p.gf[j];
+                const bool lit = (p.valid[j] <= 0.0f) | (hc.hq[j] <= 0.0f) | (gp < hc.lo[j]);
+                const bool past1 = penumbra_past(gp, p.k[j], p.x[j], p.y[j], p.z[j], hc.eg[j],
+                                                 hc.ex[j], hc.ey[j], hc.ez[j], hc.es[j], R2m);
+                unlit |= (lit | past1) ? 0 : 1;
             }
         } else {
 #pragma omp simd reduction(| : unlit)
@@ -313,7 +327,8 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                 std::memcpy(&r, &u, 4);
                 return r;
             };
-#pragma omp simd
+            int has_e2 = 0;
+#pragma omp simd reduction(| : has_e2)
             for (int j = 0; j < kLanes; ++j) {
                 const int m = -shifts[j];  // all bits where e2 takes e
                 ne.fg[j] = blend(m, hc.eg[j], e2.fg[j]);
@@ -321,9 +336,12 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
                 ne.fy[j] = blend(m, hc.ey[j], e2.fy[j]);
                 ne.fz[j] = blend(m, hc.ez[j], e2.fz[j]);
                 ne.fs[j] = blend(m, hc.es[j], e2.fs[j]);
-                ne.hq2[j] = blend(m, hc.hq[j], e2.hq2[j]);
+                const float hq2 = blend(m, hc.hq[j], e2.hq2[j]);
+                ne.hq2[j] = hq2;
+                has_e2 |= hq2 > 0.0f ? 1 : 0;
             }
             e2p = &ne;
+            any_e2 = has_e2 != 0;
         }
     };
     int c = 0;
@@ -336,12 +354,20 @@ void sweep_block(const Family& f, long i0, long i_end, const SweepArrays& s) {
 
 }  // namespace
 
-void sweep_parallel_lines(const Family& f, const SweepArrays& s) {
-    if (f.i_max < f.i_min) return;
-    const long blocks = (f.i_max - f.i_min + kLanes) / kLanes;
-    tbb::parallel_for(0L, blocks, [&](long k) {
-        const long i0 = f.i_min + k * kLanes;
-        sweep_block(f, i0, std::min(i0 + kLanes, f.i_max + 1), s);
+void sweep_parallel_lines(const std::vector<LampShadows::ParallelSweep>& sweeps) {
+    // block b of the whole list is block b - first[l] of lamp l
+    std::vector<long> first(sweeps.size() + 1, 0);
+    for (std::size_t l = 0; l < sweeps.size(); ++l) {
+        const Family& f = sweeps[l].f;
+        const long blocks = f.i_max < f.i_min ? 0 : (f.i_max - f.i_min + kLanes) / kLanes;
+        first[l + 1] = first[l] + blocks;
+    }
+    tbb::parallel_for(0L, first.back(), [&](long b) {
+        const std::size_t l =
+            std::size_t(std::upper_bound(first.begin(), first.end(), b) - first.begin()) - 1;
+        const Family& f = sweeps[l].f;
+        const long i0 = f.i_min + (b - first[l]) * kLanes;
+        sweep_block(f, i0, std::min(i0 + kLanes, f.i_max + 1), sweeps[l].s);
     });
 }
 

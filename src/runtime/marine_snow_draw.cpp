@@ -22,7 +22,7 @@ using namespace snow_splat;
 
 namespace {
 
-/// Particles a task lights and sets up at a time.
+/// Particles a task lights and sets up at most (halving_blocks).
 constexpr std::size_t kBlock = 1024;
 /// Rows per band of the drawing pass.
 constexpr int kBandRows = 16;
@@ -78,22 +78,6 @@ struct Target {
         return sink;
     }
 
-    /// draw() of a still sub-pixel splat (s.dot) into `final` alone: the same steps and sums,
-    /// its window's two columns and rows written out.
-    template <class S>
-    void dot(const S& s, int y0, int y1) const {
-        const int xa = s.ua, ya = s.va;
-        const float fu = s.u - float(xa), fv = s.v - float(ya);
-        const int ylo = std::max(std::max(y0, ya), 0), yhi = std::min(std::min(y1, ya + 1), H - 1);
-        const bool left = xa >= 0, right = xa + 1 < W;
-        for (int y = ylo; y <= yhi; ++y) {
-            const float wy = y == ya ? 1.0f - fv : fv;
-            const float* d = zdepth.row(y);
-            float* f = final.row(y);
-            if (left) put(s, f + 3 * xa, d[xa], (1.0f - fu) * wy);
-            if (right) put(s, f + 3 * (xa + 1), d[xa + 1], fu * wy);
-        }
-    }
     /// add() for `final` alone (a surface nearer than the particle: z > 0 and z <= s.z, s.z
     /// being finite, is add()'s test).
     template <class S>
@@ -171,6 +155,23 @@ struct Target {
     }
 };
 
+/// draw() of a still sub-pixel splat (s.dot) into `final` alone, rows y0..y1 of a band: the same
+/// steps and sums, its window's two columns and rows written out. The images' pixels (z: depth,
+/// W a row; f: final, 3 W a row) are the band's locals, not read from the images per particle.
+inline void dot(const DotEntry& s, const float* z, float* f, int W, int H, int y0, int y1) {
+    const int xa = s.ua, ya = s.va;
+    const float fu = s.u - float(xa), fv = s.v - float(ya);
+    const int ylo = std::max(std::max(y0, ya), 0), yhi = std::min(std::min(y1, ya + 1), H - 1);
+    const bool left = xa >= 0, right = xa + 1 < W;
+    for (int y = ylo; y <= yhi; ++y) {
+        const float wy = y == ya ? 1.0f - fv : fv;
+        const float* d = z + std::size_t(y) * std::size_t(W);
+        float* out = f + std::size_t(y) * std::size_t(3 * W);
+        if (left) Target::put(s, out + 3 * xa, d[xa], (1.0f - fu) * wy);
+        if (right) Target::put(s, out + 3 * (xa + 1), d[xa + 1], fu * wy);
+    }
+}
+
 /// Sets splat s's streak for the particle at camera-frame X (pose `pose`), seen at pixel
 /// (u, v): from where it is seen when the shutter opens to where it is seen when it closes.
 void set_streak(Splat& s, const Camera& cam, const CameraPose& pose, const Shutter& shutter,
@@ -247,10 +248,13 @@ struct SnowScratch {
     SnowPlacing placing;
     std::vector<SnowParticle> particles;
     std::vector<Splat> splats;
-    std::vector<float> rows;  ///< the particles as float rows (snow_light.h)
-    std::vector<float> best;  ///< per pixel, the largest contribution so far
-    std::vector<std::uint32_t> at, start, order;
-    std::vector<DotEntry> entries;  ///< the bands' entries where only `final` is drawn
+    std::vector<float> rows;        ///< the particles as float rows (snow_light.h)
+    std::vector<float> best;        ///< per pixel, the largest contribution so far
+    std::vector<std::size_t> ends;  ///< the chunks of particles (halving_blocks)
+    /// per chunk: where each band's entries start in its list (bands + 1)
+    std::vector<std::uint32_t> at;
+    /// per chunk: its particles' band entries, band by band, each band's in id order
+    std::vector<std::vector<DotEntry>> lists;
     std::vector<int> off_drawn, band_drawn;
     std::vector<float> sinks;
 };
@@ -265,6 +269,20 @@ SnowScratch& SnowScratchHolder::get() const {
 }
 
 namespace {
+
+/// The ends of the blocks of particles [0, n) is cut into, after 0 in `ends`: halves of halves
+/// down to kBlock particles or fewer, as TBB's blocked_range splits a range. A particle's light
+/// rounds by its place in its block (snow_light's vector loops end in a shorter epilogue), so
+/// fixed blocks keep the image the same at any thread count.
+void halving_blocks(std::size_t b, std::size_t e, std::vector<std::size_t>& ends) {
+    if (e - b > kBlock) {
+        const std::size_t m = b + (e - b) / 2;
+        halving_blocks(b, m, ends);
+        halving_blocks(m, e, ends);
+        return;
+    }
+    ends.push_back(e);
+}
 
 /// v resized to n, its memory grown by a quarter more where it must grow (the particles'
 /// number changes from frame to frame).
@@ -293,8 +311,25 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
     // Rows: x, y, z, 1/|X|, D, the three energies, five of scratch, u, v and the radius.
     fit(sc.rows, 16 * n);
     float* rows = sc.rows.data();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const auto& range) {
-        const std::size_t b = range.begin(), m = range.end() - b;
+    // Each band's particles, in id order, by a counting sort within each chunk of particles
+    // (halving_blocks) as it is set up (while its records are in the cache): the band draws the
+    // chunks' lists in chunk order. A particle whose centre lies behind the surface at its
+    // pixel was found as it was placed (no size, no disc) and joins no band.
+    const int bands = (H + kBandRows - 1) / kBandRows;
+    sc.ends.assign(1, 0);
+    if (n > 0) halving_blocks(0, n, sc.ends);
+    const std::size_t chunks = sc.ends.size() - 1, nb = std::size_t(bands);
+    const auto off_image = [&](const Splat& s) { return s.vb < 0 || s.va > H - 1; };
+    // Where neither the snow layer nor the ids are asked for, still sub-pixel particles take
+    // the short path (dot()), their fields copied into the bands' entries; every other
+    // entry names its splat.
+    const bool final_only = !snow && !ids;
+    sc.at.assign(chunks * (nb + 1), 0);
+    sc.off_drawn.assign(chunks, 0);
+    if (sc.lists.size() < chunks) sc.lists.resize(chunks);
+    std::uint32_t* const at = sc.at.data();
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
+        const std::size_t b = sc.ends[k], m = sc.ends[k + 1] - b;
         float* x = rows + b;
         float* y = x + n;
         float* z = y + n;
@@ -310,6 +345,14 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
         particle_rows(particles.data() + b, int(m), cam, lens, x, y, z, inv_d2, D, pu, pv, radius);
         snow_light(m_rig, m_water, m_settings.snow, cam.fx, cam.fy,
                    ParticleRows{int(m), x, y, z, inv_d2, D}, er, eg, eb, scratch, m_scattered);
+        // the chunk's entries in id order with their bands, counted per band (at[b + 1])
+        struct Placed {
+            DotEntry e;
+            int ba, bb;
+        };
+        thread_local std::vector<Placed> placed;
+        placed.clear();
+        std::uint32_t* const start = at + k * (nb + 1);
         for (std::size_t q = 0; q < m; ++q) {
             const SnowParticle& pt = particles[b + q];
             const Vec3& X = pt.position;
@@ -356,96 +399,60 @@ void MarineSnow::draw(const Camera& cam, const Image& zdepth, Image& final, Imag
                 s.inv_cover = 1.0f / total;
             }
             s.id = pt.id;
-        }
-    });
-
-    // Each band's particles, in id order: a counting sort by band, in parallel over chunks of
-    // particles (each chunk's entries in a band follow the chunk before's, so the order is the
-    // ids'). A particle whose centre lies behind the surface at its pixel was found as it was
-    // placed (no size, no disc) and joins no band.
-    const int bands = (H + kBandRows - 1) / kBandRows;
-    const Target target{zdepth, final, snow, ids, sc.best.data(), W, H};
-    const auto off_image = [&](const Splat& s) { return s.vb < 0 || s.va > H - 1; };
-    const std::size_t chunks = (n + kBlock - 1) / kBlock, nb = std::size_t(bands);
-    // per chunk: its entries in each band, then (after the scan) where they go in `order`;
-    // its particles drawn off the image (counted in `drawn`, in no band)
-    sc.at.assign(chunks * nb, 0);
-    sc.off_drawn.assign(chunks, 0);
-    std::uint32_t* const at = sc.at.data();
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-        std::uint32_t* count = at + k * nb;
-        for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
-            const Splat& s = splats[q];
-            if (s.id == 0) continue;
-            if (off_image(s)) {
+            if (off_image(s)) {  // (drawn, counted in `drawn`, in no band)
                 ++sc.off_drawn[k];
                 continue;
             }
-            for (int b = s.ba; b <= s.bb; ++b) ++count[b];
+            for (int band = s.ba; band <= s.bb; ++band) ++start[band + 1];
+            placed.push_back(
+                {final_only && s.dot
+                     ? DotEntry{s.u, s.v, s.z, {s.energy[0], s.energy[1], s.energy[2]}, s.ua, s.va}
+                     : DotEntry{0.0f, 0.0f, -1.0f, {0.0f, 0.0f, 0.0f}, int(b + q), 0},
+                 s.ba, s.bb});
         }
+        for (std::size_t band = 0; band < nb; ++band) start[band + 1] += start[band];
+        thread_local std::vector<std::uint32_t> fill;
+        fill.assign(start, start + nb);
+        std::vector<DotEntry>& list = sc.lists[k];
+        fit(list, start[nb]);
+        for (const Placed& p : placed)
+            for (int band = p.ba; band <= p.bb; ++band) list[fill[std::size_t(band)]++] = p.e;
     });
-    sc.start.assign(nb + 1, 0);
-    for (std::size_t b = 0; b < nb; ++b) {
-        std::uint32_t next = sc.start[b];
-        for (std::size_t k = 0; k < chunks; ++k) {
-            const std::uint32_t c = at[k * nb + b];
-            at[k * nb + b] = next;
-            next += c;
-        }
-        sc.start[b + 1] = next;
-    }
-    // Where neither the snow layer nor the ids are asked for, still sub-pixel particles take
-    // the short path (Target::dot), their fields copied into the bands' entries.
-    const bool final_only = !snow && !ids;
-    std::uint32_t* order = nullptr;
-    DotEntry* entries = nullptr;
-    if (final_only) {
-        fit(sc.entries, sc.start.back());
-        entries = sc.entries.data();
-    } else {
-        fit(sc.order, sc.start.back());
-        order = sc.order.data();
-    }
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-        std::uint32_t* fill = at + k * nb;
-        for (std::size_t q = k * kBlock; q < std::min(n, (k + 1) * kBlock); ++q) {
-            const Splat& s = splats[q];
-            if (s.id == 0 || off_image(s)) continue;
-            if (!final_only) {
-                for (int b = s.ba; b <= s.bb; ++b) order[fill[b]++] = std::uint32_t(q);
-                continue;
-            }
-            const DotEntry e =
-                s.dot ? DotEntry{s.u, s.v, s.z, {s.energy[0], s.energy[1], s.energy[2]}, s.ua, s.va}
-                      : DotEntry{0.0f, 0.0f, -1.0f, {0.0f, 0.0f, 0.0f}, int(q), 0};
-            for (int b = s.ba; b <= s.bb; ++b) entries[fill[b]++] = e;
-        }
-    });
+
     int drawn = 0;  // (counted per band below, at each particle's first band)
     for (const int c : sc.off_drawn) drawn += c;
     sc.band_drawn.assign(nb, 0);
     sc.sinks.assign(nb, 0.0f);
-
+    const Target target{zdepth, final, snow, ids, sc.best.data(), W, H};
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const auto& range) {
         for (int b = range.begin(); b != range.end(); ++b) {
             const int y0 = b * kBandRows, y1 = std::min(H, y0 + kBandRows) - 1;
-            const std::uint32_t i0 = sc.start[std::size_t(b)], i1 = sc.start[std::size_t(b) + 1];
+            const std::size_t band = std::size_t(b);
+            std::int64_t entries = 0;
+            for (std::size_t k = 0; k < chunks; ++k)
+                entries += at[k * (nb + 1) + band + 1] - at[k * (nb + 1) + band];
             // Warm when the particles would touch most of the band's cache lines anyway.
-            if (std::int64_t(i1 - i0) * 64 > std::int64_t(y1 - y0 + 1) * W)
-                sc.sinks[std::size_t(b)] = target.warm(y0, y1, true);
+            if (entries * 64 > std::int64_t(y1 - y0 + 1) * W)
+                sc.sinks[band] = target.warm(y0, y1, true);
             int count = 0;
-            for (std::uint32_t i = i0; i < i1; ++i) {
-                if (final_only && entries[i].z > 0.0f) {
-                    const DotEntry& e = entries[i];
-                    count += std::max(e.va, 0) / kBandRows == b ? 1 : 0;  // its first band
-                    target.dot(e, y0, y1);
-                    continue;
+            const float* zpix = zdepth.data.data();
+            float* fpix = final.data.data();
+            for (std::size_t k = 0; k < chunks; ++k) {
+                const DotEntry* list = sc.lists[k].data();
+                const std::uint32_t i1 = at[k * (nb + 1) + band + 1];
+                for (std::uint32_t i = at[k * (nb + 1) + band]; i < i1; ++i) {
+                    const DotEntry& e = list[i];
+                    if (e.z > 0.0f) {
+                        count += std::max(e.va, 0) / kBandRows == b ? 1 : 0;  // its first band
+                        dot(e, zpix, fpix, W, H, y0, y1);
+                        continue;
+                    }
+                    const Splat& s = splats[std::uint32_t(e.ua)];
+                    count += s.ba == b ? 1 : 0;
+                    target.draw(s, y0, y1);
                 }
-                const Splat& s = splats[final_only ? std::uint32_t(entries[i].ua) : order[i]];
-                count += s.ba == b ? 1 : 0;
-                target.draw(s, y0, y1);
             }
-            sc.band_drawn[std::size_t(b)] = count;
+            sc.band_drawn[band] = count;
         }
     });
     for (const int c : sc.band_drawn) drawn += c;

@@ -60,6 +60,9 @@ public:
     const Image& visibility(std::size_t lamp) const { return m_visibility[lamp]; }
 
     struct Lines;  ///< one lamp's epipolar lines for one camera (lamp_shadows.cpp)
+    /// one lamp's family of parallel lines and its arrays, swept with every other lamp's
+    /// (lamp_shadows_lines.h)
+    struct ParallelSweep;
 
 private:
     /// The sweep into m_visibility (lamp_shadows.cpp) on every `step`-th pixel of the frame's
@@ -71,10 +74,11 @@ private:
     /// One lamp (at L, radius R) swept along `lines` into `vis` (lamp_shadows.cpp): on the
     /// frame, or on the transposed frame and camera (rays rx, ry to match; parallel lines only,
     /// `vis` then still the frame's). `ones`: per row of `vis`, whether it holds only 1 already
-    /// (then it is not filled again).
+    /// (then it is not filled again). Parallel lines are not swept here but added to
+    /// `parallel`, which sweep() sweeps for every lamp at once.
     void lamp_pass(const Camera& camera, const Image& zdepth, const Vec3& L, float R,
                    const Lines& lines, const float* rx, const float* ry, float thickness,
-                   Image& vis, const unsigned char* ones);
+                   Image& vis, const unsigned char* ones, std::vector<ParallelSweep>& parallel);
 
     int m_width = 0, m_height = 0;
     std::vector<Image> m_visibility;
