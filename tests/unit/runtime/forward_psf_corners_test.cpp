@@ -173,10 +173,6 @@ TEST(ForwardPsfCorners, AFrameLitByTheAuvRigSeesWhatAWiderFrameSees) {
     }
 }
 
-}  // namespace deepsea
-
-namespace deepsea {
-
 TEST(ForwardPsfCorners, AtTrueAnglesAFrameSeesWhatAWiderFrameSees) {
     // The wide scales in the equidistant image (ForwardPsfBlur::set_camera): its cells beyond
     // the frame continue the border as the falloff says. Against a frame a quarter wider
