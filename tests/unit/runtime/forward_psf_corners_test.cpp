@@ -53,6 +53,17 @@ void plane_frame(const Camera& cam, double z, const IrradianceSource& lamps, Ima
     }
 }
 
+/// validate.py's coastal water (c 0.35-0.6, b 0.3, HG 0.9), forward scatter from the phase
+/// function.
+Water coastal_water() {
+    Water w;
+    w.c = Rgb(0.6, 0.4, 0.35);
+    w.b = Rgb(0.3, 0.3, 0.3);
+    w.phase = {PhaseKind::HenyeyGreenstein, 0.9};
+    w.forward = phase_function_forward_scatter();
+    return w;
+}
+
 /// validate.py's auv rig: a 20 degree lamp 0.7 m above and 0.2 m behind the camera, a warm
 /// 15 degree side lamp.
 Rig auv() {
@@ -150,11 +161,7 @@ TEST(ForwardPsfCorners, AFrameLitByTheAuvRigSeesWhatAWiderFrameSees) {
     // with and without their scattered light (lamp fields). With every grid held flat beyond
     // its outer cells: 8 x 8 bins +6.9 %, corner pixels +20 %. Now the worst pixels are on the
     // right border, by the side lamp (red), the corners' within 1.2 %.
-    Water w;
-    w.c = Rgb(0.6, 0.4, 0.35);
-    w.b = Rgb(0.3, 0.3, 0.3);
-    w.phase = {PhaseKind::HenyeyGreenstein, 0.9};
-    w.forward = phase_function_forward_scatter();
+    const Water w = coastal_water();
     LampFieldSettings ls;
     ls.nr = 10;
     ls.ntheta = 13;
@@ -178,11 +185,7 @@ TEST(ForwardPsfCorners, AtTrueAnglesAFrameSeesWhatAWiderFrameSees) {
     // the frame continue the border as the falloff says. Against a frame a quarter wider
     // (measured: two spots 1.7 % per 8x8 bin, 2.8 % per pixel; the auv rig 5.5 % and 5.9 %, its
     // border pixels above the wider frame's; the pinhole grids 0.3 %, 1.0 % and 1.5 %, 3.9 %).
-    Water coastal;
-    coastal.c = Rgb(0.6, 0.4, 0.35);
-    coastal.b = Rgb(0.3, 0.3, 0.3);
-    coastal.phase = {PhaseKind::HenyeyGreenstein, 0.9};
-    coastal.forward = phase_function_forward_scatter();
+    const Water coastal = coastal_water();
     const Worst spots =
         framed_against_wider(testing::turbid_water(), two_spots(), 64, 48, 2.0, {}, true);
     const Worst rig = framed_against_wider(coastal, auv(), 160, 120, 3.0, {}, true);

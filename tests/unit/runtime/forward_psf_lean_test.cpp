@@ -63,15 +63,6 @@ TEST(ForwardLean, IsMinusHalfTheGradientOfLogRange) {
     EXPECT_NEAR(std::hypot(lu, lv), (kForwardLeanRho - 1.0f) * kForwardLeanMaxTilt / 500.0f, 1e-7);
 }
 
-/// A transport table's blur of turbid water (validate.py's), `fx` px per radian.
-ForwardPsfBlur turbid_blur(double fx, int W, int H) {
-    ForwardTransportSettings s;
-    s.paths = 1 << 13;
-    const Water w = testing::turbid_water();
-    return ForwardPsfBlur(
-        ForwardPsf(trace_forward_psf(w, forward_psf_depths(4.0, 16), s), w, fx, W, H), w.c);
-}
-
 Image blurred(ForwardPsfBlur& blur, const Image& surface, const Image& d2, const Image* lean) {
     blur.prepare(surface, d2, nullptr, -1.0, lean);
     Image out(surface.width, surface.height, 3);
@@ -86,7 +77,7 @@ TEST(ForwardPsfBlur, ALeanMovesLightWithoutMakingIt) {
     // blurred scales' sum_j W_j sigma_j^2 over all the light.
     const int W = 321, H = 241;
     const float d = 2.0f;
-    ForwardPsfBlur blur = turbid_blur(40.0, W, H);
+    ForwardPsfBlur blur = testing::turbid_blur(40.0, W, H);
     Image surface(W, H, 3), d2(W, H, 1, d), lean(W, H, 2);
     const double cu = 160.0, cv = 120.0;
     for (int v = 0; v < H; ++v) {
@@ -130,7 +121,7 @@ TEST(ForwardPsfBlur, ALeanLeavesAUniformSurfaceUniform) {
     // 12 x 9 px: scales blurred at full resolution, their moments too.
     for (const int W : {160, 12}) {
         const int H = W * 9 / 16;
-        ForwardPsfBlur blur = turbid_blur(0.75 * W, W, H);
+        ForwardPsfBlur blur = testing::turbid_blur(0.75 * W, W, H);
         Image surface(W, H, 3, 0.5f), d2(W, H, 1, 3.0f), lean(W, H, 2);
         for (int i = 0; i < W * H; ++i) {
             lean.data[2 * i] = 0.01f * float(i % W - W / 2) / float(W);

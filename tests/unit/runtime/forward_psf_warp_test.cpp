@@ -54,15 +54,6 @@ TEST(ForwardPsfWarp, TheMapAndItsStretchAreTheEquidistantImages) {
     }
 }
 
-/// validate.py's turbid water's transport table, blurred for a W x H frame at fx px a radian.
-ForwardPsfBlur turbid(double fx, int W, int H) {
-    ForwardTransportSettings s;
-    s.paths = 1 << 13;
-    const Water w = testing::turbid_water();
-    return ForwardPsfBlur(
-        ForwardPsf(trace_forward_psf(w, forward_psf_depths(4.0, 16), s), w, fx, W, H), w.c);
-}
-
 Image blurred(ForwardPsfBlur& blur, const Image& surface, const Image& d2,
               const Image* lean = nullptr) {
     blur.prepare(surface, d2, nullptr, -1.0, lean);
@@ -77,7 +68,7 @@ TEST(ForwardPsfWarp, AUniformSurfaceStaysUniform) {
     for (const int W : {160, 64}) {
         const int H = W * 3 / 4;
         const double fx = 0.5 * W / std::tan(64.5 / 2 * M_PI / 180);
-        ForwardPsfBlur blur = turbid(fx, W, H);
+        ForwardPsfBlur blur = testing::turbid_blur(fx, W, H);
         blur.set_camera(fx, fx, 0.5 * (W - 1), 0.5 * (H - 1));
         Image surface(W, H, 3, 0.5f), d2(W, H, 1, 2.0f), lean(W, H, 2);
         for (int i = 0; i < W * H; ++i) {
@@ -138,7 +129,8 @@ TEST(ForwardPsfWarp, ThePatchSpreadsOverTrueAngles) {
                 for (int c = 0; c < 3; ++c) surface.at(u, v, c) = float(g);
             }
         }
-        ForwardPsfBlur pinhole = turbid(fx, W, H), warped = turbid(fx, W, H);
+        ForwardPsfBlur pinhole = testing::turbid_blur(fx, W, H),
+                       warped = testing::turbid_blur(fx, W, H);
         warped.set_camera(fx, fx, cx, cy);
         const Spread a = spread(blurred(pinhole, surface, d2), u0, int(cy), reach);
         const Spread b = spread(blurred(warped, surface, d2), u0, int(cy), reach);

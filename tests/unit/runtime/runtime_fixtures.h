@@ -7,10 +7,12 @@
 
 #include "deepsea/core/image.h"
 #include "deepsea/optics/camera.h"
+#include "deepsea/optics/forward_transport.h"
 #include "deepsea/optics/jerlov.h"
 #include "deepsea/optics/lamp_field.h"
 #include "deepsea/optics/light.h"
 #include "deepsea/optics/water.h"
+#include "deepsea/runtime/forward_psf_blur.h"
 
 namespace deepsea::testing {
 
@@ -46,6 +48,16 @@ inline Water turbid_water() {
     w.phase = {PhaseKind::HenyeyGreenstein, 0.85};
     w.forward = phase_function_forward_scatter();
     return w;
+}
+
+/// turbid_water()'s transport table (8192 paths, depths to 4 m), blurred for a W x H frame at
+/// fx px a radian: the forward-scatter tests' blur.
+inline ForwardPsfBlur turbid_blur(double fx, int W, int H) {
+    ForwardTransportSettings s;
+    s.paths = 1 << 13;
+    const Water w = turbid_water();
+    return ForwardPsfBlur(
+        ForwardPsf(trace_forward_psf(w, forward_psf_depths(4.0, 16), s), w, fx, W, H), w.c);
 }
 
 /// A tilted plane z = z0 + a x with a step onto a nearer box in one corner, a patch of open
