@@ -30,21 +30,6 @@ constexpr double kMaxTheta = 1.45;
 /// changes over, and warping the finer grids would cost about their size again.
 constexpr double kWarpAngle = 1.0 / 40.0;
 
-/// One side's falloff (EdgeFalloff::at) at s > 0 pixels beyond its border pixel, all three
-/// channels: f[c] *= it.
-void side_falloff(const EdgeFalloff& b, const std::vector<float>& side, int n, int border, float s,
-                  float f[3]) {
-    const int K = b.samples();
-    const int k = int(std::upper_bound(b.dist.begin(), b.dist.end(), s) - b.dist.begin());
-    const float d0 = k == 0 ? 0.0f : b.dist[k - 1];
-    const float t = k >= K ? 1.0f : (s - d0) / (b.dist[k] - d0);
-    for (int c = 0; c < 3; ++c) {
-        const float* p = side.data() + (std::size_t(c) * n + border) * K;
-        const float a = k == 0 ? 1.0f : p[std::min(k, K) - 1];
-        f[c] *= k >= K ? p[K - 1] : a + t * (p[k] - a);
-    }
-}
-
 /// The scene continued beyond the frame at pixel (u, v): each side's falloff at the distance
 /// beyond it, the product beyond a corner (as the blur takes its corners); 1 within.
 void falloff_at(const EdgeFalloff* b, double u, double v, float f[3]) {
@@ -53,10 +38,13 @@ void falloff_at(const EdgeFalloff* b, double u, double v, float f[3]) {
     const int W = b->width, H = b->height;
     const int row = int(std::lround(std::clamp(v, 0.0, double(H - 1))));
     const int col = int(std::lround(std::clamp(u, 0.0, double(W - 1))));
-    if (u < 0.0) side_falloff(*b, b->left, H, row, float(-u), f);
-    if (u > W - 1) side_falloff(*b, b->right, H, row, float(u - (W - 1)), f);
-    if (v < 0.0) side_falloff(*b, b->top, W, col, float(-v), f);
-    if (v > H - 1) side_falloff(*b, b->bottom, W, col, float(v - (H - 1)), f);
+    const auto side = [&](const std::vector<float>& s, int border, float beyond) {
+        for (int c = 0; c < 3; ++c) f[c] *= b->at(s, border, c, beyond);
+    };
+    if (u < 0.0) side(b->left, row, float(-u));
+    if (u > W - 1) side(b->right, row, float(u - (W - 1)));
+    if (v < 0.0) side(b->top, col, float(-v));
+    if (v > H - 1) side(b->bottom, col, float(v - (H - 1)));
 }
 
 /// Cell x's centre in pixels on a grid of factor f, and a pixel's place in cells.
