@@ -29,6 +29,9 @@ struct Case {
     double median_ms = 0, min_ms = 0, max_ms = 0, peak_rss_mb = 0;
     double median_cpu_ms = 0;              ///< the process's CPU time (all threads) per run
     double fps = 0, cpu_ms_per_frame = 0;  ///< sequence cases only (0: not printed)
+    /// Sequence cases: the rate once the pipeline is full (from the kSteadyFrom-th frame
+    /// written to the last), without the sequence's start: a long sequence's rate.
+    double steady_fps = 0, steady_cpu_ms_per_frame = 0;
 };
 
 /// True if `name` starts with one of the comma-separated prefixes in `list`.
