@@ -165,7 +165,8 @@ TEST(Approximations, TheOnePixelScaleIsAddedUnblurred) {
     // ForwardPsfBlur::set_identity_blurs alone (block distances off in both): the 1 px scale's
     // Gaussian of 0.15 cells left out moves F by 1e-9 of its maximum (its taps beside the
     // centre) plus float rounding; on the seafloor, a plane with a depth step 0.3 m away and
-    // stripes of open water, in clear and turbid water, at 400 px and on a 64x48 camera
+    // stripes of open water, in clear and turbid water, at 400 px and on a 64x48 camera, and
+    // the authors' frames 1 and 5
     FlightParams fp;
     fp.camera = Camera{400, 400, 300.0, 300.0, 200.0, 200.0};
     std::vector<std::pair<Camera, Frame>> frames{{fp.camera, render_flight_frame(fp, 1)}};
@@ -177,6 +178,15 @@ TEST(Approximations, TheOnePixelScaleIsAddedUnblurred) {
         for (int v = 0; v < cam.height; v += 7)  // rows of open water
             for (int u = 0; u < cam.width; ++u) f.depth.at(u, v) = 0.0f;
         frames.emplace_back(cam, f);
+    }
+    const std::filesystem::path dir =
+        std::filesystem::path(DEEPSEA_SHARED_DATA) / "rgbd" / "seafloor-descent";
+    for (const char* name : {"frame_0001", "frame_0005"}) {  // the authors' frames, where present
+        if (!std::filesystem::exists(dir / (std::string(name) + ".png"))) continue;
+        Frame f;
+        f.rgb = read_color((dir / (std::string(name) + ".png")).string());
+        f.depth = read_depth((dir / (std::string(name) + "_depth.exr")).string());
+        frames.emplace_back(demo_camera(), f);
     }
     for (const auto& [cam, frame] : frames) {
         for (const char* water : {"deep:clear", "jerlov:5C"}) {
