@@ -1,6 +1,7 @@
 #include "deepsea/batch/sequence.h"
 
 #include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -214,12 +216,31 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     settings.port = opt.port;
     settings.snow = opt.snow;
     Renderer renderer(asset, settings);
+    // The compositor (the forward scatter's fit, the backscatter's row bounds: 20-30 ms at
+    // 800x800) is made on a thread of its own for the size the frames should have, while the
+    // pipeline reads the first frames; the first composite waits for it. A failure is left to
+    // that frame, which meets it again with its name. Not with one thread, nor on a resume,
+    // which may skip every frame.
+    std::future<void> made;
+    if (!opt.resume && tbb::this_task_arena::max_concurrency() > 1) {
+        const Camera& c = opt.camera.width > 0 ? opt.camera : asset.info.camera;
+        made = std::async(std::launch::async, [&renderer, c] {
+            try {
+                renderer.prepare(c.width, c.height);
+            } catch (...) {
+            }
+        });
+    }
+    const auto compositor_made = [&made] {
+        if (made.valid()) made.get();
+    };
     std::optional<CameraFrames> camera;
     if (opt.camera_model) camera.emplace(*opt.camera_model, opt.port, opt.manifests, opt.resume);
     Layers shared;  // jobs that want only the image composite its layers here, keep a copy
     double exposure = record.exposure;
     ImageMetadata meta;
     if (opt.exposure_frame && !opt.camera_model && exposure == 0.0) {
+        compositor_made();
         exposure = exposure_on(renderer, *opt.exposure_frame, opt, shared);
         record.exposure_frame = opt.exposure_frame->rgb;
     }
@@ -275,6 +296,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
             tbb::make_filter<Slot*, Slot*>(
                 tbb::filter_mode::serial_in_order,
                 [&](Slot* s) -> Slot* {
+                    compositor_made();
                     if (s->skip && camera) camera->skipped(jobs[s->index]);
                     if (s->skip || !s->error.empty()) return s;
                     try {

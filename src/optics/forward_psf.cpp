@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <utility>
 
 #include "deepsea/optics/forward.h"
 #include "deepsea/optics/forward_transport.h"
@@ -77,7 +81,53 @@ void place(const std::vector<double>& grid, double sigma, double w, std::vector<
     add_placed(placement(grid, sigma), w, out);
 }
 
-typedef double Double2 __attribute__((vector_size(16)));
+typedef double Double4 __attribute__((vector_size(32)));
+
+// An AVX2 clone of the fit's iterations where the CPU has it (the fit is most of a compositor's
+// making): AVX2 without FMA, so that each product and sum rounds as the generic clone's does and
+// the weights are the same bits on every x86-64.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(DEEPSEA_NO_CLONES)
+#define DEEPSEA_FIT_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define DEEPSEA_FIT_CLONES
+#endif
+
+/// `iterations` steps of expectation-maximisation: `first` (W weights) times, for each width,
+/// the sum over the R rings of its share times the ring's target over the model. `share` is
+/// [j * R + i], `share4` the same four widths to a ring ([((j / 4) * R + i) * 4 + j % 4]);
+/// `model`, `ratio` (R) and `next` (W) are scratch.
+DEEPSEA_FIT_CLONES
+void em_iterations(int W, int R, int iterations, const double* share, const double* share4,
+                   const double* target, double* first, double* model, double* ratio,
+                   double* next) {
+    for (int iter = 0; iter < iterations; ++iter) {
+        // model[i] = sum over widths j in order of first[j] share(j, i), four widths a pass
+        std::fill(model, model + R, 0.0);
+        for (int j = 0; j < W; j += 4) {
+            const double* s0 = share + std::size_t(j) * R;
+            const double f0 = first[j], f1 = first[j + 1], f2 = first[j + 2], f3 = first[j + 3];
+            for (int i = 0; i < R; ++i) {
+                model[i] = model[i] + f0 * s0[i] + f1 * s0[R + i] + f2 * s0[2 * R + i] +
+                           f3 * s0[3 * R + i];
+            }
+        }
+        // each ring's target over its model, once a ring rather than once a ring and width
+        for (int i = 0; i < R; ++i) ratio[i] = model[i] > 0.0 ? target[i] / model[i] : 0.0;
+        // four widths' sums side by side, the lanes of a vector, each over the rings in order
+        // (independent chains: each lane's sum is the scalar loop's, bit for bit)
+        for (int j = 0; j < W; j += 4) {
+            const double* s0 = share4 + std::size_t(j) * R;
+            Double4 sum = {};
+            for (int i = 0; i < R; ++i) {
+                Double4 s;
+                std::memcpy(&s, s0 + std::size_t(i) * 4, sizeof s);
+                sum += ratio[i] * s;
+            }
+            for (int m = 0; m < 4; ++m) next[j + m] = first[j + m] * sum[m];
+        }
+        std::copy(next, next + W, first);
+    }
+}
 
 /// Gaussian mixtures on fixed widths fitted to shares on rings [edge[i], edge[i + 1]) (the
 /// last ring reaching to infinity) by expectation-maximisation, which keeps the weights
@@ -110,39 +160,10 @@ public:
     /// Weights on the widths for ring shares `target`, from the positive start `first`.
     std::vector<double> fit(const std::vector<double>& target, std::vector<double> first,
                             int iterations = 400) const {
-        const int W = m_widths, R = m_rings;
-        std::vector<double> model(R), ratio(R), next(W);
-        for (int iter = 0; iter < iterations; ++iter) {
-            // model[i] = sum over widths j in order of first[j] share(j, i), four widths a pass
-            std::fill(model.begin(), model.end(), 0.0);
-            for (int j = 0; j < W; j += 4) {
-                const double* s0 = &m_share[std::size_t(j) * R];
-                const double f0 = first[j], f1 = first[j + 1], f2 = first[j + 2], f3 = first[j + 3];
-                for (int i = 0; i < R; ++i) {
-                    model[i] = model[i] + f0 * s0[i] + f1 * s0[R + i] + f2 * s0[2 * R + i] +
-                               f3 * s0[3 * R + i];
-                }
-            }
-            // each ring's target over its model, once a ring rather than once a ring and width
-            for (int i = 0; i < R; ++i) ratio[i] = model[i] > 0.0 ? target[i] / model[i] : 0.0;
-            // four widths' sums side by side, the lanes of two vectors, each over the rings in
-            // order (independent chains: each lane's sum is the scalar loop's, bit for bit)
-            static_assert(kWidths % 4 == 0, "widths in fours");
-            for (int j = 0; j < W; j += 4) {
-                const double* s0 = &m_share4[std::size_t(j) * R];
-                Double2 sum01 = {}, sum23 = {};
-                for (int i = 0; i < R; ++i) {
-                    Double2 s01, s23;
-                    std::memcpy(&s01, s0 + std::size_t(i) * 4, sizeof s01);
-                    std::memcpy(&s23, s0 + std::size_t(i) * 4 + 2, sizeof s23);
-                    sum01 += ratio[i] * s01;
-                    sum23 += ratio[i] * s23;
-                }
-                const double sum[4] = {sum01[0], sum01[1], sum23[0], sum23[1]};
-                for (int m = 0; m < 4; ++m) next[j + m] = first[j + m] * sum[m];
-            }
-            first.swap(next);
-        }
+        static_assert(kWidths % 4 == 0, "widths in fours");
+        std::vector<double> model(m_rings), ratio(m_rings), next(m_widths);
+        em_iterations(m_widths, m_rings, iterations, m_share.data(), m_share4.data(), target.data(),
+                      first.data(), model.data(), ratio.data(), next.data());
         return first;
     }
 
@@ -260,16 +281,28 @@ std::vector<double> mixture_widths() {
     return sigma;
 }
 
+/// forward_spread(phase), fitted once a process for each phase (as the Petzold tables are
+/// normalised once): a pure function of the phase, and most of the making of every compositor of
+/// a water with it.
+std::shared_ptr<const ForwardSpread> fitted_spread(const Phase& phase) {
+    static std::mutex mutex;
+    static std::map<std::pair<int, double>, std::shared_ptr<const ForwardSpread>> fitted;
+    const std::lock_guard<std::mutex> lock(mutex);
+    std::shared_ptr<const ForwardSpread>& s = fitted[{int(phase.kind), phase.g}];
+    if (!s) s = std::make_shared<const ForwardSpread>(forward_spread(phase));
+    return s;
+}
+
 }  // namespace
 
 ForwardPsf::ForwardPsf(const Water& water, double fx, int width, int height)
     : m_c(water.c), m_b(water.b) {
     m_sigma_px = pixel_scales(width, height);
-    const ForwardSpread spread = forward_spread(water.phase);
-    for (const double m : spread.mass[0]) m_forward += m;
-    m_mass.assign(spread.mass.size(), std::vector<double>(m_sigma_px.size(), 0.0));
-    for (std::size_t n = 0; n < spread.mass.size(); ++n)
-        add_on_pixels(spread.sigma, spread.mass[n], fx, m_sigma_px, m_mass[n].data());
+    const std::shared_ptr<const ForwardSpread> spread = fitted_spread(water.phase);
+    for (const double m : spread->mass[0]) m_forward += m;
+    m_mass.assign(spread->mass.size(), std::vector<double>(m_sigma_px.size(), 0.0));
+    for (std::size_t n = 0; n < spread->mass.size(); ++n)
+        add_on_pixels(spread->sigma, spread->mass[n], fx, m_sigma_px, m_mass[n].data());
 }
 
 ForwardPsf::ForwardPsf(const ForwardPsfTable& table, const Water& water, double fx, int width,

@@ -74,20 +74,52 @@ BackscatterRowBounds backscatter_row_bounds(const Lattice& l, const float* value
                     sig[at(i, j, k, ch)] = (s1 - s0) / (l.z[k + 1] - l.z[k]);
                     m[at(i, j, k, ch)] = std::min(s0, s1);
                 }
-    // The terms that compare neighbouring columns divide by the smallest B around (3 x 3).
+    // The terms that compare neighbouring columns divide by the smallest B around (3 x 3): the
+    // smallest of three along j, then of those along i (the same minimum, 6 comparisons not 9).
+    std::vector<double> near_j(sig.size());
     for (int i = 0; i < ni; ++i)
         for (int j = 0; j < nj; ++j)
             for (int k = 0; k < K; ++k)
                 for (int ch = 0; ch < 3; ++ch) {
-                    double lo = inf;
-                    for (int di = -1; di <= 1; ++di)
-                        for (int dj = -1; dj <= 1; ++dj) {
-                            const int ii = i + di, jj = j + dj;
-                            if (ii >= 0 && ii < ni && jj >= 0 && jj < nj)
-                                lo = std::min(lo, m[at(ii, jj, k, ch)]);
-                        }
+                    double lo = m[at(i, j, k, ch)];
+                    if (j > 0) lo = std::min(lo, m[at(i, j - 1, k, ch)]);
+                    if (j + 1 < nj) lo = std::min(lo, m[at(i, j + 1, k, ch)]);
+                    near_j[at(i, j, k, ch)] = lo;
+                }
+    for (int i = 0; i < ni; ++i)
+        for (int j = 0; j < nj; ++j)
+            for (int k = 0; k < K; ++k)
+                for (int ch = 0; ch < 3; ++ch) {
+                    double lo = near_j[at(i, j, k, ch)];
+                    if (i > 0) lo = std::min(lo, near_j[at(i - 1, j, k, ch)]);
+                    if (i + 1 < ni) lo = std::min(lo, near_j[at(i + 1, j, k, ch)]);
                     mloc[at(i, j, k, ch)] = lo;
                 }
+    // Each difference that two neighbours share, once: the slope's change from slab k to k + 1
+    // (kinks), from lattice row j to j + 1 per image row (rows), and B's second difference
+    // across lattice row j at depth sample q per image row (curves; interior rows only).
+    std::vector<double> kinks(sig.size()), rows(sig.size()), curves(std::size_t(ni) * nj * nk * 3);
+    const auto at_q = [&](int i, int j, int q, int ch) {
+        return ((std::size_t(i) * nj + j) * nk + q) * 3 + ch;
+    };
+    for (int i = 0; i < ni; ++i)
+        for (int j = 0; j < nj; ++j) {
+            for (int k = 0; k < K; ++k)
+                for (int ch = 0; ch < 3; ++ch) {
+                    const double s = sig[at(i, j, k, ch)];
+                    if (k + 1 < K) kinks[at(i, j, k, ch)] = std::fabs(sig[at(i, j, k + 1, ch)] - s);
+                    if (j + 1 < nj)
+                        rows[at(i, j, k, ch)] =
+                            std::fabs(sig[at(i, j + 1, k, ch)] - s) / rows_per_step;
+                }
+            if (j > 0 && j + 1 < nj)
+                for (int q = 0; q < nk; ++q)
+                    for (int ch = 0; ch < 3; ++ch) {
+                        const double d2 =
+                            S(i, j + 1, q, ch) - 2.0 * S(i, j, q, ch) + S(i, j - 1, q, ch);
+                        curves[at_q(i, j, q, ch)] = std::fabs(d2) / rows_per_step;
+                    }
+        }
     std::vector<double> A(K, 0.0), C(K, 0.0), T(K, 0.0), reach(K, 0.0);
     for (int i = 0; i < ni; ++i)
         for (int j = 0; j < nj; ++j)
@@ -98,19 +130,15 @@ BackscatterRowBounds backscatter_row_bounds(const Lattice& l, const float* value
                     A[k] = std::max(A[k], own > 0.0 ? std::fabs(s) / own : inf);
                     // a boundary crossed: the slope changes there
                     double kink = 0.0;
-                    if (k > 0) kink = std::fabs(s - sig[at(i, j, k - 1, ch)]);
-                    if (k + 1 < K) kink = std::max(kink, std::fabs(sig[at(i, j, k + 1, ch)] - s));
+                    if (k > 0) kink = kinks[at(i, j, k - 1, ch)];
+                    if (k + 1 < K) kink = std::max(kink, kinks[at(i, j, k, ch)]);
                     // the slope from row to row (per image row), and B's kink at lattice row j
                     double g = 0.0, kappa = 0.0;
-                    for (const int jj : {j - 1, j + 1})
-                        if (jj >= 0 && jj < nj)
-                            g = std::max(g, std::fabs(sig[at(i, jj, k, ch)] - s) / rows_per_step);
+                    if (j > 0) g = std::max(g, rows[at(i, j - 1, k, ch)]);
+                    if (j + 1 < nj) g = std::max(g, rows[at(i, j, k, ch)]);
                     if (j > 0 && j + 1 < nj)
-                        for (const int q : {k, k + 1}) {
-                            const double d2 =
-                                S(i, j + 1, q, ch) - 2.0 * S(i, j, q, ch) + S(i, j - 1, q, ch);
-                            kappa = std::max(kappa, std::fabs(d2) / rows_per_step);
-                        }
+                        for (const int q : {k, k + 1})
+                            kappa = std::max(kappa, curves[at_q(i, j, q, ch)]);
                     const double c = lo > 0.0 ? (g * (stride - 1) + kink) / lo : inf;
                     const double lateral = lo > 0.0 ? kappa * stride / 4.0 / lo : inf;
                     C[k] = std::max(C[k], c);

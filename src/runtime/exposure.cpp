@@ -11,6 +11,7 @@
 #include <cstring>
 #include <vector>
 
+#include "clones.h"
 #include "deepsea/core/error.h"
 
 namespace deepsea {
@@ -51,25 +52,60 @@ struct KeyCounts {
     std::size_t pixels = 0;
 };
 
+/// The four quantities' keys of `n` RGB pixels (3 floats each): luminance (Rec. 709), R, G, B,
+/// and whether the luminance is finite. A vector loop in the AVX2 clone, without FMA: the
+/// luminance rounds as the scalar sum's does.
+DEEPSEA_CLONES_NO_FMA
+void rgb_keys(const float* __restrict p, int n, std::uint32_t* __restrict y,
+              std::uint32_t* __restrict r, std::uint32_t* __restrict g, std::uint32_t* __restrict b,
+              unsigned char* __restrict finite) {
+    for (int i = 0; i < n; ++i) {
+        const float q = 0.2126f * p[3 * i] + 0.7152f * p[3 * i + 1] + 0.0722f * p[3 * i + 2];
+        std::uint32_t bits;
+        std::memcpy(&bits, &q, sizeof bits);
+        finite[i] = (bits & 0x7f800000u) != 0x7f800000u;
+        y[i] = order_key(q);
+        r[i] = order_key(p[3 * i]);
+        g[i] = order_key(p[3 * i + 1]);
+        b[i] = order_key(p[3 * i + 2]);
+    }
+}
+
 /// One counting pass over the image's pixels, both threads: with top null, by the keys' top
-/// 16 bits; else by the low 16 bits of the keys whose top bits are top[k].
+/// 16 bits; else by the low 16 bits of the keys whose top bits are top[k]. The keys are made
+/// a block of pixels at a time (rgb_keys), then counted.
 KeyCounts count_keys(const Image& img, const std::uint32_t* top) {
     const std::size_t ch = std::size_t(img.channels), n = img.data.size() / ch;
+    constexpr int kBlock = 512;
+    struct Keys {
+        std::uint32_t key[4][kBlock];
+        unsigned char finite[kBlock];
+    };
     tbb::enumerable_thread_specific<KeyCounts> counts;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const auto& r) {
         KeyCounts& c = counts.local();
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const float* p = &img.data[i * ch];
-            // Rec. 709 luminance; a pixel whose luminance is not finite counts nowhere
-            const float q[4] = {0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2], p[0], p[1], p[2]};
-            if (!std::isfinite(q[0])) continue;
-            ++c.pixels;
-            for (int k = 0; k < 4; ++k) {
-                const std::uint32_t key = order_key(q[k]);
-                if (!top) {
-                    ++c.bins[k * 65536 + (key >> 16)];
-                } else if ((key >> 16) == top[k]) {
-                    ++c.bins[k * 65536 + (key & 0xffffu)];
+        Keys keys;
+        std::vector<float> rgb;  // other than 3 channels: the pixels' first three
+        for (std::size_t i0 = r.begin(); i0 < r.end(); i0 += kBlock) {
+            const int m = int(std::min<std::size_t>(kBlock, r.end() - i0));
+            const float* p = &img.data[i0 * ch];
+            if (ch != 3) {
+                rgb.resize(3 * std::size_t(m));
+                for (int i = 0; i < m; ++i) std::copy_n(p + i * ch, 3, &rgb[3 * std::size_t(i)]);
+                p = rgb.data();
+            }
+            rgb_keys(p, m, keys.key[0], keys.key[1], keys.key[2], keys.key[3], keys.finite);
+            // a pixel whose luminance is not finite counts nowhere
+            for (int i = 0; i < m; ++i) {
+                if (!keys.finite[i]) continue;
+                ++c.pixels;
+                for (int k = 0; k < 4; ++k) {
+                    const std::uint32_t key = keys.key[k][i];
+                    if (!top) {
+                        ++c.bins[k * 65536 + (key >> 16)];
+                    } else if ((key >> 16) == top[k]) {
+                        ++c.bins[k * 65536 + (key & 0xffffu)];
+                    }
                 }
             }
         }

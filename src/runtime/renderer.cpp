@@ -61,8 +61,9 @@ struct Renderer::State {
             if (settings.port) {
                 if (!(rays->camera() == c)) {
                     check_port_view(*settings.port, c);
-                    rays.reset();
-                    rays = std::make_unique<PortRays>(*settings.port, c);
+                    // (made before the old rays go: a refusal leaves them, not none)
+                    auto traced = std::make_unique<PortRays>(*settings.port, c);
+                    rays = std::move(traced);
                 }
                 // An asset baked through this port holds each pixel's water-side ray in its
                 // columns, indexed by planar depth: the pinhole lookup, row by row. A pinhole
@@ -169,6 +170,8 @@ void Renderer::render(Layers& dst, Frame& frame, const FinalRows& rows, DepthKin
     }
     m->prepare(frame, kind).composite(dst, frame, rows);
 }
+
+void Renderer::prepare(int width, int height) { m->compositor(width, height); }
 
 void Renderer::set_frame(std::uint64_t frame_key, std::optional<CameraPose> pose,
                          std::optional<Shutter> shutter) {

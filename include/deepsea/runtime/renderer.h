@@ -79,6 +79,11 @@ public:
                 DepthKind kind = DepthKind::Z);
     void render(Layers& dst, Frame& frame, const FinalRows& rows, DepthKind kind = DepthKind::Z);
 
+    /// Makes the compositor for frames of width x height now rather than at the first such
+    /// frame (a sequence makes it while its first frames are read). The same errors as a
+    /// frame of that size would meet; a frame of another size later remakes it.
+    void prepare(int width, int height);
+
     /// The next frames' key and, where known, camera pose (camera to world), for marine snow:
     /// with a pose its particles stay fixed in the world; without one they are drawn afresh
     /// for each key. With the snow's streaks on, a pose and the frame's shutter poses

@@ -109,7 +109,7 @@ TEST(Exposure, CountingSelectsExactlyTheSortedQuantiles) {
     const float inf = std::numeric_limits<float>::infinity();
     for (int trial = 0; trial < 60; ++trial) {
         const int w = 1 + int(unit(rng) * 90), h = 1 + int(unit(rng) * 40);
-        Image img(w, h, 3);
+        Image img(w, h, trial % 5 == 0 ? 4 : 3);  // a fourth channel is left out
         const double tie = unit(rng);
         for (float& v : img.data) {
             const double u = unit(rng);
@@ -132,6 +132,10 @@ TEST(Exposure, CountingSelectsExactlyTheSortedQuantiles) {
         e.max_clipped = trial % 4 == 0 ? 0.0 : 0.005;
         EXPECT_EQ(exposure_factor(e, img), sorted_exposure(e, img)) << "trial " << trial;
     }
+    // more pixels than one thread's share of a counting pass (1 << 14)
+    Image big(300, 200, 3);
+    for (float& v : big.data) v = float(std::pow(10.0, -3.0 + 4.0 * unit(rng)));
+    EXPECT_EQ(exposure_factor(Exposure{}, big), sorted_exposure(Exposure{}, big));
     // every pixel left out: the factor for a black image
     Image bad(3, 2, 3, std::numeric_limits<float>::quiet_NaN());
     EXPECT_EQ(exposure_factor(Exposure{}, bad), 1.0);

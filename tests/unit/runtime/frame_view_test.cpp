@@ -235,3 +235,27 @@ TEST(FrameView, ViewsThatDoNotDescribeTheirMemoryAreRefused) {
 }
 
 }  // namespace deepsea
+
+namespace deepsea {
+
+TEST(FrameView, AMadeCompositorRendersTheBitsOfOneMadeAtTheFrame) {
+    // render_sequence makes the compositor while the first frames are read (prepare): made
+    // ahead for the frame's size, or for another size first, the frame's bits are the same.
+    const Camera cam = testing::small_camera();
+    const testing::PlaneScene s = testing::plane_scene(cam);
+    Renderer at_frame(small_asset()), ahead(small_asset()), resized(small_asset());
+    ahead.prepare(cam.width, cam.height);
+    EXPECT_EQ(ahead.camera().width, cam.width);
+    resized.prepare(2 * cam.width, 2 * cam.height);
+    Frame f1{s.rgb, s.depth}, f2{s.rgb, s.depth}, f3{s.rgb, s.depth};
+    Layers a, b, c;
+    at_frame.render(a, f1);
+    ahead.render(b, f2);
+    resized.render(c, f3);
+    expect_same_bits(a, b);
+    expect_same_bits(a, c);
+    // a size the asset cannot take: the same error a frame of that size meets
+    EXPECT_THROW(Renderer(small_asset()).prepare(cam.width, cam.width), AssetError);
+}
+
+}  // namespace deepsea
