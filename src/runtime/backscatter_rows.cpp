@@ -1,5 +1,6 @@
-// Hot loop: compiled with -ffast-math -fopenmp-simd (see CMakeLists.txt); depth arrives
-// sanitised (open water z == 0, never NaN or inf), as the compositor guarantees.
+// Hot loop: compiled with -ffast-math -fopenmp-simd (see CMakeLists.txt); the looked-up rows'
+// depth arrives sanitised (open water z == 0, never NaN or inf), as the compositor guarantees;
+// the interpolated row's own is raw, tested on its bits.
 
 #include "backscatter_rows.h"
 
@@ -11,6 +12,7 @@
 #include <limits>
 
 #include "clones.h"
+#include "deepsea/optics/normals.h"
 #include "deepsea/runtime/sources.h"
 #include "float4.h"
 
@@ -30,8 +32,21 @@ constexpr int kBuckets = 4096;
     return z > 0.0f ? std::min(z, z_max) : z_max;
 }
 
-[[gnu::always_inline]] inline Float8 clamp_depth8(Float8 z, Float8 z_max) {
-    return z > 0.0f ? (z_max < z ? z_max : z) : z_max;
+typedef std::int32_t Int8 __attribute__((vector_size(32)));
+
+/// clamp_depth of raw planar depths, open water told by the floats' bits (optics'
+/// has_surface: positive floats order as their bits, NaN and inf lie above kFarDepth's, -0
+/// and negative values below 1), which fast-math cannot assume away as it may a NaN.
+[[gnu::always_inline]] inline Float8 clamp_raw8(Float8 z, Float8 z_max, std::int32_t far_bits) {
+    Int8 b;
+    std::memcpy(&b, &z, sizeof b);
+    return (b > 0) & (b < far_bits) ? (z_max < z ? z_max : z) : z_max;
+}
+
+[[gnu::always_inline]] inline float clamp_raw(float z, float z_max, std::int32_t far_bits) {
+    std::int32_t b;
+    std::memcpy(&b, &z, sizeof b);
+    return (b > 0) & (b < far_bits) ? std::min(z, z_max) : z_max;
 }
 
 [[gnu::always_inline]] inline Float8 abs8(Float8 x) { return x < 0.0f ? -x : x; }
@@ -175,8 +190,14 @@ BackscatterRowBounds backscatter_row_bounds(const Lattice& l, const float* value
 }
 
 DEEPSEA_CLONES
+void lookup_depth_row(int n, const float* __restrict z, float z_max, float* __restrict out) {
+#pragma omp simd
+    for (int u = 0; u < n; ++u) out[u] = clamp_depth(z[u], z_max);
+}
+
+DEEPSEA_CLONES
 int interpolate_backscatter_row(int n, float t, const float* __restrict z0,
-                                const float* __restrict z1, const float* __restrict z,
+                                const float* __restrict z1, const float* __restrict raw,
                                 const float* __restrict b0, const float* __restrict b1,
                                 const BackscatterRowBounds& b, bool kinked, float* __restrict out,
                                 int* __restrict left) {
@@ -185,6 +206,9 @@ int interpolate_backscatter_row(int n, float t, const float* __restrict z0,
     const BackscatterRowBounds::Coefficients* __restrict buckets = b.buckets.data();
     const int last = int(b.buckets.size()) - 1;
     const Float8 zmax8 = Float8{} + z_max, t8 = Float8{} + t;
+    const float far = float(kFarDepth);
+    std::int32_t far_bits;
+    std::memcpy(&far_bits, &far, sizeof far_bits);
     const auto lerp_pixel = [&](int u) {
         for (int ch = 0; ch < 3; ++ch) {
             const std::size_t i = 3 * std::size_t(u) + ch;
@@ -193,9 +217,8 @@ int interpolate_backscatter_row(int n, float t, const float* __restrict z0,
     };
     int count = 0, u = 0;
     for (; u + 8 <= n; u += 8) {
-        const Float8 za = clamp_depth8(load8(z0 + u), zmax8);
-        const Float8 zb = clamp_depth8(load8(z1 + u), zmax8);
-        const Float8 zc = clamp_depth8(load8(z + u), zmax8);
+        const Float8 za = load8(z0 + u), zb = load8(z1 + u);
+        const Float8 zc = clamp_raw8(load8(raw + u), zmax8, far_bits);
         const Float8 d1 = abs8(za + t8 * (zb - za) - zc);
         const Float8 da = abs8(za - zc), db = abs8(zb - zc);
         const Float8 d2 = da < db ? db : da;
@@ -229,8 +252,7 @@ int interpolate_backscatter_row(int n, float t, const float* __restrict z0,
         }
     }
     for (; u < n; ++u) {
-        const float za = clamp_depth(z0[u], z_max), zb = clamp_depth(z1[u], z_max);
-        const float zc = clamp_depth(z[u], z_max);
+        const float za = z0[u], zb = z1[u], zc = clamp_raw(raw[u], z_max, far_bits);
         const float d1 = std::fabs(za + t * (zb - za) - zc);
         const float d2 = std::max(std::fabs(za - zc), std::fabs(zb - zc));
         const BackscatterRowBounds::Coefficients& co =

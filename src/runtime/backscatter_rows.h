@@ -52,13 +52,18 @@ struct BackscatterRowBounds {
 BackscatterRowBounds backscatter_row_bounds(const Lattice& l, const float* values,
                                             double rows_per_step, int stride, double tol);
 
+/// A looked-up row's planar depths (sanitised: open water 0) as interpolate_backscatter_row
+/// takes them: each as the lookup reads it, min(z, z_max), open water z_max.
+void lookup_depth_row(int n, const float* z, float z_max, float* out);
+
 /// B of n pixels of a row between two looked-up rows (b0 at t = 0, b1 at t = 1; interleaved
-/// RGB, `kinked` as the pair's flag) from the three rows' planar depths (open water 0, never
-/// NaN or inf):
+/// RGB, `kinked` as the pair's flag) from the two rows' depths as lookup_depth_row gives them
+/// (z0, z1) and the row's own raw planar depths (`raw`: any float, open water where optics'
+/// has_surface says so, tested here on the float's bits):
 ///   out = b0 + t (b1 - b0)
 /// where the bounds allow it. Returns how many pixels they do not, their columns in `left` in
 /// increasing order (their out is not written): the caller looks those up.
-int interpolate_backscatter_row(int n, float t, const float* z0, const float* z1, const float* z,
+int interpolate_backscatter_row(int n, float t, const float* z0, const float* z1, const float* raw,
                                 const float* b0, const float* b1, const BackscatterRowBounds& b,
                                 bool kinked, float* out, int* left);
 

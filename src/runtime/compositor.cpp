@@ -27,7 +27,7 @@ namespace {
 
 /// Per-thread row buffers (structure of arrays), sized once per image width.
 struct RowScratch {
-    std::vector<float> x, y, z, zu, zd, nx, ny, nz, e, d2, l, d, f, out, dx, t, mask, j;
+    std::vector<float> x, y, z, nx, ny, nz, e, d2, l, d, f, out, dx, t, mask, j;
     ColorRowBuffer color;  ///< the row's colour, where it is not already linear floats
     std::vector<unsigned char> irregular;
     std::vector<int> left;  ///< pixels the backscatter's rows leave to be looked up
@@ -54,53 +54,49 @@ void port_path_row(int n, const float* __restrict z, const float* __restrict t,
     for (int u = 0; u < n; ++u) d2[u] = z[u] > 0.0f ? t[u] : 0.0f;
 }
 
-/// A row's sanitised depth z and its back-projected x = rx z, y = ry z (camera frame).
-DEEPSEA_CLONES
-void back_project_row(int n, const float* __restrict raw, const float* __restrict rx, float ry,
-                      float* __restrict x, float* __restrict y, float* __restrict z) {
-    for (int u = 0; u < n; ++u) {
-        const float zs = has_surface(raw[u]) ? raw[u] : 0.0f;
-        x[u] = rx[u] * zs;
-        y[u] = ry * zs;
-        z[u] = zs;
-    }
+/// Whether n >= 32 flags from p on are all 0 (four 8-byte loads).
+bool none_of_32(const unsigned char* p) {
+    std::uint64_t w[4];
+    std::memcpy(w, p, sizeof w);
+    return (w[0] | w[1] | w[2] | w[3]) == 0;
 }
 
-/// Row v's normals from planar depth, into s.nx, s.ny, s.nz (s.z holds the row's sanitised
-/// depth): central differences where all four neighbours are the same surface (the common
-/// case, vectorised in float); elsewhere the optics rule, one-sided; 0 for open water.
-void row_normals(const Camera& cam, const Image& depth, int v, const float* rx, RowScratch& s) {
+/// Row v's geometry into s (structure of arrays): its sanitised depth z (open water 0, as the
+/// fast-math kernels need), back-projected x = rx z and y = ry z, and normals by central
+/// differences in float where all four neighbours are the same surface (the common case,
+/// vectorised, kernels::geometry_row); elsewhere (borders, open water, depth steps) the optics
+/// rule, one-sided; 0 for open water.
+void row_geometry(const Camera& cam, const Image& depth, int v, const float* rx, RowScratch& s) {
     const int W = cam.width, H = cam.height;
     const float* zr = depth.row(v);
-    if (v > 0 && v + 1 < H) {
-        s.zu.resize(W);
-        s.zd.resize(W);
-        sanitise_row(W, depth.row(v - 1), s.zu.data());
-        sanitise_row(W, depth.row(v + 1), s.zd.data());
-        kernels::normals_row(W, rx, float(cam.ray_y(v - 1)), float(cam.ray_y(v)),
-                             float(cam.ray_y(v + 1)), s.zu.data(), s.z.data(), s.zd.data(),
-                             s.nx.data(), s.ny.data(), s.nz.data(), s.irregular.data());
-    } else {
-        std::fill(s.irregular.begin(), s.irregular.end(), 1);
-    }
-    for (int u = 0; u < W; ++u) {
-        // most pixels are regular: eight flags a test (a test a pixel was 6 % of the frame's
-        // instructions)
-        std::uint64_t eight = 1;
-        if (u + 8 <= W) std::memcpy(&eight, s.irregular.data() + u, sizeof eight);
-        if (eight == 0) {
-            u += 7;
-            continue;
+    const bool inner = v > 0 && v + 1 < H;
+    kernels::geometry_row(W, rx, inner ? float(cam.ray_y(v - 1)) : 0.0f, float(cam.ray_y(v)),
+                          inner ? float(cam.ray_y(v + 1)) : 0.0f,
+                          inner ? depth.row(v - 1) : nullptr, zr,
+                          inner ? depth.row(v + 1) : nullptr, s.x.data(), s.y.data(), s.z.data(),
+                          s.nx.data(), s.ny.data(), s.nz.data(), s.irregular.data());
+    // Most pixels are regular: 32 flags a test, then 8 (a test a pixel was 6 % of the frame's
+    // instructions, eight at a time 1 %).
+    for (int u0 = 0; u0 < W; u0 += 32) {
+        const int u1 = std::min(u0 + 32, W);
+        if (u1 - u0 == 32 && none_of_32(s.irregular.data() + u0)) continue;
+        for (int u = u0; u < u1; ++u) {
+            std::uint64_t eight = 1;
+            if (u + 8 <= u1) std::memcpy(&eight, s.irregular.data() + u, sizeof eight);
+            if (eight == 0) {
+                u += 7;
+                continue;
+            }
+            if (!s.irregular[u]) continue;
+            if (!has_surface(zr[u])) {
+                s.nx[u] = s.ny[u] = s.nz[u] = 0.0f;
+                continue;
+            }
+            const Vec3 n = surface_normal(cam, depth, u, v);
+            s.nx[u] = float(n.x);
+            s.ny[u] = float(n.y);
+            s.nz[u] = float(n.z);
         }
-        if (!s.irregular[u]) continue;
-        if (!has_surface(zr[u])) {
-            s.nx[u] = s.ny[u] = s.nz[u] = 0.0f;
-            continue;
-        }
-        const Vec3 n = surface_normal(cam, depth, u, v);
-        s.nx[u] = float(n.x);
-        s.ny[u] = float(n.y);
-        s.nz[u] = float(n.z);
     }
 }
 
@@ -229,11 +225,20 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         } else {
             const int v0 = v - v % stride, v1 = std::min(v0 + stride, H - 1);
             const int k0 = key_row(v0), k1 = key_row(v1);
+            // (the row's raw depth: sanitised below only where a pixel is looked up)
+            const float* raw = depth.row(v);
             const int left = interpolate_backscatter_row(
-                W, float(v - v0) / float(v1 - v0), m_back_z.row(k0), m_back_z.row(k1), z,
+                W, float(v - v0) / float(v1 - v0), m_back_z.row(k0), m_back_z.row(k1), raw,
                 m_back.row(k0), m_back.row(k1), *between, between->kinked[v0 / stride], out,
                 s.left.data());
-            if (left > 0) m_backscatter.backscatter_pixels(v, W, z, left, s.left.data(), out);
+            if (left > 0) {
+                // s.z's other columns hold earlier rows' sanitised depths: never NaN or inf
+                for (int q = 0; q < left; ++q) {
+                    const int u = s.left[q];
+                    s.z[u] = has_surface(raw[u]) ? raw[u] : 0.0f;
+                }
+                m_backscatter.backscatter_pixels(v, W, s.z.data(), left, s.left.data(), out);
+            }
         }
         if (all) std::copy(out, out + 3 * std::size_t(W), dst.backscatter.row(v));
         // The image alone, approximations on: D and F's unblurred part from one table
@@ -289,8 +294,7 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         tbb::parallel_for(box.y0, box.y1 + 1, [&](int v) {
             RowScratch& s = scratch.local();
             s.fit(W);
-            sanitise_row(W, depth.row(v), s.z.data());
-            row_normals(cam, depth, v, m_rx.data(), s);
+            row_geometry(cam, depth, v, m_rx.data(), s);
             const float* J = color_row(color, v, s.color);
             const int x = box.x0;
             port_surface_row(box.x1 - x + 1, s.nx.data() + x, s.ny.data() + x, s.nz.data() + x,
@@ -317,13 +321,11 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
             J = s.j.data();
         } else {
             // Open water becomes z = 0 here: the fast-math kernels must never see NaN or inf.
-            back_project_row(W, depth.row(v), m_rx.data(), float(cam.ray_y(v)), s.x.data(),
-                             s.y.data(), s.z.data());
-            row_normals(cam, depth, v, m_rx.data(), s);
+            row_geometry(cam, depth, v, m_rx.data(), s);
             J = color_row(color, v, s.color);
             if (const int key = between ? key_row(v) : -1; key >= 0) {
                 m_backscatter.backscatter_row(v, W, s.z.data(), m_back.row(key));
-                std::copy(s.z.begin(), s.z.begin() + W, m_back_z.row(key));
+                lookup_depth_row(W, s.z.data(), between->z_max, m_back_z.row(key));
             }
         }
         const RowGeometry g{v,          W,           s.x.data(),  s.y.data(),
@@ -379,9 +381,9 @@ void Compositor::run(Layers& dst, const ColorView& color, const Image& depth, La
         s.fit(W);
         if (port) {
             std::copy(m_hit_z.row(v), m_hit_z.row(v) + W, s.z.data());
-        } else {
+        } else if (!between) {
             sanitise_row(W, depth.row(v), s.z.data());
-        }
+        }  // (rows between looked-up rows read the raw depth: finish)
         finish(s, v, s.z.data(), m_d2.row(v), m_surface.row(v));
     });
 }

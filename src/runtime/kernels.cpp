@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include "clones.h"
@@ -85,20 +86,50 @@ void forward_row(int n, const float* __restrict d2, const float c[3], const floa
 
 namespace deepsea::kernels {
 
+namespace {
+
+/// has_surface(raw) ? raw : 0 on the float's bits: positive floats order as their bits, NaN
+/// and inf lie above kFarDepth's, -0 and negative values below 1. (Under fast-math a float
+/// comparison may assume that no NaN reaches it; this one cannot.)
+[[gnu::always_inline]] inline float surface_depth(float raw, std::int32_t far_bits) {
+    std::int32_t b;
+    std::memcpy(&b, &raw, sizeof b);
+    return (b > 0) & (b < far_bits) ? raw : 0.0f;
+}
+
+}  // namespace
+
 DEEPSEA_CLONES
-void normals_row(int n, const float* __restrict rx, float ry_up, float ry, float ry_down,
-                 const float* __restrict z_up, const float* __restrict z,
-                 const float* __restrict z_down, float* __restrict nx, float* __restrict ny,
-                 float* __restrict nz, unsigned char* __restrict irregular) {
+void geometry_row(int n, const float* __restrict rx, float ry_up, float ry, float ry_down,
+                  const float* __restrict z_up, const float* __restrict raw,
+                  const float* __restrict z_down, float* __restrict x, float* __restrict y,
+                  float* __restrict z, float* __restrict nx, float* __restrict ny,
+                  float* __restrict nz, unsigned char* __restrict irregular) {
+    const float far = float(kFarDepth);
+    std::int32_t far_bits;
+    std::memcpy(&far_bits, &far, sizeof far_bits);
+#pragma omp simd
+    for (int u = 0; u < n; ++u) {
+        const float zs = surface_depth(raw[u], far_bits);
+        x[u] = rx[u] * zs;
+        y[u] = ry * zs;
+        z[u] = zs;
+    }
+    if (!z_up || !z_down) {
+        std::memset(irregular, 1, std::size_t(n));
+        return;
+    }
     irregular[0] = irregular[n - 1] = 1;
 #pragma omp simd
     for (int u = 1; u < n - 1; ++u) {
-        const float zc = z[u], zl = z[u - 1], zr = z[u + 1], zu = z_up[u], zd = z_down[u];
+        const float zc = z[u], zl = z[u - 1], zr = z[u + 1];
+        const float zu = surface_depth(z_up[u], far_bits), zd = surface_depth(z_down[u], far_bits);
         const bool ok = zc > 0.0f && zl > 0.0f && zr > 0.0f && zu > 0.0f && zd > 0.0f &&
                         same_surface(zc, zl) && same_surface(zc, zr) && same_surface(zc, zu) &&
                         same_surface(zc, zd);
         // central differences, right - left and down - up, of back-projected neighbours
-        // (passed as temporaries: see vec3t.h)
+        // (passed as temporaries: see vec3t.h; not x and y above, whose differences GCC
+        // rounds otherwise: it factors ry zr - ry zl)
         const Vec3T<float> nrm =
             normal_from_tangents(back_project(rx[u + 1], ry, zr) - back_project(rx[u - 1], ry, zl),
                                  back_project(rx[u], ry_down, zd) - back_project(rx[u], ry_up, zu),
@@ -139,6 +170,23 @@ float row_max(int n, const float* __restrict d) {
     for (int i = 0; i < 8; ++i) r = std::max(r, m[i]);
     for (; u < n; ++u) r = std::max(r, d[u]);
     return r;
+}
+
+DEEPSEA_CLONES
+void add_scaled(int n, const float* __restrict s, const float* __restrict part,
+                float* __restrict out, bool first) {
+    // (a product, then a sum: no fused multiply-add here, as in the scalar loop this replaced)
+    for (int c = 0; c < 3; ++c) {
+        const float* __restrict p = part + std::size_t(c) * n;
+        float* __restrict o = out + std::size_t(c) * n;
+        if (first) {
+#pragma omp simd
+            for (int u = 0; u < n; ++u) o[u] = s[u] * p[u];
+        } else {
+#pragma omp simd
+            for (int u = 0; u < n; ++u) o[u] += s[u] * p[u];
+        }
+    }
 }
 
 DEEPSEA_CLONES

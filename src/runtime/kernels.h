@@ -32,13 +32,18 @@ void forward_row(int n, const float* d2, const float c[3], const float G[3], con
 
 namespace deepsea::kernels {
 
-/// Normals of one interior row by central differences, in float. z rows are sanitised (open
-/// water 0). Writes n and sets irregular[u] = 1 where a neighbour is open water or across a
-/// depth discontinuity (optics' same_surface), or where u is the first or last column: the
-/// caller then uses the optics rule (one-sided differences) for those pixels.
-void normals_row(int n, const float* rx, float ry_up, float ry, float ry_down, const float* z_up,
-                 const float* z, const float* z_down, float* nx, float* ny, float* nz,
-                 unsigned char* irregular);
+/// One row's geometry from raw planar depth (any float: NaN, inf, <= 0 and sentinels are open
+/// water, optics' has_surface, tested on the float's bits so that fast-math cannot drop it):
+/// z sanitised (open water 0), the back-projected x = rx z and y = ry z, and, given the rows
+/// above and below (`z_up`, `z_down` raw, or both null at the frame's first and last rows),
+/// the normals by central differences in float. Sets irregular[u] = 1 where a neighbour is
+/// open water or across a depth discontinuity (optics' same_surface), where u is the first or
+/// last column, or everywhere without the rows around: the caller then uses the optics rule
+/// (one-sided differences) for those pixels, whose n it leaves unwritten. One pass for what
+/// took four (sanitising three rows and back-projecting one): the rows stay in L1.
+void geometry_row(int n, const float* rx, float ry_up, float ry, float ry_down, const float* z_up,
+                  const float* raw, const float* z_down, float* x, float* y, float* z, float* nx,
+                  float* ny, float* nz, unsigned char* irregular);
 
 }  // namespace deepsea::kernels
 
@@ -51,6 +56,11 @@ void lean_row(int n, const float* rx, float ry, const float* nx, const float* ny
 
 /// The largest of n values and 0 (a row's farthest surface; values never NaN).
 float row_max(int n, const float* d);
+
+/// Planar RGB rows scaled per pixel and added: out[c * n + u] += s[u] * part[c * n + u]
+/// (first: written, out = s[u] * part[...], the same where s part is never -0). A tabulated
+/// lamp's irradiance, part its terms with RID 1 and s its RID.
+void add_scaled(int n, const float* s, const float* part, float* out, bool first);
 
 /// Planar RGB (planes[c * n + u]) to interleaved rgb[3 * u + c].
 void interleave(int n, const float* planes, float* rgb);

@@ -13,6 +13,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/optics/lamp.h"
 #include "deepsea/optics/normals.h"
+#include "kernels.h"
 #include "lamp_field_rows.h"
 
 namespace deepsea {
@@ -24,6 +25,7 @@ AnalyticLamps::AnalyticLamps(const Rig& rig, const Water& water, std::vector<Lam
         throw ConfigError("shadows: thickness must be > 0 m and finite");
     }
     if (shadows.enabled && shadows.step < 1) throw ConfigError("shadows: step must be >= 1 pixel");
+    for (const Light& L : m_rig.lights) m_rids.emplace_back(L.rid);
     if (!m_scattered.empty() && m_scattered.size() != m_rig.lights.size()) {
         throw AssetError("multiple scattering: " + std::to_string(m_scattered.size()) +
                          " lamp fields for " + std::to_string(m_rig.lights.size()) + " lamps");
@@ -39,11 +41,12 @@ constexpr double kDegToRad = M_PI / 180.0;
 /// second instantiation in the shadowed clone changed GCC's fused multiply-adds there, and with
 /// every lamp lit it must give the unshadowed row's bits): with its Gaussian RID (one
 /// exponential a channel, lamp.h's gaussian_lamp_term), or with RID 1 (tabulated RIDs: the
-/// caller scales by the RID at scratch_theta). Shadowed: times the lamp's visibility per pixel
-/// (vis). Inlined into each clone below. The exponentials and arc cosines are core/fast_math.h's,
-/// inline (libmvec's, called per 8 values, were 8.5 % of a JPEG sequence's CPU time): within a few
-/// float roundings of the exact (tests/unit/core/fast_math_test.cpp; the rows against optics in
-/// double to 1e-5: AnalyticLamps.GaussianLampsMatchOptics).
+/// row written, not added to; the caller scales it by the RID at scratch_theta). Shadowed: times
+/// the lamp's visibility per pixel (vis). Inlined into each clone below. The exponentials and arc
+/// cosines are core/fast_math.h's, inline (libmvec's, called per 8 values, were 8.5 % of a JPEG
+/// sequence's CPU time): within a few float roundings of the exact
+/// (tests/unit/core/fast_math_test.cpp; the rows against optics in double to 1e-5:
+/// AnalyticLamps.GaussianLampsMatchOptics).
 template <bool Gaussian, bool Shadowed, bool First = false>
 [[gnu::always_inline]] inline void lamp_rows(const Light& L, const Rgb& c, const RowGeometry& g,
                                              const float* __restrict vis, float* __restrict e,
@@ -82,10 +85,11 @@ template <bool Gaussian, bool Shadowed, bool First = false>
             eg[u] += gaussian_lamp_term<FastMath>(ig, theta, sig, spread, cg, lg.d1);
             eb[u] += gaussian_lamp_term<FastMath>(ib, theta, sig, spread, cb, lg.d1);
         } else {
+            // (written: the row holds this lamp alone, scaled by its RID afterwards)
             scratch_theta[u] = theta;
-            er[u] += lamp_term<FastMath>(ir, 1.0f, spread, cr, lg.d1);
-            eg[u] += lamp_term<FastMath>(ig, 1.0f, spread, cg, lg.d1);
-            eb[u] += lamp_term<FastMath>(ib, 1.0f, spread, cb, lg.d1);
+            er[u] = lamp_term<FastMath>(ir, 1.0f, spread, cr, lg.d1);
+            eg[u] = lamp_term<FastMath>(ig, 1.0f, spread, cg, lg.d1);
+            eb[u] = lamp_term<FastMath>(ib, 1.0f, spread, cb, lg.d1);
         }
     }
 }
@@ -302,13 +306,15 @@ void AnalyticLamps::add_scattered(const RowGeometry& g, float* out) const {
 
 void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
     const int n = g.n;
-    thread_local std::vector<float> theta, part;
+    thread_local std::vector<float> theta, part, rid;
     theta.resize(n);
     const bool shadowed = m_shadow_settings.enabled && m_shadows.width() == n && g.v >= 0 &&
                           g.v < m_shadows.height() && m_shadows.lamps() == m_rig.lights.size();
-    // An unshadowed Gaussian first lamp writes the row; otherwise it starts from zero.
-    const bool written =
-        !m_rig.lights.empty() && m_rig.lights[0].rid.kind == Rid::Kind::Gaussian && !shadowed;
+    // The first lamp writes the row where it can (an unshadowed Gaussian lamp, or a tabulated
+    // one: its terms times its RID), so that the row needs no zeroing pass; a lamp's term is
+    // +0 or positive, and 0 + x is x. Otherwise the row starts from zero.
+    const bool gaussian0 = !m_rig.lights.empty() && m_rig.lights[0].rid.kind == Rid::Kind::Gaussian;
+    const bool written = !m_rig.lights.empty() && !(gaussian0 && shadowed);
     if (!written) std::fill(out, out + 3 * std::size_t(n), 0.0f);
     for (std::size_t l = 0; l < m_rig.lights.size(); ++l) {
         const Light& L = m_rig.lights[l];
@@ -320,18 +326,15 @@ void AnalyticLamps::irradiance_row(const RowGeometry& g, float* out) const {
                 add_gaussian_lamp(L, m_water.c, g, out, l == 0);
             }
         } else {
-            part.assign(3 * std::size_t(n), 0.0f);
+            part.resize(3 * std::size_t(n));
+            rid.resize(n);
             if (vis) {
                 add_shadowed_unit_lamp(L, m_water.c, g, vis, part.data(), theta.data());
             } else {
                 add_unit_lamp(L, m_water.c, g, part.data(), theta.data());
             }
-            for (int u = 0; u < n; ++u) {
-                const float s = float(L.rid(theta[u]));
-                out[u] += s * part[u];
-                out[n + u] += s * part[n + u];
-                out[2 * n + u] += s * part[2 * n + u];
-            }
+            m_rids[l](n, theta.data(), rid.data());
+            kernels::add_scaled(n, rid.data(), part.data(), out, l == 0);
         }
     }
     if (!m_scattered.empty()) add_scattered(g, out);

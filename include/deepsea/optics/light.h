@@ -25,6 +25,21 @@ struct Rid {
     double operator()(double theta_rad) const;
 };
 
+/// A Rid evaluated on rows of angles, as the runtime's lamp rows need it: out[u] =
+/// float(rid(double(theta[u]))), the same bits as Rid::operator() (the same arithmetic, in the
+/// same file). A table's interval is found from a quarter-degree bucket of the angle and a
+/// step or two, not by a binary search (a call a pixel and lamp was the authors' tabulated
+/// lamps' largest cost).
+class RidRows {
+public:
+    explicit RidRows(const Rid& rid);
+    void operator()(int n, const float* theta_rad, float* out) const;
+
+private:
+    Rid m_rid;
+    std::vector<int> m_start;  ///< per bucket q: the angles below q / 4 degrees (none: no buckets)
+};
+
 /// One lamp, rigidly mounted with the camera; all quantities in the camera frame.
 struct Light {
     std::string name;

@@ -41,6 +41,7 @@ private:
     Water m_water;
     std::vector<LampField> m_scattered;
     ShadowSettings m_shadow_settings;
+    std::vector<RidRows> m_rids;  ///< each lamp's RID for rows (tabulated lamps)
     mutable LampShadows m_shadows;
     // The frame's coefficient grid (begin_frame): planes [(j * 30 + q) * m_kx + i] and the
     // planar depth at each point [j * m_kx + i] (0: open water).

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "deepsea/core/error.h"
 #include "deepsea/optics/camera.h"
@@ -105,6 +107,39 @@ TEST(Rid, TableInterpolatesLinearlyAndEndsAtZero) {
     EXPECT_NEAR(rid(25 * d), 0.5, 1e-12);
     EXPECT_NEAR(rid(40 * d), 0.2, 1e-12);
     EXPECT_EQ(rid(41 * d), 0.0);
+}
+
+TEST(Rid, RowsGiveTheSameBitsAsOneAngleAtATime) {
+    // the authors' lamp table, a dense one (several angles a bucket, an angle on a bucket's
+    // edge), a cutoff inside the table and a Gaussian; every float angle step over [0, pi],
+    // the table's own angles, their neighbours and values beyond the range
+    Rid authors;
+    authors.kind = Rid::Kind::Table;
+    authors.angle_deg = {0, 10, 20, 30, 35, 40, 45, 50, 60, 90};
+    authors.value = {1, 0.96, 0.87, 0.75, 0.63, 0.5, 0.28, 0.2, 0.12, 0};
+    Rid dense = authors;
+    dense.angle_deg = {2.5, 2.6, 2.65, 2.7, 3.0, 3.25, 100.0};
+    dense.value = {0.1, 0.9, 0.3, 0.5, 0.7, 0.2, 0.05};
+    dense.cutoff_deg = 80.0;
+    Rid gaussian;
+    std::vector<float> theta;
+    for (int k = 0; k <= 200000; ++k) theta.push_back(float(k * M_PI / 200000.0));
+    for (const Rid* r : {&authors, &dense})
+        for (const double a : r->angle_deg) {
+            const float t = float(a * M_PI / 180.0);
+            theta.insert(theta.end(), {std::nextafter(t, 0.0f), t, std::nextafter(t, 4.0f)});
+        }
+    theta.insert(theta.end(), {-1.0f, 0.0f, -0.0f, 3.5f, 1e30f, float(NAN), INFINITY});
+    for (const Rid* r : {&authors, &dense, &gaussian}) {
+        const RidRows rows(*r);
+        std::vector<float> out(theta.size());
+        rows(int(theta.size()), theta.data(), out.data());
+        for (std::size_t i = 0; i < theta.size(); ++i) {
+            const float one = float((*r)(double(theta[i])));
+            ASSERT_EQ(std::memcmp(&one, &out[i], sizeof one), 0)
+                << "theta " << theta[i] << ": " << one << " one at a time, " << out[i] << " rows";
+        }
+    }
 }
 
 TEST(Light, IntensityTowardUsesTheAngleToTheAxis) {
