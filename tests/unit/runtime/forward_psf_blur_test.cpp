@@ -9,10 +9,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "deepsea/optics/forward_transport.h"
 #include "deepsea/optics/jerlov.h"
 #include "deepsea/optics/water.h"
+#include "deepsea/optics/water_presets.h"
+#include "runtime_fixtures.h"
 
 namespace deepsea {
 namespace {
@@ -169,4 +173,62 @@ TEST(ForwardPsfBlur, AnImpulseSpreadsAsTheMixture) {
 }
 
 }  // namespace
+}  // namespace deepsea
+
+namespace deepsea {
+namespace {
+
+/// The plane scene at 400 px (a 0.3 m plane with a nearer box), its open water (NaN, inf, -1,
+/// 0) as 0 and every seventh row open water too: rows that alternate between whole blocks on
+/// one surface and none, whose weighing is split between threads by bands.
+std::pair<Image, Image> striped_plane(const Camera& cam) {
+    const testing::PlaneScene p = testing::plane_scene(cam, 0.3);
+    Image d2 = p.depth;
+    for (int v = 0; v < cam.height; ++v) {
+        for (int u = 0; u < cam.width; ++u) {
+            const float z = d2.at(u, v);
+            if (v % 7 == 0 || !(z > 0.0f && z < 1e30f)) d2.at(u, v) = 0.0f;
+        }
+    }
+    return {p.rgb, d2};
+}
+
+}  // namespace
+
+TEST(ForwardPsfBlur, EveryRunGivesTheSameBits) {
+    // the weighing's bands run in parallel with per-thread scratch: twenty runs on all the
+    // machine's threads must agree bit for bit
+    const Camera cam{400, 400, 300.0, 300.0, 200.0, 200.0};
+    const auto [surface, d2] = striped_plane(cam);
+    for (const Water& w : {water_preset("deep:clear"), coastal()}) {
+        Water water = w;
+        water.forward = phase_function_forward_scatter();
+        const ForwardPsf psf(water, cam.fx, cam.width, cam.height);
+        ForwardPsfBlur ref(psf);
+        const Image first = spread(ref, surface, d2);
+        for (int run = 0; run < 20; ++run) {
+            ForwardPsfBlur blur(psf);
+            const Image again = spread(blur, surface, d2);
+            ASSERT_EQ(again.data, first.data) << "run " << run;
+        }
+    }
+}
+
+TEST(ForwardPsfBlur, InfiniteDistancesAreNoSurfaceWhenTheFarthestIsFoundHere) {
+    // prepare() without the caller's farthest surface finds it; inf is open water there and
+    // gives the bits of 0 (the max is taken on bits: under -ffast-math a max over inf depended
+    // on how the rows were split between threads)
+    const Camera cam{400, 400, 300.0, 300.0, 200.0, 200.0};
+    const auto [surface, d2] = striped_plane(cam);
+    Image with_inf = d2;
+    for (int v = 0; v < cam.height; v += 7) {
+        for (int u = 0; u < cam.width; u += 3)
+            with_inf.at(u, v) = std::numeric_limits<float>::infinity();
+    }
+    const ForwardPsf psf(coastal(), cam.fx, cam.width, cam.height);
+    ForwardPsfBlur a(psf), b(psf);
+    for (int run = 0; run < 5; ++run)
+        EXPECT_EQ(spread(a, surface, with_inf).data, spread(b, surface, d2).data);
+}
+
 }  // namespace deepsea
