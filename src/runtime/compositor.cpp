@@ -122,7 +122,9 @@ Compositor::Compositor(const Camera& camera, const Water& water, const Irradianc
 
 void Compositor::set_exact(bool exact) {
     m_exact = exact;
-    if (m_psf_blur) m_psf_blur->set_block_distances(!exact);
+    if (!m_psf_blur) return;
+    m_psf_blur->set_block_distances(!exact);
+    m_psf_blur->set_identity_blurs(!exact);
 }
 
 double Compositor::forward_fx() const { return m_port ? m_port->water_fx() : m_camera.fx; }

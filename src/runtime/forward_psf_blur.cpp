@@ -26,6 +26,7 @@ using psf_rows::doubled_row;
 using psf_rows::expand_blocks;
 using psf_rows::f_row;
 using psf_rows::kMaxStride;
+using psf_rows::padded_rgb_row;
 using psf_rows::padded_row;
 using psf_rows::pair_sums;
 using psf_rows::RowTaps;
@@ -290,7 +291,7 @@ void ForwardPsfBlur::weigh(const Image& surface, const Image& d2) {
                     weigh_blocks(W, f, stride, idx.data(), frac.data(), m_table.data(),
                                  surface.row(v), !first, acc);
                 } else {
-                    pair_sums((W + f / 2 - 1) / (f / 2), lanes, sums.data() + at[i - 1], !first,
+                    pair_sums((W + f / 2 - 1) / (f / 2), stride, sums.data() + at[i - 1], !first,
                               acc);
                 }
                 const int rows = v % f + 1;
@@ -366,6 +367,7 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
     std::fill(m_full.begin(), m_full.end(), 0.0f);
     for (Grid& G : m_grids) std::fill(G.acc.begin(), G.acc.end(), 0.0f);
     m_faded_group = -1;
+    m_unblurred = 0;
     for (std::size_t i = 0; i < m_levels.size(); ++i) {
         Level& L = m_levels[i];
         const Group& g = m_groups[L.group];
@@ -376,6 +378,13 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
         const bool warped = m_warp > 0 && g.factor >= m_warp;
         const float* src =
             warped ? warp_level(L.planes, g.factor, g.w, g.h, beyond) : L.planes.data();
+        // The 1 px scale: box downsampling by two and the upsampling back spread its variance
+        // already; the rest, 0.15 cells, would move each value by 1e-9 of its neighbours'.
+        if (m_identity_blurs && !m_lean && !warped && rest < planes::kIdentitySigma) {
+            planes::add_planes(std::size_t(3) * g.w * g.h, src, sum);
+            ++m_unblurred;
+            continue;
+        }
         // Beyond the frame: a transport table's scene continues as its borders (its wide
         // scales reach across small images), fading as `beyond` says (lamp-lit scenes are
         // dimmer outside than in); the small-angle model's as the in-image mean, as it always
@@ -463,13 +472,14 @@ void ForwardPsfBlur::rgb_row(int v, float* out, bool add, bool direct) const {
         const Grid& G = m_grids[0];
         const bool extend = m_psf.from_transport();
         const RowTaps t = doubled_row(v, G.h, extend);
-        // (lane 3 of each pixel is never written: zeroed once, when the buffer grows)
-        if (coarse.size() < 4 * std::size_t(G.w + 2)) coarse.assign(4 * std::size_t(G.w + 2), 0.0f);
+        coarse.resize(4 * std::size_t(G.w + 2));
+        const float *r0[3], *r1[3];
         for (int c = 0; c < 3; ++c) {
             const float* plane = G.acc.data() + std::size_t(c) * G.w * G.h;
-            padded_row(G.w, plane + std::size_t(t.y0) * G.w, plane + std::size_t(t.y1) * G.w, t.w,
-                       4, extend, coarse.data() + c);
+            r0[c] = plane + std::size_t(t.y0) * G.w;
+            r1[c] = plane + std::size_t(t.y1) * G.w;
         }
+        padded_rgb_row(G.w, r0, r1, t.w, extend, coarse.data());
     }
     const float* sharp = m_sharp.data() + (direct ? std::size_t(m_bins + 1) * 4 : 0);
     f_row(W, idx.data(), frac.data(), sharp, m_surface->row(v), m_full.empty() ? nullptr : full,

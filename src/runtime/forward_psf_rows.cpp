@@ -18,6 +18,18 @@ namespace deepsea::psf_rows {
 
 namespace {
 
+/// An empty asm that GCC must assume reads and changes v: a sum before it is not
+/// reassociated with one after it.
+[[gnu::always_inline]] inline void opaque(Float4& v) {
+#if defined(__x86_64__) || defined(__i386__)
+    asm("" : "+x"(v));
+#elif defined(__aarch64__)
+    asm("" : "+w"(v));
+#else
+    (void)v;
+#endif
+}
+
 /// Kernel::run<S>(args...) for a table stride S known at compile time: 4, 8, 12, 16, 20, or
 /// kMaxStride for anything else (inlined into each caller, and so into its AVX2 clone).
 template <class Kernel, class... Args>
@@ -120,6 +132,16 @@ struct WeighBlockPairs {
                 const float* ta = tab + std::size_t(bi[b]) * lanes;
                 const float* tb = ta + lanes;
                 const float t = bt[b];
+                if constexpr (S == 4) {
+                    // the twelve lanes as eight and four (each lane's arithmetic as below)
+                    const Float8 a8 = load8(ta), d8 = load8(tb) - a8;
+                    const Float8 l8 = __builtin_shufflevector(l, l, 0, 0, 0, 0, 1, 1, 1, 1);
+                    const Float8 x8 = (a8 + t * d8) * l8;
+                    std::memcpy(out, &x8, sizeof x8);
+                    const Float4 a4 = load4(ta + 8), d4 = load4(tb + 8) - a4;
+                    store4(out + 8, (a4 + t * d4) * splat(l[2]));
+                    continue;
+                }
                 for (int c = 0; c < 3; ++c) {
                     const Float4 lc = splat(l[c]);
                     for (int k = 0; k < V; ++k) {
@@ -200,10 +222,18 @@ RowTaps doubled_row(int y, int h_lo, bool extend) {
     return {y0, std::min(y0 + 1, h_lo - 1), std::clamp(fy - y0, 0.0f, 1.0f)};
 }
 
+DEEPSEA_CLONES_NO_FMA
 void padded_row(int n, const float* r0, const float* r1, float w, int lanes, bool extend,
                 float* padded) {
     const bool beyond = w < 0.0f || w > 1.0f;
-    for (int x = 0; x < n; ++x) {
+    if (lanes == 1) {  // the cascade's planes: one vector loop (no fused multiply-add)
+#pragma omp simd
+        for (int x = 0; x < n; ++x) {
+            const float q = r0[x] + w * (r1[x] - r0[x]);
+            padded[x + 1] = beyond ? std::max(0.0f, q) : q;
+        }
+    }
+    for (int x = 0; x < n && lanes != 1; ++x) {
         const float q = r0[x] + w * (r1[x] - r0[x]);
         padded[std::size_t(x + 1) * lanes] = beyond ? std::max(0.0f, q) : q;
     }
@@ -214,6 +244,52 @@ void padded_row(int n, const float* r0, const float* r1, float w, int lanes, boo
     if (extend && n > 1) {
         padded[0] = std::max(0.0f, 2.0f * first[0] - first[lanes]);
         last[lanes] = std::max(0.0f, 2.0f * last[0] - last[-lanes]);
+    }
+}
+
+/// padded_row for the three planes of one grid into interleaved cells of four floats (RGB and
+/// a zero), four cells at a time: each value's arithmetic is padded_row's (no fused
+/// multiply-add, as in the generic code), so the bits are the same as three padded_row calls.
+DEEPSEA_CLONES_NO_FMA
+void padded_rgb_row(int n, const float* const* r0, const float* const* r1, float w, bool extend,
+                    float* __restrict padded) {
+    const bool beyond = w < 0.0f || w > 1.0f;
+    const Float4 zero = {};
+    const auto at = [&](int c, int x) {  // one plane's four cells from x on
+        const Float4 a = load4(r0[c] + x), q = a + w * (load4(r1[c] + x) - a);
+        return beyond ? max4(zero, q) : q;
+    };
+    int x = 0;
+    for (; x + 4 <= n; x += 4) {
+        const Float4 r = at(0, x), g = at(1, x), b = at(2, x);
+        // [r0 g0 r1 g1] [r2 g2 r3 g3] [b0 0 b1 0] [b2 0 b3 0], then a cell each
+        const Float4 rg01 = __builtin_shufflevector(r, g, 0, 4, 1, 5);
+        const Float4 rg23 = __builtin_shufflevector(r, g, 2, 6, 3, 7);
+        const Float4 b01 = __builtin_shufflevector(b, zero, 0, 4, 1, 5);
+        const Float4 b23 = __builtin_shufflevector(b, zero, 2, 6, 3, 7);
+        float* p = padded + 4 * std::size_t(x + 1);
+        store4(p, __builtin_shufflevector(rg01, b01, 0, 1, 4, 5));
+        store4(p + 4, __builtin_shufflevector(rg01, b01, 2, 3, 6, 7));
+        store4(p + 8, __builtin_shufflevector(rg23, b23, 0, 1, 4, 5));
+        store4(p + 12, __builtin_shufflevector(rg23, b23, 2, 3, 6, 7));
+    }
+    for (; x < n; ++x) {
+        float* p = padded + 4 * std::size_t(x + 1);
+        for (int c = 0; c < 3; ++c) {
+            const float q = r0[c][x] + w * (r1[c][x] - r0[c][x]);
+            p[c] = beyond ? std::max(0.0f, q) : q;
+        }
+        p[3] = 0.0f;
+    }
+    const float* first = padded + 4;
+    float* last = padded + 4 * std::size_t(n);
+    for (int c = 0; c < 4; ++c) {
+        padded[c] = first[c];
+        last[4 + c] = last[c];
+        if (extend && n > 1) {
+            padded[c] = std::max(0.0f, 2.0f * first[c] - first[4 + c]);
+            last[4 + c] = std::max(0.0f, 2.0f * last[c] - last[c - 4]);
+        }
     }
 }
 
@@ -272,25 +348,42 @@ void expand_blocks(int n, int stride, int scales, const float* acc, const float*
 
 /// Block sums of twice the width from the finer level's, every lane (c, r) alike:
 ///   x_(2f)[i] (+)= x_f[2i] + x_f[2i + 1]   (x_f[n - 1] alone when n is odd).
-DEEPSEA_CLONES
-void pair_sums(int n, int lanes, const float* __restrict src, bool add, float* __restrict dst) {
-    const int pairs = n / 2;
-    for (int i = 0; i < pairs; ++i) {
-        const float* s = src + std::size_t(2 * i) * lanes;
-        float* d = dst + std::size_t(i) * lanes;
-        if (add) {
-#pragma omp simd
-            for (int k = 0; k < lanes; ++k) d[k] += s[k] + s[k + lanes];
-        } else {
-#pragma omp simd
-            for (int k = 0; k < lanes; ++k) d[k] = s[k] + s[k + lanes];
+/// Lanes = 3 S known at compile time (by_stride), so that a block's few vectors are whole
+/// loads and adds rather than a loop of runtime length, a fraction of a block long.
+struct PairSums {
+    template <int S>
+    [[gnu::always_inline]] static void run(int n, const float* __restrict src, bool add,
+                                           float* __restrict dst) {
+        constexpr int lanes = 3 * S, V = S / 4;
+        const int pairs = n / 2;
+        for (int i = 0; i < pairs; ++i) {
+            const float* s = src + std::size_t(2 * i) * lanes;
+            float* d = dst + std::size_t(i) * lanes;
+            for (int k = 0; k < 3 * V; ++k) {
+                const Float4 s0 = load4(s + 4 * k), s1 = load4(s + lanes + 4 * k);
+                if (!add) {
+                    store4(d + 4 * k, s0 + s1);
+                    continue;
+                }
+                // (d + s0) + s1, the order GCC gave the loop of runtime length this replaces
+                // (-ffast-math would otherwise add s0 + s1 first: other bits)
+                Float4 t = load4(d + 4 * k) + s0;
+                opaque(t);
+                store4(d + 4 * k, t + s1);
+            }
+        }
+        if (n % 2) {
+            const float* s = src + std::size_t(n - 1) * lanes;
+            float* d = dst + std::size_t(pairs) * lanes;
+            for (int k = 0; k < 3 * V; ++k)
+                store4(d + 4 * k, add ? load4(d + 4 * k) + load4(s + 4 * k) : load4(s + 4 * k));
         }
     }
-    if (n % 2) {
-        const float* s = src + std::size_t(n - 1) * lanes;
-        float* d = dst + std::size_t(pairs) * lanes;
-        for (int k = 0; k < lanes; ++k) d[k] = add ? d[k] + s[k] : s[k];
-    }
+};
+
+DEEPSEA_CLONES
+void pair_sums(int n, int stride, const float* src, bool add, float* dst) {
+    by_stride<PairSums>(stride, n, src, add, dst);
 }
 
 /// F of one full-resolution row, every term of the sum over scales:
@@ -322,14 +415,15 @@ void f_row(int n, const int* __restrict idx, const float* __restrict frac,
         // weights() and grid() (the same bits), their twelve interleaved floats stored as two
         // whole vectors. A pixel's sharp weights, where it has none, from a row of zeros.
         static const float zeros[8] = {};
-        const auto cat = [](Float4 a, Float4 b) {
-            return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
-        };
-        const auto weights2 = [&](int u) {
+        // (a pixel's two table rows are eight floats in a row: one load each, then the two
+        // pixels' first rows and second rows paired; the fractions spread from one load)
+        const auto weights2 = [&](int u, Float8 t) {
             const float* ta = idx[u] >= 0 ? sharp + std::size_t(idx[u]) * 4 : zeros;
             const float* tb = idx[u + 1] >= 0 ? sharp + std::size_t(idx[u + 1]) * 4 : zeros;
-            const Float8 a = cat(load4(ta), load4(tb)), b = cat(load4(ta + 4), load4(tb + 4));
-            return a + cat(splat(frac[u]), splat(frac[u + 1])) * (b - a);
+            const Float8 x = load8(ta), y = load8(tb);
+            const Float8 a = __builtin_shufflevector(x, y, 0, 1, 2, 3, 8, 9, 10, 11);
+            const Float8 b = __builtin_shufflevector(x, y, 4, 5, 6, 7, 12, 13, 14, 15);
+            return a + t * (b - a);
         };
         // pixels u (even) and u + 1 read the padded grid at u/2, u/2 + 1 and u/2 + 2
         const Float8 quarter = {0.75f, 0.75f, 0.75f, 0.75f, 0.25f, 0.25f, 0.25f, 0.25f};
@@ -339,7 +433,10 @@ void f_row(int n, const int* __restrict idx, const float* __restrict frac,
             return q0 + quarter * (q1 - q0);
         };
         for (; u + 4 <= n; u += 4) {
-            const Float8 w01 = weights2(u), w23 = weights2(u + 2);
+            const Float4 t = load4(frac + u);
+            const Float8 w01 = weights2(u, __builtin_shufflevector(t, t, 0, 0, 0, 0, 1, 1, 1, 1));
+            const Float8 w23 =
+                weights2(u + 2, __builtin_shufflevector(t, t, 2, 2, 2, 2, 3, 3, 3, 3));
             const Float8 g01 = grid2(u), g23 = grid2(u + 2);
             // [r0 g0 b0 r1 g1 b1 r2 g2] [b2 r3 g3 b3]
             const Float8 wa = __builtin_shufflevector(w01, w23, 0, 1, 2, 4, 5, 6, 8, 9);

@@ -41,6 +41,11 @@ RowTaps doubled_row(int y, int h_lo, bool extend);
 void padded_row(int n, const float* r0, const float* r1, float w, int lanes, bool extend,
                 float* padded);
 
+/// padded_row of three planes at once (r0[c], r1[c]: plane c's two rows), interleaved: cell x's
+/// RGB and a zero at padded[4 (x + 1)], the same values as padded_row with lanes 4.
+void padded_rgb_row(int n, const float* const* r0, const float* const* r1, float w, bool extend,
+                    float* padded);
+
 /// dst[x] += the padded coarse row qp upsampled at x, for n columns.
 void add_doubled(int n, const float* qp, float* dst);
 
@@ -75,8 +80,8 @@ void expand_blocks(int n, int stride, int scales, const float* acc, const float*
                    std::size_t channel, float* const* dst, float scale, float edge);
 
 /// Sums of neighbouring blocks: dst block i = (or, with add, +=) src blocks 2i and 2i + 1 (the
-/// last alone when n is odd), each block `lanes` floats.
-void pair_sums(int n, int lanes, const float* src, bool add, float* dst);
+/// last alone when n is odd), each block 3 * stride floats (a table row's lanes).
+void pair_sums(int n, int stride, const float* src, bool add, float* dst);
 
 /// Interleaved RGB F of one row: out[3u + c] = (or +=) W_0(d_u) L_u[c] (0 where idx[u] < 0) +
 /// full[c][u] (when full is not null) + the factor-2 grid's row upsampled at u (when coarse is

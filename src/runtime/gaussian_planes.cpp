@@ -4,8 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "clones.h"
+#include "float4.h"
+
+// (Float8 values live in registers inside the kernels: no call passes one, so GCC's note that
+// AVX changes the ABI of such calls does not apply to their generic clones)
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace deepsea::planes {
 
@@ -24,16 +30,37 @@ void inside_weights(int n, const std::vector<float>& g, int r, std::vector<float
 
 /// The horizontal pass of G_sigma, unnormalised, over a row padded with r zeros on each side:
 ///   dst[x] = sum_(k = -r)^(r) g_k src[x + k],  g_k = exp(-k^2 / (2 sigma^2)).
+/// Thirty-two outputs at a time (then eight), their sums held in registers through every tap
+/// (the taps in the same order, each added as before: the same bits as a pass over the row per
+/// tap, with a tap's weight loaded once for them all).
 DEEPSEA_CLONES
 void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
                   const float* __restrict g, int r) {
-    for (int x = 0; x < n; ++x) dst[x] = 0.0f;
-    for (int k = 0; k <= 2 * r; ++k) {
-        const float gk = g[k];
-        const float* s = padded + k;
-#pragma omp simd
-        for (int x = 0; x < n; ++x) dst[x] += gk * s[x];
+    int x = 0;
+    for (; x + 32 <= n; x += 32) {
+        Float8 s0 = {}, s1 = {}, s2 = {}, s3 = {};
+        for (int k = 0; k <= 2 * r; ++k) {
+            const float gk = g[k];
+            const float* p = padded + x + k;
+            s0 += gk * load8(p);
+            s1 += gk * load8(p + 8);
+            s2 += gk * load8(p + 16);
+            s3 += gk * load8(p + 24);
+        }
+        std::memcpy(dst + x, &s0, sizeof s0);
+        std::memcpy(dst + x + 8, &s1, sizeof s1);
+        std::memcpy(dst + x + 16, &s2, sizeof s2);
+        std::memcpy(dst + x + 24, &s3, sizeof s3);
     }
+    for (; x + 8 <= n; x += 8) {
+        Float8 sum = {};
+        for (int k = 0; k <= 2 * r; ++k) sum += g[k] * load8(padded + x + k);
+        std::memcpy(dst + x, &sum, sizeof sum);
+    }
+    // the last n % 8 tap by tap (a sum over taps per output would be reassociated)
+    for (int i = x; i < n; ++i) dst[i] = 0.0f;
+    for (int k = 0; k <= 2 * r; ++k)
+        for (int i = x; i < n; ++i) dst[i] += g[k] * padded[i + k];
 }
 
 /// dst[x] *= s[x].
@@ -50,6 +77,9 @@ void add_row(int n, const float* __restrict src, float* __restrict dst) {
     for (int x = 0; x < n; ++x) dst[x] += src[x];
 }
 
+/// The most taps vertical_row holds in registers' reach (wider kernels: a pass per tap).
+constexpr int kMaxTaps = 64;
+
 /// Where the vertical pass is: row y of plane c, in a w x h image, radius r, the ring of rows.
 struct RowAt {
     int w, h, r, ring, c, y;
@@ -64,6 +94,41 @@ DEEPSEA_CLONES_NO_FMA
 void vertical_row(const RowAt& at, int k0, int k1, const float* __restrict g,
                   const float* __restrict rows, const Fade* fade, float* __restrict dst) {
     const int w = at.w, h = at.h, y = at.y;
+    if (!fade && k1 - k0 < kMaxTaps) {
+        // 32 and then 8 columns at a time through every row, the sums in registers (as
+        // convolve_row)
+        const float* in[kMaxTaps];
+        float gk[kMaxTaps];
+        for (int k = k0; k <= k1; ++k) {
+            in[k - k0] = rows + std::size_t(std::clamp(y + k, 0, h - 1) % at.ring) * w;
+            gk[k - k0] = g[k + at.r] * at.ny;
+        }
+        const int taps = k1 - k0 + 1;
+        int x = 0;
+        for (; x + 32 <= w; x += 32) {
+            Float8 s0 = {}, s1 = {}, s2 = {}, s3 = {};
+            for (int k = 0; k < taps; ++k) {
+                const float* p = in[k] + x;
+                s0 += gk[k] * load8(p);
+                s1 += gk[k] * load8(p + 8);
+                s2 += gk[k] * load8(p + 16);
+                s3 += gk[k] * load8(p + 24);
+            }
+            std::memcpy(dst + x, &s0, sizeof s0);
+            std::memcpy(dst + x + 8, &s1, sizeof s1);
+            std::memcpy(dst + x + 16, &s2, sizeof s2);
+            std::memcpy(dst + x + 24, &s3, sizeof s3);
+        }
+        for (; x + 8 <= w; x += 8) {
+            Float8 sum = {};
+            for (int k = 0; k < taps; ++k) sum += gk[k] * load8(in[k] + x);
+            std::memcpy(dst + x, &sum, sizeof sum);
+        }
+        for (int i = x; i < w; ++i) dst[i] = 0.0f;
+        for (int k = 0; k < taps; ++k)
+            for (int i = x; i < w; ++i) dst[i] += gk[k] * in[k][i];
+        return;
+    }
     std::fill(dst, dst + w, 0.0f);
     for (int k = k0; k <= k1; ++k) {
         const float gk = g[k + at.r] * at.ny;
@@ -157,6 +222,12 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
             if (store == Store::Add) add_row(w, dst, out);
         }
     });
+}
+
+DEEPSEA_CLONES_NO_FMA
+void add_planes(std::size_t n, const float* __restrict src, float* __restrict dst) {
+#pragma omp simd
+    for (std::size_t i = 0; i < n; ++i) dst[i] += src[i];
 }
 
 /// dst[x] = a[x] + t (b[x] - a[x]): a row between two rows.

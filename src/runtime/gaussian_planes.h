@@ -56,6 +56,15 @@ void blur_planes(const Source& src, float* dst_planes, double sigma, std::vector
                  std::vector<float>& nx, std::vector<float>& ny, Store store = Store::Set,
                  Edge edge = Edge::Normalise, const Fade* fade = nullptr);
 
+/// A Gaussian (pixels) narrower than this has taps beside the centre holding at most 1e-9 of
+/// its weight (2 exp(-1 / (2 sigma^2)) <= 8e-10 at 0.152): blurring by it changes a value by at
+/// most 1e-9 of the image's maximum (each pass moves at most its side taps' share of the largest
+/// neighbour), below a float's resolution of 6e-8, so the blur can be left out.
+inline constexpr double kIdentitySigma = 0.152;
+
+/// dst[i] += src[i], n floats (an unblurred plane added where blur_planes would add its blur).
+void add_planes(std::size_t n, const float* src, float* dst);
+
 /// dst = a + t (b - a), n floats.
 void lerp_rows(int n, const float* a, const float* b, float t, float* dst);
 

@@ -96,6 +96,13 @@ public:
     /// the forward layer's maximum). Off: every pixel at its own distance (the exact path the
     /// tests compare with).
     void set_block_distances(bool on) { m_block_tol = on ? kBlockTolerance : -1.0f; }
+    /// Unblurred fine scales (on by default): a scale whose Gaussian on its grid is narrower
+    /// than planes::kIdentitySigma (the 1 px scale: 0.15 cells, its taps beside the centre
+    /// 2.3e-10 of its weight) is added to its grid without the blur (docs/runtime.md, "Bounded
+    /// approximations": within 1e-9 of the forward layer's maximum). Off: blurred (the exact path).
+    void set_identity_blurs(bool on) { m_identity_blurs = on; }
+    /// The scales the last prepare() added unblurred (set_identity_blurs).
+    int unblurred_scales() const { return m_unblurred; }
     /// The largest spread of a block's distances, relative to its nearest, weighed at their mean.
     static constexpr float kBlockTolerance = 0.02f;
     /// The weight of scale j at distance d (m) that the last prepare() applied: its tables'
@@ -163,6 +170,8 @@ private:
     std::vector<float> m_sharp;
     Rgb m_c;                              ///< the water's beam attenuation, 1/m
     float m_block_tol = kBlockTolerance;  ///< block distances' tolerance, < 0: off
+    bool m_identity_blurs = true;         ///< set_identity_blurs
+    int m_unblurred = 0;                  ///< unblurred_scales
     int m_rung = -1;                      ///< ladder rung of the current table (-1: none yet)
     /// Tables of other rungs that earlier frames needed, kept (a few kB each; at most one per
     /// rung up to the distance where every weight is negligible, about a hundred).

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "deepsea/asset/asset_file.h"
@@ -24,6 +25,7 @@
 #include "deepsea/runtime/asset_backscatter.h"
 #include "deepsea/runtime/compositor.h"
 #include "deepsea/runtime/exposure.h"
+#include "deepsea/runtime/forward_psf_blur.h"
 #include "deepsea/runtime/lamps.h"
 #include "deepsea/scene/flight.h"
 #include "runtime_fixtures.h"
@@ -156,6 +158,63 @@ TEST(Approximations, RealFramesStayWithinTheirBounds) {
         frame.depth = read_depth((dir / (std::string(name) + "_depth.exr")).string());
         expect_within_bounds(compare(demo_camera(), with_forward("deep:clear"), frame),
                              std::string("real ") + name + ", deep:clear");
+    }
+}
+
+TEST(Approximations, TheOnePixelScaleIsAddedUnblurred) {
+    // ForwardPsfBlur::set_identity_blurs alone (block distances off in both): the 1 px scale's
+    // Gaussian of 0.15 cells left out moves F by 1e-9 of its maximum (its taps beside the
+    // centre) plus float rounding; on the seafloor, a plane with a depth step 0.3 m away and
+    // stripes of open water, in clear and turbid water, at 400 px and on a 64x48 camera, and
+    // the authors' frames 1 and 5
+    FlightParams fp;
+    fp.camera = Camera{400, 400, 300.0, 300.0, 200.0, 200.0};
+    std::vector<std::pair<Camera, Frame>> frames{{fp.camera, render_flight_frame(fp, 1)}};
+    for (const Camera& cam : {fp.camera, Camera{64, 48, 48.0, 48.0, 31.5, 23.5}}) {
+        const testing::PlaneScene p = testing::plane_scene(cam, 0.3);
+        Frame f;
+        f.rgb = p.rgb;
+        f.depth = p.depth;
+        for (int v = 0; v < cam.height; v += 7)  // rows of open water
+            for (int u = 0; u < cam.width; ++u) f.depth.at(u, v) = 0.0f;
+        frames.emplace_back(cam, f);
+    }
+    const std::filesystem::path dir =
+        std::filesystem::path(DEEPSEA_SHARED_DATA) / "rgbd" / "seafloor-descent";
+    for (const char* name : {"frame_0001", "frame_0005"}) {  // the authors' frames, where present
+        if (!std::filesystem::exists(dir / (std::string(name) + ".png"))) continue;
+        Frame f;
+        f.rgb = read_color((dir / (std::string(name) + ".png")).string());
+        f.depth = read_depth((dir / (std::string(name) + "_depth.exr")).string());
+        frames.emplace_back(demo_camera(), f);
+    }
+    for (auto& [cam, frame] : frames) {
+        // distances as the compositor hands them over: open water (NaN, inf, <= 0) as 0
+        for (float& z : frame.depth.data) z = z > 0.0f && z < 1e30f ? z : 0.0f;
+        for (const char* water : {"deep:clear", "jerlov:5C"}) {
+            const ForwardPsf psf(with_forward(water), cam.fx, cam.width, cam.height);
+            ForwardPsfBlur fast(psf), exact(psf);
+            fast.set_block_distances(false);
+            exact.set_block_distances(false);
+            exact.set_identity_blurs(false);
+            fast.prepare(frame.rgb, frame.depth);
+            exact.prepare(frame.rgb, frame.depth);
+            EXPECT_EQ(fast.unblurred_scales(), 1) << water;  // the shortcut was taken
+            EXPECT_EQ(exact.unblurred_scales(), 0) << water;
+            std::vector<float> a(3 * std::size_t(cam.width)), b(a.size());
+            double peak = 0.0, diff = 0.0;
+            for (int v = 0; v < cam.height; ++v) {
+                exact.row(v, a.data());
+                fast.row(v, b.data());
+                for (std::size_t i = 0; i < a.size(); ++i) {
+                    peak = std::max(peak, double(std::fabs(a[i])));
+                    diff = std::max(diff, double(std::fabs(a[i] - b[i])));
+                }
+            }
+            std::printf("%dx%d, %s: unblurred 1 px scale %.2e of F's max\n", cam.width, cam.height,
+                        water, diff / peak);
+            EXPECT_LE(diff, 1e-7 * peak) << water;
+        }
     }
 }
 

@@ -1,6 +1,7 @@
 // The forward scatter's block distances (forward_psf_rows.h, weigh_block_pairs) against the
 // pixel-by-pixel weighing: blocks that are not on one surface keep its bits, blocks at one
-// distance its sums. And f_row's four pixels at a time against its pixel-by-pixel end.
+// distance its sums. And f_row's four pixels at a time against its pixel-by-pixel end; the
+// interleaved padded rows and the block pyramid's pair sums against their plain definitions.
 
 #include "forward_psf_rows.h"
 
@@ -156,6 +157,58 @@ TEST(FRow, EveryPixelIsItsWeightTimesItsRadianceAndTheGridUpsampled) {
                                         (odd ? 0.25 : 0.75) * (g1 - g0);
                     ASSERT_NEAR(out[3 * u + c], want, 1e-6 * std::fabs(want))
                         << "pixel " << u << ", channel " << c << (add ? ", added" : "");
+                }
+            }
+        }
+    }
+}
+
+TEST(PaddedRgbRow, HasTheBitsOfAPaddedRowAPlane) {
+    // f_row's grid row: three planes' rows blended and interleaved four cells at a time, the
+    // rest one by one, the ends padded or (extend) continued, held >= 0 beyond the grid
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> value(-0.2f, 1.0f);
+    for (const int n : {1, 2, 5, 8, 37}) {
+        std::vector<float> r0(3 * std::size_t(n)), r1(3 * std::size_t(n));
+        for (float& x : r0) x = value(rng);
+        for (float& x : r1) x = value(rng);
+        const float* a[3] = {r0.data(), r0.data() + n, r0.data() + 2 * n};
+        const float* b[3] = {r1.data(), r1.data() + n, r1.data() + 2 * n};
+        for (const float w : {0.25f, 0.75f, -0.25f, 1.25f}) {
+            for (const bool extend : {false, true}) {
+                std::vector<float> want(4 * std::size_t(n + 2), 0.0f), got(want.size(), -1.0f);
+                for (int c = 0; c < 3; ++c)
+                    padded_row(n, a[c], b[c], w, 4, extend, want.data() + c);
+                padded_rgb_row(n, a, b, w, extend, got.data());
+                for (std::size_t i = 0; i < want.size(); ++i)
+                    ASSERT_EQ(got[i], want[i]) << "n " << n << ", w " << w << ", float " << i;
+            }
+        }
+    }
+}
+
+TEST(PairSums, AddEachPairOfBlocksLaneByLane) {
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> value(0.0f, 1.0f);
+    for (const int stride : {4, 8, 12, 16, 20, kMaxStride}) {
+        const int lanes = 3 * stride;
+        for (const int n : {1, 6, 7}) {
+            std::vector<float> src(std::size_t(n) * lanes), start(std::size_t(n + 1) / 2 * lanes);
+            for (float& x : src) x = value(rng);
+            for (float& x : start) x = value(rng);
+            for (const bool add : {false, true}) {
+                std::vector<float> dst = start;
+                pair_sums(n, stride, src.data(), add, dst.data());
+                for (int i = 0; i < (n + 1) / 2; ++i) {
+                    for (int k = 0; k < lanes; ++k) {
+                        // adding, (d + s0) + s1: the order of the kernel it replaced
+                        const float* s = src.data() + std::size_t(2 * i) * lanes + k;
+                        const float d = start[std::size_t(i) * lanes + k];
+                        const bool pair = 2 * i + 1 < n;
+                        const float want = add ? (pair ? (d + s[0]) + s[lanes] : d + s[0])
+                                               : (pair ? s[0] + s[lanes] : s[0]);
+                        ASSERT_EQ(dst[std::size_t(i) * lanes + k], want) << stride << " " << i;
+                    }
                 }
             }
         }
