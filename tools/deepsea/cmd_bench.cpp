@@ -158,10 +158,12 @@ std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const Bench
 /// bench does not spend minutes generating scenes), three runs, the median reported with the
 /// frame rate and the CPU time per frame (user + system, all threads). The "-camera" cases
 /// record the frames with the setup's camera stage (or the default camera model), as
-/// `render --camera` does. Beside the whole run's rate (its start included: the compositor's
-/// making, the exposure, the pipeline's fill), the steady rate: wall and CPU time from the
-/// kSteadyFrom-th frame written to the last (the drain included), over the frames in between,
-/// as the sequence's progress reports them. A user's sequence of 10^4 frames runs at that rate.
+/// `render --camera` does; the "-camera-snow-shadows" cases also cast lamp shadows and draw the
+/// abyssal marine snow, as `deepsea demo` does. Beside the whole run's rate (its start included:
+/// the compositor's making, the exposure, the pipeline's fill), the steady rate: wall and CPU time
+/// from the kSteadyFrom-th frame written to the last (the drain included), over the frames in
+/// between, as the sequence's progress reports them. A user's sequence of 10^4 frames runs at that
+/// rate.
 std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const BenchArgs& a,
                                  int threads, const std::optional<CameraModel>& model) {
     if (!wanted(a.cases, "sequence-png") && !wanted(a.cases, "sequence-jpeg")) return {};
@@ -176,11 +178,14 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
         write_depth_exr((tmp.dir / ("f" + std::to_string(i) + "_depth.exr")).string(), f.depth);
     }
     std::vector<Case> cases;
+    // the plain frame, with the camera stage, and as `deepsea demo` renders it: the camera
+    // stage, lamp shadows and the demo's abyssal marine snow (drawn afresh per frame: no poses)
     for (const char* ext : {".png", ".jpg"}) {
-        for (const bool camera : {false, true}) {
+        for (const char* variant : {"", "-camera", "-camera-snow-shadows"}) {
             const std::string name =
                 std::string(ext == std::string(".png") ? "sequence-png" : "sequence-jpeg") +
-                (camera ? "-camera" : "");
+                variant;
+            const bool camera = *variant != 0, look = std::string(variant).size() > 7;
             if (!wanted(a.cases, name)) continue;
             std::vector<FrameJob> jobs;
             for (int i = 0; i < kFrames; ++i) {
@@ -198,6 +203,10 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
             if (camera) {
                 opt.camera_model = model ? *model : CameraModel{};
                 opt.layer_output.camera = true;
+            }
+            if (look) {
+                opt.shadows = true;
+                opt.snow = cli::snow_settings("abyssal", 1, opt.camera_model);
             }
             double steady_wall0 = 0, steady_cpu0 = 0;
             opt.progress = [&](long done, long) {
@@ -332,7 +341,8 @@ void setup_bench(CLI::App& sub) {
         "lamps cast shadows), shadows (lamp shadows alone; shadows-exact: the full-resolution "
         "sweep; shadows-survey: on the close survey's frame), stage, camera "
         "(camera, camera-layers, camera-codes, camera-lens), sequence-png, sequence-jpeg (each "
-        "also -camera: with the setup's camera stage)");
+        "also -camera: with the setup's camera stage; -camera-snow-shadows: as the demo renders, "
+        "with lamp shadows and abyssal marine snow besides)");
     sub.add_flag("--json", a->json, "print JSON for scripts");
     sub.callback([a] { run(*a); });
 }
