@@ -55,14 +55,7 @@ void plane_frame(const Camera& cam, double z, const IrradianceSource& lamps, Ima
 
 /// validate.py's coastal water (c 0.35-0.6, b 0.3, HG 0.9), forward scatter from the phase
 /// function.
-Water coastal_water() {
-    Water w;
-    w.c = Rgb(0.6, 0.4, 0.35);
-    w.b = Rgb(0.3, 0.3, 0.3);
-    w.phase = {PhaseKind::HenyeyGreenstein, 0.9};
-    w.forward = phase_function_forward_scatter();
-    return w;
-}
+Water coastal_water() { return testing::hg_water(Rgb(0.6, 0.4, 0.35), Rgb(0.3, 0.3, 0.3), 0.9); }
 
 /// validate.py's auv rig: a 20 degree lamp 0.7 m above and 0.2 m behind the camera, a warm
 /// 15 degree side lamp.

@@ -39,16 +39,20 @@ inline Water ib_with_forward() {
     return w;
 }
 
-/// validate.py's turbid water (c about 1, b about 0.8, HG 0.85), forward scatter from the phase
-/// function: the forward-scatter tests' scene beyond the frame.
-inline Water turbid_water() {
+/// A water of beam attenuation c and scattering b (1/m) with a Henyey-Greenstein phase
+/// function of asymmetry g, forward scatter from the phase function.
+inline Water hg_water(const Rgb& c, const Rgb& b, double g) {
     Water w;
-    w.c = Rgb(1.0, 0.95, 1.05);
-    w.b = Rgb(0.8, 0.78, 0.82);
-    w.phase = {PhaseKind::HenyeyGreenstein, 0.85};
+    w.c = c;
+    w.b = b;
+    w.phase = {PhaseKind::HenyeyGreenstein, g};
     w.forward = phase_function_forward_scatter();
     return w;
 }
+
+/// validate.py's turbid water (c about 1, b about 0.8, HG 0.85): the forward-scatter tests'
+/// scene beyond the frame.
+inline Water turbid_water() { return hg_water(Rgb(1.0, 0.95, 1.05), Rgb(0.8, 0.78, 0.82), 0.85); }
 
 /// turbid_water()'s transport table (8192 paths, depths to 4 m), blurred for a W x H frame at
 /// fx px a radian: the forward-scatter tests' blur.
