@@ -1,8 +1,8 @@
 #pragma once
 // Internal to batch: keeps a sequence's manifests up to date from a thread of its own, so that
-// their write and fsync (7.5 ms median, up to 19 ms each, measured with strace on a 16-frame
-// render) never hold the pipeline's lock nor a pipeline thread (docs/sequences.md, "The
-// manifest").
+// their write and fsync (about 1 ms median, up to 40 ms, in `strace -f -T` of 32-frame
+// renders of the authors' frames on this project's machine) never hold the pipeline's lock
+// nor a pipeline thread (docs/sequences.md, "The manifest").
 
 #include <condition_variable>
 #include <exception>
@@ -24,8 +24,8 @@ namespace deepsea {
 ///
 /// Why a thread of its own and not every N frames or T ms: the fsync blocks in the kernel
 /// without using a core, so a thread outside TBB's arena keeps both pipeline threads reading
-/// and compositing, the manifest lags the frames by one write at most (about 8 ms, whatever
-/// the frame rate), and a render of any length needs no tuning.
+/// and compositing, the manifest lags the frames by one write at most (whatever the frame
+/// rate), and a render of any length needs no tuning.
 class ManifestWriter {
 public:
     /// Writes one manifest wherever it belongs (each output folder); may throw.

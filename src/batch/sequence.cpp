@@ -262,10 +262,11 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     std::atomic<bool> stop{opt.progress && !opt.progress(0, int(jobs.size()))};
     // The manifest files are written outside `mutex`, by the writer's thread, from copies of
     // `record` taken under it: the reader needs `mutex` for a free slot, and a manifest's
-    // fsync (7.5 ms median) held it after every frame. Copies are posted in the order frames
-    // finish, so the count on disk only grows and never counts a frame not yet written.
+    // fsync (milliseconds, tens on a busy disk) held it after every frame. Copies are posted
+    // in the order frames finish, so the count on disk only grows and never counts a frame
+    // not yet written.
     ManifestWriter manifests(opt.manifests);
-    const auto snapshot = [&] {  // with `mutex` held
+    const auto snapshot = [&]() -> const SequenceManifest& {  // with `mutex` held
         record.frames_done = result.written + result.skipped;
         return record;
     };
