@@ -20,6 +20,7 @@
 #include "deepsea/core/error.h"
 #include "deepsea/io/config.h"
 #include "deepsea/runtime/renderer.h"
+#include "manifest_writer.h"
 
 namespace deepsea {
 
@@ -257,11 +258,17 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
     std::vector<Slot*> free_slots;
     for (Slot& slot : slots) free_slots.push_back(&slot);
     int next = 0, done = 0;
-    std::mutex mutex;  // result, record, the manifest files and free_slots
+    std::mutex mutex;  // result, record and free_slots
     std::atomic<bool> stop{opt.progress && !opt.progress(0, int(jobs.size()))};
-    const auto write_manifests = [&] {
+    // The manifest files are written outside `mutex`, by the writer's thread, from copies of
+    // `record` taken under it: the reader needs `mutex` for a free slot, and a manifest's
+    // fsync (milliseconds, tens on a busy disk) held it after every frame. Copies are posted
+    // in the order frames finish, so the count on disk only grows and never counts a frame
+    // not yet written.
+    ManifestWriter manifests(opt.manifests);
+    const auto snapshot = [&]() -> const SequenceManifest& {  // with `mutex` held
         record.frames_done = result.written + result.skipped;
-        for (const std::string& path : opt.manifests) write_manifest(path, record);
+        return record;
     };
 
     tbb::parallel_pipeline(
@@ -367,12 +374,17 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                                                       }),
                                        meta.end());
                         }
-                        // Before the first output: a kill from here on leaves manifests
-                        // that hold the exposure of every frame written. A manifest that
-                        // cannot be written stops everything.
-                        std::lock_guard<std::mutex> lock(mutex);
-                        record.exposure = exposure;
-                        write_manifests();
+                        // Before the first output (this filter is serial and the writers
+                        // take only frames it has passed): a kill from here on leaves
+                        // manifests that hold the exposure of every frame written. A
+                        // manifest that cannot be written stops everything.
+                        SequenceManifest first;
+                        {
+                            std::lock_guard<std::mutex> lock(mutex);
+                            record.exposure = exposure;
+                            first = snapshot();
+                        }
+                        manifests.write_now(first);
                         recorded = true;
                     }
                     return s;
@@ -399,7 +411,7 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 } else if (s->error.empty()) {
                     ++result.written;
                     if (camera && camera->controller()) camera->written(s->line);
-                    write_manifests();
+                    manifests.post(snapshot());
                 } else {
                     result.errors.push_back(s->error);
                     result.error_codes.push_back(s->error_code);
@@ -409,7 +421,14 @@ SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& 
                 if (opt.progress && !opt.progress(done, int(jobs.size()))) stop = true;
             }));
 
-    if (recorded) write_manifests();
+    // The last manifest on this thread, after those posted: every frame of the run is counted
+    // when this returns, and the file's bytes are those of a write after every frame.
+    if (recorded) {
+        std::unique_lock<std::mutex> lock(mutex);  // (the pipeline's threads are done)
+        const SequenceManifest last = snapshot();
+        lock.unlock();
+        manifests.write_now(last);
+    }
     result.interrupted = done < int(jobs.size());
     result.exposure = exposure;
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

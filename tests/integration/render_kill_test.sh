@@ -62,6 +62,21 @@ for sig in INT TERM KILL; do
       || { echo "FAIL SIG$sig: stderr:"; cat "$work/$sig.err"; exit 1; }
     [[ $hidden -eq 0 ]] || { echo "FAIL SIG$sig: hidden files left:"; find "$out" -name '.*'; exit 1; }
   fi
+  # Each folder's manifest is whole (written to a temporary and renamed) and never counts a
+  # frame whose outputs are not all there (the manifests are written from a thread of their
+  # own as frames finish); after INT or TERM its last write counts every frame written.
+  /usr/bin/python3 - "$out" "$sig" <<'PY'
+import json, os, sys
+out, sig = sys.argv[1:]
+stems = lambda d, ext: {f[:-len(ext)] for f in os.listdir(d) if f.startswith("frame_") and f.endswith(ext)}
+both = len(stems(out + "/img", ".png") & stems(out + "/layers", ".exr"))
+for d in ("img", "layers"):
+    m = json.load(open(os.path.join(out, d, "deepsea-sequence.json")))
+    done = m["frames"]["done"]
+    assert m["frames"]["total"] == 10 and m["exposure"]["factor"] > 0, (d, m)
+    assert done <= both, f"SIG{sig}: {d}/deepsea-sequence.json counts {done} frames, {both} complete"
+    assert sig == "KILL" or done == both, f"SIG{sig}: {d}: done {done}, {both} frames written"
+PY
   (render "$sig" --resume >"$work/$sig.resume")
   grep -q "failed 0" "$work/$sig.resume"
   cat "$work/$sig.resume"

@@ -98,6 +98,33 @@ for f in sys.argv[2:]:
     assert spec.getattribute("deepsea:asset_hash") == m["asset_hash"], f
 PY
 cmp "$m" "$work/lay/deepsea-sequence.json"
+# The whole manifest, byte for byte, as a write after every frame made it (the manifests are
+# written from a thread of their own; the last write must still count every frame): every
+# key's value, nlohmann's layout (sorted keys, two-space indent, doubles as Python's repr).
+/usr/bin/python3 - "$m" "$work/seq/frame_0001.png" "$work/in" <<'PY'
+import json, sys
+import OpenImageIO as oiio
+path, png, inputs = sys.argv[1:]
+spec = oiio.ImageInput.open(png).spec()
+expected = {
+    "asset_hash": spec.getattribute("deepsea:asset_hash"),
+    "camera": {"cx": 159.5, "cy": 119.5, "fx": 240.0, "fy": 240.0, "height": 240, "width": 320},
+    "camera_stage": "none",
+    "deepsea_version": spec.getattribute("deepsea:version"),
+    "exposure": {"chosen_on": inputs + "/frame_0001.png",
+                 "factor": float(spec.getattribute("deepsea:exposure")),
+                 "max_clipped": 0.005, "mode": "auto", "percentile": 0.995, "target": 0.85},
+    "format": 1,
+    "frames": {"done": 3, "total": 3},
+    "inputs": {"depth": inputs + "/*_depth.exr", "rgb": inputs + "/*.png"},
+    "outputs": {"bits": 8, "half": False, "image": "png", "layers": "all"},
+    "port": "none",
+    "settings": {"depth_channel": "", "depth_kind": "z", "depth_scale": 0.001, "forward": True},
+}
+text = open(path).read()
+want = json.dumps(expected, indent=2, sort_keys=True) + "\n"
+assert text == want, "manifest differs:\n" + text + "\nexpected:\n" + want
+PY
 [[ -z $(find "$work/seq" "$work/lay" -name '.*') ]] || { echo "FAIL: hidden files left"; exit 1; }
 # --resume: exact counts; a 0-byte image, a cut layer file and a missing one are redone,
 # with the exposure of the manifest.

@@ -95,11 +95,13 @@ ImageMetadata camera_metadata(const CameraOutput& recorded, std::uint64_t frame_
 /// Renders every job; a frame that cannot be read or written is reported in `errors` and
 /// skipped, the rest are written. With manifests, reads them first (check_same_inputs, and
 /// check_resumable with --resume, whose exposure it keeps), writes them once the exposure is
-/// known, before the first output, and after every frame. Throws only for problems that stop
-/// every frame: the asset does not fit the first frame's camera (AssetError naming the frame; a
-/// later frame that does not fit fails alone), a manifest refuses the run, or
-/// --resume finds frames but no manifest to take their exposure from, or the exposure_frame
-/// fails (its error, naming it).
+/// known, before the first output, as frames finish (from a thread of their own, outside the
+/// pipeline's lock: frames that finish during a write are counted by the next,
+/// docs/sequences.md) and at the end, counting every frame. Throws only for problems that
+/// stop every frame: the asset does not fit the first frame's camera (AssetError naming the
+/// frame; a later frame that does not fit fails alone), a manifest refuses the run, or --resume
+/// finds frames but no manifest to take their exposure from, or the exposure_frame fails (its
+/// error, naming it).
 SequenceResult render_sequence(const Asset& asset, const std::vector<FrameJob>& jobs,
                                const SequenceOptions& opt);
 

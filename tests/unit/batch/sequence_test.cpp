@@ -9,6 +9,7 @@
 
 #include "../runtime/runtime_fixtures.h"
 #include "deepsea/bake/bake.h"
+#include "deepsea/batch/frame_files.h"
 #include "deepsea/batch/sequence_manifest.h"
 #include "deepsea/core/error.h"
 
@@ -151,6 +152,53 @@ TEST(Sequence, ManifestKeepsTheExposureForResume) {
     fs::remove(d.jobs[0].output);
     EXPECT_THROW(render_sequence(other, d.jobs, opt), ConfigError);
     EXPECT_FALSE(fs::exists(d.jobs[0].output));
+}
+
+// The manifests are written from a thread of their own as frames finish: at every moment the
+// count on disk is one of frames whose outputs are complete, it never goes back, and at the
+// end both folders' manifests count every frame and are the same bytes.
+TEST(Sequence, ManifestNeverCountsAFrameNotOnDiskAndEndsWithEveryFrame) {
+    const int n = 12;
+    SequenceDir d("manifest-async", n);
+    fs::create_directories(d.dir / "lay");
+    for (int i = 0; i < n; ++i)
+        d.jobs[i].layers = (d.dir / "lay" / ("f" + std::to_string(i) + ".exr")).string();
+    SequenceOptions opt;
+    opt.manifests = {(d.dir / "out" / kManifestName).string(),
+                     (d.dir / "lay" / kManifestName).string()};
+    opt.rgb_pattern = (d.dir / "*.png").string();
+    opt.depth_pattern = (d.dir / "*_depth.exr").string();
+    opt.version = "test";
+    int last = 0, checks = 0;
+    opt.on_frame = [&](const FrameJob&, bool) {  // one at a time, after the frame's outputs
+        for (const std::string& path : opt.manifests) {
+            const int counted = read_manifest(path).frames_done;
+            int complete = 0;
+            for (const FrameJob& j : d.jobs) complete += outputs_complete(j, opt.layer_output);
+            EXPECT_LE(counted, complete) << path << " counts a frame not on disk";
+            if (path == opt.manifests[0]) {
+                EXPECT_GE(counted, last) << "the manifest went back";
+                last = counted;
+            }
+            ++checks;
+        }
+    };
+    const SequenceResult r = render_sequence(d.asset, d.jobs, opt);
+    ASSERT_EQ(r.written, n);
+    EXPECT_EQ(checks, 2 * n);
+    const auto text = [](const std::string& path) {
+        std::ifstream f(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(f), {});
+    };
+    const SequenceManifest m = read_manifest(opt.manifests[0]);
+    EXPECT_EQ(m.frames_done, n);
+    EXPECT_EQ(m.frames_total, n);
+    EXPECT_EQ(m.exposure, r.exposure);
+    EXPECT_EQ(m.exposure_frame, d.jobs[0].rgb);
+    EXPECT_EQ(text(opt.manifests[0]), manifest_to_json(m));
+    EXPECT_EQ(text(opt.manifests[0]), text(opt.manifests[1]));
+    for (const auto& e : fs::directory_iterator(d.dir / "out"))
+        EXPECT_NE(e.path().filename().string()[0], '.') << "left behind: " << e.path();
 }
 
 TEST(Sequence, ProgressSayingStopEndsAfterTheFramesInFlight) {
