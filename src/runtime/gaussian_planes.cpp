@@ -28,24 +28,23 @@ void inside_weights(int n, const std::vector<float>& g, int r, std::vector<float
     }
 }
 
-/// The horizontal pass of G_sigma, unnormalised, over a row padded with r zeros on each side:
-///   dst[x] = sum_(k = -r)^(r) g_k src[x + k],  g_k = exp(-k^2 / (2 sigma^2)).
-/// Thirty-two outputs at a time (then eight), their sums held in registers through every tap
-/// (the taps in the same order, each added as before: the same bits as a pass over the row per
-/// tap, with a tap's weight loaded once for them all).
-DEEPSEA_CLONES
-void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
-                  const float* __restrict g, int r) {
+/// dst[x] = sum_(k < taps) gk[k] row(k)[x] for x < n: thirty-two outputs at a time (then
+/// eight), their sums held in registers through every tap (the taps in the same order, each
+/// added as before: the same bits as a pass over the row per tap, with a tap's weight loaded
+/// once for them all); the last n % 8 tap by tap (a sum over taps per output would be
+/// reassociated). Inlined into each pass, which keeps its own clones' rounding.
+template <class Row>
+[[gnu::always_inline]] inline void tap_sums(int n, int taps, const float* __restrict gk, Row row,
+                                            float* __restrict dst) {
     int x = 0;
     for (; x + 32 <= n; x += 32) {
         Float8 s0 = {}, s1 = {}, s2 = {}, s3 = {};
-        for (int k = 0; k <= 2 * r; ++k) {
-            const float gk = g[k];
-            const float* p = padded + x + k;
-            s0 += gk * load8(p);
-            s1 += gk * load8(p + 8);
-            s2 += gk * load8(p + 16);
-            s3 += gk * load8(p + 24);
+        for (int k = 0; k < taps; ++k) {
+            const float* p = row(k) + x;
+            s0 += gk[k] * load8(p);
+            s1 += gk[k] * load8(p + 8);
+            s2 += gk[k] * load8(p + 16);
+            s3 += gk[k] * load8(p + 24);
         }
         std::memcpy(dst + x, &s0, sizeof s0);
         std::memcpy(dst + x + 8, &s1, sizeof s1);
@@ -54,13 +53,21 @@ void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
     }
     for (; x + 8 <= n; x += 8) {
         Float8 sum = {};
-        for (int k = 0; k <= 2 * r; ++k) sum += g[k] * load8(padded + x + k);
+        for (int k = 0; k < taps; ++k) sum += gk[k] * load8(row(k) + x);
         std::memcpy(dst + x, &sum, sizeof sum);
     }
-    // the last n % 8 tap by tap (a sum over taps per output would be reassociated)
     for (int i = x; i < n; ++i) dst[i] = 0.0f;
-    for (int k = 0; k <= 2 * r; ++k)
-        for (int i = x; i < n; ++i) dst[i] += g[k] * padded[i + k];
+    for (int k = 0; k < taps; ++k)
+        for (int i = x; i < n; ++i) dst[i] += gk[k] * row(k)[i];
+}
+
+/// The horizontal pass of G_sigma, unnormalised, over a row padded with r zeros on each side:
+///   dst[x] = sum_(k = -r)^(r) g_k src[x + k],  g_k = exp(-k^2 / (2 sigma^2)).
+DEEPSEA_CLONES
+void convolve_row(const float* __restrict padded, float* __restrict dst, int n,
+                  const float* __restrict g, int r) {
+    const auto row = [padded](int k) { return padded + k; };
+    tap_sums(n, 2 * r + 1, g, row, dst);
 }
 
 /// dst[x] *= s[x].
@@ -95,38 +102,15 @@ void vertical_row(const RowAt& at, int k0, int k1, const float* __restrict g,
                   const float* __restrict rows, const Fade* fade, float* __restrict dst) {
     const int w = at.w, h = at.h, y = at.y;
     if (!fade && k1 - k0 < kMaxTaps) {
-        // 32 and then 8 columns at a time through every row, the sums in registers (as
-        // convolve_row)
+        // the sums in registers through every row (tap_sums, as convolve_row)
         const float* in[kMaxTaps];
         float gk[kMaxTaps];
         for (int k = k0; k <= k1; ++k) {
             in[k - k0] = rows + std::size_t(std::clamp(y + k, 0, h - 1) % at.ring) * w;
             gk[k - k0] = g[k + at.r] * at.ny;
         }
-        const int taps = k1 - k0 + 1;
-        int x = 0;
-        for (; x + 32 <= w; x += 32) {
-            Float8 s0 = {}, s1 = {}, s2 = {}, s3 = {};
-            for (int k = 0; k < taps; ++k) {
-                const float* p = in[k] + x;
-                s0 += gk[k] * load8(p);
-                s1 += gk[k] * load8(p + 8);
-                s2 += gk[k] * load8(p + 16);
-                s3 += gk[k] * load8(p + 24);
-            }
-            std::memcpy(dst + x, &s0, sizeof s0);
-            std::memcpy(dst + x + 8, &s1, sizeof s1);
-            std::memcpy(dst + x + 16, &s2, sizeof s2);
-            std::memcpy(dst + x + 24, &s3, sizeof s3);
-        }
-        for (; x + 8 <= w; x += 8) {
-            Float8 sum = {};
-            for (int k = 0; k < taps; ++k) sum += gk[k] * load8(in[k] + x);
-            std::memcpy(dst + x, &sum, sizeof sum);
-        }
-        for (int i = x; i < w; ++i) dst[i] = 0.0f;
-        for (int k = 0; k < taps; ++k)
-            for (int i = x; i < w; ++i) dst[i] += gk[k] * in[k][i];
+        const auto row = [&in](int k) { return in[k]; };
+        tap_sums(w, k1 - k0 + 1, gk, row, dst);
         return;
     }
     std::fill(dst, dst + w, 0.0f);
