@@ -4,6 +4,9 @@
 // rendered frame's final radiance layer (EXR) recorded `frames` times at a size (nearest resample),
 // so that the instructions per frame are (N frames - 1 frame) / (N - 1) with the process's start,
 // the file and the stage's fixed patterns cancelling. Built and run by scripts/camera-callgrind.sh.
+// An optional fifth argument records other layers: `codes` (the 8-bit codes of a PNG or JPEG
+// sequence, the bench's camera-codes), `meter` (the codes and the auto-exposure meter's
+// histogram, as a sequence with auto exposure records them).
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
@@ -11,6 +14,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "deepsea/camera/camera_stage.h"
@@ -37,8 +41,9 @@ Image load_final(const char* path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (argc != 5) {
-        std::fprintf(stderr, "usage: camera_callgrind layers.exr width height frames\n");
+    if (argc != 5 && argc != 6) {
+        std::fprintf(stderr,
+                     "usage: camera_callgrind layers.exr width height frames [codes|meter]\n");
         return 2;
     }
     const Image src = load_final(argv[1]);
@@ -63,8 +68,14 @@ int main(int argc, char** argv) {
         model.sensor.full_well / (white * probe.electrons_per_radiance(1, 1.0));
     const CameraStage stage(model, cam);
     CameraOutput out;
-    for (int k = 0; k < frames; ++k) stage.apply(out, rad, std::uint64_t(k), CameraLayerSet{});
-    unsigned long long hash = 0;  // of the last frame's image, to compare builds
+    CameraLayerSet layers;
+    const std::string what = argc == 6 ? argv[5] : "";
+    layers.codes8 = what == "codes" || what == "meter";
+    layers.meter = what == "meter";
+    for (int k = 0; k < frames; ++k) stage.apply(out, rad, std::uint64_t(k), layers);
+    unsigned long long hash = 0;  // of the last frame's image, codes and meter, to compare builds
     for (const float x : out.image.data) hash = hash * 31 + (unsigned long long)(x * 1e6f);
+    for (const std::uint8_t c : out.codes8) hash = hash * 31 + c;
+    for (const std::uint32_t b : out.brightest) hash = hash * 31 + b;
     std::printf("%dx%d frames %d hash %llx\n", w, h, frames, hash);
 }

@@ -41,16 +41,15 @@ std::shared_ptr<float> aligned_floats(std::size_t n) {
     return std::shared_ptr<float>(owner, reinterpret_cast<float*>(owner.get()));
 }
 
-using camera_rows::kCounters;
-
 /// Adds a chunk's pixels (len values, whole pixels) to the histogram of their brightest raw DN
-/// (whole numbers in [0, last]; kCounters counters a bin), their counters found in a vector loop
-/// into the exact path's index scratch (free by now).
+/// (whole numbers in [0, last]), their bins found in a vector loop into the exact path's index
+/// scratch (free by now). One counter a bin: 16 KB at 12 bits, which stays in L1 beside the
+/// sensor loop's tables (docs/camera-speed.md, "The meter's histogram").
 void count_brightest(Scratch& t, int len, std::int32_t last, std::uint32_t* hist) {
     const int pixels = len / 3;
-    const std::int32_t* counter = t.index;
+    const std::int32_t* bin = t.index;
     camera_rows::brightest_row(pixels, t.raw, last, t.index);
-    for (int p = 0; p < pixels; ++p) ++hist[std::uint32_t(counter[p])];
+    for (int p = 0; p < pixels; ++p) ++hist[std::uint32_t(bin[p])];
 }
 
 /// n floats from src to dst.
@@ -287,7 +286,7 @@ struct CameraStage::Recording {
     std::uint32_t* histogram() {
         if (!layers.meter) return nullptr;
         std::vector<std::uint32_t>& hist = hists.local();
-        if (hist.empty()) hist.assign(kCounters * (std::size_t(sp.max_dn) + 1), 0);
+        if (hist.empty()) hist.assign(std::size_t(sp.max_dn) + 1, 0);
         return hist.data();
     }
 
@@ -353,8 +352,7 @@ struct CameraStage::Recording {
         if (layers.meter) {
             out.brightest.assign(std::size_t(sp.max_dn) + 1, 0);
             for (const std::vector<std::uint32_t>& hist : hists)
-                for (std::size_t b = 0; b < hist.size(); ++b)
-                    out.brightest[b / kCounters] += hist[b];
+                for (std::size_t b = 0; b < hist.size(); ++b) out.brightest[b] += hist[b];
         }
         if (!two_pass) return;
         if (grey) {

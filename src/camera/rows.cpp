@@ -347,13 +347,12 @@ template <bool kMatrix>
 }
 
 DEEPSEA_CAMERA_CLONES
-void brightest_generic(int p0, int pixels, const float* raw, std::int32_t last,
-                       std::int32_t* counter) {
+void brightest_generic(int p0, int pixels, const float* raw, std::int32_t last, std::int32_t* bin) {
 #pragma omp simd
     for (int p = p0; p < pixels; ++p) {
         const std::int32_t b =
             std::int32_t(max_of(raw[3 * p], max_of(raw[3 * p + 1], raw[3 * p + 2])));
-        counter[p] = kCounters * (b < last ? b : last) + p % kCounters;
+        bin[p] = b < last ? b : last;
     }
 }
 
@@ -363,12 +362,11 @@ void brightest_generic(int p0, int pixels, const float* raw, std::int32_t last,
 /// it), two maxima, one permute back to pixel order (GCC's vectoriser makes the strided loads of
 /// brightest_generic with twice the instructions).
 __attribute__((target("avx2"))) void brightest_avx2(int pixels, const float* raw, std::int32_t last,
-                                                    std::int32_t* counter) {
-    static_assert(kCounters == 4, "the lanes' counters below are p % 4");
+                                                    std::int32_t* bin) {
     const __m256i g_turn = _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 0);
     const __m256i b_turn = _mm256_setr_epi32(2, 3, 4, 5, 6, 7, 0, 1);
     const __m256i order = _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5);  // lane of pixel k
-    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 0, 1, 2, 3), top = _mm256_set1_epi32(last);
+    const __m256i top = _mm256_set1_epi32(last);
     int p = 0;
     for (; p + 8 <= pixels; p += 8) {
         const float* q = raw + 3 * p;
@@ -382,11 +380,10 @@ __attribute__((target("avx2"))) void brightest_avx2(int pixels, const float* raw
         const __m256 bl =
             _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92), b_turn);
         const __m256 m = _mm256_permutevar8x32_ps(_mm256_max_ps(r, _mm256_max_ps(g, bl)), order);
-        const __m256i bin = _mm256_min_epi32(_mm256_cvttps_epi32(m), top);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(counter + p),
-                            _mm256_or_si256(_mm256_slli_epi32(bin, 2), lane));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(bin + p),
+                            _mm256_min_epi32(_mm256_cvttps_epi32(m), top));
     }
-    brightest_generic(p, pixels, raw, last, counter);
+    brightest_generic(p, pixels, raw, last, bin);
 }
 /// The AVX2 loops here and below are taken where the processor has AVX2.
 const bool kHaveAvx2 = __builtin_cpu_supports("avx2");
@@ -394,11 +391,11 @@ const bool kHaveAvx2 = __builtin_cpu_supports("avx2");
 
 }  // namespace
 
-void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* counter) {
+void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* bin) {
 #if defined(__x86_64__) && defined(__GNUC__)
-    if (kHaveAvx2) return brightest_avx2(pixels, raw, last, counter);
+    if (kHaveAvx2) return brightest_avx2(pixels, raw, last, bin);
 #endif
-    brightest_generic(0, pixels, raw, last, counter);
+    brightest_generic(0, pixels, raw, last, bin);
 }
 
 DEEPSEA_CAMERA_CLONES

@@ -181,15 +181,9 @@ void gain_row(const Vignetting& vig, const float* x2, float y2, const float resp
 void fixed_pattern_row(NoiseKey prnu_key, NoiseKey dsnu_key, std::uint32_t base, int n, float prnu,
                        float dsnu, float* response, float* dsnu_out);
 
-/// Counters per bin of the camera stage's histograms of the brightest raw DN: pixel p counts in
-/// counter p % kCounters of its bin, so that a run of pixels of one brightness (dark water) does
-/// not wait on one counter's last increment each time.
-inline constexpr int kCounters = 4;
-
-/// Each of `pixels` pixels' counter (kCounters) in a histogram of the brightest raw DN:
-/// kCounters min(brightest, last) + p % kCounters, from the pixels' raw DN (interleaved R, G, B:
-/// whole numbers >= 0).
-void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* counter);
+/// Each of `pixels` pixels' bin in a histogram of the brightest raw DN, min(brightest, last),
+/// from the pixels' raw DN (interleaved R, G, B: whole numbers >= 0).
+void brightest_row(int pixels, const float* raw, std::int32_t last, std::int32_t* bin);
 
 /// What the processing kernel needs (per-channel scales come as a row, `scale`).
 struct ProcessParams {

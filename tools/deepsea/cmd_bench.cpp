@@ -166,7 +166,10 @@ std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const Bench
 /// rate.
 std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const BenchArgs& a,
                                  int threads, const std::optional<CameraModel>& model) {
-    if (!wanted(a.cases, "sequence-png") && !wanted(a.cases, "sequence-jpeg")) return {};
+    // Every case's own name too: `--cases sequence-jpeg-camera` is no prefix of sequence-jpeg.
+    if (!wanted(a.cases, "sequence-png") && !wanted(a.cases, "sequence-jpeg") &&
+        !wanted(a.cases, "sequence-png-camera") && !wanted(a.cases, "sequence-jpeg-camera"))
+        return {};
     const TempFolder tmp("sequence");
     fs::create_directories(tmp.dir / "out");
     FlightParams flight;
