@@ -166,10 +166,14 @@ std::vector<Case> time_camera(const Asset& asset, const Camera& cam, const Bench
 /// rate.
 std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const BenchArgs& a,
                                  int threads, const std::optional<CameraModel>& model) {
-    // Every case's own name too: `--cases sequence-jpeg-camera` is no prefix of sequence-jpeg.
-    if (!wanted(a.cases, "sequence-png") && !wanted(a.cases, "sequence-jpeg") &&
-        !wanted(a.cases, "sequence-png-camera") && !wanted(a.cases, "sequence-jpeg-camera"))
-        return {};
+    // The plain frame, with the camera stage, and as `deepsea demo` renders it: the camera
+    // stage, lamp shadows and the demo's abyssal marine snow (drawn afresh per frame: no poses).
+    const char* const formats[] = {"sequence-png", "sequence-jpeg"};
+    const char* const variants[] = {"", "-camera", "-camera-snow-shadows"};
+    bool any = false;  // (each case by its own name: sequence-jpeg-camera is no prefix of another)
+    for (const char* f : formats)
+        for (const char* v : variants) any = any || wanted(a.cases, std::string(f) + v);
+    if (!any) return {};
     const TempFolder tmp("sequence");
     fs::create_directories(tmp.dir / "out");
     FlightParams flight;
@@ -181,14 +185,11 @@ std::vector<Case> time_sequences(const Asset& asset, const Camera& cam, const Be
         write_depth_exr((tmp.dir / ("f" + std::to_string(i) + "_depth.exr")).string(), f.depth);
     }
     std::vector<Case> cases;
-    // the plain frame, with the camera stage, and as `deepsea demo` renders it: the camera
-    // stage, lamp shadows and the demo's abyssal marine snow (drawn afresh per frame: no poses)
-    for (const char* ext : {".png", ".jpg"}) {
-        for (const char* variant : {"", "-camera", "-camera-snow-shadows"}) {
-            const std::string name =
-                std::string(ext == std::string(".png") ? "sequence-png" : "sequence-jpeg") +
-                variant;
-            const bool camera = *variant != 0, look = std::string(variant).size() > 7;
+    for (const char* format : formats) {
+        const std::string ext = format == formats[0] ? ".png" : ".jpg";
+        for (const char* variant : variants) {
+            const std::string name = std::string(format) + variant;
+            const bool camera = variant != variants[0], look = variant == variants[2];
             if (!wanted(a.cases, name)) continue;
             std::vector<FrameJob> jobs;
             for (int i = 0; i < kFrames; ++i) {
