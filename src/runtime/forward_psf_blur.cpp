@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 
 #include "clones.h"
 #include "column_basis.h"
@@ -325,16 +323,9 @@ void ForwardPsfBlur::prepare(const Image& surface, const Image& d2, const EdgeFa
         d_frame = tbb::parallel_reduce(
             tbb::blocked_range<int>(0, H), 0.0,
             [&](const tbb::blocked_range<int>& r, double m) {
-                // NaN and inf (no surface) left out by their bits: this file is compiled with
-                // -ffast-math, under which a max over them depends on how the rows were split
-                // between threads (and so did the frame's table).
                 for (int v = r.begin(); v < r.end(); ++v) {
                     const float* d = d2.row(v);
-                    for (int u = 0; u < W; ++u) {
-                        std::uint32_t bits;
-                        std::memcpy(&bits, d + u, sizeof bits);
-                        if ((bits & 0x7f800000u) != 0x7f800000u) m = std::max(m, double(d[u]));
-                    }
+                    for (int u = 0; u < W; ++u) m = std::max(m, double(d[u]));
                 }
                 return m;
             },
