@@ -60,12 +60,12 @@ public:
     /// surface: J/pi E (3 channels); d2: camera-to-surface distance (1 channel, <= 0 for no
     /// surface, which sends no light; finite: NaN and inf are sanitised first, as the
     /// compositor does, or the rows' float-to-int conversions and the farthest distance found
-    /// here are undefined). Both are read again by row(): they must stay unchanged
-    /// until the frame's rows are taken. beyond (transport tables only, may be null: the
-    /// borders continued unchanged): how the scene dims beyond the frame, of this frame's size.
+    /// here are undefined). Both are read again by row(): they must stay unchanged until the
+    /// frame's rows are taken. beyond (transport tables only, may be null: the borders
+    /// continued unchanged): how the scene dims beyond the frame, of this frame's size.
     /// farthest: d2's largest value where the caller has it (the compositor, from its rows:
-    /// no pass over d2 here), < 0 to have it found here. lean (transport
-    /// tables only, may be null: no lean): 2 channels, each pixel's kernel lean (lu, lv) in 1/px
+    /// no pass over d2 here), < 0 to have it found here. lean (transport tables only, may be
+    /// null: no lean): 2 channels, each pixel's kernel lean (lu, lv) in 1/px
     /// (optics/forward_lean.h): F at p gathers sum_q K(p - q) (1 + l_p . (q - p)) W L(q), added
     /// as l_p . grad M(p), M = sum_j sigma_j^2 (G_j * W_j L) (for a Gaussian, sum_q G(p - q)
     /// (q - p) S(q) = sigma^2 grad (G * S)(p)), held within the blurred light's own value. Only

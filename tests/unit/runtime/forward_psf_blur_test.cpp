@@ -171,12 +171,6 @@ TEST(ForwardPsfBlur, AnImpulseSpreadsAsTheMixture) {
     for (const float x : none.data) ASSERT_EQ(x, 0.0f);
 }
 
-}  // namespace
-}  // namespace deepsea
-
-namespace deepsea {
-namespace {
-
 /// The plane scene at 400 px (a 0.3 m plane with a nearer box), its open water (NaN, inf, -1,
 /// 0) as 0 and every seventh row open water too: rows that alternate between whole blocks on
 /// one surface and none, whose weighing is split between threads by bands.
@@ -201,9 +195,9 @@ TEST(ForwardPsfBlur, EveryRunGivesTheSameBits) {
     // frame's table, depend on the threads' split)
     const Camera cam{400, 400, 300.0, 300.0, 200.0, 200.0};
     const auto [surface, d2] = striped_plane(cam);
-    for (const Water& w : {water_preset("deep:clear"), coastal()}) {
-        Water water = w;
-        water.forward = phase_function_forward_scatter();
+    Water clear = water_preset("deep:clear");
+    clear.forward = phase_function_forward_scatter();
+    for (const Water& water : {clear, coastal()}) {
         const ForwardPsf psf(water, cam.fx, cam.width, cam.height);
         ForwardPsfBlur ref(psf);
         const Image first = spread(ref, surface, d2);
